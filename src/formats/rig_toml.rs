@@ -1,0 +1,1 @@
+//! The tool's own TOML rig format (see calibrations/README.md).

@@ -1,0 +1,12 @@
+//! extrinsic-audit: what a robot's LiDAR extrinsic does to degeneracy detection.
+//!
+//! Data flow, one module per stage:
+//! files (`formats`) -> frame graph (`graph`) -> one transform (`se3`) ->
+//! analysis (`certificate`, `metric`; `detector` and `scene` for point data) ->
+//! report (`report`, `cli`).
+
+pub mod error;
+pub mod formats;
+pub mod graph;
+pub mod metric;
+pub mod se3;
