@@ -69,3 +69,10 @@ impl FrameGraph {
         unimplemented!("graph::transform is being written")
     }
 }
+
+impl FrameGraph {
+    /// The frame tree as text (like check_urdf).
+    pub fn tree(&self) -> String {
+        self.frames().join("\n")
+    }
+}

@@ -1,0 +1,483 @@
+//! `audit FILE... --from A --to B`: the rig report.
+
+use super::{parse_joint, parse_nonneg, parse_positive, print_warnings, Style};
+use crate::error::{Error, Result};
+use crate::formats::{self, LoadOptions};
+use crate::graph::{Chain, FrameGraph};
+use crate::report::{self, fixed, short, vec_str, RigReport};
+use clap::{Args, ValueEnum};
+use std::io::Write;
+use std::path::PathBuf;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
+pub enum ReportFormat {
+    #[default]
+    Table,
+    Markdown,
+    Json,
+}
+
+#[derive(Debug, Args, Clone)]
+pub struct AuditArgs {
+    /// Files to load into one frame graph (URDF, launch, tf_static dump, YAML, JSON, TOML rig)
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+    /// Parent frame: the transform printed is the pose of --to in --from
+    #[arg(long, value_name = "FRAME")]
+    pub from: Option<String>,
+    /// Child frame (e.g. the LiDAR)
+    #[arg(long, value_name = "FRAME")]
+    pub to: Option<String>,
+    /// List the frames and edges the files yield (with file:line), then exit
+    #[arg(long)]
+    pub frames: bool,
+    /// Characteristic lengths (m) for the certificate bands
+    #[arg(long, value_delimiter = ',', default_value = "0.25,1,2.85,10", value_parser = parse_positive, value_name = "M,...")]
+    pub ell: Vec<f64>,
+    /// Detector threshold kappa: with --lambda, does the band certify that lambda cannot cross kappa?
+    #[arg(long, requires = "lambda", value_parser = parse_positive)]
+    pub kappa: Option<f64>,
+    /// Detector eigenvalue lambda (see --kappa)
+    #[arg(long, requires = "kappa", value_parser = parse_nonneg)]
+    pub lambda: Option<f64>,
+    /// Zero-pitch tolerance on |h| (m); the raw h is always printed beside the verdict
+    #[arg(long, default_value_t = crate::se3::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
+    pub pitch_tol: f64,
+    /// Set a movable joint's position (rad or m); repeatable
+    #[arg(long = "joint", value_parser = parse_joint, value_name = "NAME=VALUE")]
+    pub joints: Vec<(String, f64)>,
+    /// Read only this key of a YAML/JSON file (e.g. T_imu_lidar)
+    #[arg(long, value_name = "NAME")]
+    pub key: Option<String>,
+    /// The file stores the other direction: invert its transforms
+    #[arg(long)]
+    pub invert: bool,
+    /// Skip format detection (see the README's formats table)
+    #[arg(long, value_name = "NAME")]
+    pub input_format: Option<String>,
+    /// Refuse input files larger than this many bytes
+    #[arg(long, default_value_t = formats::DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
+    pub max_file_size: u64,
+    /// Output format
+    #[arg(long, value_enum, default_value_t = ReportFormat::Table)]
+    pub format: ReportFormat,
+}
+
+impl AuditArgs {
+    pub fn load_options(&self) -> Result<LoadOptions> {
+        let format = match &self.input_format {
+            None => None,
+            Some(name) => Some(formats::Format::from_name(name).ok_or_else(|| {
+                Error::usage(format!(
+                    "--input-format: unknown format `{name}`; expected one of: {}",
+                    formats::all_formats()
+                        .iter()
+                        .map(|(f, _)| f.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            })?),
+        };
+        Ok(LoadOptions {
+            joints: self.joints.iter().cloned().collect(),
+            key: self.key.clone(),
+            invert: self.invert,
+            format,
+            max_file_size: self.max_file_size,
+        })
+    }
+}
+
+/// Pick the frame pair: given on the command line, declared by a rig file, or
+/// the only edge there is.
+fn frame_pair(
+    args: &AuditArgs,
+    graph: &FrameGraph,
+    rig: Option<(&str, &str)>,
+) -> Result<(String, String)> {
+    match (&args.from, &args.to) {
+        (Some(f), Some(t)) => Ok((f.clone(), t.clone())),
+        (None, None) => {
+            if let Some((f, t)) = rig {
+                return Ok((f.to_string(), t.to_string()));
+            }
+            let edges = graph.edges();
+            if edges.len() == 1 {
+                return Ok((edges[0].parent.clone(), edges[0].child.clone()));
+            }
+            Err(Error::usage(format!(
+                "these files yield {} edges: name the frames with --from FRAME --to FRAME (frames: {}; `--frames` lists them)",
+                edges.len(),
+                abbreviate(&graph.frames(), 12)
+            )))
+        }
+        _ => Err(Error::usage(
+            "give both --from and --to, or neither (when the files yield one edge)",
+        )),
+    }
+}
+
+fn abbreviate(v: &[String], n: usize) -> String {
+    if v.len() <= n {
+        v.join(", ")
+    } else {
+        format!("{}, ... ({} in all)", v[..n].join(", "), v.len())
+    }
+}
+
+pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
+    let opts = args.load_options()?;
+    let mut graph = FrameGraph::new();
+    let mut rig_pair: Option<(String, String)> = None;
+    for f in &args.files {
+        let loaded = formats::load_file(f, &opts)?;
+        if let Some(meta) = &loaded.rig {
+            if rig_pair.is_none() && !meta.from.is_empty() && !meta.to.is_empty() {
+                rig_pair = Some((meta.from.clone(), meta.to.clone()));
+            }
+        }
+        graph.add(loaded)?;
+    }
+    print_warnings(graph.warnings());
+    if args.frames {
+        writeln!(out, "{}", graph.tree()).map_err(io_err)?;
+        return Ok(0);
+    }
+    let (from, to) = frame_pair(
+        args,
+        &graph,
+        rig_pair.as_ref().map(|(a, b)| (a.as_str(), b.as_str())),
+    )?;
+    let chain = graph.transform(&from, &to)?;
+    print_warnings(&chain.warnings);
+    let mut rep = report::rig_report(&chain, &args.ell, args.pitch_tol);
+    if let (Some(kappa), Some(lambda)) = (args.kappa, args.lambda) {
+        rep.kappa_check = Some(report::kappa_check(&rep, kappa, lambda));
+    }
+    let text = match args.format {
+        ReportFormat::Json => {
+            let mut s =
+                serde_json::to_string_pretty(&rep).map_err(|e| Error::usage(e.to_string()))?;
+            s.push('\n');
+            s
+        }
+        ReportFormat::Table => render(&rep, &chain, Style::stdout(), false),
+        ReportFormat::Markdown => render(&rep, &chain, Style::plain(), true),
+    };
+    out.write_all(text.as_bytes()).map_err(io_err)?;
+    Ok(0)
+}
+
+pub(crate) fn io_err(e: std::io::Error) -> Error {
+    Error::new(
+        crate::error::ErrorKind::Io,
+        format!("cannot write output: {e}"),
+    )
+}
+
+/// The one-line verdict that opens the report.
+pub fn verdict_line(rep: &RigReport) -> String {
+    let invariant: Vec<&str> = rep
+        .detectors
+        .iter()
+        .filter(|d| d.invariant_on_rig)
+        .map(|d| family_label(&d.family))
+        .collect();
+    let lever = format!("lever arm {} m", fixed(rep.lever_arm_m, 3));
+    let screw = match rep.screw.kind.as_str() {
+        "identity" => "identity transform".to_string(),
+        "pure_translation" => "no rotation (pure translation)".to_string(),
+        _ => format!(
+            "screw translation {} m",
+            short(rep.screw.translation_along_axis_m.unwrap_or(0.0))
+        ),
+    };
+    let tail = if invariant.len() == rep.detectors.len() && !invariant.is_empty() {
+        "every detector family is frame-invariant on this rig".to_string()
+    } else if invariant.len() == 1 && invariant[0] == family_label("point_displacement") {
+        if rep.adapted_metric.exists {
+            "only the point-displacement metric is frame-invariant on this rig".to_string()
+        } else {
+            "no constant metric is frame-invariant on this rig; only the point-displacement metric is".to_string()
+        }
+    } else if invariant.is_empty() {
+        "no detector family is frame-invariant on this rig".to_string()
+    } else {
+        format!("frame-invariant on this rig: {}", invariant.join(", "))
+    };
+    format!("{lever}, {screw}: {tail}")
+}
+
+pub fn family_label(name: &str) -> &'static str {
+    match name {
+        "unnormalized" => "unnormalized spectrum (I6)",
+        "characteristic_length" => "characteristic length diag(l^2 I, I)",
+        "block_scaling" => "block scaling (l from H)",
+        "jacobi" => "Jacobi diag(H)",
+        "adapted_constant" => "adapted constant M0",
+        "point_displacement" => "point displacement sum J^T J",
+        _ => "unknown",
+    }
+}
+
+fn section(s: &mut String, title: &str, st: Style, md: bool) {
+    if md {
+        s.push_str(&format!("\n### {title}\n\n"));
+    } else {
+        s.push_str(&format!("\n{}\n", st.bold(title)));
+    }
+}
+
+fn table(header: &[&str], rows: &[Vec<String>], md: bool) -> String {
+    if md {
+        report::markdown_table(header, rows)
+    } else {
+        let mut t = report::terminal_table(header, rows);
+        t.push('\n');
+        t
+    }
+}
+
+/// Table and markdown renderings of the rig report.
+pub fn render(rep: &RigReport, chain: &Chain, st: Style, md: bool) -> String {
+    let mut s = String::new();
+    let verdict = verdict_line(rep);
+    if md {
+        s.push_str(&format!("**{verdict}**\n"));
+    } else if rep.detectors.iter().filter(|d| d.invariant_on_rig).count() > 1 {
+        s.push_str(&format!("{}\n", st.good(&verdict)));
+    } else {
+        s.push_str(&format!("{}\n", st.bad(&verdict)));
+    }
+
+    section(
+        &mut s,
+        &format!("Transform {} -> {}", rep.from, rep.to),
+        st,
+        md,
+    );
+    let tf = &rep.transform;
+    let (angle_deg, axis) = (rep.rotation.angle_deg, rep.rotation.axis);
+    let rows = vec![
+        vec!["translation (m)".into(), vec_str(&tf.translation_m, 9)],
+        vec![
+            "rotation matrix row 1".into(),
+            vec_str(&tf.rotation_matrix[0], 9),
+        ],
+        vec![
+            "rotation matrix row 2".into(),
+            vec_str(&tf.rotation_matrix[1], 9),
+        ],
+        vec![
+            "rotation matrix row 3".into(),
+            vec_str(&tf.rotation_matrix[2], 9),
+        ],
+        vec![
+            "quaternion [x, y, z, w]".into(),
+            vec_str(&tf.quaternion_xyzw, 9),
+        ],
+        vec![
+            "URDF rpy (rad)".into(),
+            format!(
+                "{}  = {} deg",
+                vec_str(&tf.rpy_rad, 9),
+                vec_str(&tf.rpy_rad.map(f64::to_degrees), 6)
+            ),
+        ],
+        vec![
+            "axis-angle".into(),
+            match axis {
+                Some(e) => format!("{} deg about {}", fixed(angle_deg, 6), vec_str(&e, 6)),
+                None => format!("{} deg (no axis)", fixed(angle_deg, 6)),
+            },
+        ],
+    ];
+    if !md {
+        s.push_str(&format!(
+            "{}\n",
+            st.dim(&format!(
+                "pose of {} in {}: p_{} = R p_{} + d",
+                rep.to, rep.from, rep.from, rep.to
+            ))
+        ));
+    } else {
+        s.push_str(&format!(
+            "Pose of `{}` in `{}`: `p_{} = R p_{} + d`.\n\n",
+            rep.to, rep.from, rep.from, rep.to
+        ));
+    }
+    s.push_str(&table(&["quantity", "value"], &rows, md));
+
+    section(&mut s, "Chain of edges", st, md);
+    let rows: Vec<Vec<String>> = chain
+        .steps
+        .iter()
+        .enumerate()
+        .map(|(i, step)| {
+            let e = &step.edge;
+            let (a, b) = if step.inverted {
+                (e.child.as_str(), e.parent.as_str())
+            } else {
+                (e.parent.as_str(), e.child.as_str())
+            };
+            vec![
+                format!("{}", i + 1),
+                format!(
+                    "{a} -> {b}{}",
+                    if step.inverted { " (inverted)" } else { "" }
+                ),
+                e.provenance.location.to_string(),
+                e.provenance.format.name().to_string(),
+                e.provenance.key.clone(),
+            ]
+        })
+        .collect();
+    if rows.is_empty() {
+        s.push_str("(from and to are the same frame)\n");
+    } else {
+        s.push_str(&table(
+            &["#", "edge", "file:line", "format", "from"],
+            &rows,
+            md,
+        ));
+    }
+
+    section(&mut s, "Rig", st, md);
+    let sc = &rep.screw;
+    let mut rows = vec![
+        vec![
+            "lever arm ||d||".into(),
+            format!("{} m", fixed(rep.lever_arm_m, 6)),
+        ],
+        vec![
+            "rotation angle".into(),
+            format!(
+                "{} deg ({} rad)",
+                fixed(angle_deg, 6),
+                short(rep.rotation.angle_rad)
+            ),
+        ],
+        vec!["screw kind".into(), sc.kind.replace('_', " ")],
+    ];
+    if let Some(h) = sc.translation_along_axis_m {
+        rows.push(vec![
+            "screw translation h = e.d".into(),
+            format!("{} m", report::short(h)),
+        ]);
+    }
+    if let Some(p) = sc.pitch_m_per_rad {
+        rows.push(vec![
+            "screw pitch h/phi".into(),
+            format!("{} m/rad", short(p)),
+        ]);
+    }
+    if let Some(c) = sc.axis_point_m {
+        rows.push(vec![
+            "screw axis point (closest to origin)".into(),
+            format!("{} m", vec_str(&c, 6)),
+        ]);
+    }
+    let sv = rep.adjoint.singular_values;
+    rows.push(vec![
+        "Ad(T) singular values".into(),
+        format!("{} (x2), 1 (x2), {} (x2)", fixed(sv[0], 6), fixed(sv[5], 6)),
+    ]);
+    rows.push(vec![
+        "Ad(T) orthogonal".into(),
+        if rep.adjoint.orthogonal {
+            "yes (d = 0)".into()
+        } else {
+            "no (d != 0)".into()
+        },
+    ]);
+    rows.push(vec![
+        "||A^T A - I||_F / ||I||_F".into(),
+        fixed(rep.adjoint.ata_minus_i_rel, 6),
+    ]);
+    s.push_str(&table(&["quantity", "value"], &rows, md));
+
+    section(&mut s, "Certificate bands", st, md);
+    let rows: Vec<Vec<String>> = rep
+        .certificate
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let mut r = vec![
+                short(c.ell_m),
+                fixed(c.delta_eff, 6),
+                fixed(c.band[0], 6),
+                fixed(c.band[1], 6),
+            ];
+            if let Some(k) = &rep.kappa_check {
+                r.push(if k.certified[i] {
+                    "yes".into()
+                } else {
+                    "no".into()
+                });
+            }
+            r
+        })
+        .collect();
+    let mut header = vec!["ell (m)", "delta_eff", "band lower", "band upper"];
+    if rep.kappa_check.is_some() {
+        header.push("lambda/kappa outside: certified");
+    }
+    s.push_str(&table(&header, &rows, md));
+    s.push_str(
+        "If lambda/kappa lies outside the band, no frame change with this lever arm can move eigenvalue lambda across threshold kappa.\n",
+    );
+    if let Some(k) = &rep.kappa_check {
+        s.push_str(&format!(
+            "lambda/kappa = {} / {} = {}\n",
+            short(k.lambda),
+            short(k.kappa),
+            short(k.ratio)
+        ));
+    }
+
+    section(&mut s, "Adapted constant metric", st, md);
+    let am = &rep.adapted_metric;
+    if am.exists {
+        s.push_str(&format!("exists: {}\n", am.reason));
+        if let Some(m) = &am.matrix {
+            let rows: Vec<Vec<String>> = m
+                .iter()
+                .map(|r| r.iter().map(|x| fixed(*x, 6)).collect())
+                .collect();
+            s.push_str(&table(&["wx", "wy", "wz", "tx", "ty", "tz"], &rows, md));
+        }
+        let opt = |x: Option<f64>| x.map(short).unwrap_or_else(|| "-".into());
+        s.push_str(&format!(
+            "invariance residual {}, off-diagonal block norm {}, ||M0 - I||_F/||I||_F {}\n",
+            opt(am.invariance_residual),
+            opt(am.offdiag_norm),
+            opt(am.rel_diff_identity)
+        ));
+    } else {
+        s.push_str(&format!("none: {}\n", am.reason));
+    }
+
+    section(&mut s, "Detector families", st, md);
+    let rows: Vec<Vec<String>> = rep
+        .detectors
+        .iter()
+        .map(|d| {
+            vec![
+                family_label(&d.family).to_string(),
+                yes_no(d.equivariant_rule),
+                yes_no(d.invariant_on_rig),
+                d.reason.clone(),
+            ]
+        })
+        .collect();
+    s.push_str(&table(
+        &["family", "equivariant rule", "invariant on this rig", "why"],
+        &rows,
+        md,
+    ));
+    s
+}
+
+fn yes_no(b: bool) -> String {
+    if b { "yes" } else { "no" }.to_string()
+}
