@@ -60,6 +60,8 @@ pub struct FrameGraph {
     parent: Vec<Option<usize>>,
     /// For each frame, the edges that name it as parent (in insertion order).
     children: Vec<Vec<usize>>,
+    /// For each frame, the index of its parent frame.
+    parent_frame: Vec<Option<usize>>,
 }
 
 /// `file:line` of an edge, for messages.
@@ -106,6 +108,7 @@ impl FrameGraph {
         let i = self.names.len();
         self.names.push(name.to_string());
         self.parent.push(None);
+        self.parent_frame.push(None);
         self.children.push(Vec::new());
         self.index.insert(name.to_string(), i);
         i
@@ -176,6 +179,7 @@ impl FrameGraph {
                 .at(&edge.provenance.location));
             }
         }
+        let is_new_child = !self.index.contains_key(&edge.child);
         let p = self.frame_id(&edge.parent);
         let c = self.frame_id(&edge.child);
         if let Some(ei) = self.parent[c] {
@@ -190,34 +194,36 @@ impl FrameGraph {
             ))
             .at(&edge.provenance.location));
         }
-        // Cycle: is the child an ancestor of (or equal to) the parent?
-        let mut cur = p;
-        let mut path = vec![self.names[p].clone()];
-        let mut steps = 0usize;
-        while let Some(ei) = self.parent[cur] {
-            let up = &self.edges[ei].parent;
-            let ui = self.index[up];
-            path.push(up.clone());
-            if ui == c {
-                path.reverse();
-                return Err(Error::frame(format!(
-                    "edge {} -> {} closes a cycle: expected a tree, found {} -> {}",
-                    edge.parent,
-                    edge.child,
-                    path.join(" -> "),
-                    edge.child
-                ))
-                .at(&edge.provenance.location));
-            }
-            cur = ui;
-            steps += 1;
-            if steps > self.edges.len() {
-                break;
+        // Cycle: is the child an ancestor of the parent? (A frame seen for the
+        // first time has no descendants, so only known children are walked.)
+        if !is_new_child {
+            let mut cur = p;
+            let mut path = vec![self.names[p].clone()];
+            let mut steps = 0usize;
+            while let Some(up) = self.parent_frame[cur] {
+                path.push(self.names[up].clone());
+                if up == c {
+                    path.reverse();
+                    return Err(Error::frame(format!(
+                        "edge {} -> {} closes a cycle: expected a tree, found {} -> {}",
+                        edge.parent,
+                        edge.child,
+                        path.join(" -> "),
+                        edge.child
+                    ))
+                    .at(&edge.provenance.location));
+                }
+                cur = up;
+                steps += 1;
+                if steps > self.names.len() {
+                    break;
+                }
             }
         }
         let ei = self.edges.len();
         self.edges.push(edge);
         self.parent[c] = Some(ei);
+        self.parent_frame[c] = Some(p);
         self.children[p].push(ei);
         Ok(())
     }
@@ -322,9 +328,9 @@ impl FrameGraph {
         loop {
             let pe = self.parent[cur];
             v.push((cur, pe));
-            match pe {
-                Some(ei) => cur = self.index[&self.edges[ei].parent],
-                None => break,
+            match (pe, self.parent_frame[cur]) {
+                (Some(_), Some(up)) => cur = up,
+                _ => break,
             }
             if v.len() > self.names.len() {
                 break; // cannot happen: cycles are refused on insertion
@@ -333,8 +339,49 @@ impl FrameGraph {
         v
     }
 
+    /// The files the edges came from, in first-seen order.
+    pub fn files(&self) -> Vec<std::path::PathBuf> {
+        let mut v: Vec<std::path::PathBuf> = Vec::new();
+        for e in &self.edges {
+            if let Some(f) = &e.provenance.location.file {
+                if !v.contains(f) {
+                    v.push(f.clone());
+                }
+            }
+        }
+        v
+    }
+
     /// Compose `T_from_to` along the path through the common ancestor.
+    ///
+    /// Errors that concern no single edge (unknown frame, not connected) name the
+    /// file when the graph holds one file, else list the files.
     pub fn transform(&self, from: &str, to: &str) -> Result<Chain> {
+        self.transform_inner(from, to).map_err(|e| {
+            if e.location.file.is_some() {
+                return e;
+            }
+            let files = self.files();
+            match files.len() {
+                0 => e,
+                1 => e.in_file(&files[0]),
+                _ => Error {
+                    message: format!(
+                        "{} (files: {})",
+                        e.message,
+                        files
+                            .iter()
+                            .map(|f| f.display().to_string())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                    ..e
+                },
+            }
+        })
+    }
+
+    fn transform_inner(&self, from: &str, to: &str) -> Result<Chain> {
         let fi = self.lookup(from)?;
         let ti = self.lookup(to)?;
         let up_from = self.ancestors(fi);

@@ -103,13 +103,17 @@ pub fn parse_stp_args(
         }
         toks.push(a.as_str());
     }
-    for t in &toks {
-        if t.contains("$(") || t.contains("${") {
-            return Err(Error::parse(format!(
-                "static_transform_publisher arguments hold the substitution {t:?}: expected literal values; resolve it (roslaunch / ros2 launch --print) or write the value"
-            ))
-            .at(loc));
-        }
+    let joined = toks.join(" ");
+    if let Some(at) = joined.find("$(").or_else(|| joined.find("${")) {
+        let end = joined[at..]
+            .find([')', '}'])
+            .map(|e| at + e + 1)
+            .unwrap_or(joined.len());
+        return Err(Error::parse(format!(
+            "static_transform_publisher arguments hold the substitution {:?}: expected literal values; resolve it (roslaunch / ros2 launch --print) or write the value",
+            &joined[at..end]
+        ))
+        .at(loc));
     }
     let mut ws = Vec::new();
     let edge = if toks.iter().any(|t| t.starts_with("--")) {
@@ -225,6 +229,14 @@ pub fn parse_stp_args(
         let (nrot, how) = match nnum {
             6 => (3, "x y z yaw pitch roll"),
             7 => (4, "x y z qx qy qz qw"),
+            n if n < 6 && toks.len() >= 8 => {
+                return Err(Error::parse(format!(
+                    "static_transform_publisher argument {}: expected a number, found {:?}",
+                    n + 1,
+                    toks[n]
+                ))
+                .at(loc))
+            }
             _ => {
                 return Err(Error::parse(format!(
                     "static_transform_publisher: expected `x y z yaw pitch roll parent child [period_ms]` or `x y z qx qy qz qw parent child [period_ms]`, found {} leading numbers in {:?}",
@@ -278,8 +290,7 @@ fn xml_doc(text: &str) -> Result<roxmltree::Document<'_>> {
     };
     roxmltree::Document::parse_with_options(text, opt).map_err(|e| {
         let p = e.pos();
-        Error::parse(format!("not well-formed XML: {e}"))
-            .at_line(p.row as usize, Some(p.col as usize))
+        crate::formats::urdf::xml_err_at(&e, p.row as usize, p.col as usize, text)
     })
 }
 

@@ -280,6 +280,38 @@ pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
     (line, col)
 }
 
+/// Line starts of a text, for O(log n) offset -> (line, column) lookups
+/// (roxmltree's `text_pos_at` scans from the start each time).
+pub struct LineIndex<'a> {
+    text: &'a str,
+    starts: Vec<usize>,
+}
+
+impl<'a> LineIndex<'a> {
+    pub fn new(text: &'a str) -> Self {
+        let mut starts = vec![0];
+        starts.extend(
+            text.bytes()
+                .enumerate()
+                .filter(|(_, b)| *b == b'\n')
+                .map(|(i, _)| i + 1),
+        );
+        LineIndex { text, starts }
+    }
+    /// 1-based (line, column in characters) of a byte offset.
+    pub fn pos(&self, offset: usize) -> (usize, usize) {
+        let offset = offset.min(self.text.len());
+        let line = self.starts.partition_point(|&s| s <= offset);
+        let start = self.starts[line.saturating_sub(1)];
+        let col = self
+            .text
+            .get(start..offset)
+            .map(|s| s.chars().count() + 1)
+            .unwrap_or(1);
+        (line.max(1), col)
+    }
+}
+
 /// Parse one number as written in a file (also `+1`, `1.`, `.5`, `1e-3`).
 /// `nan` / `inf` parse and are refused later by the transform constructors.
 pub fn parse_number(s: &str) -> Option<f64> {

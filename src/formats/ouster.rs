@@ -35,7 +35,9 @@ fn find<'a>(n: &'a Node, key: &str) -> Option<(&'a Node, &'a Node)> {
 /// Parse Ouster metadata (or any JSON with `--key`).
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     if let Err(e) = serde_json::from_str::<serde_json::Value>(text) {
-        return Err(Error::parse(format!("not valid JSON: {e}"))
+        let msg = e.to_string();
+        let msg = msg.split(" at line ").next().unwrap_or("").to_string();
+        return Err(Error::parse(format!("not valid JSON: {msg}"))
             .at_line(e.line().max(1), Some(e.column().max(1))));
     }
     // JSON allows tabs where YAML forbids them in indentation.

@@ -39,10 +39,10 @@
 //! `$(...)`) is refused with the same advice: it is never parsed as URDF.
 
 use crate::error::{Error, Location, Result, Warning, WarningCode};
-use crate::formats::{locate_warnings, Edge, Format, JointState, LoadOptions, Loaded};
+use crate::formats::{locate_warnings, Edge, Format, JointState, LineIndex, LoadOptions, Loaded};
 use crate::graph::FrameGraph;
 use crate::se3::{QuatOrder, Transform};
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::path::Path;
 
 const JOINT_TYPES: &[&str] = &[
@@ -114,15 +114,28 @@ pub fn parse_xacro(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded
     Ok(loaded)
 }
 
-fn xml_error(e: &roxmltree::Error) -> Error {
-    let pos = e.pos();
-    Error::parse(format!("not well-formed XML: {e}"))
-        .at_line(pos.row as usize, Some(pos.col as usize))
+/// An XML error at its position; at the end of the text when the input stops early.
+pub(crate) fn xml_err_at(e: &roxmltree::Error, row: usize, col: usize, text: &str) -> Error {
+    if matches!(e, roxmltree::Error::UnexpectedEndOfStream) {
+        let lines = text.lines().count().max(1);
+        let last = text
+            .lines()
+            .last()
+            .map(|l| l.chars().count() + 1)
+            .unwrap_or(1);
+        return Error::parse("not well-formed XML: the file ends inside an element (truncated?)")
+            .at_line(lines, Some(last));
+    }
+    Error::parse(format!("not well-formed XML: {e}")).at_line(row, Some(col))
 }
 
-fn pos_of(doc: &roxmltree::Document, node: roxmltree::Node) -> (usize, usize) {
-    let p = doc.text_pos_at(node.range().start);
-    (p.row as usize, p.col as usize)
+fn xml_error(e: &roxmltree::Error, text: &str) -> Error {
+    let pos = e.pos();
+    xml_err_at(e, pos.row as usize, pos.col as usize, text)
+}
+
+fn pos_of(idx: &LineIndex, node: roxmltree::Node) -> (usize, usize) {
+    idx.pos(node.range().start)
 }
 
 fn numbers_attr<const N: usize>(s: &str, what: &str) -> std::result::Result<[f64; N], String> {
@@ -176,11 +189,12 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
                     xacro_advice(path)
                 )));
             }
-            return Err(xml_error(&e));
+            return Err(xml_error(&e, text));
         }
     };
+    let idx = LineIndex::new(text);
     let root = doc.root_element();
-    let (rl, rc) = pos_of(&doc, root);
+    let (rl, rc) = pos_of(&idx, root);
     match root.tag_name().name() {
         "robot" => {}
         "sdf" => {
@@ -207,7 +221,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             .attributes()
             .any(|a| a.value().contains("${") || a.value().contains("$("));
         if is_xacro_el || has_expr {
-            let (l, c) = pos_of(&doc, n);
+            let (l, c) = pos_of(&idx, n);
             return Err(Error::parse(format!(
                 "this file holds un-expanded xacro (<{}{}>), not URDF: {}",
                 if is_xacro_el { "xacro:" } else { "" },
@@ -218,11 +232,11 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         }
     }
     let loc_of = |n: roxmltree::Node| {
-        let (l, c) = pos_of(&doc, n);
+        let (l, c) = pos_of(&idx, n);
         Location::at(path, l, Some(c))
     };
     let err_at = |n: roxmltree::Node, msg: String| {
-        let (l, c) = pos_of(&doc, n);
+        let (l, c) = pos_of(&idx, n);
         Error::parse(msg).at_line(l, Some(c))
     };
 
@@ -239,7 +253,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             ));
         };
         if let Some(prev) = links.get(name) {
-            let (pl, _) = pos_of(&doc, *prev);
+            let (pl, _) = pos_of(&idx, *prev);
             return Err(err_at(
                 l,
                 format!(
@@ -317,12 +331,14 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
                 let rpy = o.attribute("rpy");
                 let quat = o.attribute("quat_xyzw");
                 match (rpy, quat) {
-                    (Some(_), Some(_)) => return Err(err_at(
-                        o,
-                        format!(
+                    (Some(_), Some(_)) => {
+                        return Err(err_at(
+                            o,
+                            format!(
                             "joint '{name}' <origin>: expected either rpy or quat_xyzw, found both"
                         ),
-                    )),
+                        ))
+                    }
                     (None, Some(q)) => {
                         let q = numbers_attr::<4>(q, &format!("joint '{name}' <origin quat_xyzw>"))
                             .map_err(|m| err_at(o, m))?;
@@ -400,13 +416,9 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     // Joint values: --joint, else mimic of the master, else 0.
     let by_name: HashMap<&str, &JointRaw> = joints.iter().map(|j| (j.name.as_str(), j)).collect();
     let mut edges = Vec::with_capacity(joints.len());
-    let mut used_opts: HashSet<&str> = HashSet::new();
     for j in &joints {
         let movable = matches!(j.jtype.as_str(), "revolute" | "continuous" | "prismatic");
         let set = opts.joints.get(&j.name).copied();
-        if set.is_some() {
-            used_opts.insert(j.name.as_str());
-        }
         let key = format!("joint \"{}\" <origin>", j.name);
         if j.jtype == "fixed" {
             if set.is_some() {
@@ -432,7 +444,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             // floating, planar
             let value = match set {
                 None => None,
-                Some(v) if v == 0.0 => Some(0.0),
+                Some(v) if v.abs() < f64::MIN_POSITIVE => Some(0.0),
                 Some(v) => {
                     return Err(Error::usage(format!(
                         "--joint {}={v}: joint '{}' is {}; only 0 (the joint at its origin) is accepted, a {} pose needs more than one number: give it as a static transform instead",
@@ -484,7 +496,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         }
         let n = (j.axis[0].powi(2) + j.axis[1].powi(2) + j.axis[2].powi(2)).sqrt();
         if n < 1e-12 {
-            let (l, c) = pos_of(&doc, j.node);
+            let (l, c) = pos_of(&idx, j.node);
             return Err(Error::invalid(format!(
                 "{} joint '{}': expected a non-zero <axis xyz>, found {:?}",
                 j.jtype, j.name, j.axis
@@ -531,7 +543,6 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     for e in &edges {
         g.add_edge(e.clone())?;
     }
-    let _ = used_opts;
     Ok(Loaded {
         edges,
         warnings,
