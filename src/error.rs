@@ -176,6 +176,8 @@ pub enum WarningCode {
     NearHalfTurn,
     /// A frame convention the tool had to assume; the message says which.
     AssumedConvention,
+    /// A movable URDF joint whose axis is not a unit vector; normalised.
+    NonUnitAxis,
     /// A value present in the file but ignored (e.g. a commented alternative, a
     /// key the tool does not use); the message says which and why.
     Ignored,
@@ -192,6 +194,7 @@ impl WarningCode {
             WarningCode::SmallRotation => "small-rotation",
             WarningCode::NearHalfTurn => "near-half-turn",
             WarningCode::AssumedConvention => "assumed-convention",
+            WarningCode::NonUnitAxis => "non-unit-axis",
             WarningCode::Ignored => "ignored",
         }
     }

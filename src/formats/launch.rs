@@ -1,0 +1,736 @@
+//! Static transforms as ROS launches them: `static_transform_publisher`.
+//!
+//! Meaning (ROS 1 tf / tf2_ros and ROS 2 tf2_ros): the transform published is
+//! the pose of `child` in `parent` (`p_parent = R p_child + d`), edge
+//! `parent -> child`. Argument forms read:
+//!
+//! - `x y z yaw pitch roll parent child [period_ms]` (note yaw first; the angles
+//!   are URDF's fixed-axis roll-pitch-yaw, `R = Rz(yaw) Ry(pitch) Rx(roll)`);
+//! - `x y z qx qy qz qw parent child [period_ms]` (quaternion x y z w);
+//! - ROS 2 flags `--x --y --z --roll --pitch --yaw --qx --qy --qz --qw
+//!   --frame-id --child-frame-id` (missing numbers are 0, qw 1; mixing angles and
+//!   a quaternion is refused).
+//!
+//! ROS remappings (`__name:=...`, `name:=value`) and everything after
+//! `--ros-args` are skipped. A number followed by a comma (`1.5707963,`, seen in
+//! a real launch file) is read as ROS 1's `atof` reads it, with an `ignored`
+//! warning. A leading `/` on a frame name is dropped (tf2 does the same).
+//!
+//! Where the transforms are found:
+//! - launch XML (ROS 1 `<node pkg="tf|tf2_ros" type="static_transform_publisher"
+//!   args="...">`, ROS 2 `exec="static_transform_publisher"`), anywhere in the
+//!   tree (`<group>` included); `$(arg ...)` and other substitutions are refused;
+//! - ROS 2 launch YAML (`node: {pkg, exec, args}`), `args` a string or a list;
+//! - ROS 2 Python launch files: the literal `arguments=[...]` list of a
+//!   `Node(...)` whose executable is `static_transform_publisher`; an element
+//!   that is not a string or number literal (a variable, `LaunchConfiguration`,
+//!   an f-string) is refused, naming it;
+//! - command lines saved as text (`rosrun tf static_transform_publisher ...`,
+//!   `ros2 run tf2_ros static_transform_publisher ...`), one a line, `\`
+//!   continuations joined, `#` comments skipped.
+//!
+//! LIO-Livox launch files carry `<rosparam param="Extrinsic_Tlb">` with a
+//! row-major 4x4 instead: read as the LiDAR pose in the IMU frame (edge
+//! `imu -> lidar`, the sign LIO-Livox's mid360.launch uses for the Livox factory
+//! offset); the file does not say which direction it is, so an
+//! `assumed-convention` warning says so and `--invert` flips it.
+
+use crate::error::{Error, Location, Result, Warning, WarningCode};
+use crate::formats::yaml::{self, Node, Value};
+use crate::formats::{
+    check_metres, line_col, locate_warnings, parse_number, Edge, Format, LoadOptions, Loaded,
+};
+use crate::se3::{QuatOrder, Transform};
+use std::path::Path;
+
+const FLAGS: &[&str] = &[
+    "--x",
+    "--y",
+    "--z",
+    "--roll",
+    "--pitch",
+    "--yaw",
+    "--qx",
+    "--qy",
+    "--qz",
+    "--qw",
+    "--frame-id",
+    "--child-frame-id",
+];
+
+fn frame_name(s: &str) -> String {
+    s.trim_start_matches('/').to_string()
+}
+
+fn number_arg(tok: &str, idx: usize, warnings: &mut Vec<Warning>, loc: &Location) -> Result<f64> {
+    if let Some(x) = parse_number(tok) {
+        return Ok(x);
+    }
+    if let Some(stripped) = tok.strip_suffix(',') {
+        if let Some(x) = parse_number(stripped) {
+            warnings.push(
+                Warning::new(
+                    WarningCode::Ignored,
+                    format!("argument {idx} {tok:?}: trailing comma ignored (ROS 1 reads it with atof, which stops there)"),
+                )
+                .at(loc),
+            );
+            return Ok(x);
+        }
+    }
+    Err(Error::parse(format!(
+        "static_transform_publisher argument {idx}: expected a number, found {tok:?}"
+    ))
+    .at(loc))
+}
+
+/// Read the arguments of one `static_transform_publisher` call.
+pub fn parse_stp_args(
+    args: &[String],
+    loc: &Location,
+    format: Format,
+    context: &str,
+    warnings: &mut Vec<Warning>,
+) -> Result<Edge> {
+    // Drop ROS arguments and remappings.
+    let mut toks: Vec<&str> = Vec::new();
+    for a in args {
+        if a == "--ros-args" {
+            break;
+        }
+        if a.contains(":=") || a.starts_with("__") {
+            continue;
+        }
+        toks.push(a.as_str());
+    }
+    let joined = toks.join(" ");
+    if let Some(at) = joined.find("$(").or_else(|| joined.find("${")) {
+        let end = joined[at..]
+            .find([')', '}'])
+            .map(|e| at + e + 1)
+            .unwrap_or(joined.len());
+        return Err(Error::parse(format!(
+            "static_transform_publisher arguments hold the substitution {:?}: expected literal values; resolve it (roslaunch / ros2 launch --print) or write the value",
+            &joined[at..end]
+        ))
+        .at(loc));
+    }
+    let mut ws = Vec::new();
+    let edge = if toks.iter().any(|t| t.starts_with("--")) {
+        let mut vals: std::collections::BTreeMap<&str, &str> = Default::default();
+        let mut i = 0;
+        while i < toks.len() {
+            let t = toks[i];
+            let (flag, inline) = match t.split_once('=') {
+                Some((f, v)) if t.starts_with("--") => (f, Some(v)),
+                _ => (t, None),
+            };
+            if !FLAGS.contains(&flag) {
+                return Err(Error::parse(format!(
+                    "static_transform_publisher: expected one of {}, found {t:?}",
+                    FLAGS.join(" ")
+                ))
+                .at(loc));
+            }
+            let v = match inline {
+                Some(v) => v,
+                None => {
+                    i += 1;
+                    *toks.get(i).ok_or_else(|| {
+                        Error::parse(format!(
+                            "static_transform_publisher: expected a value after {flag}, found the end"
+                        ))
+                        .at(loc)
+                    })?
+                }
+            };
+            if vals.insert(flag, v).is_some() {
+                return Err(Error::parse(format!(
+                    "static_transform_publisher: {flag} given twice"
+                ))
+                .at(loc));
+            }
+            i += 1;
+        }
+        let num = |f: &str, def: f64, ws: &mut Vec<Warning>| -> Result<f64> {
+            match vals.get(f) {
+                None => Ok(def),
+                Some(v) => number_arg(v, 0, ws, loc).map_err(|_| {
+                    Error::parse(format!(
+                        "static_transform_publisher {f}: expected a number, found {v:?}"
+                    ))
+                    .at(loc)
+                }),
+            }
+        };
+        let parent = vals.get("--frame-id").ok_or_else(|| {
+            Error::parse("static_transform_publisher: expected --frame-id NAME, found none").at(loc)
+        })?;
+        let child = vals.get("--child-frame-id").ok_or_else(|| {
+            Error::parse("static_transform_publisher: expected --child-frame-id NAME, found none")
+                .at(loc)
+        })?;
+        let d = [
+            num("--x", 0.0, &mut ws)?,
+            num("--y", 0.0, &mut ws)?,
+            num("--z", 0.0, &mut ws)?,
+        ];
+        let has_q = ["--qx", "--qy", "--qz", "--qw"]
+            .iter()
+            .any(|f| vals.contains_key(f));
+        let has_a = ["--roll", "--pitch", "--yaw"]
+            .iter()
+            .any(|f| vals.contains_key(f));
+        if has_q && has_a {
+            return Err(Error::parse(
+                "static_transform_publisher: expected either --roll/--pitch/--yaw or --qx/--qy/--qz/--qw, found both",
+            )
+            .at(loc));
+        }
+        let (t, how) = if has_q {
+            let q = [
+                num("--qx", 0.0, &mut ws)?,
+                num("--qy", 0.0, &mut ws)?,
+                num("--qz", 0.0, &mut ws)?,
+                num("--qw", 1.0, &mut ws)?,
+            ];
+            (
+                Transform::from_quaternion(q, QuatOrder::Xyzw, d, &mut ws)
+                    .map_err(|e| e.at(loc))?,
+                "--x --y --z --qx --qy --qz --qw",
+            )
+        } else {
+            let rpy = [
+                num("--roll", 0.0, &mut ws)?,
+                num("--pitch", 0.0, &mut ws)?,
+                num("--yaw", 0.0, &mut ws)?,
+            ];
+            (
+                Transform::from_rpy(rpy, d).map_err(|e| e.at(loc))?,
+                "--x --y --z --roll --pitch --yaw",
+            )
+        };
+        check_metres(&d, "static_transform_publisher --x --y --z", loc, &mut ws);
+        Edge::new(
+            frame_name(parent),
+            frame_name(child),
+            t,
+            loc.clone(),
+            format,
+            format!("{context}static_transform_publisher {how}"),
+        )
+    } else {
+        let nnum = toks
+            .iter()
+            .take_while(|t| {
+                parse_number(t).is_some() || t.strip_suffix(',').and_then(parse_number).is_some()
+            })
+            .count();
+        let (nrot, how) = match nnum {
+            6 => (3, "x y z yaw pitch roll"),
+            7 => (4, "x y z qx qy qz qw"),
+            n if n < 6 && toks.len() >= 8 => {
+                return Err(Error::parse(format!(
+                    "static_transform_publisher argument {}: expected a number, found {:?}",
+                    n + 1,
+                    toks[n]
+                ))
+                .at(loc))
+            }
+            _ => {
+                return Err(Error::parse(format!(
+                    "static_transform_publisher: expected `x y z yaw pitch roll parent child [period_ms]` or `x y z qx qy qz qw parent child [period_ms]`, found {} leading numbers in {:?}",
+                    nnum,
+                    toks.join(" ")
+                ))
+                .at(loc))
+            }
+        };
+        let rest = &toks[nnum..];
+        match rest.len() {
+            2 => {}
+            3 if parse_number(rest[2]).is_some() => {}
+            _ => {
+                return Err(Error::parse(format!(
+                    "static_transform_publisher: expected `parent child [period_ms]` after the {nnum} numbers, found {:?}",
+                    rest.join(" ")
+                ))
+                .at(loc))
+            }
+        }
+        let mut v = Vec::with_capacity(nnum);
+        for (i, t) in toks[..nnum].iter().enumerate() {
+            v.push(number_arg(t, i + 1, &mut ws, loc)?);
+        }
+        let d = [v[0], v[1], v[2]];
+        let t = if nrot == 3 {
+            Transform::from_ypr([v[3], v[4], v[5]], d).map_err(|e| e.at(loc))?
+        } else {
+            Transform::from_quaternion([v[3], v[4], v[5], v[6]], QuatOrder::Xyzw, d, &mut ws)
+                .map_err(|e| e.at(loc))?
+        };
+        check_metres(&d, "static_transform_publisher x y z", loc, &mut ws);
+        Edge::new(
+            frame_name(rest[0]),
+            frame_name(rest[1]),
+            t,
+            loc.clone(),
+            format,
+            format!("{context}static_transform_publisher {how}"),
+        )
+    };
+    locate_warnings(ws, loc, warnings);
+    Ok(edge)
+}
+
+fn xml_doc(text: &str) -> Result<roxmltree::Document<'_>> {
+    let opt = roxmltree::ParsingOptions {
+        allow_dtd: false,
+        ..Default::default()
+    };
+    roxmltree::Document::parse_with_options(text, opt).map_err(|e| {
+        let p = e.pos();
+        crate::formats::urdf::xml_err_at(&e, p.row as usize, p.col as usize, text)
+    })
+}
+
+/// ROS 1 / ROS 2 launch XML.
+pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    let _ = opts;
+    let doc = xml_doc(text)?;
+    let mut out = Loaded::default();
+    for n in doc
+        .descendants()
+        .filter(|n| n.is_element() && n.tag_name().name() == "node")
+    {
+        let exe = n
+            .attribute("type")
+            .or_else(|| n.attribute("exec"))
+            .unwrap_or("");
+        if exe != "static_transform_publisher" {
+            continue;
+        }
+        let p = doc.text_pos_at(n.range().start);
+        let loc = Location::at(path, p.row as usize, Some(p.col as usize));
+        let args = n.attribute("args").ok_or_else(|| {
+            Error::parse("static_transform_publisher <node> without args=\"...\": expected the transform in args").at(&loc)
+        })?;
+        let toks: Vec<String> = args.split_whitespace().map(String::from).collect();
+        let name = n.attribute("name").unwrap_or("");
+        let ctx = if name.is_empty() {
+            "<node> ".to_string()
+        } else {
+            format!("<node name=\"{name}\"> ")
+        };
+        out.edges.push(parse_stp_args(
+            &toks,
+            &loc,
+            Format::LaunchXml,
+            &ctx,
+            &mut out.warnings,
+        )?);
+    }
+    if out.edges.is_empty() && text.contains("Extrinsic_Tlb") {
+        return parse_lio_livox(text, path, opts);
+    }
+    Ok(out)
+}
+
+/// LIO-Livox `<rosparam param="Extrinsic_Tlb">` (or the `--key` param).
+pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    let doc = xml_doc(text)?;
+    let want = opts.key.as_deref().unwrap_or("Extrinsic_Tlb");
+    let mut out = Loaded::default();
+    for n in doc
+        .descendants()
+        .filter(|n| n.is_element() && n.tag_name().name() == "rosparam")
+    {
+        let param = n.attribute("param").unwrap_or("");
+        if param != want {
+            continue;
+        }
+        let p = doc.text_pos_at(n.range().start);
+        let loc = Location::at(path, p.row as usize, Some(p.col as usize));
+        let body: String = n.text().unwrap_or("").to_string();
+        let cleaned = body.replace(['[', ']', ','], " ");
+        let mut v = Vec::new();
+        for t in cleaned.split_whitespace() {
+            v.push(parse_number(t).ok_or_else(|| {
+                Error::parse(format!(
+                    "<rosparam param=\"{param}\">: expected 16 numbers, found {t:?}"
+                ))
+                .at(&loc)
+            })?);
+        }
+        if v.len() != 16 {
+            return Err(Error::parse(format!(
+                "<rosparam param=\"{param}\">: expected 16 numbers (row-major 4x4), found {}",
+                v.len()
+            ))
+            .at(&loc));
+        }
+        let m = [
+            [v[0], v[1], v[2], v[3]],
+            [v[4], v[5], v[6], v[7]],
+            [v[8], v[9], v[10], v[11]],
+            [v[12], v[13], v[14], v[15]],
+        ];
+        let mut ws = Vec::new();
+        let t = Transform::from_matrix4(m, &mut ws).map_err(|e| e.at(&loc))?;
+        locate_warnings(ws, &loc, &mut out.warnings);
+        out.warnings.push(
+            Warning::new(
+                WarningCode::AssumedConvention,
+                format!("<rosparam param=\"{param}\"> read as the LiDAR pose in the IMU frame (imu -> lidar, FAST-LIO sign); the file does not state the direction: pass --invert if yours stores the other one"),
+            )
+            .at(&loc),
+        );
+        check_metres(&[v[3], v[7], v[11]], param, &loc, &mut out.warnings);
+        out.edges.push(Edge::new(
+            "imu",
+            "lidar",
+            t,
+            loc,
+            Format::LioLivoxLaunch,
+            format!("<rosparam param=\"{param}\">"),
+        ));
+    }
+    if out.edges.is_empty() {
+        return Err(Error::parse(format!(
+            "expected a static_transform_publisher <node> or <rosparam param=\"{want}\">, found neither"
+        )));
+    }
+    Ok(out)
+}
+
+fn find_nodes<'a>(n: &'a Node, out: &mut Vec<&'a Node>) {
+    match &n.value {
+        Value::Map(m) => {
+            let exe = n
+                .get("exec")
+                .or_else(|| n.get("executable"))
+                .or_else(|| n.get("type"))
+                .and_then(|v| v.as_str());
+            if exe.as_deref() == Some("static_transform_publisher") {
+                out.push(n);
+                return;
+            }
+            for (_, v) in m {
+                find_nodes(v, out);
+            }
+        }
+        Value::Seq(s) => {
+            for v in s {
+                find_nodes(v, out);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// ROS 2 launch YAML.
+pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    let _ = opts;
+    let docs = yaml::parse_documents(text)?;
+    let mut nodes = Vec::new();
+    for d in &docs {
+        find_nodes(d, &mut nodes);
+    }
+    let mut out = Loaded::default();
+    for n in nodes {
+        let loc = Location::at(path, n.line.max(1), Some(n.column.max(1)));
+        let args = n
+            .get("args")
+            .or_else(|| n.get("arguments"))
+            .ok_or_else(|| {
+                Error::parse(
+                    "static_transform_publisher node without args: expected `args: \"...\"`",
+                )
+                .at(&loc)
+            })?;
+        let toks: Vec<String> = match &args.value {
+            Value::Str(s) => s.split_whitespace().map(String::from).collect(),
+            Value::Seq(items) => {
+                let mut v = Vec::new();
+                for it in items {
+                    v.push(it.as_str().ok_or_else(|| {
+                        Error::parse(format!(
+                            "static_transform_publisher args: expected strings or numbers, found {}",
+                            it.kind()
+                        ))
+                        .at(&loc)
+                    })?);
+                }
+                v
+            }
+            _ => {
+                return Err(Error::parse(format!(
+                    "static_transform_publisher args: expected a string or a list, found {}",
+                    args.kind()
+                ))
+                .at(&loc))
+            }
+        };
+        out.edges.push(parse_stp_args(
+            &toks,
+            &loc,
+            Format::LaunchYaml,
+            "node ",
+            &mut out.warnings,
+        )?);
+    }
+    Ok(out)
+}
+
+/// Split a command line like a POSIX shell would for simple cases: whitespace,
+/// single and double quotes.
+fn shell_words(s: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut quote: Option<char> = None;
+    let mut any = false;
+    for c in s.chars() {
+        match quote {
+            Some(q) if c == q => quote = None,
+            Some(_) => cur.push(c),
+            None if c == '\'' || c == '"' => {
+                quote = Some(c);
+                any = true;
+            }
+            None if c.is_whitespace() => {
+                if any || !cur.is_empty() {
+                    out.push(std::mem::take(&mut cur));
+                    any = false;
+                }
+            }
+            None => cur.push(c),
+        }
+    }
+    if any || !cur.is_empty() {
+        out.push(cur);
+    }
+    out
+}
+
+/// Command lines saved as text.
+pub fn parse_commands(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    let _ = opts;
+    let mut out = Loaded::default();
+    let mut joined = String::new();
+    let mut start_line = 0;
+    for (i, raw) in text.lines().enumerate() {
+        if joined.is_empty() {
+            start_line = i + 1;
+        }
+        let l = raw.trim_end();
+        if let Some(x) = l.strip_suffix('\\') {
+            joined.push_str(x);
+            joined.push(' ');
+            continue;
+        }
+        joined.push_str(l);
+        let line = std::mem::take(&mut joined);
+        let t = line.trim_start();
+        if t.is_empty() || t.starts_with('#') {
+            continue;
+        }
+        let words = shell_words(t);
+        let Some(pos) = words.iter().position(|w| w == "static_transform_publisher") else {
+            continue;
+        };
+        let col = raw.len() - raw.trim_start().len() + 1;
+        let loc = Location::at(path, start_line, Some(col));
+        out.edges.push(parse_stp_args(
+            &words[pos + 1..],
+            &loc,
+            Format::StaticTfCommands,
+            "",
+            &mut out.warnings,
+        )?);
+    }
+    Ok(out)
+}
+
+/// Index of the `)` / `]` closing the bracket at `open` (Python source),
+/// skipping string literals and comments.
+fn matching_close(src: &[u8], open: usize) -> Option<usize> {
+    let (o, c) = match src.get(open)? {
+        b'(' => (b'(', b')'),
+        b'[' => (b'[', b']'),
+        _ => return None,
+    };
+    let mut depth = 0usize;
+    let mut i = open;
+    while i < src.len() {
+        let ch = src[i];
+        if ch == b'\'' || ch == b'"' {
+            let q = ch;
+            i += 1;
+            while i < src.len() && src[i] != q {
+                if src[i] == b'\\' {
+                    i += 1;
+                }
+                i += 1;
+            }
+        } else if ch == b'#' {
+            while i < src.len() && src[i] != b'\n' {
+                i += 1;
+            }
+        } else if ch == o || (o == b'(' && ch == b'[') || (o == b'[' && ch == b'(') {
+            depth += 1;
+        } else if ch == c || (o == b'(' && ch == b']') || (o == b'[' && ch == b')') {
+            depth = depth.saturating_sub(1);
+            if depth == 0 {
+                return (ch == c).then_some(i);
+            }
+        }
+        i += 1;
+    }
+    None
+}
+
+/// Split the inside of a Python list at top-level commas.
+fn split_top_level(s: &str) -> Vec<(usize, String)> {
+    let b = s.as_bytes();
+    let mut out = Vec::new();
+    let mut depth = 0i32;
+    let mut start = 0;
+    let mut i = 0;
+    while i < b.len() {
+        match b[i] {
+            b'\'' | b'"' => {
+                let q = b[i];
+                i += 1;
+                while i < b.len() && b[i] != q {
+                    if b[i] == b'\\' {
+                        i += 1;
+                    }
+                    i += 1;
+                }
+            }
+            b'(' | b'[' | b'{' => depth += 1,
+            b')' | b']' | b'}' => depth -= 1,
+            b',' if depth == 0 => {
+                out.push((start, s[start..i].to_string()));
+                start = i + 1;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    if start < s.len() && !s[start..].trim().is_empty() {
+        out.push((start, s[start..].to_string()));
+    }
+    out
+}
+
+fn python_literal(e: &str) -> Option<String> {
+    let t = e.trim();
+    // Drop a trailing comment line inside the list.
+    let t = t
+        .lines()
+        .map(|l| l.trim())
+        .filter(|l| !l.starts_with('#') && !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ");
+    let t = t.trim();
+    for q in ['\'', '"'] {
+        if t.len() >= 2 && t.starts_with(q) && t.ends_with(q) {
+            let inner = &t[1..t.len() - 1];
+            if !inner.contains(q) && !inner.contains('\\') {
+                return Some(inner.to_string());
+            }
+        }
+    }
+    parse_number(t).map(|_| t.to_string())
+}
+
+/// ROS 2 Python launch files: literal argument lists only.
+pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    let _ = opts;
+    let src = text.as_bytes();
+    let mut out = Loaded::default();
+    let mut search_from = 0;
+    let mut seen_calls: Vec<usize> = Vec::new();
+    while let Some(rel) = text[search_from..].find("static_transform_publisher") {
+        let at = search_from + rel;
+        search_from = at + 1;
+        // Skip comment lines.
+        let line_start = text[..at].rfind('\n').map(|p| p + 1).unwrap_or(0);
+        if text[line_start..at].trim_start().starts_with('#') {
+            continue;
+        }
+        // The enclosing Node( call.
+        let Some(call) = text[..at].rfind("Node(") else {
+            let (l, c) = line_col(text, at);
+            return Err(Error::parse(
+                "static_transform_publisher outside a Node(...) call: expected Node(package='tf2_ros', executable='static_transform_publisher', arguments=[...])",
+            )
+            .at_line(l, Some(c)));
+        };
+        let open = call + 4;
+        let Some(close) = matching_close(src, open) else {
+            let (l, c) = line_col(text, call);
+            return Err(Error::parse("Node( without its closing parenthesis").at_line(l, Some(c)));
+        };
+        if close < at || seen_calls.contains(&call) {
+            continue;
+        }
+        seen_calls.push(call);
+        let body = &text[open + 1..close];
+        let (l, c) = line_col(text, call);
+        let loc = Location::at(path, l, Some(c));
+        let Some(arel) = body.find("arguments") else {
+            return Err(Error::parse(
+                "static_transform_publisher Node without `arguments=[...]`: expected a literal argument list",
+            )
+            .at(&loc));
+        };
+        let after = &body[arel + "arguments".len()..];
+        let after_eq = after.trim_start().strip_prefix('=').map(|s| s.trim_start());
+        let list_off = match after_eq {
+            Some(s) if s.starts_with('[') => {
+                open + 1 + arel + "arguments".len() + (after.len() - s.len())
+            }
+            _ => {
+                let (l2, c2) = line_col(text, open + 1 + arel);
+                let shown: String = after_eq.unwrap_or(after).chars().take(40).collect();
+                return Err(Error::parse(format!(
+                    "static_transform_publisher arguments: expected a literal list `[...]`, found {:?} (not literal: evaluate it or write the values)",
+                    shown.trim()
+                ))
+                .at_line(l2, Some(c2)));
+            }
+        };
+        let Some(lclose) = matching_close(src, list_off) else {
+            let (l2, c2) = line_col(text, list_off);
+            return Err(
+                Error::parse("arguments=[ without its closing bracket").at_line(l2, Some(c2))
+            );
+        };
+        let inner = &text[list_off + 1..lclose];
+        let mut toks = Vec::new();
+        for (off, el) in split_top_level(inner) {
+            match python_literal(&el) {
+                Some(s) => toks.extend(s.split_whitespace().map(String::from)),
+                None => {
+                    let lead = el.len() - el.trim_start().len();
+                    let (l2, c2) = line_col(text, list_off + 1 + off + lead);
+                    return Err(Error::parse(format!(
+                        "static_transform_publisher argument {:?} is not a literal: expected string or number literals only (evaluate it or write the value)",
+                        el.trim()
+                    ))
+                    .at_line(l2, Some(c2)));
+                }
+            }
+        }
+        out.edges.push(parse_stp_args(
+            &toks,
+            &loc,
+            Format::LaunchPy,
+            "Node(arguments=[...]) ",
+            &mut out.warnings,
+        )?);
+    }
+    Ok(out)
+}
