@@ -518,10 +518,3 @@ impl FrameGraph {
         out
     }
 }
-
-impl FrameGraph {
-    /// The frame tree as text (like check_urdf).
-    pub fn tree(&self) -> String {
-        self.frames().join("\n")
-    }
-}

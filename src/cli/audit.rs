@@ -67,16 +67,7 @@ impl AuditArgs {
     pub fn load_options(&self) -> Result<LoadOptions> {
         let format = match &self.input_format {
             None => None,
-            Some(name) => Some(formats::Format::from_name(name).ok_or_else(|| {
-                Error::usage(format!(
-                    "--input-format: unknown format `{name}`; expected one of: {}",
-                    formats::all_formats()
-                        .iter()
-                        .map(|(f, _)| f.name())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ))
-            })?),
+            Some(name) => Some(formats::Format::from_name(name)?),
         };
         Ok(LoadOptions {
             joints: self.joints.iter().cloned().collect(),

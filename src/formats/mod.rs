@@ -509,24 +509,3 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     }
     Ok(loaded)
 }
-
-impl Format {
-    /// Parse a format name as printed by [`Format::name`].
-    pub fn from_name(name: &str) -> Option<Format> {
-        all_formats()
-            .iter()
-            .map(|(f, _)| *f)
-            .find(|f| f.name() == name)
-    }
-}
-
-/// Every format with a one-line description of what its numbers mean.
-pub fn all_formats() -> &'static [(Format, &'static str)] {
-    &[
-        (
-            Format::Urdf,
-            "URDF joints: <origin> is the pose of the child link in the parent link",
-        ),
-        (Format::RigToml, "the tool's TOML rig file"),
-    ]
-}
