@@ -150,7 +150,10 @@ struct TransformDef {
     #[serde(default)]
     invert: bool,
     source_key: String,
+    /// Free text for readers of the file (e.g. how a source expression was
+    /// evaluated); parsed so that a typo elsewhere is still refused.
     #[serde(default)]
+    #[allow(dead_code)]
     note: Option<String>,
 }
 
@@ -162,7 +165,9 @@ struct IncludeDef {
     key: Option<String>,
     #[serde(default)]
     invert: bool,
+    /// Free text for readers of the file.
     #[serde(default)]
+    #[allow(dead_code)]
     note: Option<String>,
 }
 
