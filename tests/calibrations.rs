@@ -483,3 +483,43 @@ fn sidecar_rig_matches_its_native_twin() {
         );
     }
 }
+
+/// calibrations/README.md lists every rig file, keeps the markers for the
+/// generated survey block, and its comparison with the paper quotes the current
+/// summary (count, range, median, pitch counts).
+#[test]
+fn readme_lists_every_rig_and_quotes_the_summary() {
+    let readme = std::fs::read_to_string(root().join("calibrations/README.md")).unwrap();
+    for path in rig_files() {
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        assert!(
+            readme.contains(&format!("]({name})")),
+            "README rig list lacks a link to {name}"
+        );
+    }
+    let begin = readme.find("<!-- survey:begin -->").expect("begin marker");
+    let end = readme.find("<!-- survey:end -->").expect("end marker");
+    assert!(begin < end);
+    let s = &expected()["summary"];
+    let row = format!(
+        "| rigs (placeholders excluded) | 19 | {} ({} datasets or projects) |",
+        s["count"], s["datasets"]
+    );
+    assert!(readme.contains(&row), "README lacks {row:?}");
+    let range = format!(
+        "| lever arm range | 0.032–0.552 m | {:.4}–{:.4} m |",
+        num(s, "lever_arm_min_m"),
+        num(s, "lever_arm_max_m")
+    );
+    assert!(readme.contains(&range), "README lacks {range:?}");
+    let median = format!(
+        "| median lever arm | 0.114 m | {:.4} m |",
+        num(s, "lever_arm_median_m")
+    );
+    assert!(readme.contains(&median), "README lacks {median:?}");
+    let pitch = format!(
+        "| nonzero screw translation | 18 | {} ({} general screws + {} pure translations) |",
+        s["nonzero_pitch_count"], s["general_count"], s["pure_translation_count"]
+    );
+    assert!(readme.contains(&pitch), "README lacks {pitch:?}");
+}
