@@ -253,6 +253,25 @@ pub struct RigMeta {
     pub direction: String,
     /// Identity or zero extrinsic (co-located placeholder): kept out of statistics.
     pub placeholder: bool,
+    /// `factory`, `dataset-calibration`, `cad-or-nominal`, `third-party-config`
+    /// or `placeholder` (rig TOML `[rig] category`; empty when not given).
+    pub category: String,
+    /// Free-text caveats from the rig file (empty when none).
+    pub notes: String,
+    /// A web address of the source, when the rig file gives one.
+    pub source_url: Option<String>,
+    /// Set when this file describes the same rig as another (e.g. a raw-file
+    /// sidecar beside the native TOML): kept out of statistics; it must give the
+    /// same transform as the rig it names.
+    pub duplicate_of: Option<String>,
+}
+
+impl RigMeta {
+    /// Whether the rig counts in survey statistics: not a placeholder and not a
+    /// duplicate of another rig.
+    pub fn in_statistics(&self) -> bool {
+        !self.placeholder && self.duplicate_of.is_none()
+    }
 }
 
 /// What one file yields.
