@@ -5,6 +5,7 @@
 //! analysis (`certificate`, `metric`; `detector` and `scene` for point data) ->
 //! report (`report`, `cli`).
 
+pub mod certificate;
 pub mod cli;
 pub mod error;
 pub mod formats;

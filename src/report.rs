@@ -2,7 +2,9 @@
 //! (schema_version 1, other programs read it: keep field names and types), and
 //! their table / markdown renderings.
 
+use crate::error::Result;
 use crate::graph::Chain;
+use crate::metric::{self, RigAnalysis};
 use crate::se3::Transform;
 use serde::{Deserialize, Serialize};
 
@@ -176,6 +178,23 @@ pub fn terminal_table(header: &[&str], rows: &[Vec<String>]) -> String {
     t.to_string()
 }
 
+/// [`terminal_table`] with upper bounds on some columns' widths (content wraps).
+pub fn terminal_table_wrapped(header: &[&str], rows: &[Vec<String>], bounds: &[(usize, u16)]) -> String {
+    let mut t = comfy_table::Table::new();
+    t.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
+    t.set_content_arrangement(comfy_table::ContentArrangement::Dynamic);
+    t.set_header(header.iter().copied());
+    for r in rows {
+        t.add_row(r.iter().cloned());
+    }
+    for &(i, w) in bounds {
+        if let Some(c) = t.column_mut(i) {
+            c.set_constraint(comfy_table::ColumnConstraint::UpperBoundary(comfy_table::Width::Fixed(w)));
+        }
+    }
+    t.to_string()
+}
+
 /// CSV with minimal quoting (RFC 4180).
 pub fn csv_table(header: &[&str], rows: &[Vec<String>]) -> String {
     let q = |s: &str| {
@@ -229,87 +248,85 @@ pub fn vec_str(v: &[f64], decimals: usize) -> String {
     )
 }
 
-/// Build the rig report from a composed chain.
-pub fn rig_report(chain: &Chain, ells: &[f64], pitch_tol: f64) -> RigReport {
-    let t = &chain.transform;
-    let delta = t.lever_arm();
-    let screw = t.screw(pitch_tol);
-    let (angle, axis) = t.rotation_angle_axis();
-    let smax = 0.5 * delta + (1.0 + 0.25 * delta * delta).sqrt();
-    let smin = 1.0 / smax;
-    let certificate = ells
-        .iter()
-        .map(|&l| {
-            let de = delta / l;
-            let s = 0.5 * de + (1.0 + 0.25 * de * de).sqrt();
-            CertificateJson {
-                ell_m: l,
-                delta_eff: de,
-                band: [1.0 / (s * s), s * s],
-            }
-        })
-        .collect();
-    let m0 = crate::metric::adapted_metric_matrix(t, pitch_tol);
-    let adapted_metric = AdaptedMetricJson {
-        exists: m0.is_some(),
-        reason: String::new(),
-        matrix: m0.map(|m| {
-            let mut a = [[0.0; 6]; 6];
-            for (i, row) in a.iter_mut().enumerate() {
-                for (j, x) in row.iter_mut().enumerate() {
-                    *x = m[(i, j)];
-                }
-            }
-            a
-        }),
-        invariance_residual: None,
-        offdiag_norm: None,
-        rel_diff_identity: None,
-    };
+/// Build the rig report from a composed chain: the analysis is
+/// [`metric::analyze`]; this only arranges it in the schema.
+pub fn rig_report(chain: &Chain, ells: &[f64], pitch_tol: f64) -> Result<RigReport> {
+    let an = metric::analyze(&chain.transform, ells, pitch_tol)?;
+    Ok(report_from_analysis(&an, chain))
+}
+
+pub fn report_from_analysis(an: &RigAnalysis, chain: &Chain) -> RigReport {
+    let s = &an.screw;
+    let am = &an.adapted_metric;
     RigReport {
         schema_version: SCHEMA_VERSION,
         from: chain.from.clone(),
         to: chain.to.clone(),
         sources: sources_json(chain),
-        transform: transform_json(t),
-        lever_arm_m: delta,
+        transform: transform_json(&an.transform),
+        lever_arm_m: an.lever_arm_m,
         rotation: RotationJson {
-            angle_rad: angle,
-            angle_deg: angle.to_degrees(),
-            axis: axis.map(|e| arr3(&e)),
+            angle_rad: an.angle_rad,
+            angle_deg: an.angle_rad.to_degrees(),
+            axis: an.axis.map(|e| arr3(&e)),
         },
         screw: ScrewJson {
-            kind: screw.kind.name().to_string(),
-            translation_along_axis_m: screw.translation_along_axis,
-            pitch_m_per_rad: screw.pitch,
-            axis_point_m: screw.axis_point.map(|c| arr3(&c)),
+            kind: s.kind.name().to_string(),
+            translation_along_axis_m: s.translation_along_axis,
+            pitch_m_per_rad: s.pitch,
+            axis_point_m: s.axis_point.map(|c| arr3(&c)),
         },
         adjoint: AdjointJson {
-            singular_values: [smax, smax, 1.0, 1.0, smin, smin],
-            orthogonal: delta <= crate::se3::LENGTH_ZERO_TOL,
-            ata_minus_i_rel: delta * ((delta * delta + 2.0) / 3.0).sqrt(),
+            singular_values: an.adjoint.singular_values,
+            orthogonal: an.adjoint.orthogonal,
+            ata_minus_i_rel: an.adjoint.ata_minus_i_rel,
         },
-        certificate,
-        adapted_metric,
-        detectors: Vec::new(),
+        certificate: an
+            .certificate
+            .iter()
+            .map(|c| CertificateJson {
+                ell_m: c.ell_m,
+                delta_eff: c.delta_eff,
+                band: c.band,
+            })
+            .collect(),
+        adapted_metric: AdaptedMetricJson {
+            exists: am.exists,
+            reason: am.reason.text().to_string(),
+            matrix: am.matrix.map(|m| std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))),
+            invariance_residual: am.invariance_residual,
+            offdiag_norm: am.offdiag_norm,
+            rel_diff_identity: am.rel_diff_identity,
+        },
+        detectors: an
+            .detectors
+            .iter()
+            .map(|d| DetectorJson {
+                family: d.family.name().to_string(),
+                equivariant_rule: d.equivariant_rule,
+                invariant_on_rig: d.invariant_on_rig,
+                reason: d.reason.text().to_string(),
+            })
+            .collect(),
         kappa_check: None,
     }
 }
 
 /// Band check for `--kappa K --lambda L`: certified when `L/K` lies outside the
-/// band `[s_min^2, s_max^2]` of that characteristic length.
-pub fn kappa_check(rep: &RigReport, kappa: f64, lambda: f64) -> KappaCheckJson {
-    let ratio = lambda / kappa;
-    KappaCheckJson {
+/// band `[s_min^2, s_max^2]` of that characteristic length
+/// ([`crate::certificate::certifies_no_crossing`]).
+pub fn kappa_check(rep: &RigReport, kappa: f64, lambda: f64) -> Result<KappaCheckJson> {
+    let certified = rep
+        .certificate
+        .iter()
+        .map(|c| crate::certificate::certifies_no_crossing(lambda, kappa, c.delta_eff))
+        .collect::<Result<Vec<bool>>>()?;
+    Ok(KappaCheckJson {
         kappa,
         lambda,
-        ratio,
-        certified: rep
-            .certificate
-            .iter()
-            .map(|c| ratio < c.band[0] || ratio > c.band[1])
-            .collect(),
-    }
+        ratio: lambda / kappa,
+        certified,
+    })
 }
 
 /// One survey row (DESIGN.md survey JSON).

@@ -119,6 +119,24 @@ pub fn matrix_to_rpy(r: &Matrix3<f64>) -> [f64; 3] {
     }
 }
 
+/// Axis norm below which an axis-angle rotation axis counts as zero (an error).
+pub const AXIS_MIN_NORM: f64 = 1e-12;
+
+/// `||v||` without overflow or underflow of the squares.
+fn robust_norm(v: &Vector3<f64>) -> f64 {
+    let m = v.amax();
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    m * (v / m).norm()
+}
+
+/// `v / ||v||` for a finite non-zero `v`, without overflow.
+fn scaled_unit(v: &Vector3<f64>) -> Vector3<f64> {
+    let w = v / v.amax();
+    w / w.norm()
+}
+
 /// Rodrigues' formula for a unit axis.
 fn axis_angle_matrix(e: &Vector3<f64>, angle: f64) -> Matrix3<f64> {
     let k = skew(e);
@@ -173,8 +191,7 @@ impl Transform {
         d: [f64; 3],
         warnings: &mut Vec<Warning>,
     ) -> Result<Self> {
-        let flat: Vec<f64> = r.iter().flatten().copied().collect();
-        check_finite("rotation matrix", &flat)?;
+        check_finite("rotation matrix", r.as_flattened())?;
         check_finite("translation", &d)?;
         let m = Matrix3::from_fn(|i, j| r[i][j]);
         let r = checked_rotation(&m, warnings)?;
@@ -262,18 +279,21 @@ impl Transform {
         check_finite("rotation axis", &axis)?;
         check_finite("rotation angle", &[angle])?;
         check_finite("translation", &d)?;
-        let a = Vector3::from(axis);
-        let n = a.norm();
         if angle == 0.0 {
             return Self::from_translation(d);
         }
-        if n < 1e-12 {
+        // Scaled norm: an axis like [1e300, 1e300, 0] must not overflow to inf
+        // (that would silently give the identity).
+        let a = Vector3::from(axis);
+        let n = robust_norm(&a);
+        if n < AXIS_MIN_NORM {
             return Err(Error::invalid(format!(
                 "rotation axis {axis:?}: expected a non-zero axis for angle {angle}, found a zero vector"
             )));
         }
+        let e = scaled_unit(&a);
         Ok(Transform {
-            r: axis_angle_matrix(&(a / n), angle),
+            r: axis_angle_matrix(&e, angle),
             d: Vector3::from(d),
         })
     }
@@ -282,7 +302,12 @@ impl Transform {
     pub fn from_rotation_vector(v: [f64; 3], d: [f64; 3]) -> Result<Self> {
         check_finite("rotation vector", &v)?;
         let a = Vector3::from(v);
-        let n = a.norm();
+        let n = robust_norm(&a);
+        if !n.is_finite() {
+            return Err(Error::invalid(format!(
+                "rotation vector {v:?}: expected a finite angle, found norm {n:e}"
+            )));
+        }
         if n == 0.0 {
             return Self::from_translation(d);
         }
@@ -293,8 +318,7 @@ impl Transform {
     /// within `BOTTOM_ROW_TOL`; the rotation block is checked as in
     /// [`Transform::from_matrix3`].
     pub fn from_matrix4(m: [[f64; 4]; 4], warnings: &mut Vec<Warning>) -> Result<Self> {
-        let flat: Vec<f64> = m.iter().flatten().copied().collect();
-        check_finite("4x4 matrix", &flat)?;
+        check_finite("4x4 matrix", m.as_flattened())?;
         let bottom = m[3];
         let expect = [0.0, 0.0, 0.0, 1.0];
         if bottom
@@ -362,7 +386,10 @@ impl Transform {
 
     /// Quaternion `[x, y, z, w]` with `w >= 0`.
     pub fn quaternion_xyzw(&self) -> [f64; 4] {
-        let q = nalgebra::UnitQuaternion::from_matrix(&self.r);
+        // R is a rotation to rounding (checked on construction): use the direct
+        // (Shepperd) conversion rather than nalgebra's iterative `from_matrix`.
+        let rot = nalgebra::Rotation3::from_matrix_unchecked(self.r);
+        let q = nalgebra::UnitQuaternion::from_rotation_matrix(&rot);
         let (mut x, mut y, mut z, mut w) = (q.i, q.j, q.k, q.w);
         if w < 0.0 {
             (x, y, z, w) = (-x, -y, -z, -w);
@@ -398,27 +425,42 @@ impl Transform {
     /// Rotation angle in `[0, pi]` and unit axis (`None` below `ANGLE_ZERO_TOL`).
     ///
     /// The angle is `atan2(sin, cos)` from the skew and trace parts, accurate at
-    /// both ends. Near a half-turn the axis comes from the symmetric part
-    /// `(R + R^T)/2 - cos(phi) I = (1 - cos phi) e e^T`, its sign from the skew
-    /// part; at an exact half-turn the sign is left canonical here (first non-zero
-    /// component positive) and [`Transform::screw`] re-signs it by `h >= 0`.
+    /// both ends. For `cos(phi) > 0` the axis is the skew part `sin(phi) e`
+    /// normalised. Otherwise it comes from the symmetric part
+    /// `(R + R^T)/2 - cos(phi) I = (1 - cos phi) e e^T` (its largest-diagonal
+    /// column), which stays well conditioned up to and at `phi = pi`, with its sign
+    /// taken from the skew part. At an exact half-turn (`sin(phi) <=
+    /// HALF_TURN_SIN_TOL`) the skew part carries no sign, so the sign is canonical
+    /// here (first non-zero component positive) and [`Transform::screw`] re-signs it
+    /// so that `h >= 0`.
     pub fn rotation_angle_axis(&self) -> (f64, Option<Vector3<f64>>) {
+        let (phi, e, _) = self.angle_axis_sin();
+        (phi, e)
+    }
+
+    /// `(phi, e, sin(phi))`, `sin(phi)` as the norm of the skew part.
+    fn angle_axis_sin(&self) -> (f64, Option<Vector3<f64>>, f64) {
         let r = &self.r;
         let w = vee_antisym(r); // = sin(phi) e
         let s = w.norm();
         let c = 0.5 * (r.trace() - 1.0);
         let phi = s.atan2(c);
-        if phi < ANGLE_ZERO_TOL {
-            return (phi, None);
+        // `!(phi >= tol)` also catches NaN (a transform built from non-finite
+        // numbers through an unchecked path): no axis, never a panic.
+        if !(phi >= ANGLE_ZERO_TOL) {
+            return (phi, None, s);
         }
         if c > 0.0 {
-            return (phi, Some(w / s));
+            return (phi, Some(w / s), s);
         }
         // Symmetric part: (1 - c) e e^T; use its largest-diagonal column.
         let b = 0.5 * (r + r.transpose()) - Matrix3::identity() * c;
-        let k = (0..3)
-            .max_by(|&i, &j| b[(i, i)].total_cmp(&b[(j, j)]))
-            .unwrap_or(0);
+        let mut k = 0;
+        for i in 1..3 {
+            if b[(i, i)] > b[(k, k)] {
+                k = i;
+            }
+        }
         let mut e: Vector3<f64> = b.column(k).into_owned();
         e /= e.norm();
         if s > HALF_TURN_SIN_TOL {
@@ -428,12 +470,26 @@ impl Transform {
         } else {
             e = canonical_sign(e);
         }
-        (phi, Some(e))
+        (phi, Some(e), s)
     }
 
     /// Chasles decomposition with the zero-pitch tolerance `pitch_tol` (m) on `|h|`.
+    ///
+    /// `T` is a rotation by `phi` about the line `{c + t e}` followed by a
+    /// translation `h` along it: `d = (I - R) c + h e`, `c . e = 0`, so
+    /// `c = (d_perp + cot(phi/2) e x d) / 2` with `d_perp = d - h e` (at `phi = pi`
+    /// the cotangent is 0 and `c = d_perp / 2`).
+    ///
+    /// `h(T) = h(T^-1)`: `T^-1 = (R^T, -R^T d)` rotates about `-e`, and
+    /// `(-e) . (-R^T d) = (R e) . d = e . d`. At an exact half-turn `R = R^T` and
+    /// the axis extraction returns the same `e` for both, which would give
+    /// `h(T^-1) = -h(T)`; choosing the sign with `h >= 0` (a half-turn about `e`
+    /// and about `-e` are the same rotation) restores the equality.
+    ///
+    /// `pitch_tol` is an absolute length (m) on `|h|`; a negative or NaN tolerance
+    /// classifies every rotation as `General`.
     pub fn screw(&self, pitch_tol: f64) -> Screw {
-        let (phi, axis) = self.rotation_angle_axis();
+        let (phi, axis, s) = self.angle_axis_sin();
         let lever = self.lever_arm();
         let Some(mut e) = axis else {
             let kind = if lever <= LENGTH_ZERO_TOL {
@@ -451,14 +507,13 @@ impl Transform {
                 half_turn: false,
             };
         };
-        let half_turn = phi.sin() <= HALF_TURN_SIN_TOL;
+        let half_turn = s <= HALF_TURN_SIN_TOL;
         let mut h = e.dot(&self.d);
         if half_turn && h < 0.0 {
             e = -e;
             h = -h;
         }
         let d_perp = self.d - e * h;
-        // Axis point closest to the origin: c = (d_perp + cot(phi/2) e x d) / 2.
         let half = 0.5 * phi;
         let cot = half.cos() / half.sin();
         let c = 0.5 * (d_perp + e.cross(&self.d) * cot);

@@ -141,9 +141,9 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     )?;
     let chain = graph.transform(&from, &to)?;
     print_warnings(&chain.warnings);
-    let mut rep = report::rig_report(&chain, &args.ell, args.pitch_tol);
+    let mut rep = report::rig_report(&chain, &args.ell, args.pitch_tol)?;
     if let (Some(kappa), Some(lambda)) = (args.kappa, args.lambda) {
-        rep.kappa_check = Some(report::kappa_check(&rep, kappa, lambda));
+        rep.kappa_check = Some(report::kappa_check(&rep, kappa, lambda)?);
     }
     let text = match args.format {
         ReportFormat::Json => {

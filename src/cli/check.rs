@@ -300,7 +300,13 @@ impl Checker<'_> {
             for w in &chain.warnings {
                 self.push_warning(&file, w);
             }
-            let rep = report::rig_report(&chain, &[1.0], self.args.pitch_tol);
+            let rep = match report::rig_report(&chain, &[1.0], self.args.pitch_tol) {
+                Ok(r) => r,
+                Err(e) => {
+                    self.push_error(&file, &e);
+                    continue;
+                }
+            };
             let line = chain
                 .steps
                 .last()

@@ -17,9 +17,13 @@ use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Rotation angle (deg) below which the table marks a rig: its screw axis, and
-/// with it h, is set by calibration noise rather than by the mounting.
-pub const SMALL_ROTATION_DEG: f64 = 1.0;
+/// Rotation angle (deg) below which the table marks a rig (`*`): its screw axis,
+/// and with it h, is set by calibration noise rather than by the mounting. The
+/// rig files own the threshold (see calibrations/README.md).
+pub use crate::formats::rig_toml::SMALL_ROTATION_DEG;
+/// Angle (rad) within which of a half-turn the table marks `h` (`±`): its sign
+/// follows the rounding of the published numbers.
+pub const NEAR_HALF_TURN_RAD: f64 = 1e-6;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
 pub enum SurveyFormat {
@@ -64,9 +68,9 @@ pub struct SurveyArgs {
     /// Zero-pitch tolerance on |h| (m)
     #[arg(long, default_value_t = crate::se3::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
     pub pitch_tol: f64,
-    /// Also list placeholder rigs (never counted in the summary)
+    /// Also list placeholder and duplicate rigs (never counted in the summary)
     #[arg(long)]
-    pub include_placeholders: bool,
+    pub all: bool,
 }
 
 /// A surveyed rig: its metadata and the analysis of `T_from_to`.
@@ -94,7 +98,7 @@ pub fn survey_rig(path: &Path, pitch_tol: f64) -> Result<SurveyRow> {
     let chain = graph
         .transform(&meta.from, &meta.to)
         .map_err(|e| e.in_file(path))?;
-    let rep = report::rig_report(&chain, &[1.0], pitch_tol);
+    let rep = report::rig_report(&chain, &[1.0], pitch_tol).map_err(|e| e.in_file(path))?;
     let json = SurveyRigJson {
         id: meta.id.clone(),
         sensor: meta.sensor.clone(),
@@ -133,7 +137,7 @@ pub fn median(v: &[f64]) -> f64 {
 }
 
 pub fn summarize(rows: &[SurveyRow]) -> SurveySummaryJson {
-    let counted: Vec<&SurveyRow> = rows.iter().filter(|r| !r.meta.placeholder).collect();
+    let counted: Vec<&SurveyRow> = rows.iter().filter(|r| r.meta.in_statistics()).collect();
     let levers: Vec<f64> = counted.iter().map(|r| r.json.lever_arm_m).collect();
     SurveySummaryJson {
         count: counted.len(),
@@ -160,7 +164,7 @@ pub fn collect(args: &SurveyArgs) -> Result<Vec<SurveyRow>> {
     let mut rows = Vec::new();
     for f in &files {
         let row = survey_rig(f, args.pitch_tol)?;
-        if row.meta.placeholder && !args.include_placeholders {
+        if !row.meta.in_statistics() && !args.all {
             continue;
         }
         rows.push(row);
@@ -206,7 +210,10 @@ fn row_cells(r: &SurveyRow) -> Vec<String> {
     let mut id = j.id.clone();
     if r.meta.placeholder {
         id.push_str(" (placeholder)");
+    } else if let Some(d) = &r.meta.duplicate_of {
+        id.push_str(&format!(" (duplicate of {d})"));
     }
+    let half_turn = (std::f64::consts::PI - j.angle_deg.to_radians()).abs() < NEAR_HALF_TURN_RAD;
     vec![
         id,
         j.sensor.clone(),
@@ -214,7 +221,7 @@ fn row_cells(r: &SurveyRow) -> Vec<String> {
         fixed(j.lever_arm_m, 4),
         format!("{}{}", fixed(j.angle_deg, 3), if small { "*" } else { "" }),
         match j.screw_translation_m {
-            Some(h) => fixed(h, 4),
+            Some(h) => format!("{}{}", h_str(h), if half_turn { " ±" } else { "" }),
             None => "- (pure transl.)".into(),
         },
         if j.zero_pitch { "yes" } else { "no" }.into(),
@@ -227,6 +234,17 @@ fn row_cells(r: &SurveyRow) -> Vec<String> {
         }
         .into(),
     ]
+}
+
+/// h in metres: four decimals, or two significant digits below a millimetre.
+fn h_str(h: f64) -> String {
+    if h == 0.0 {
+        "0".into()
+    } else if h.abs() < 1e-3 {
+        format!("{h:.1e}")
+    } else {
+        fixed(h, 4)
+    }
 }
 
 /// The summary line as printed under the table.
@@ -247,12 +265,13 @@ pub fn summary_line(s: &SurveySummaryJson) -> String {
 pub fn render(rows: &[SurveyRow], summary: &SurveySummaryJson, format: SurveyFormat) -> String {
     let cells: Vec<Vec<String>> = rows.iter().map(row_cells).collect();
     let note = format!(
-        "* rotation below {SMALL_ROTATION_DEG} deg: the screw axis, and with it h, is set by calibration noise"
+        "* rotation below {SMALL_ROTATION_DEG} deg: the screw axis, and with it h, is set by calibration noise\n\
+         ± half-turn within {NEAR_HALF_TURN_RAD:e} rad: the sign of h follows the rounding of the published numbers"
     );
     match format {
         SurveyFormat::Table => format!(
             "{}\n{}\n{}\n",
-            report::terminal_table(&HEADER, &cells),
+            report::terminal_table_wrapped(&HEADER, &cells, &[(1, 28), (2, 28)]),
             summary_line(summary),
             note
         ),
@@ -260,7 +279,7 @@ pub fn render(rows: &[SurveyRow], summary: &SurveySummaryJson, format: SurveyFor
             "{}\n{}.\n\n{}\n",
             report::markdown_table(&HEADER, &cells),
             summary_line(summary),
-            note.replacen('*', "\\*", 1)
+            note.replacen('*', "\\*", 1).replace('\n', "  \n")
         ),
         SurveyFormat::Csv => {
             let header = [
