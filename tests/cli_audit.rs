@@ -1,0 +1,325 @@
+//! The `audit` binary on real files: the rig report's numbers against an
+//! independent fixture (tests/fixtures/cli/gen_reports.py: pytransform3d and
+//! numpy), the JSON schema, frame listing, errors and exit codes.
+
+#[path = "common/schema.rs"]
+mod schema;
+
+use assert_cmd::Command;
+use serde_json::Value;
+
+fn audit() -> Command {
+    let mut c = Command::cargo_bin("audit").expect("binary");
+    c.env("NO_COLOR", "1");
+    c
+}
+
+fn json_out(args: &[&str]) -> Value {
+    let out = audit().args(args).output().expect("run");
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("json")
+}
+
+fn num(v: &Value) -> f64 {
+    v.as_f64().expect("number")
+}
+
+fn close(a: f64, b: f64, tol: f64, what: &str) {
+    assert!(
+        (a - b).abs() <= tol * (1.0 + b.abs()),
+        "{what}: got {a}, expected {b}"
+    );
+}
+
+#[test]
+fn urdf_reports_match_independent_fixture() {
+    let fx: Value = serde_json::from_str(
+        &std::fs::read_to_string("tests/fixtures/cli/urdf_reports.json").expect("fixture"),
+    )
+    .expect("json");
+    let reports = fx["reports"].as_array().expect("reports");
+    assert!(reports.len() >= 6);
+    for r in reports {
+        let file = format!("tests/fixtures/urdf/{}", r["file"].as_str().unwrap());
+        let (from, to) = (r["from"].as_str().unwrap(), r["to"].as_str().unwrap());
+        let what = format!("{file} {from}->{to}");
+        let j = json_out(&[&file, "--from", from, "--to", to, "--format", "json"]);
+        let errs = schema::check(&j, &schema::rig_report_spec(), "$");
+        assert!(errs.is_empty(), "{what}: {errs:?}");
+        for k in 0..3 {
+            close(
+                num(&j["transform"]["translation_m"][k]),
+                num(&r["translation_m"][k]),
+                1e-12,
+                &what,
+            );
+        }
+        close(num(&j["lever_arm_m"]), num(&r["lever_arm_m"]), 1e-12, &what);
+        close(num(&j["rotation"]["angle_rad"]), num(&r["angle_rad"]), 1e-9, &what);
+        assert_eq!(j["screw"]["kind"], r["kind"], "{what}");
+        if r["h"].is_null() {
+            assert!(j["screw"]["translation_along_axis_m"].is_null(), "{what}");
+        } else {
+            let h = num(&j["screw"]["translation_along_axis_m"]);
+            let hx = num(&r["h"]);
+            if r["near_half_turn"].as_bool().unwrap() {
+                close(h.abs(), hx.abs(), 1e-9, &what);
+                assert!(h >= 0.0, "{what}: at a half-turn the tool picks h >= 0");
+            } else {
+                close(h, hx, 1e-9, &what);
+                close(num(&j["screw"]["pitch_m_per_rad"]), num(&r["pitch"]), 1e-9, &what);
+                for k in 0..3 {
+                    close(
+                        num(&j["screw"]["axis_point_m"][k]),
+                        num(&r["axis_point"][k]),
+                        1e-9,
+                        &what,
+                    );
+                }
+            }
+        }
+        for k in 0..6 {
+            close(
+                num(&j["adjoint"]["singular_values"][k]),
+                num(&r["singular_values"][k]),
+                1e-12,
+                &what,
+            );
+        }
+        let certs = j["certificate"].as_array().unwrap();
+        assert_eq!(certs.len(), 4, "default --ell is 0.25,1,2.85,10");
+        for (c, x) in certs.iter().zip(r["certificate"].as_array().unwrap()) {
+            close(num(&c["ell_m"]), num(&x["ell_m"]), 0.0, &what);
+            close(num(&c["band"][0]), num(&x["band"][0]), 1e-10, &what);
+            close(num(&c["band"][1]), num(&x["band"][1]), 1e-10, &what);
+        }
+        let zero_pitch = r["kind"] == "zero_pitch";
+        assert_eq!(j["adapted_metric"]["exists"], Value::Bool(zero_pitch), "{what}");
+        if zero_pitch {
+            assert!(num(&j["adapted_metric"]["invariance_residual"]) < 1e-12, "{what}");
+        }
+        // Only point displacement is invariant on a rig with a lever arm, except
+        // the adapted constant metric at zero pitch.
+        for d in j["detectors"].as_array().unwrap() {
+            let fam = d["family"].as_str().unwrap();
+            let expect = fam == "point_displacement" || (zero_pitch && fam == "adapted_constant");
+            assert_eq!(d["invariant_on_rig"], Value::Bool(expect), "{what} {fam}");
+        }
+        // Provenance: every edge used names its file and line.
+        for s in j["sources"].as_array().unwrap() {
+            assert_eq!(s["file"].as_str().unwrap(), file);
+            assert!(s["line"].as_u64().unwrap() > 0);
+            assert_eq!(s["format"], "urdf");
+        }
+    }
+}
+
+#[test]
+fn table_report_opens_with_verdict_and_lists_chain() {
+    let out = audit()
+        .args(["tests/fixtures/urdf/anymal_c.urdf", "--from", "base", "--to", "lidar"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let s = String::from_utf8(out.stdout).unwrap();
+    let first = s.lines().next().unwrap();
+    assert_eq!(
+        first,
+        "lever arm 0.391 m, screw translation -0.1422 m: no constant metric is frame-invariant on this rig; only the point-displacement metric is"
+    );
+    assert!(s.contains("anymal_c.urdf:666"), "chain names file:line:\n{s}");
+    assert!(s.contains("joint \"lidar_cage_to_lidar\" <origin>"));
+    assert!(!s.contains('\x1b'), "no colour when not a terminal");
+}
+
+#[test]
+fn zero_pitch_rig_gets_adapted_metric_in_markdown() {
+    // Unitree H1: pelvis -> mid360_link through the revolute torso joint at 0.
+    let out = audit()
+        .args([
+            "tests/fixtures/urdf/unitree_h1.urdf",
+            "--from",
+            "pelvis",
+            "--to",
+            "mid360_link",
+            "--format",
+            "markdown",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let s = String::from_utf8(out.stdout).unwrap();
+    assert!(s.starts_with("**lever arm 0.677 m, screw translation 0 m:"), "{s}");
+    assert!(s.contains("### Adapted constant metric"));
+    assert!(s.contains("exists:"));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("joint-at-default") && err.contains("torso_joint"), "{err}");
+}
+
+#[test]
+fn joint_value_changes_the_transform() {
+    let base = json_out(&[
+        "tests/fixtures/urdf/unitree_h1.urdf",
+        "--from",
+        "pelvis",
+        "--to",
+        "mid360_link",
+        "--format",
+        "json",
+    ]);
+    let turned = json_out(&[
+        "tests/fixtures/urdf/unitree_h1.urdf",
+        "--from",
+        "pelvis",
+        "--to",
+        "mid360_link",
+        "--joint",
+        "torso_joint=0.5",
+        "--format",
+        "json",
+    ]);
+    // The torso joint turns about z: the lever arm is unchanged only if the
+    // LiDAR sits on the axis, which it does not.
+    assert_ne!(base["transform"], turned["transform"]);
+}
+
+#[test]
+fn kappa_lambda_certificate() {
+    // Paper check: lever arm 0.552 m, l = 1 gives the band [0.58, 1.72]. The
+    // NTU VIRAL vertical OS1-16 has 0.5531 m.
+    let j = json_out(&[
+        "calibrations/ntuviral-vert-os1-16.toml",
+        "--ell",
+        "1",
+        "--kappa",
+        "0.01",
+        "--lambda",
+        "0.02",
+        "--format",
+        "json",
+    ]);
+    let band = &j["certificate"][0]["band"];
+    close(num(&band[0]), 0.58, 0.005, "lower");
+    close(num(&band[1]), 1.72, 0.005, "upper");
+    assert_eq!(j["kappa_check"]["certified"][0], Value::Bool(true), "ratio 2 > 1.73");
+    let j = json_out(&[
+        "calibrations/ntuviral-vert-os1-16.toml",
+        "--ell",
+        "1",
+        "--kappa",
+        "0.01",
+        "--lambda",
+        "0.015",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(j["kappa_check"]["certified"][0], Value::Bool(false), "ratio 1.5 inside");
+}
+
+#[test]
+fn single_edge_file_needs_no_frames() {
+    let j = json_out(&["tests/fixtures/formats/fastlio_avia.yaml", "--format", "json"]);
+    assert_eq!(j["from"], "imu");
+    assert_eq!(j["to"], "lidar");
+    assert_eq!(j["screw"]["kind"], "pure_translation");
+    close(num(&j["lever_arm_m"]), 0.055518556, 1e-8, "FAST-LIO Avia lever arm");
+}
+
+#[test]
+fn frames_lists_tree() {
+    let out = audit()
+        .args(["tests/fixtures/urdf/anymal_c.urdf", "--frames"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let s = String::from_utf8(out.stdout).unwrap();
+    for f in ["base", "lidar_cage", "lidar", "imu_link"] {
+        assert!(s.contains(f), "{f} missing:\n{s}");
+    }
+}
+
+#[test]
+fn unknown_frame_suggests_and_exits_2() {
+    let out = audit()
+        .args(["tests/fixtures/urdf/anymal_c.urdf", "--from", "base", "--to", "lidr"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("lidr"), "{err}");
+    assert!(err.contains("lidar"), "suggests the closest name: {err}");
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    // Missing file.
+    let out = audit().args(["no/such/file.urdf", "--from", "a", "--to", "b"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/file.urdf"));
+    // Only one of --from / --to.
+    let out = audit()
+        .args(["tests/fixtures/urdf/anymal_c.urdf", "--from", "base"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    // A non-positive characteristic length.
+    let out = audit()
+        .args(["tests/fixtures/urdf/anymal_c.urdf", "--from", "base", "--to", "lidar", "--ell", "0"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    // Several edges and no frames named.
+    let out = audit().args(["tests/fixtures/urdf/anymal_c.urdf"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--from"));
+}
+
+#[test]
+fn completions_and_help() {
+    for shell in ["bash", "zsh", "fish"] {
+        let out = audit().args(["completions", shell]).output().unwrap();
+        assert_eq!(out.status.code(), Some(0));
+        let s = String::from_utf8(out.stdout).unwrap();
+        assert!(s.contains("survey") && s.contains("--from"), "{shell}");
+    }
+    for sub in [&["--help"][..], &["survey", "--help"], &["check", "--help"]] {
+        let out = audit().args(sub).output().unwrap();
+        assert_eq!(out.status.code(), Some(0));
+        assert!(String::from_utf8_lossy(&out.stdout).contains("Examples:"), "{sub:?}");
+    }
+}
+
+#[test]
+fn bad_input_catalogue_exits_2_and_names_file() {
+    let dir = std::path::Path::new("tests/bad_inputs");
+    let mut n = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let p = entry.unwrap().path();
+        let name = p.file_name().unwrap().to_str().unwrap().to_string();
+        if name.ends_with(".expected") || name.ends_with(".args") || name.ends_with(".md") {
+            continue;
+        }
+        let stem = name.split('.').next().unwrap();
+        let expected = std::fs::read_to_string(dir.join(format!("{stem}.expected")))
+            .unwrap_or_else(|_| panic!("{stem}.expected"));
+        let mut cmd = audit();
+        cmd.env("PATH", "").arg(&p);
+        if let Ok(a) = std::fs::read_to_string(dir.join(format!("{stem}.args"))) {
+            cmd.args(a.split_whitespace());
+        } else {
+            cmd.arg("--frames");
+        }
+        let out = cmd.output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: {err}");
+        assert!(err.contains(expected.trim()), "{name}:\n got {err}\n want {expected}");
+        assert!(err.contains(&name), "{name}: message names the file: {err}");
+        n += 1;
+    }
+    assert!(n >= 25, "catalogue has {n} inputs");
+}
