@@ -184,6 +184,18 @@ pub enum WarningCode {
 }
 
 impl WarningCode {
+    pub const ALL: [WarningCode; 10] = [
+        WarningCode::NonOrthonormalRotation,
+        WarningCode::NonUnitQuaternion,
+        WarningCode::MillimetresInMetreField,
+        WarningCode::JointAtDefault,
+        WarningCode::DuplicateEdge,
+        WarningCode::SmallRotation,
+        WarningCode::NearHalfTurn,
+        WarningCode::AssumedConvention,
+        WarningCode::NonUnitAxis,
+        WarningCode::Ignored,
+    ];
     pub fn name(self) -> &'static str {
         match self {
             WarningCode::NonOrthonormalRotation => "non-orthonormal-rotation",

@@ -179,7 +179,11 @@ pub fn terminal_table(header: &[&str], rows: &[Vec<String>]) -> String {
 }
 
 /// [`terminal_table`] with upper bounds on some columns' widths (content wraps).
-pub fn terminal_table_wrapped(header: &[&str], rows: &[Vec<String>], bounds: &[(usize, u16)]) -> String {
+pub fn terminal_table_wrapped(
+    header: &[&str],
+    rows: &[Vec<String>],
+    bounds: &[(usize, u16)],
+) -> String {
     let mut t = comfy_table::Table::new();
     t.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
     t.set_content_arrangement(comfy_table::ContentArrangement::Dynamic);
@@ -189,7 +193,9 @@ pub fn terminal_table_wrapped(header: &[&str], rows: &[Vec<String>], bounds: &[(
     }
     for &(i, w) in bounds {
         if let Some(c) = t.column_mut(i) {
-            c.set_constraint(comfy_table::ColumnConstraint::UpperBoundary(comfy_table::Width::Fixed(w)));
+            c.set_constraint(comfy_table::ColumnConstraint::UpperBoundary(
+                comfy_table::Width::Fixed(w),
+            ));
         }
     }
     t.to_string()
@@ -293,7 +299,9 @@ pub fn report_from_analysis(an: &RigAnalysis, chain: &Chain) -> RigReport {
         adapted_metric: AdaptedMetricJson {
             exists: am.exists,
             reason: am.reason.text().to_string(),
-            matrix: am.matrix.map(|m| std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))),
+            matrix: am
+                .matrix
+                .map(|m| std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))),
             invariance_residual: am.invariance_residual,
             offdiag_norm: am.offdiag_norm,
             rel_diff_identity: am.rel_diff_identity,

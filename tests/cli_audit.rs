@@ -2,6 +2,7 @@
 //! independent fixture (tests/fixtures/cli/gen_reports.py: pytransform3d and
 //! numpy), the JSON schema, frame listing, errors and exit codes.
 
+#[allow(dead_code)] // each test binary uses some of the specs
 #[path = "common/schema.rs"]
 mod schema;
 
@@ -60,7 +61,12 @@ fn urdf_reports_match_independent_fixture() {
             );
         }
         close(num(&j["lever_arm_m"]), num(&r["lever_arm_m"]), 1e-12, &what);
-        close(num(&j["rotation"]["angle_rad"]), num(&r["angle_rad"]), 1e-9, &what);
+        close(
+            num(&j["rotation"]["angle_rad"]),
+            num(&r["angle_rad"]),
+            1e-9,
+            &what,
+        );
         assert_eq!(j["screw"]["kind"], r["kind"], "{what}");
         if r["h"].is_null() {
             assert!(j["screw"]["translation_along_axis_m"].is_null(), "{what}");
@@ -72,7 +78,12 @@ fn urdf_reports_match_independent_fixture() {
                 assert!(h >= 0.0, "{what}: at a half-turn the tool picks h >= 0");
             } else {
                 close(h, hx, 1e-9, &what);
-                close(num(&j["screw"]["pitch_m_per_rad"]), num(&r["pitch"]), 1e-9, &what);
+                close(
+                    num(&j["screw"]["pitch_m_per_rad"]),
+                    num(&r["pitch"]),
+                    1e-9,
+                    &what,
+                );
                 for k in 0..3 {
                     close(
                         num(&j["screw"]["axis_point_m"][k]),
@@ -99,9 +110,16 @@ fn urdf_reports_match_independent_fixture() {
             close(num(&c["band"][1]), num(&x["band"][1]), 1e-10, &what);
         }
         let zero_pitch = r["kind"] == "zero_pitch";
-        assert_eq!(j["adapted_metric"]["exists"], Value::Bool(zero_pitch), "{what}");
+        assert_eq!(
+            j["adapted_metric"]["exists"],
+            Value::Bool(zero_pitch),
+            "{what}"
+        );
         if zero_pitch {
-            assert!(num(&j["adapted_metric"]["invariance_residual"]) < 1e-12, "{what}");
+            assert!(
+                num(&j["adapted_metric"]["invariance_residual"]) < 1e-12,
+                "{what}"
+            );
         }
         // Only point displacement is invariant on a rig with a lever arm, except
         // the adapted constant metric at zero pitch.
@@ -122,7 +140,13 @@ fn urdf_reports_match_independent_fixture() {
 #[test]
 fn table_report_opens_with_verdict_and_lists_chain() {
     let out = audit()
-        .args(["tests/fixtures/urdf/anymal_c.urdf", "--from", "base", "--to", "lidar"])
+        .args([
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--from",
+            "base",
+            "--to",
+            "lidar",
+        ])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(0));
@@ -132,7 +156,10 @@ fn table_report_opens_with_verdict_and_lists_chain() {
         first,
         "lever arm 0.391 m, screw translation -0.1422 m: no constant metric is frame-invariant on this rig; only the point-displacement metric is"
     );
-    assert!(s.contains("anymal_c.urdf:666"), "chain names file:line:\n{s}");
+    assert!(
+        s.contains("anymal_c.urdf:666"),
+        "chain names file:line:\n{s}"
+    );
     assert!(s.contains("joint \"lidar_cage_to_lidar\" <origin>"));
     assert!(!s.contains('\x1b'), "no colour when not a terminal");
 }
@@ -154,11 +181,17 @@ fn zero_pitch_rig_gets_adapted_metric_in_markdown() {
         .unwrap();
     assert_eq!(out.status.code(), Some(0));
     let s = String::from_utf8(out.stdout).unwrap();
-    assert!(s.starts_with("**lever arm 0.677 m, screw translation 0 m:"), "{s}");
+    assert!(
+        s.starts_with("**lever arm 0.677 m, screw translation 0 m:"),
+        "{s}"
+    );
     assert!(s.contains("### Adapted constant metric"));
     assert!(s.contains("exists:"));
     let err = String::from_utf8(out.stderr).unwrap();
-    assert!(err.contains("joint-at-default") && err.contains("torso_joint"), "{err}");
+    assert!(
+        err.contains("joint-at-default") && err.contains("torso_joint"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -206,7 +239,11 @@ fn kappa_lambda_certificate() {
     let band = &j["certificate"][0]["band"];
     close(num(&band[0]), 0.58, 0.005, "lower");
     close(num(&band[1]), 1.72, 0.005, "upper");
-    assert_eq!(j["kappa_check"]["certified"][0], Value::Bool(true), "ratio 2 > 1.73");
+    assert_eq!(
+        j["kappa_check"]["certified"][0],
+        Value::Bool(true),
+        "ratio 2 > 1.73"
+    );
     let j = json_out(&[
         "calibrations/ntuviral-vert-os1-16.toml",
         "--ell",
@@ -218,16 +255,29 @@ fn kappa_lambda_certificate() {
         "--format",
         "json",
     ]);
-    assert_eq!(j["kappa_check"]["certified"][0], Value::Bool(false), "ratio 1.5 inside");
+    assert_eq!(
+        j["kappa_check"]["certified"][0],
+        Value::Bool(false),
+        "ratio 1.5 inside"
+    );
 }
 
 #[test]
 fn single_edge_file_needs_no_frames() {
-    let j = json_out(&["tests/fixtures/formats/fastlio_avia.yaml", "--format", "json"]);
+    let j = json_out(&[
+        "tests/fixtures/formats/fastlio_avia.yaml",
+        "--format",
+        "json",
+    ]);
     assert_eq!(j["from"], "imu");
     assert_eq!(j["to"], "lidar");
     assert_eq!(j["screw"]["kind"], "pure_translation");
-    close(num(&j["lever_arm_m"]), 0.055518556, 1e-8, "FAST-LIO Avia lever arm");
+    close(
+        num(&j["lever_arm_m"]),
+        0.055518556,
+        1e-8,
+        "FAST-LIO Avia lever arm",
+    );
 }
 
 #[test]
@@ -246,7 +296,13 @@ fn frames_lists_tree() {
 #[test]
 fn unknown_frame_suggests_and_exits_2() {
     let out = audit()
-        .args(["tests/fixtures/urdf/anymal_c.urdf", "--from", "base", "--to", "lidr"])
+        .args([
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--from",
+            "base",
+            "--to",
+            "lidr",
+        ])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
@@ -258,7 +314,10 @@ fn unknown_frame_suggests_and_exits_2() {
 #[test]
 fn usage_errors_exit_2() {
     // Missing file.
-    let out = audit().args(["no/such/file.urdf", "--from", "a", "--to", "b"]).output().unwrap();
+    let out = audit()
+        .args(["no/such/file.urdf", "--from", "a", "--to", "b"])
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/file.urdf"));
     // Only one of --from / --to.
@@ -269,12 +328,23 @@ fn usage_errors_exit_2() {
     assert_eq!(out.status.code(), Some(2));
     // A non-positive characteristic length.
     let out = audit()
-        .args(["tests/fixtures/urdf/anymal_c.urdf", "--from", "base", "--to", "lidar", "--ell", "0"])
+        .args([
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--from",
+            "base",
+            "--to",
+            "lidar",
+            "--ell",
+            "0",
+        ])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     // Several edges and no frames named.
-    let out = audit().args(["tests/fixtures/urdf/anymal_c.urdf"]).output().unwrap();
+    let out = audit()
+        .args(["tests/fixtures/urdf/anymal_c.urdf"])
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--from"));
 }
@@ -290,7 +360,10 @@ fn completions_and_help() {
     for sub in [&["--help"][..], &["survey", "--help"], &["check", "--help"]] {
         let out = audit().args(sub).output().unwrap();
         assert_eq!(out.status.code(), Some(0));
-        assert!(String::from_utf8_lossy(&out.stdout).contains("Examples:"), "{sub:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stdout).contains("Examples:"),
+            "{sub:?}"
+        );
     }
 }
 
@@ -317,7 +390,10 @@ fn bad_input_catalogue_exits_2_and_names_file() {
         let out = cmd.output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{name}: {err}");
-        assert!(err.contains(expected.trim()), "{name}:\n got {err}\n want {expected}");
+        assert!(
+            err.contains(expected.trim()),
+            "{name}:\n got {err}\n want {expected}"
+        );
         assert!(err.contains(&name), "{name}: message names the file: {err}");
         n += 1;
     }

@@ -44,7 +44,7 @@ quaternions are unit; units are plausible (no millimetres in a metre field); the
 rig declares, and every --pair, exist and connect. With --baseline: no transform drifted by more \
 than the tolerances, none appeared or disappeared, and no verdict (screw kind, zero pitch, \
 adapted metric) changed.\n\nExit codes: 0 clean, 1 problems found, 2 usage error or unreadable input.",
-    after_long_help = "Examples:\n  audit check calibrations/\n  audit check calibrations/ --write-baseline calibrations/baseline.json\n  audit check calibrations/ --baseline calibrations/baseline.json --format github\n  audit check robot.urdf --pair base_link:lidar --max-lever-arm 0.5 --require-zero-pitch"
+    after_long_help = "Examples:\n  audit check calibrations/\n  audit check calibrations/ --write-baseline calibrations/baseline.json\n  audit check calibrations/ --baseline calibrations/baseline.json --format github\n  audit check robot.urdf --pair base_link:lidar --max-lever-arm 0.5 --require-zero-pitch\n  audit check calibrations/ --allow non-orthonormal-rotation"
 )]
 pub struct CheckArgs {
     /// Calibration files or directories of them
@@ -77,9 +77,30 @@ pub struct CheckArgs {
     /// Set a movable joint's position (rad or m); repeatable
     #[arg(long = "joint", value_parser = super::parse_joint, value_name = "NAME=VALUE")]
     pub joints: Vec<(String, f64)>,
+    /// Accept this named warning (e.g. non-orthonormal-rotation for published
+    /// numbers rounded to a few digits): reported, but not a problem; repeatable
+    #[arg(long = "allow", value_name = "WARNING", value_parser = parse_warning_code)]
+    pub allow: Vec<WarningCode>,
     /// Output format (github: workflow-command annotations)
     #[arg(long, value_enum, default_value_t = CheckFormat::Text)]
     pub format: CheckFormat,
+}
+
+fn parse_warning_code(s: &str) -> std::result::Result<WarningCode, String> {
+    WarningCode::ALL
+        .iter()
+        .copied()
+        .find(|c| c.name() == s)
+        .ok_or_else(|| {
+            format!(
+                "expected a warning name ({}), found `{s}`",
+                WarningCode::ALL
+                    .iter()
+                    .map(|c| c.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })
 }
 
 fn parse_pair(s: &str) -> std::result::Result<(String, String), String> {
@@ -226,7 +247,7 @@ impl Checker<'_> {
     }
 
     fn push_warning(&mut self, file: &str, w: &Warning) {
-        let sev = if warning_is_problem(w.code) {
+        let sev = if warning_is_problem(w.code) && !self.args.allow.contains(&w.code) {
             Severity::Error
         } else {
             Severity::Warning
