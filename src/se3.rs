@@ -445,9 +445,9 @@ impl Transform {
         let s = w.norm();
         let c = 0.5 * (r.trace() - 1.0);
         let phi = s.atan2(c);
-        // `!(phi >= tol)` also catches NaN (a transform built from non-finite
-        // numbers through an unchecked path): no axis, never a panic.
-        if !(phi >= ANGLE_ZERO_TOL) {
+        // NaN (a transform made non-finite through `scaled_translation` cannot
+        // reach here, but a NaN rotation would): no axis, never a panic.
+        if phi.is_nan() || phi < ANGLE_ZERO_TOL {
             return (phi, None, s);
         }
         if c > 0.0 {
@@ -555,7 +555,7 @@ fn fmt_quat(q: [f64; 4], order: QuatOrder) -> String {
 fn checked_rotation(m: &Matrix3<f64>, warnings: &mut Vec<Warning>) -> Result<Matrix3<f64>> {
     let err = (m.transpose() * m - Matrix3::identity()).norm();
     let det = m.determinant();
-    if !(err <= ORTHONORMAL_ERROR_TOL) {
+    if err.is_nan() || err > ORTHONORMAL_ERROR_TOL {
         return Err(Error::invalid(format!(
             "rotation matrix: expected orthonormal (||R^T R - I||_F <= {ORTHONORMAL_ERROR_TOL:e}), found ||R^T R - I||_F = {err:.3e}, det = {det:.6}"
         )));

@@ -1,6 +1,9 @@
 //! Explicit edge cases of the SE(3) core, the certificate and the metric verdicts,
 //! plus the paper's figures.
 
+// Index loops over fixed-size vectors read more clearly than zipped iterators here.
+#![allow(clippy::needless_range_loop)]
+
 use extrinsic_audit::certificate::{
     band, certificates, certifies_no_crossing, delta_eff, sigma_max, sigma_min, MAX_ELLS,
 };

@@ -1,5 +1,8 @@
 //! Property tests of the SE(3) core over thousands of random transforms.
 
+// Index loops over fixed-size vectors read more clearly than zipped iterators here.
+#![allow(clippy::needless_range_loop)]
+
 use extrinsic_audit::certificate::{adjoint_singular_values, ata_minus_i_rel, band};
 use extrinsic_audit::metric::{adapted_metric, analyze};
 use extrinsic_audit::se3::{QuatOrder, ScrewKind, Transform, DEFAULT_PITCH_TOL};
