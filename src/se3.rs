@@ -18,6 +18,13 @@
 //!   At an exact half-turn the axis sign is free; it is chosen so that the screw
 //!   translation `h = e . d` is non-negative (then `h(T) = h(T^-1)` holds there too),
 //!   and when `h = 0` so that the first non-zero component of `e` is positive.
+//!   "Exact" means `sin(phi) <= HALF_TURN_SIN_TOL`; closer to `pi` than that the
+//!   skew part of `R` carries no reliable sign. Short of it (e.g. `phi = pi - 1e-9`)
+//!   the sign comes from the skew part, `T^-1` gets `-e`, and `h` agrees anyway.
+//! - Zero pitch is decided on the raw `h` with an absolute tolerance in metres
+//!   (`DEFAULT_PITCH_TOL`, configurable); reports print `h` beside the verdict.
+//! - Below `ANGLE_ZERO_TOL` (1e-9 rad) a rotation counts as none: the transform is
+//!   the identity or a pure translation, with no axis (the angle is still reported).
 
 use crate::error::{Error, Result, Warning, WarningCode};
 use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3};
