@@ -14,6 +14,10 @@
 //!   (the translation-rotation coupling; the upper-right block is its transpose);
 //! - `rel_diff_identity = ||M0 - I6||_F / ||I6||_F`.
 //!
+//! The residual is computed directly, as a check rather than by a formula; its
+//! rounding floor grows like `eps (1 + ||c||)^2 (1 + ||d||)^2`, about 1e-15 for
+//! real rigs and meaningless for translations of 1e6 m and more.
+//!
 //! With `c` the screw-axis point, `M0 = Ad(P)^-T Ad(P)^-1 =
 //! [[I + ||c||^2 I - c c^T, [c]x], [-[c]x, I]]`, so the off-diagonal norm is
 //! `sqrt(2) ||c||` and `rel_diff_identity = ||c|| sqrt((||c||^2 + 2) / 3)`.

@@ -18,6 +18,13 @@
 //!   At an exact half-turn the axis sign is free; it is chosen so that the screw
 //!   translation `h = e . d` is non-negative (then `h(T) = h(T^-1)` holds there too),
 //!   and when `h = 0` so that the first non-zero component of `e` is positive.
+//!   "Exact" means `sin(phi) <= HALF_TURN_SIN_TOL`; closer to `pi` than that the
+//!   skew part of `R` carries no reliable sign. Short of it (e.g. `phi = pi - 1e-9`)
+//!   the sign comes from the skew part, `T^-1` gets `-e`, and `h` agrees anyway.
+//! - Zero pitch is decided on the raw `h` with an absolute tolerance in metres
+//!   (`DEFAULT_PITCH_TOL`, configurable); reports print `h` beside the verdict.
+//! - Below `ANGLE_ZERO_TOL` (1e-9 rad) a rotation counts as none: the transform is
+//!   the identity or a pure translation, with no axis (the angle is still reported).
 
 use crate::error::{Error, Result, Warning, WarningCode};
 use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3};
@@ -445,9 +452,9 @@ impl Transform {
         let s = w.norm();
         let c = 0.5 * (r.trace() - 1.0);
         let phi = s.atan2(c);
-        // `!(phi >= tol)` also catches NaN (a transform built from non-finite
-        // numbers through an unchecked path): no axis, never a panic.
-        if !(phi >= ANGLE_ZERO_TOL) {
+        // NaN (a transform made non-finite through `scaled_translation` cannot
+        // reach here, but a NaN rotation would): no axis, never a panic.
+        if phi.is_nan() || phi < ANGLE_ZERO_TOL {
             return (phi, None, s);
         }
         if c > 0.0 {
@@ -555,7 +562,7 @@ fn fmt_quat(q: [f64; 4], order: QuatOrder) -> String {
 fn checked_rotation(m: &Matrix3<f64>, warnings: &mut Vec<Warning>) -> Result<Matrix3<f64>> {
     let err = (m.transpose() * m - Matrix3::identity()).norm();
     let det = m.determinant();
-    if !(err <= ORTHONORMAL_ERROR_TOL) {
+    if err.is_nan() || err > ORTHONORMAL_ERROR_TOL {
         return Err(Error::invalid(format!(
             "rotation matrix: expected orthonormal (||R^T R - I||_F <= {ORTHONORMAL_ERROR_TOL:e}), found ||R^T R - I||_F = {err:.3e}, det = {det:.6}"
         )));

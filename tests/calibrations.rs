@@ -440,7 +440,6 @@ fn rounded_rotations_warn_with_their_line() {
 /// transform as its native twin. Needs `formats::load_file` and the URDF loader,
 /// which live on another branch: run with `cargo test -- --ignored` after merge.
 #[test]
-#[ignore = "needs formats::load_file (URDF); run after merging the formats branch"]
 fn sidecar_rig_matches_its_native_twin() {
     let exp = expected();
     let dups = exp["duplicates"].as_object().expect("duplicates");

@@ -2,6 +2,9 @@
 //! pytransform3d / numpy (tests/fixtures/core/generate.py says how to rerun it).
 //! Everything to 1e-12 (absolute, scaled by the size of the quantity when > 1).
 
+// Index loops over fixed-size vectors read more clearly than zipped iterators here.
+#![allow(clippy::needless_range_loop)]
+
 use extrinsic_audit::certificate::{
     adjoint_singular_values, ata_minus_i_rel, band, certificates, delta_eff,
 };
