@@ -147,7 +147,7 @@ impl FrameGraph {
                 } else {
                     edge.transform
                 };
-                if transforms_agree(&old.transform, &given) && old.joint.is_none() {
+                if transforms_agree(&old.transform, &given) {
                     self.warnings.push(
                         Warning::new(
                             WarningCode::DuplicateEdge,
