@@ -3,7 +3,6 @@
 
 use extrinsic_audit::formats::{all_formats, load_str, LoadOptions};
 use extrinsic_audit::graph::FrameGraph;
-use std::path::Path;
 
 #[test]
 fn no_panics_on_any_format() {

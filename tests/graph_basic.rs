@@ -204,6 +204,7 @@ fn urdf_quat_xyzw_is_read_not_dropped() {
 }
 
 #[test]
+#[allow(clippy::approx_constant)] // Husky's imu_joint writes 1.5708 and 3.1416
 fn urdf_rounded_pi_and_gimbal_lock_follow_rpy() {
     let g = urdf(
         "<link name=\"a\"/><link name=\"b\"/>\n<joint name=\"j\" type=\"fixed\"><origin xyz=\"0 0 0\" rpy=\"0 -1.5708 3.1416\"/><parent link=\"a\"/><child link=\"b\"/></joint>\n",
@@ -370,4 +371,56 @@ fn kalibr_and_t_xyz_q_xyzw_keys() {
         (l.edges[0].parent.as_str(), l.edges[0].child.as_str()),
         ("cam_front", "lidar")
     );
+}
+
+#[test]
+fn keyed_reads_stacked_millimetres_and_json_matrices() {
+    let slict = Path::new("tests/fixtures/formats/slict_mcdviral_hhs.yaml");
+    let whole = load_file(slict, &LoadOptions::default()).expect("slict");
+    let picked = load_file(
+        slict,
+        &LoadOptions {
+            key: Some("lidar_extr[0]".into()),
+            ..Default::default()
+        },
+    )
+    .expect("slict[0]");
+    assert!(
+        (picked.edges[0].transform.matrix4() - whole.edges[0].transform.matrix4())
+            .abs()
+            .max()
+            < 1e-15
+    );
+    let e = load_file(
+        slict,
+        &LoadOptions {
+            key: Some("lidar_extr[1]".into()),
+            ..Default::default()
+        },
+    )
+    .expect_err("only one");
+    assert!(e.message.contains("expected at least 2"), "{e}");
+    // GEODE's millimetre block, picked by --key, is converted to metres.
+    let geode = Path::new("tests/fixtures/formats/geode_gamma_opencv.yaml");
+    let l = load_file(
+        geode,
+        &LoadOptions {
+            key: Some("T_CamL_CamR".into()),
+            ..Default::default()
+        },
+    )
+    .expect("mm");
+    assert!((l.edges[0].transform.translation().x + 0.1884272993645592).abs() < 1e-12);
+    assert!(l.warnings.iter().any(|w| w.message.contains("millimetres")));
+    // Without --key, GEODE's duplicate key is refused with the advice.
+    let e = load_file(geode, &LoadOptions::default()).expect_err("dup");
+    assert!(e.message.contains("--key"), "{e}");
+    // A JSON file with T_A_B keys.
+    let text = "{\"T_imu_lidar\": [[1, 0, 0, 0.1], [0, 1, 0, 0], [0, 0, 1, 0.2], [0, 0, 0, 1]]}";
+    let l = load_str(text, Path::new("calib.json"), &LoadOptions::default()).expect("json");
+    assert_eq!(
+        (l.edges[0].parent.as_str(), l.edges[0].child.as_str()),
+        ("imu", "lidar")
+    );
+    assert_eq!(l.edges[0].provenance.location.line, Some(1));
 }
