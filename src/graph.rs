@@ -92,12 +92,14 @@ impl FrameGraph {
         Self::default()
     }
 
-    /// Add everything a file yielded.
+    /// Add everything a file yielded: all of it or, on an error, none of it.
     pub fn add(&mut self, loaded: Loaded) -> Result<()> {
-        self.warnings.extend(loaded.warnings);
+        let mut next = self.clone();
+        next.warnings.extend(loaded.warnings);
         for e in loaded.edges {
-            self.add_edge(e)?;
+            next.add_edge(e)?;
         }
+        *self = next;
         Ok(())
     }
 
