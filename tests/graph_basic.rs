@@ -424,3 +424,31 @@ fn keyed_reads_stacked_millimetres_and_json_matrices() {
     );
     assert_eq!(l.edges[0].provenance.location.line, Some(1));
 }
+
+#[test]
+fn tree_of_a_deep_chain_stays_linear() {
+    let mut g = FrameGraph::new();
+    for i in 1..3000 {
+        g.add_edge(edge(
+            &format!("f{}", i - 1),
+            &format!("f{i}"),
+            tr(0.01, 0.0, 0.0),
+            i,
+        ))
+        .expect("e");
+    }
+    g.add_edge(edge("f0", "side", tr(0.0, 1.0, 0.0), 9999))
+        .expect("e");
+    let t = g.tree();
+    assert!(t.len() < 3000 * 250, "{}", t.len());
+    assert!(t.contains("[depth 2999] f2999"));
+    assert!(
+        t.starts_with("f0\n├── f1  [test.txt:1]\n│   └── f2  [test.txt:2]\n"),
+        "{}",
+        &t[..200]
+    );
+    assert!(t.ends_with("└── side  [test.txt:9999]\n"));
+    let c = g.transform("f2999", "side").expect("chain");
+    assert_eq!(c.steps.len(), 3000);
+    assert!((c.transform.translation().x + 29.99).abs() < 1e-9);
+}
