@@ -29,6 +29,8 @@ use std::collections::HashMap;
 pub const DUPLICATE_TRANSLATION_TOL: f64 = 1e-9;
 /// ...and the rotation between them is at most this angle (rad).
 pub const DUPLICATE_ROTATION_TOL: f64 = 1e-9;
+/// Deepest level [`FrameGraph::tree`] indents.
+pub const TREE_MAX_INDENT: usize = 40;
 
 /// One step of a composed chain: an edge walked down (parent -> child) or up
 /// (`inverted`, child -> parent).
@@ -92,12 +94,14 @@ impl FrameGraph {
         Self::default()
     }
 
-    /// Add everything a file yielded.
+    /// Add everything a file yielded: all of it or, on an error, none of it.
     pub fn add(&mut self, loaded: Loaded) -> Result<()> {
-        self.warnings.extend(loaded.warnings);
+        let mut next = self.clone();
+        next.warnings.extend(loaded.warnings);
         for e in loaded.edges {
-            self.add_edge(e)?;
+            next.add_edge(e)?;
         }
+        *self = next;
         Ok(())
     }
 
@@ -147,7 +151,7 @@ impl FrameGraph {
                 } else {
                     edge.transform
                 };
-                if transforms_agree(&old.transform, &given) && old.joint.is_none() {
+                if transforms_agree(&old.transform, &given) {
                     self.warnings.push(
                         Warning::new(
                             WarningCode::DuplicateEdge,
@@ -465,40 +469,37 @@ impl FrameGraph {
 
     /// The frame tree as text, one frame a line, children indented under their
     /// parent (like `check_urdf`), each with the place its edge came from.
+    /// Levels deeper than [`TREE_MAX_INDENT`] are written `[depth N]` instead of
+    /// being indented further, so the text stays linear in the number of frames.
     pub fn tree(&self) -> String {
         let mut out = String::new();
         for root in self.roots() {
             out.push_str(&root);
             out.push('\n');
-            // Explicit stack (deep chains must not exhaust the call stack).
             let ri = self.index[&root];
-            let mut stack: Vec<(usize, String)> = self.children[ri]
-                .iter()
-                .rev()
-                .enumerate()
-                .map(|(k, &ei)| {
-                    (
-                        ei,
-                        if k == 0 {
-                            "L".to_string()
-                        } else {
-                            "T".to_string()
-                        },
-                    )
-                })
-                .collect();
-            while let Some((ei, code)) = stack.pop() {
+            // Explicit stack (deep chains must not exhaust the call stack):
+            // (edge, depth, last child of its parent).
+            let mut stack: Vec<(usize, usize, bool)> = Vec::new();
+            let kids = &self.children[ri];
+            for (k, &ei) in kids.iter().enumerate().rev() {
+                stack.push((ei, 0, k + 1 == kids.len()));
+            }
+            // trail[d]: whether the ancestor at depth d was a last child.
+            let mut trail: Vec<bool> = Vec::new();
+            while let Some((ei, depth, last)) = stack.pop() {
+                trail.truncate(depth);
+                trail.push(last);
                 let e = &self.edges[ei];
-                // `code`: one char per level, T = more siblings follow, L = last.
-                let n = code.len();
-                for (lvl, ch) in code.chars().enumerate() {
-                    let last = ch == 'L';
-                    out.push_str(match (lvl + 1 == n, last) {
-                        (true, true) => "└── ",
-                        (true, false) => "├── ",
-                        (false, true) => "    ",
-                        (false, false) => "│   ",
-                    });
+                if depth >= TREE_MAX_INDENT {
+                    for &l in &trail[..TREE_MAX_INDENT] {
+                        out.push_str(if l { "    " } else { "│   " });
+                    }
+                    out.push_str(&format!("[depth {}] ", depth + 1));
+                } else {
+                    for &l in &trail[..depth] {
+                        out.push_str(if l { "    " } else { "│   " });
+                    }
+                    out.push_str(if last { "└── " } else { "├── " });
                 }
                 out.push_str(&e.child);
                 out.push_str("  [");
@@ -508,10 +509,9 @@ impl FrameGraph {
                 }
                 out.push_str("]\n");
                 let ci = self.index[&e.child];
-                for (k, &cei) in self.children[ci].iter().rev().enumerate() {
-                    let mut c = code.clone();
-                    c.push(if k == 0 { 'L' } else { 'T' });
-                    stack.push((cei, c));
+                let kids = &self.children[ci];
+                for (k, &cei) in kids.iter().enumerate().rev() {
+                    stack.push((cei, depth + 1, k + 1 == kids.len()));
                 }
             }
         }

@@ -608,6 +608,11 @@ fn split_top_level(s: &str) -> Vec<(usize, String)> {
                     i += 1;
                 }
             }
+            b'#' => {
+                while i < b.len() && b[i] != b'\n' {
+                    i += 1;
+                }
+            }
             b'(' | b'[' | b'{' => depth += 1,
             b')' | b']' | b'}' => depth -= 1,
             b',' if depth == 0 => {

@@ -414,10 +414,25 @@ pub fn detect_format(path: &Path, text: &str) -> Result<Format> {
             return Ok(Format::Urdf);
         }
         if looks_xml {
-            return Err(Error::parse(format!(
-                "XML without a <robot> or <launch> root (starts with {:?}): expected a URDF or a launch file; pass --input-format to force one",
-                trimmed.chars().take(40).collect::<String>()
-            ))
+            let opt = roxmltree::ParsingOptions {
+                allow_dtd: false,
+                ..Default::default()
+            };
+            return Err(match roxmltree::Document::parse_with_options(text, opt) {
+                Ok(doc) => {
+                    let root = doc.root_element();
+                    let (l, c) = LineIndex::new(text).pos(root.range().start);
+                    Error::parse(format!(
+                        "root element is <{}>: expected a URDF <robot> or a ROS <launch> file; pass --input-format NAME to force a format",
+                        root.tag_name().name()
+                    ))
+                    .at_line(l, Some(c))
+                }
+                Err(e) => {
+                    let p = e.pos();
+                    urdf::xml_err_at(&e, p.row as usize, p.col as usize, text)
+                }
+            }
             .in_file(path));
         }
     }

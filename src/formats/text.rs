@@ -123,7 +123,7 @@ pub fn parse_m2dgr(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded
             // The next `data:` block.
             let mut j = i + 1;
             while j < lines.len() && !lines[j].trim_start().starts_with("data:") {
-                if lines[j].trim_start().starts_with('%') {
+                if lines[j].trim_start().starts_with("%%") {
                     break;
                 }
                 j += 1;

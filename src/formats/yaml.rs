@@ -130,7 +130,13 @@ fn yaml_error(e: serde_saphyr::Error) -> Error {
     let full = e.to_string();
     let first = full.lines().next().unwrap_or("").trim().to_string();
     let (line, col, msg) = split_position(&first);
-    let mut err = Error::parse(format!("not valid YAML: {msg}"));
+    let mut err = if msg.contains("budget") || msg.contains("recursion limit") {
+        Error::limit(format!(
+            "YAML beyond the reader's limits ({msg}): expected a calibration file, found an alias bomb or deep nesting"
+        ))
+    } else {
+        Error::parse(format!("not valid YAML: {msg}"))
+    };
     if let Some(l) = line {
         err = err.at_line(l, col);
     }

@@ -646,11 +646,15 @@ fn matrix_from_numbers(v: &[f64], n: &Node, key: &str, ws: &mut Vec<Warning>) ->
         }
         4 => Err(err_at(
             n,
-            format!("{key}: 4 numbers without a stated order (x y z w or w x y z?): expected a 4x4 matrix; give the quaternion as {{qx, qy, qz, qw}} or under a key ending in _q_xyzw"),
+            format!("{key}: 4 numbers without a stated order (x y z w or w x y z?): expected a 4x4 matrix; write the quaternion as {{qx, qy, qz, qw}} (or under a key ending in _t_xyz_q_xyzw), or for FusionPortable-style quaternion_A_B + translation_A_B blocks (w first) pass --input-format quaternion-yaml"),
         )),
         k if k > 16 && k % 16 == 0 => Err(err_at(
             n,
-            format!("{key}: {k} numbers = {} stacked 4x4 matrices: expected one; copy the one you need under its own key and pass --key NAME", k / 16),
+            format!(
+                "{key}: {k} numbers = {} stacked 4x4 matrices: expected one; pass --key {key}[i] with i from 0 to {} to pick one",
+                k / 16,
+                k / 16 - 1
+            ),
         )),
         k => Err(err_at(
             n,
@@ -713,7 +717,7 @@ fn matrix_edge(
     Ok(())
 }
 
-fn parse_matrices(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
+pub(crate) fn parse_matrices(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
     let mut out = Loaded::default();
     let mut keys: Vec<(String, usize)> = Vec::new();
     for d in docs {
@@ -858,6 +862,18 @@ fn find_key<'a>(n: &'a Node, key: &str, out: &mut Vec<(&'a Node, &'a Node)>) {
 
 /// `--key NAME`: one key anywhere (or a dotted path from the top).
 pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<Loaded> {
+    // `NAME[i]`: the i-th of stacked 4x4 matrices under NAME.
+    let (key, index) = match key.strip_suffix(']').and_then(|k| k.rsplit_once('[')) {
+        Some((k, i)) => match i.trim().parse::<usize>() {
+            Ok(i) => (k, Some(i)),
+            Err(_) => {
+                return Err(Error::usage(format!(
+                    "--key {key}: expected NAME or NAME[i] with i a number, found [{i}]"
+                )))
+            }
+        },
+        None => (key, None),
+    };
     let mut found: Vec<(&Node, &Node)> = Vec::new();
     for d in docs {
         if key.contains('.') {
@@ -915,6 +931,50 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
         }
     }
     let (k, v) = found[0];
+    let picked;
+    let v = match index {
+        None => v,
+        Some(i) => {
+            let nums = v.numbers(key)?;
+            let count = nums.len() / 16;
+            if nums.len() % 16 != 0 || i >= count {
+                return Err(err_at(
+                    v,
+                    format!(
+                        "--key {key}[{i}]: expected at least {} stacked 4x4 matrices (16 numbers each), found {} numbers",
+                        i + 1,
+                        nums.len()
+                    ),
+                ));
+            }
+            let b = &nums[16 * i..16 * (i + 1)];
+            if !(b[12] == 0.0 && b[13] == 0.0 && b[14] == 0.0 && (b[15] == 0.0 || b[15] == 1.0)) {
+                return Err(err_at(
+                    v,
+                    format!(
+                        "--key {key}[{i}]: expected bottom row [0, 0, 0, 1] (or SLICT's [0, 0, 0, 0] flag), found [{}, {}, {}, {}]",
+                        b[12], b[13], b[14], b[15]
+                    ),
+                ));
+            }
+            // The top 3x4 only: stacked files use the (4,4) entry as a flag.
+            picked = Node {
+                value: Value::Seq(
+                    nums[16 * i..16 * i + 12]
+                        .iter()
+                        .map(|x| Node {
+                            value: Value::Num(*x),
+                            line: v.line,
+                            column: v.column,
+                        })
+                        .collect(),
+                ),
+                line: v.line,
+                column: v.column,
+            };
+            &picked
+        }
+    };
     let last = key.rsplit('.').next().unwrap_or(key);
     let mut out = Loaded::default();
     let frames = match frames_from_key(last) {
@@ -930,6 +990,10 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
             ("parent".to_string(), "child".to_string())
         }
     };
-    matrix_edge(key, frames, v, k, text, path, &mut out)?;
+    let label = match index {
+        Some(i) => format!("{key}[{i}]"),
+        None => key.to_string(),
+    };
+    matrix_edge(&label, frames, v, k, text, path, &mut out)?;
     Ok(out)
 }
