@@ -5,8 +5,10 @@
 //! analysis (`certificate`, `metric`; `detector` and `scene` for point data) ->
 //! report (`report`, `cli`).
 
+pub mod detector;
 pub mod error;
 pub mod formats;
 pub mod graph;
 pub mod metric;
+pub mod scene;
 pub mod se3;

@@ -168,7 +168,11 @@ impl Transform {
     /// that says how far off it is); `det R > 0` (a reflection is an error). Between
     /// `ORTHONORMAL_WARN_TOL` and the error tolerance the matrix is projected to the
     /// nearest rotation (SVD) with a `non-orthonormal-rotation` warning.
-    pub fn from_matrix3(r: [[f64; 3]; 3], d: [f64; 3], warnings: &mut Vec<Warning>) -> Result<Self> {
+    pub fn from_matrix3(
+        r: [[f64; 3]; 3],
+        d: [f64; 3],
+        warnings: &mut Vec<Warning>,
+    ) -> Result<Self> {
         let flat: Vec<f64> = r.iter().flatten().copied().collect();
         check_finite("rotation matrix", &flat)?;
         check_finite("translation", &d)?;
