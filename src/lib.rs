@@ -10,5 +10,11 @@ pub mod error;
 pub mod formats;
 pub mod graph;
 pub mod metric;
+pub mod points;
 pub mod scene;
 pub mod se3;
+/// Temporary glue for the detector commands (the lead wires `cli` properly).
+pub mod cli {
+    pub mod degeneracy;
+    pub mod tunnel;
+}
