@@ -13,8 +13,11 @@ pub mod metric;
 pub mod points;
 pub mod scene;
 pub mod se3;
+pub mod threshold;
 /// Temporary glue for the detector commands (the lead wires `cli` properly).
 pub mod cli {
+    pub mod calibrate_threshold;
     pub mod degeneracy;
+    pub mod simulate;
     pub mod tunnel;
 }

@@ -28,7 +28,6 @@ use crate::error::{Error, Result};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Matrix3, Matrix6, SymmetricEigen, UnitQuaternion, Vector3};
 use rand_core::{RngCore, SeedableRng};
-use std::collections::HashMap;
 use std::f64::consts::PI;
 
 /// Radius of the circular tunnel (m), the paper's example.
@@ -435,27 +434,41 @@ pub fn add_range_noise(points: &mut [[f64; 3]], sigma: f64, rng: &mut SceneRng) 
 /// `voxel`, the grid shifted by `origin`. Output sorted by voxel index, so it is
 /// deterministic.
 pub fn voxel_downsample(points: &[[f64; 3]], voxel: f64, origin: [f64; 3]) -> Vec<[f64; 3]> {
-    let mut map: HashMap<(i64, i64, i64), ([f64; 3], usize)> = HashMap::new();
-    for p in points {
-        let key = (
-            ((p[0] - origin[0]) / voxel).floor() as i64,
-            ((p[1] - origin[1]) / voxel).floor() as i64,
-            ((p[2] - origin[2]) / voxel).floor() as i64,
-        );
-        let e = map.entry(key).or_insert(([0.0; 3], 0));
-        for k in 0..3 {
-            e.0[k] += p[k];
-        }
-        e.1 += 1;
-    }
-    let mut v: Vec<_> = map.into_iter().collect();
-    v.sort_by_key(|(k, _)| *k);
-    v.into_iter()
-        .map(|(_, (s, n))| {
-            let n = n as f64;
-            [s[0] / n, s[1] / n, s[2] / n]
+    // Sort (voxel key, point index) and average runs of equal keys: faster than
+    // a hash map at these sizes and deterministic by construction.
+    let mut keyed: Vec<((i64, i64, i64), usize)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            (
+                (
+                    ((p[0] - origin[0]) / voxel).floor() as i64,
+                    ((p[1] - origin[1]) / voxel).floor() as i64,
+                    ((p[2] - origin[2]) / voxel).floor() as i64,
+                ),
+                i,
+            )
         })
-        .collect()
+        .collect();
+    keyed.sort_unstable();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < keyed.len() {
+        let key = keyed[i].0;
+        let mut s = [0.0f64; 3];
+        let mut n = 0usize;
+        while i < keyed.len() && keyed[i].0 == key {
+            let p = points[keyed[i].1];
+            s[0] += p[0];
+            s[1] += p[1];
+            s[2] += p[2];
+            n += 1;
+            i += 1;
+        }
+        let nf = n as f64;
+        out.push([s[0] / nf, s[1] / nf, s[2] / nf]);
+    }
+    out
 }
 
 /// Normals by PCA within `radius` (a k-d tree radius search): the eigenvector of
@@ -476,26 +489,40 @@ pub fn estimate_normals(
         return out;
     };
     let r2 = radius * radius;
-    let s = Vector3::from(sensor);
+    let sensor = Vector3::from(sensor);
     for p in points {
-        let nb = tree
-            .query(p)
+        // One pass over the neighbourhood, no allocation: count, sum and sum of
+        // outer products of the offsets from the query point (small numbers, so
+        // the one-pass covariance keeps its precision).
+        let mut count = 0usize;
+        let mut sum = [0.0f64; 3];
+        let mut sxx = [0.0f64; 6];
+        tree.query(p)
             .within::<SquaredEuclidean<f64>>(r2)
             .unsorted()
-            .execute();
-        if nb.len() < min_neighbours {
+            .with_points()
+            .visit(|q| {
+                let d = [q.point[0] - p[0], q.point[1] - p[1], q.point[2] - p[2]];
+                count += 1;
+                sum[0] += d[0];
+                sum[1] += d[1];
+                sum[2] += d[2];
+                sxx[0] += d[0] * d[0];
+                sxx[1] += d[0] * d[1];
+                sxx[2] += d[0] * d[2];
+                sxx[3] += d[1] * d[1];
+                sxx[4] += d[1] * d[2];
+                sxx[5] += d[2] * d[2];
+            });
+        if count < min_neighbours {
             continue;
         }
-        let mut mean = Vector3::zeros();
-        for q in &nb {
-            mean += Vector3::from(points[q.item as usize]);
-        }
-        mean /= nb.len() as f64;
-        let mut cov = Matrix3::zeros();
-        for q in &nb {
-            let d = Vector3::from(points[q.item as usize]) - mean;
-            cov += d * d.transpose();
-        }
+        let nf = count as f64;
+        let m = Vector3::new(sum[0] / nf, sum[1] / nf, sum[2] / nf);
+        let s = Matrix3::new(
+            sxx[0], sxx[1], sxx[2], sxx[1], sxx[3], sxx[4], sxx[2], sxx[4], sxx[5],
+        );
+        let cov = s / nf - m * m.transpose();
         let eig = SymmetricEigen::new(cov);
         let mut imin = 0;
         for k in 1..3 {
@@ -509,7 +536,7 @@ pub fn estimate_normals(
             continue;
         }
         n /= nn;
-        if n.dot(&(s - Vector3::from(*p))) < 0.0 {
+        if n.dot(&(sensor - Vector3::from(*p))) < 0.0 {
             n = -n;
         }
         out.points.push(*p);

@@ -11,6 +11,7 @@ use crate::detector::{
 use crate::error::{Error, ErrorKind, Result};
 use crate::points::{read_points, PointData};
 use crate::se3::Transform;
+use crate::threshold::default_threshold;
 use comfy_table::Table;
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -64,7 +65,7 @@ pub fn parse_ells(s: &str) -> Result<Vec<f64>> {
 /// One number for a table: fixed for ordinary magnitudes, scientific otherwise.
 pub fn fmt_num(x: f64, prec: usize) -> String {
     let a = x.abs();
-    if x == 0.0 || (1e-3..1e4).contains(&a) {
+    if x == 0.0 || (0.1..1e4).contains(&a) {
         format!("{x:.prec$}")
     } else {
         format!("{x:.prec$e}")
@@ -103,15 +104,18 @@ axis point; or a translation direction) and its per-axis footprint, which depend
 --shift x,y,z and --rotate-rpy r,p,y give the new frame's pose T = (R, d) in the input frame \
 (R = Rz(y) Ry(p) Rx(r)), so p_new = R^T (p - d) and n_new = R^T n. The point-displacement \
 eigenvalues do not change under either; the other families' may.\n\n\
-The same --tau applies to every family; the baselines' eigenvalues are dimensioned, so a \
-threshold calibrated for one of them (see `audit calibrate-threshold`) is a different number.\n\n\
+--tau is the point-displacement threshold (dimensionless, default 1e-2). The baselines' \
+eigenvalues are dimensioned and scale with the number of points, so each baseline uses the \
+threshold `audit calibrate-threshold` finds for it on the synthetic corridors (paper's rule: \
+the midpoint of its interval in the 0.10 m voxel, 0.01 m noise configuration); the JSON \
+gives each family's threshold.\n\n\
 Examples:\n  audit degeneracy scan.pcd\n  audit degeneracy scan.ply --shift 1,0,0 --format json\n  \
 audit degeneracy points.csv --rotate-rpy 0,0,1.5708 --tau 0.005 --ell 0.5,2"
 )]
 pub struct DegeneracyArgs {
     /// Point file with normals (CSV, PLY or PCD; detected from the content).
     pub points: PathBuf,
-    /// Degeneracy threshold: an eigenvalue below it is degenerate.
+    /// Point-displacement threshold: an eigenvalue below it is degenerate (baselines use their calibrated thresholds).
     #[arg(long, default_value_t = DEFAULT_TAU)]
     pub tau: f64,
     /// Origin of the new frame in the input frame, `x,y,z` (m).
@@ -163,14 +167,14 @@ pub fn degeneracy_json(
         let an: Analysis = if rule == MetricRule::PointDisplacement {
             pd.clone()
         } else {
-            match analyse(&asm, &rule, tau) {
+            match analyse(&asm, &rule, default_threshold(&rule, tau)) {
                 Ok(a) => a,
                 Err(e) => {
                     families.push(json!({
                         "family": rule.family().name(),
                         "ell_m": rule.ell(&asm).filter(|x| x.is_finite()),
                         "eigenvalues": Value::Null,
-                        "threshold": tau,
+                        "threshold": default_threshold(&rule, tau),
                         "degenerate_count": Value::Null,
                         "error": e.message,
                     }));
@@ -182,7 +186,7 @@ pub fn degeneracy_json(
             "family": rule.family().name(),
             "ell_m": rule.ell(&asm),
             "eigenvalues": an.eig.values,
-            "threshold": tau,
+            "threshold": an.tau,
             "degenerate_count": an.degenerate_count,
         }));
     }
