@@ -21,6 +21,8 @@
 //! Summing with weights, with `W = sum w`, `s = sum w p`, `S = sum w p p^T`:
 //! `M = [[tr(S) I - S, [s]x], [-[s]x, W I]]` (tested against the per-point sum).
 
+#![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
+
 use crate::error::{Error, Result};
 use crate::metric::{block_scaling_ell, Family};
 use crate::se3::{skew, Transform};
@@ -402,7 +404,7 @@ pub fn cholesky6(m: &Matrix6<f64>) -> std::result::Result<Matrix6<f64>, usize> {
             d -= l[(j, k)] * l[(j, k)];
         }
         let mjj = m[(j, j)];
-        if !d.is_finite() || !(d > CHOLESKY_REL_TOL * mjj.abs()) || !(mjj > 0.0) {
+        if !d.is_finite() || d <= CHOLESKY_REL_TOL * mjj.abs() || mjj.is_nan() || mjj <= 0.0 {
             return Err(j);
         }
         let ljj = d.sqrt();
@@ -534,7 +536,7 @@ pub enum MetricRule {
     /// `diag(H)` (floored, see [`JACOBI_FLOOR`]).
     Jacobi,
     /// A constant metric adapted to one rig (`metric::adapted_metric_matrix`).
-    AdaptedConstant(Matrix6<f64>),
+    AdaptedConstant(Box<Matrix6<f64>>),
     /// `M = sum w J^T J`.
     PointDisplacement,
 }
@@ -607,7 +609,7 @@ impl MetricRule {
             }
             MetricRule::Jacobi => {
                 let mx = (0..6).map(|k| asm.h[(k, k)]).fold(0.0f64, f64::max);
-                if !(mx > 0.0) {
+                if mx.is_nan() || mx <= 0.0 {
                     return Err(Error::invalid(
                         "Jacobi metric: H has no positive diagonal entry",
                     ));
@@ -617,7 +619,7 @@ impl MetricRule {
                     asm.h[(k, k)].max(floor)
                 })))
             }
-            MetricRule::AdaptedConstant(m0) => Ok(*m0),
+            MetricRule::AdaptedConstant(m0) => Ok(**m0),
             MetricRule::PointDisplacement => Ok(asm.m),
         }
     }
@@ -645,7 +647,7 @@ impl MetricRule {
         v.push(MetricRule::BlockScaling);
         v.push(MetricRule::Jacobi);
         if let Some(m0) = adapted {
-            v.push(MetricRule::AdaptedConstant(m0));
+            v.push(MetricRule::AdaptedConstant(Box::new(m0)));
         }
         v.push(MetricRule::PointDisplacement);
         v

@@ -214,7 +214,7 @@ impl Builder {
 // ---------------------------------------------------------------------------
 
 fn split_fields(line: &str) -> Vec<&str> {
-    line.split(|c: char| c == ',' || c == ';' || c == '\t' || c == ' ')
+    line.split([',', ';', '\t', ' '])
         .map(str::trim)
         .filter(|s| !s.is_empty())
         .collect()

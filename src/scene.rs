@@ -532,7 +532,7 @@ pub fn estimate_normals(
         }
         let mut n: Vector3<f64> = eig.eigenvectors.column(imin).into_owned();
         let nn = n.norm();
-        if !(nn > 0.0) || !nn.is_finite() {
+        if !nn.is_finite() || nn <= 0.0 {
             continue;
         }
         n /= nn;

@@ -65,7 +65,7 @@ impl Interval {
         hi: f64::INFINITY,
     };
     pub fn is_empty(&self) -> bool {
-        !(self.lo < self.hi)
+        self.lo.partial_cmp(&self.hi) != Some(std::cmp::Ordering::Less)
     }
     pub fn intersect(&self, o: &Interval) -> Interval {
         Interval {
@@ -164,6 +164,9 @@ fn instance(
         .collect()
 }
 
+/// (configuration index, scene index, sorted eigenvalues per rule).
+type InstanceResult = (usize, usize, Vec<[f64; 6]>);
+
 /// Run the sweep.
 pub fn calibrate(c: &Calibration) -> Result<Vec<FamilyResult>> {
     let mut configs = Vec::new();
@@ -182,7 +185,7 @@ pub fn calibrate(c: &Calibration) -> Result<Vec<FamilyResult>> {
         }
     }
     let threads = c.threads.max(1);
-    let results: Vec<Result<Vec<(usize, usize, Vec<[f64; 6]>)>>> = std::thread::scope(|s| {
+    let results: Vec<Result<Vec<InstanceResult>>> = std::thread::scope(|s| {
         let handles: Vec<_> = (0..threads)
             .map(|t| {
                 let jobs = &jobs;
