@@ -5,8 +5,12 @@
 //! input error (clap's own usage errors also exit 2).
 
 pub mod audit;
+pub mod calibrate_threshold;
 pub mod check;
+pub mod degeneracy;
+pub mod simulate;
 pub mod survey;
+pub mod tunnel;
 
 use crate::error::{Error, Result, Warning};
 use clap::{Parser, Subcommand};
@@ -61,6 +65,14 @@ pub enum Command {
     Survey(survey::SurveyArgs),
     /// CI check of calibration files: validation, drift against a baseline
     Check(check::CheckArgs),
+    /// The paper's circular-tunnel example: the footprint changes, the subspace does not
+    Tunnel(tunnel::TunnelArgs),
+    /// Build a synthetic scene and show which detectors change their answer on your rig
+    Simulate(simulate::SimulateArgs),
+    /// Degeneracy of your own points with normals (CSV, PLY, PCD), every detector family
+    Degeneracy(degeneracy::DegeneracyArgs),
+    /// Sweep the threshold over synthetic corridors (the paper's calibration)
+    CalibrateThreshold(calibrate_threshold::CalibrateThresholdArgs),
     /// Print shell completions (bash, zsh, fish, elvish, powershell)
     #[command(
         long_about = "Print a completion script for your shell to standard output.",
@@ -101,6 +113,10 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
     match cli.command {
         Some(Command::Survey(args)) => survey::run(&args, out),
         Some(Command::Check(args)) => check::run(&args, out),
+        Some(Command::Tunnel(args)) => tunnel::run(&args, out),
+        Some(Command::Simulate(args)) => simulate::run(&args, out),
+        Some(Command::Degeneracy(args)) => degeneracy::run(&args, out),
+        Some(Command::CalibrateThreshold(args)) => calibrate_threshold::run(&args, out),
         Some(Command::Completions { shell }) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();
             clap_complete::generate(shell, &mut cmd, "audit", out);
