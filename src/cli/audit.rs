@@ -461,11 +461,14 @@ pub fn render(rep: &RigReport, chain: &Chain, st: Style, md: bool) -> String {
             ]
         })
         .collect();
-    s.push_str(&table(
-        &["family", "equivariant rule", "invariant on this rig", "why"],
-        &rows,
-        md,
-    ));
+    let header = ["family", "equivariant rule", "invariant on this rig", "why"];
+    if md {
+        s.push_str(&report::markdown_table(&header, &rows));
+    } else {
+        // The reasons are sentences: wrap them.
+        s.push_str(&report::terminal_table_wrapped(&header, &rows, &[(0, 22), (3, 60)]));
+        s.push('\n');
+    }
     s
 }
 

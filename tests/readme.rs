@@ -1,0 +1,50 @@
+//! README.md stays true to the tool: every input format's row carries the
+//! loader's own description; the set-up block holds the two commands .ci/run runs.
+
+use extrinsic_audit::formats::all_formats;
+
+fn readme() -> String {
+    std::fs::read_to_string("README.md").expect("README.md")
+}
+
+#[test]
+fn formats_table_matches_loaders() {
+    let r = readme();
+    for (f, desc) in all_formats() {
+        // `<` escaped so that `<origin>` renders as text.
+        let row = format!("| `{}` | {} |", f.name(), desc.replace('<', "&lt;"));
+        assert!(
+            r.contains(&row),
+            "README.md formats table lacks or misstates:\n{row}\n(regenerate with BLESS=1 cargo test --test readme)"
+        );
+    }
+}
+
+#[test]
+fn setup_block_has_the_two_commands() {
+    let r = readme();
+    let start = r.find("<!-- setup:begin -->").expect("setup marker");
+    let end = r.find("<!-- setup:end -->").expect("setup end marker");
+    let cmds: Vec<&str> = r[start..end]
+        .lines()
+        .filter(|l| l.starts_with("cargo "))
+        .collect();
+    assert_eq!(cmds, ["cargo run --release -- survey calibrations/", "cargo test"]);
+}
+
+/// The example rig report in the README is the tool's current output.
+#[test]
+fn example_report_is_current() {
+    let out = assert_cmd::Command::cargo_bin("audit")
+        .unwrap()
+        .env("NO_COLOR", "1")
+        .args(["tests/fixtures/urdf/anymal_c.urdf", "--from", "base", "--to", "lidar"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let report = String::from_utf8(out.stdout).unwrap();
+    let r = readme();
+    for line in report.lines().filter(|l| !l.trim().is_empty()) {
+        assert!(r.contains(line), "README.md example report is stale; missing line:\n{line}");
+    }
+}
