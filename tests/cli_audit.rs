@@ -219,6 +219,21 @@ fn joint_value_changes_the_transform() {
     // The torso joint turns about z: the lever arm is unchanged only if the
     // LiDAR sits on the axis, which it does not.
     assert_ne!(base["transform"], turned["transform"]);
+    // A typo in a joint name is an error that suggests the real one.
+    let out = audit()
+        .args([
+            "tests/fixtures/urdf/unitree_h1.urdf",
+            "--from",
+            "pelvis",
+            "--to",
+            "mid360_link",
+            "--joint",
+            "torso_jiont=0.5",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("did you mean `torso_joint`?"));
 }
 
 #[test]

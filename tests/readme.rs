@@ -29,7 +29,10 @@ fn setup_block_has_the_two_commands() {
         .lines()
         .filter(|l| l.starts_with("cargo "))
         .collect();
-    assert_eq!(cmds, ["cargo run --release -- survey calibrations/", "cargo test"]);
+    assert_eq!(
+        cmds,
+        ["cargo run --release -- survey calibrations/", "cargo test"]
+    );
 }
 
 /// The example rig report in the README is the tool's current output.
@@ -38,13 +41,22 @@ fn example_report_is_current() {
     let out = assert_cmd::Command::cargo_bin("audit")
         .unwrap()
         .env("NO_COLOR", "1")
-        .args(["tests/fixtures/urdf/anymal_c.urdf", "--from", "base", "--to", "lidar"])
+        .args([
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--from",
+            "base",
+            "--to",
+            "lidar",
+        ])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(0));
     let report = String::from_utf8(out.stdout).unwrap();
     let r = readme();
     for line in report.lines().filter(|l| !l.trim().is_empty()) {
-        assert!(r.contains(line), "README.md example report is stale; missing line:\n{line}");
+        assert!(
+            r.contains(line),
+            "README.md example report is stale; missing line:\n{line}"
+        );
     }
 }

@@ -130,6 +130,7 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
         graph.add(loaded)?;
     }
     print_warnings(graph.warnings());
+    check_joint_names(args, &graph)?;
     if args.frames {
         writeln!(out, "{}", graph.tree()).map_err(io_err)?;
         return Ok(0);
@@ -157,6 +158,43 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     };
     out.write_all(text.as_bytes()).map_err(io_err)?;
     Ok(0)
+}
+
+/// A `--joint` that names no joint is a typo, not a no-op.
+fn check_joint_names(args: &AuditArgs, graph: &FrameGraph) -> Result<()> {
+    let known = graph.joint_names();
+    for (name, _) in &args.joints {
+        if !known.contains(name) {
+            let mut close: Vec<&String> = known
+                .iter()
+                .filter(|k| strsim::normalized_levenshtein(k, name) > 0.5)
+                .collect();
+            close.truncate(3);
+            let hint = if close.is_empty() {
+                format!(
+                    "movable joints in these files: {}",
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        abbreviate(&known, 12)
+                    }
+                )
+            } else {
+                format!(
+                    "did you mean {}?",
+                    close
+                        .iter()
+                        .map(|c| format!("`{c}`"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            };
+            return Err(Error::usage(format!(
+                "--joint {name}=...: expected the name of a movable joint, found no joint `{name}`; {hint}"
+            )));
+        }
+    }
+    Ok(())
 }
 
 pub(crate) fn io_err(e: std::io::Error) -> Error {
@@ -466,7 +504,11 @@ pub fn render(rep: &RigReport, chain: &Chain, st: Style, md: bool) -> String {
         s.push_str(&report::markdown_table(&header, &rows));
     } else {
         // The reasons are sentences: wrap them.
-        s.push_str(&report::terminal_table_wrapped(&header, &rows, &[(0, 22), (3, 60)]));
+        s.push_str(&report::terminal_table_wrapped(
+            &header,
+            &rows,
+            &[(0, 22), (3, 60)],
+        ));
         s.push('\n');
     }
     s
