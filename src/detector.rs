@@ -1086,7 +1086,8 @@ pub struct SweepRow {
     pub decision_changes: usize,
     /// Frame changes whose degenerate count differs.
     pub count_changes: usize,
-    /// Largest relative eigenvalue change over the sweep.
+    /// Largest relative eigenvalue change over the sweep (each eigenvalue
+    /// relative to itself, floored at 1e-12 of the largest).
     pub max_eigenvalue_change: f64,
     pub evaluations: usize,
 }
@@ -1127,12 +1128,15 @@ pub fn frame_sweep(
             if an.degenerate_count != refs[k].degenerate_count {
                 row.count_changes += 1;
             }
+            // Relative to each eigenvalue, floored at 1e-12 of the largest so
+            // that exact zeros compare absolutely.
+            let floor = 1e-12 * refs[k].eig.values[5].abs();
             let d = an
                 .eig
                 .values
                 .iter()
                 .zip(refs[k].eig.values.iter())
-                .map(|(x, y)| (x - y).abs() / y.abs().max(1e-300))
+                .map(|(x, y)| (x - y).abs() / y.abs().max(floor).max(f64::MIN_POSITIVE))
                 .fold(0.0, f64::max);
             row.max_eigenvalue_change = row.max_eigenvalue_change.max(d);
         }
