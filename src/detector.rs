@@ -15,9 +15,8 @@
 //!
 //! # `M` from moments
 //!
-//! `J^T J = [[-[p]x^T, ], [I]] [-[p]x, I]`. With `[p]x^T = -[p]x`:
-//! `J^T = [[[p]x], [I]]` (stacked), so
-//! `J^T J = [[-[p]x [p]x, [p]x], [-[p]x, I]]` and `-[p]x [p]x = |p|^2 I - p p^T`.
+//! `J = [-[p]x, I3]`, so `J^T` stacks `-[p]x^T = [p]x` over `I3` and
+//! `J^T J = [[-[p]x [p]x, [p]x], [-[p]x, I3]]`, with `-[p]x [p]x = |p|^2 I - p p^T`.
 //! Summing with weights, with `W = sum w`, `s = sum w p`, `S = sum w p p^T`:
 //! `M = [[tr(S) I - S, [s]x], [-[s]x, W I]]` (tested against the per-point sum).
 
