@@ -11,6 +11,7 @@ use extrinsic_audit::detector::{
     frame_sweep, generalized_eigen_raw, paper_frame_changes, Assembly, MetricRule,
 };
 use extrinsic_audit::scene::{synthesize, Preprocess, SceneKind, SceneRng};
+use extrinsic_audit::threshold::default_threshold;
 use std::hint::black_box;
 
 /// The benchmark data set (also written by `examples/bench_data.rs` for the
@@ -48,9 +49,10 @@ fn benches(c: &mut Criterion) {
     let scene = Assembly::from_points(&cloud.points, &cloud.normals, None).unwrap();
     let changes = paper_frame_changes(1);
     let rules = MetricRule::paper_configs();
+    let taus: Vec<f64> = rules.iter().map(|r| default_threshold(r, 1e-2)).collect();
     g.sample_size(10);
     g.bench_function("frame_sweep_861x8", |b| {
-        b.iter(|| frame_sweep(black_box(&scene), &changes, &rules, 1e-2).unwrap())
+        b.iter(|| frame_sweep(black_box(&scene), &changes, &rules, &taus).unwrap())
     });
     g.finish();
 }

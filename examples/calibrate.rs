@@ -1,5 +1,5 @@
 //! Run `audit calibrate-threshold` without the CLI front end (until it is wired):
-//! `cargo run --release --example calibrate -- [seeds]`.
+//! `cargo run --release --example calibrate -- [SEEDS] [table|json] [NOISE,..] [VOXEL,..]`.
 use extrinsic_audit::cli::calibrate_threshold::{run, CalibrateThresholdArgs};
 use extrinsic_audit::cli::degeneracy::OutputFormat;
 
@@ -11,8 +11,12 @@ fn main() {
     let json = std::env::args().nth(2).is_some_and(|s| s == "json");
     let args = CalibrateThresholdArgs {
         seeds,
-        noise: "0,0.01,0.03".into(),
-        voxel: "0.05,0.1,0.2".into(),
+        noise: std::env::args()
+            .nth(3)
+            .unwrap_or_else(|| "0,0.01,0.05".into()),
+        voxel: std::env::args()
+            .nth(4)
+            .unwrap_or_else(|| "0.05,0.1,0.2".into()),
         ell: "0.25,1,2.85,10".into(),
         threads: 0,
         format: if json {

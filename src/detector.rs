@@ -15,9 +15,8 @@
 //!
 //! # `M` from moments
 //!
-//! `J^T J = [[-[p]x^T, ], [I]] [-[p]x, I]`. With `[p]x^T = -[p]x`:
-//! `J^T = [[[p]x], [I]]` (stacked), so
-//! `J^T J = [[-[p]x [p]x, [p]x], [-[p]x, I]]` and `-[p]x [p]x = |p|^2 I - p p^T`.
+//! `J = [-[p]x, I3]`, so `J^T` stacks `-[p]x^T = [p]x` over `I3` and
+//! `J^T J = [[-[p]x [p]x, [p]x], [-[p]x, I3]]`, with `-[p]x [p]x = |p|^2 I - p p^T`.
 //! Summing with weights, with `W = sum w`, `s = sum w p`, `S = sum w p p^T`:
 //! `M = [[tr(S) I - S, [s]x], [-[s]x, W I]]` (tested against the per-point sum).
 
@@ -1081,62 +1080,104 @@ pub fn paper_frame_changes(seed: u64) -> Vec<FrameChange> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SweepRow {
     pub rule: MetricRule,
+    pub tau: f64,
     /// Frame changes whose binary decision (any `lambda < tau`) differs from the
     /// reference frame's.
     pub decision_changes: usize,
     /// Frame changes whose degenerate count differs.
     pub count_changes: usize,
-    /// Largest relative eigenvalue change over the sweep.
+    /// Decision changes per arm, in [`Arm::ALL`] order.
+    pub decision_changes_by_arm: [usize; 5],
+    /// Largest relative eigenvalue change per arm, in [`Arm::ALL`] order (each
+    /// eigenvalue relative to itself, floored at 1e-12 of the largest).
+    pub max_eigenvalue_change_by_arm: [f64; 5],
+    /// Largest relative eigenvalue change over the whole sweep.
     pub max_eigenvalue_change: f64,
     pub evaluations: usize,
 }
 
+impl Arm {
+    pub const ALL: [Arm; 5] = [
+        Arm::Identity,
+        Arm::PureRotation,
+        Arm::PureTranslation,
+        Arm::General,
+        Arm::OrthogonalControl,
+    ];
+    fn index(self) -> usize {
+        match self {
+            Arm::Identity => 0,
+            Arm::PureRotation => 1,
+            Arm::PureTranslation => 2,
+            Arm::General => 3,
+            Arm::OrthogonalControl => 4,
+        }
+    }
+}
+
 /// Apply every frame change to one assembly (`H' = A^T H A`, `M' = A^T M A`;
 /// each rule then assigns its metric to the new data) and count decision
-/// changes per rule. Constant metrics stay the same matrix in every frame.
+/// changes per rule, each rule with its own threshold (`taus[k]` for
+/// `rules[k]`). Constant metrics stay the same matrix in every frame.
 pub fn frame_sweep(
     asm: &Assembly,
     changes: &[FrameChange],
     rules: &[MetricRule],
-    tau: f64,
+    taus: &[f64],
 ) -> Result<Vec<SweepRow>> {
-    let mut rows = Vec::with_capacity(rules.len());
+    if taus.len() != rules.len() {
+        return Err(Error::usage(format!(
+            "frame sweep: expected one threshold per rule, found {} rules and {} thresholds",
+            rules.len(),
+            taus.len()
+        )));
+    }
     let refs: Vec<Analysis> = rules
         .iter()
-        .map(|r| analyse(asm, r, tau))
+        .zip(taus)
+        .map(|(r, &t)| analyse(asm, r, t))
         .collect::<Result<_>>()?;
-    let mut rows_acc: Vec<SweepRow> = rules
+    let mut rows: Vec<SweepRow> = rules
         .iter()
-        .map(|r| SweepRow {
+        .zip(taus)
+        .map(|(r, &t)| SweepRow {
             rule: r.clone(),
+            tau: t,
             decision_changes: 0,
             count_changes: 0,
+            decision_changes_by_arm: [0; 5],
+            max_eigenvalue_change_by_arm: [0.0; 5],
             max_eigenvalue_change: 0.0,
             evaluations: 0,
         })
         .collect();
     for ch in changes {
         let moved = asm.congruence(&ch.a);
+        let arm = ch.arm.index();
         for (k, rule) in rules.iter().enumerate() {
-            let an = analyse(&moved, rule, tau)?;
-            let row = &mut rows_acc[k];
+            let an = analyse(&moved, rule, taus[k])?;
+            let row = &mut rows[k];
             row.evaluations += 1;
             if an.degenerate() != refs[k].degenerate() {
                 row.decision_changes += 1;
+                row.decision_changes_by_arm[arm] += 1;
             }
             if an.degenerate_count != refs[k].degenerate_count {
                 row.count_changes += 1;
             }
+            // Relative to each eigenvalue, floored at 1e-12 of the largest so
+            // that exact zeros compare absolutely.
+            let floor = 1e-12 * refs[k].eig.values[5].abs();
             let d = an
                 .eig
                 .values
                 .iter()
                 .zip(refs[k].eig.values.iter())
-                .map(|(x, y)| (x - y).abs() / y.abs().max(1e-300))
+                .map(|(x, y)| (x - y).abs() / y.abs().max(floor).max(f64::MIN_POSITIVE))
                 .fold(0.0, f64::max);
             row.max_eigenvalue_change = row.max_eigenvalue_change.max(d);
+            row.max_eigenvalue_change_by_arm[arm] = row.max_eigenvalue_change_by_arm[arm].max(d);
         }
     }
-    rows.extend(rows_acc);
     Ok(rows)
 }

@@ -523,6 +523,9 @@ pub fn estimate_normals(
             sxx[0], sxx[1], sxx[2], sxx[1], sxx[3], sxx[4], sxx[2], sxx[4], sxx[5],
         );
         let cov = s / nf - m * m.transpose();
+        if !cov.iter().all(|x| x.is_finite()) {
+            continue;
+        }
         let eig = SymmetricEigen::new(cov);
         let mut imin = 0;
         for k in 1..3 {

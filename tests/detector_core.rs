@@ -341,7 +341,8 @@ fn paper_sweep_has_861_changes_and_pd_never_flips() {
     }
     let (p, nn, _) = random_data(500, 300, 3.0);
     let asm = Assembly::from_points(&p, &nn, None).unwrap();
-    let rows = frame_sweep(&asm, &changes, &MetricRule::paper_configs(), 0.2).unwrap();
+    let rows = frame_sweep(&asm, &changes, &MetricRule::paper_configs(), &[0.2; 8]).unwrap();
+    assert!(frame_sweep(&asm, &changes, &MetricRule::paper_configs(), &[0.2; 7]).is_err());
     assert_eq!(rows.len(), 8);
     let pd = rows.last().unwrap();
     assert_eq!(pd.rule, MetricRule::PointDisplacement);
@@ -369,4 +370,49 @@ fn twist_screw_reads_axis_pitch_and_point() {
     let s = TwistScrew::from_twist(&Vector6::new(0.0, 0.0, 0.0, 0.0, 0.0, -3.0));
     assert_eq!(s.kind, "pure_translation");
     assert_eq!(s.direction.unwrap(), Vector3::new(0.0, 0.0, -1.0));
+}
+
+#[test]
+fn sweep_on_a_tunnel_behaves_as_the_paper_says() {
+    use extrinsic_audit::scene::{synthesize, Preprocess, SceneKind};
+    use extrinsic_audit::threshold::default_threshold;
+    let cloud = synthesize(SceneKind::Tunnel, &Preprocess::pipeline(0.1, 0.01, 3)).unwrap();
+    let asm = Assembly::from_points(&cloud.points, &cloud.normals, None).unwrap();
+    let rules = MetricRule::paper_configs();
+    let taus: Vec<f64> = rules
+        .iter()
+        .map(|r| default_threshold(r, DEFAULT_TAU))
+        .collect();
+    let rows = frame_sweep(&asm, &paper_frame_changes(7), &rules, &taus).unwrap();
+    let (rot, orth) = (1, 4); // Arm::ALL order
+                              // I6: pure rotation and the orthogonal control leave the spectrum unchanged
+                              // (Proposition 1; the control isolates the non-orthogonality of Ad(T)).
+    let i6 = &rows[0];
+    assert!(i6.max_eigenvalue_change_by_arm[rot] < 1e-9);
+    assert!(i6.max_eigenvalue_change_by_arm[orth] < 1e-9);
+    assert_eq!(
+        i6.decision_changes_by_arm[rot] + i6.decision_changes_by_arm[orth],
+        0
+    );
+    // ... but translations move it.
+    assert!(i6.max_eigenvalue_change_by_arm[2] > 0.1);
+    // Isotropic fixed metrics are rotation-invariant too.
+    for row in &rows[1..6] {
+        assert!(
+            row.max_eigenvalue_change_by_arm[rot] < 1e-9,
+            "{}",
+            row.rule.label()
+        );
+    }
+    // Jacobi responds to a pure rotation (diag(H) is axis-defined).
+    assert!(rows[6].max_eigenvalue_change_by_arm[rot] > 1e-3);
+    // Point displacement: unchanged in every arm, even the orthogonal control.
+    let pd = &rows[7];
+    assert_eq!(pd.decision_changes, 0);
+    assert_eq!(pd.count_changes, 0);
+    assert!(
+        pd.max_eigenvalue_change < 1e-6,
+        "{:e}",
+        pd.max_eigenvalue_change
+    );
 }

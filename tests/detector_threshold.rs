@@ -51,7 +51,7 @@ fn point_displacement_interval_contains_1e2_and_calibrated_values_fit() {
     };
     for (k, &t) in [0usize, 1, 2, 3, 4, 5]
         .iter()
-        .zip([155.76, 464.42, 155.76, 46.86, 17.13, 39.57].iter())
+        .zip([114.62, 464.42, 114.62, 96.55, 17.13, 81.14].iter())
     {
         assert!(
             cfg(*k).contains(t),

@@ -162,7 +162,7 @@ fn degeneracy_json_has_the_design_schema() {
     }
     // Point displacement uses --tau; the baselines their calibrated thresholds.
     assert_eq!(fams[7]["threshold"].as_f64(), Some(1e-2));
-    assert_eq!(fams[0]["threshold"].as_f64(), Some(155.76));
+    assert_eq!(fams[0]["threshold"].as_f64(), Some(114.62));
     assert_eq!(fams[1]["ell_m"].as_f64(), Some(0.25));
     let pd = fams.last().unwrap();
     assert_eq!(pd["degenerate_count"], 2);

@@ -81,7 +81,7 @@ pub struct SimulateArgs {
     /// Characteristic lengths (m), comma-separated.
     #[arg(long, default_value = "0.25,1,2.85,10")]
     pub ell: String,
-    /// Pose update xi = [wx,wy,wz,tx,ty,tz] in frame A (rad, m) for the correction difference.
+    /// Pose update xi = `wx,wy,wz,tx,ty,tz` in frame A (rad, m) for the correction difference.
     #[arg(
         long,
         default_value = "0.01,-0.02,0.015,0.05,0.03,-0.04",
