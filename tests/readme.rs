@@ -60,3 +60,26 @@ fn example_report_is_current() {
         );
     }
 }
+
+/// The example tunnel output in the README is the tool's current output.
+#[test]
+fn example_tunnel_is_current() {
+    let out = assert_cmd::Command::cargo_bin("audit")
+        .unwrap()
+        .env("NO_COLOR", "1")
+        .arg("tunnel")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let r = readme();
+    for line in String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+    {
+        assert!(
+            r.contains(line),
+            "README.md tunnel example is stale; missing line:\n{line}"
+        );
+    }
+}

@@ -184,7 +184,7 @@ pub fn run(args: &CalibrateThresholdArgs, out: &mut dyn std::io::Write) -> Resul
             )
             .map_err(io_err)?;
             let mut t = Table::new();
-            t.load_preset(comfy_table::presets::ASCII_FULL_CONDENSED);
+            t.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
             let mut header = vec!["family".to_string()];
             for cr in &res[0].configs {
                 header.push(format!("n{} v{}", cr.config.noise, cr.config.voxel));

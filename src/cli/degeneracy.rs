@@ -234,7 +234,7 @@ fn write_table(v: &Value, out: &mut dyn std::io::Write) -> Result<()> {
     )
     .map_err(io_err)?;
     let mut t = Table::new();
-    t.load_preset(comfy_table::presets::ASCII_FULL_CONDENSED);
+    t.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
     t.set_header(vec![
         "family",
         "l (m)",
@@ -269,7 +269,7 @@ fn write_table(v: &Value, out: &mut dyn std::io::Write) -> Result<()> {
         )
         .map_err(io_err)?;
         let mut t = Table::new();
-        t.load_preset(comfy_table::presets::ASCII_FULL_CONDENSED);
+        t.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
         t.set_header(vec![
             "Rayleigh quotient",
             "twist [w; t]",

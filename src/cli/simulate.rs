@@ -292,7 +292,7 @@ pub fn run(args: &SimulateArgs, out: &mut dyn std::io::Write) -> Result<i32, Err
             )
             .map_err(io_err)?;
             let mut tb = Table::new();
-            tb.load_preset(comfy_table::presets::ASCII_FULL_CONDENSED);
+            tb.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
             tb.set_header(vec![
                 "family",
                 "threshold",

@@ -241,7 +241,7 @@ pub fn run(args: &TunnelArgs, out: &mut dyn std::io::Write) -> Result<i32, Error
             )
             .map_err(io)?;
             let mut t = Table::new();
-            t.load_preset(comfy_table::presets::ASCII_FULL_CONDENSED);
+            t.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
             t.set_header(vec!["quantity", "origin on the axis", "origin at shift"]);
             let f1 = &r.on_axis;
             let f2 = &r.shifted;
