@@ -372,7 +372,16 @@ fn completions_and_help() {
         let s = String::from_utf8(out.stdout).unwrap();
         assert!(s.contains("survey") && s.contains("--from"), "{shell}");
     }
-    for sub in [&["--help"][..], &["survey", "--help"], &["check", "--help"]] {
+    for sub in [
+        &["--help"][..],
+        &["survey", "--help"],
+        &["check", "--help"],
+        &["tunnel", "--help"],
+        &["simulate", "--help"],
+        &["degeneracy", "--help"],
+        &["calibrate-threshold", "--help"],
+        &["completions", "--help"],
+    ] {
         let out = audit().args(sub).output().unwrap();
         assert_eq!(out.status.code(), Some(0));
         assert!(

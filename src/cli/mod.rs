@@ -65,13 +65,13 @@ pub enum Command {
     Survey(survey::SurveyArgs),
     /// CI check of calibration files: validation, drift against a baseline
     Check(check::CheckArgs),
-    /// The paper's circular-tunnel example: the footprint changes, the subspace does not
+    // about/long_about come from the Args struct.
     Tunnel(tunnel::TunnelArgs),
-    /// Build a synthetic scene and show which detectors change their answer on your rig
+    // about/long_about come from the Args struct.
     Simulate(simulate::SimulateArgs),
-    /// Degeneracy of your own points with normals (CSV, PLY, PCD), every detector family
+    // about/long_about come from the Args struct.
     Degeneracy(degeneracy::DegeneracyArgs),
-    /// Sweep the threshold over synthetic corridors (the paper's calibration)
+    // about/long_about come from the Args struct.
     CalibrateThreshold(calibrate_threshold::CalibrateThresholdArgs),
     /// Print shell completions (bash, zsh, fish, elvish, powershell)
     #[command(
