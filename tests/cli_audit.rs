@@ -423,3 +423,82 @@ fn bad_input_catalogue_exits_2_and_names_file() {
     }
     assert!(n >= 25, "catalogue has {n} inputs");
 }
+
+#[test]
+fn rename_attaches_a_nameless_file_to_a_urdf() {
+    // A FAST-LIO extrinsic (imu -> lidar, Avia numbers) attached to ANYmal C's
+    // imu_link: lidar -> avia = T(lidar, imu_link) from the pytransform3d
+    // fixture, composed with the FAST-LIO numbers.
+    let dir = tempfile::tempdir().unwrap();
+    let fl = dir.path().join("fast_lio.yaml");
+    std::fs::write(
+        &fl,
+        "mapping:\n  extrinsic_T: [ 0.04165, 0.02326, -0.0284 ]\n  extrinsic_R: [ 0, -1, 0, 1, 0, 0, 0, 0, 1 ]\n",
+    )
+    .unwrap();
+    let j = json_out(&[
+        "tests/fixtures/urdf/anymal_c.urdf",
+        fl.to_str().unwrap(),
+        "--rename",
+        "fast_lio.yaml:imu=imu_link",
+        "--rename",
+        "fast_lio.yaml:lidar=avia",
+        "--from",
+        "lidar",
+        "--to",
+        "avia",
+        "--format",
+        "json",
+    ]);
+    let fx: Value = serde_json::from_str(
+        &std::fs::read_to_string("tests/fixtures/urdf/expected_pairs.json").unwrap(),
+    )
+    .unwrap();
+    let p = fx["pairs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["file"] == "anymal_c.urdf" && p["from"] == "lidar" && p["to"] == "imu_link")
+        .unwrap();
+    let t = |i: usize, k: usize| num(&p["T"][i][k]);
+    let b = [0.04165, 0.02326, -0.0284];
+    let rb = [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
+    for i in 0..3 {
+        let d = t(i, 3) + (0..3).map(|k| t(i, k) * b[k]).sum::<f64>();
+        close(
+            num(&j["transform"]["translation_m"][i]),
+            d,
+            1e-12,
+            "translation",
+        );
+        for c in 0..3 {
+            let r: f64 = (0..3).map(|k| t(i, k) * rb[k][c]).sum();
+            close(
+                num(&j["transform"]["rotation_matrix"][i][c]),
+                r,
+                1e-12,
+                "rotation",
+            );
+        }
+    }
+    let sources = j["sources"].as_array().unwrap();
+    assert_eq!(sources.last().unwrap()["format"], "fast-lio");
+    assert!(sources[..sources.len() - 1]
+        .iter()
+        .all(|s| s["format"] == "urdf"));
+    // A rename that matches nothing is a usage error.
+    let out = audit()
+        .args([
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--rename",
+            "imuu=x",
+            "--from",
+            "base",
+            "--to",
+            "lidar",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--rename imuu=x"));
+}

@@ -46,6 +46,10 @@ pub struct AuditArgs {
     /// Set a movable joint's position (rad or m); repeatable
     #[arg(long = "joint", value_parser = parse_joint, value_name = "NAME=VALUE")]
     pub joints: Vec<(String, f64)>,
+    /// Rename a frame as it is loaded, in every file or only in FILE (e.g.
+    /// `fast_lio.yaml:imu=imu_link` to attach a FAST-LIO extrinsic to a URDF); repeatable
+    #[arg(long = "rename", value_parser = parse_rename, value_name = "[FILE:]OLD=NEW")]
+    pub renames: Vec<Rename>,
     /// Read only this key of a YAML/JSON file (e.g. T_imu_lidar)
     #[arg(long, value_name = "NAME")]
     pub key: Option<String>,
@@ -77,6 +81,67 @@ impl AuditArgs {
             max_file_size: self.max_file_size,
         })
     }
+}
+
+/// `--rename [FILE:]OLD=NEW`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rename {
+    /// Only in files whose path ends with this (`None`: every file).
+    pub file: Option<String>,
+    pub old: String,
+    pub new: String,
+}
+
+pub fn parse_rename(s: &str) -> std::result::Result<Rename, String> {
+    let (lhs, new) = s
+        .rsplit_once('=')
+        .ok_or_else(|| format!("expected [FILE:]OLD=NEW, found `{s}`"))?;
+    let (file, old) = match lhs.rsplit_once(':') {
+        Some((f, o)) => (Some(f.to_string()), o),
+        None => (None, lhs),
+    };
+    if old.is_empty() || new.is_empty() || file.as_deref() == Some("") {
+        return Err(format!(
+            "expected [FILE:]OLD=NEW with non-empty names, found `{s}`"
+        ));
+    }
+    Ok(Rename {
+        file,
+        old: old.to_string(),
+        new: new.to_string(),
+    })
+}
+
+/// Apply the renames that concern `path` to what it yielded; returns how many
+/// frame names changed.
+fn apply_renames(
+    renames: &[Rename],
+    path: &std::path::Path,
+    loaded: &mut formats::Loaded,
+) -> usize {
+    let p = path.to_string_lossy();
+    let mut n = 0;
+    for r in renames {
+        if r.file.as_deref().is_some_and(|f| !p.ends_with(f)) {
+            continue;
+        }
+        for e in &mut loaded.edges {
+            for name in [&mut e.parent, &mut e.child] {
+                if *name == r.old {
+                    *name = r.new.clone();
+                    n += 1;
+                }
+            }
+        }
+        if let Some(meta) = &mut loaded.rig {
+            for name in [&mut meta.from, &mut meta.to] {
+                if *name == r.old {
+                    *name = r.new.clone();
+                }
+            }
+        }
+    }
+    n
 }
 
 /// Pick the frame pair: given on the command line, declared by a rig file, or
@@ -120,14 +185,32 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     let opts = args.load_options()?;
     let mut graph = FrameGraph::new();
     let mut rig_pair: Option<(String, String)> = None;
+    let mut renamed = vec![0usize; args.renames.len()];
     for f in &args.files {
-        let loaded = formats::load_file(f, &opts)?;
+        let mut loaded = formats::load_file(f, &opts)?;
+        for (i, r) in args.renames.iter().enumerate() {
+            renamed[i] += apply_renames(std::slice::from_ref(r), f, &mut loaded);
+        }
         if let Some(meta) = &loaded.rig {
             if rig_pair.is_none() && !meta.from.is_empty() && !meta.to.is_empty() {
                 rig_pair = Some((meta.from.clone(), meta.to.clone()));
             }
         }
         graph.add(loaded)?;
+    }
+    if let Some(i) = renamed.iter().position(|&n| n == 0) {
+        let r = &args.renames[i];
+        return Err(Error::usage(format!(
+            "--rename {}{}={}: expected a frame `{}` in {}, found none",
+            r.file
+                .as_deref()
+                .map(|f| format!("{f}:"))
+                .unwrap_or_default(),
+            r.old,
+            r.new,
+            r.old,
+            r.file.as_deref().unwrap_or("the files")
+        )));
     }
     print_warnings(graph.warnings());
     check_joint_names(args, &graph)?;
