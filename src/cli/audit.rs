@@ -299,10 +299,23 @@ pub fn verdict_line(rep: &RigReport) -> String {
     let screw = match rep.screw.kind.as_str() {
         "identity" => "identity transform".to_string(),
         "pure_translation" => "no rotation (pure translation)".to_string(),
-        _ => format!(
-            "screw translation {} m",
-            short(rep.screw.translation_along_axis_m.unwrap_or(0.0))
-        ),
+        _ => {
+            let deg = rep.rotation.angle_deg;
+            let caveat = if deg < crate::formats::rig_toml::SMALL_ROTATION_DEG {
+                format!(
+                    " (rotation only {} deg: the screw axis is set by calibration noise)",
+                    fixed(deg, 3)
+                )
+            } else if (180.0 - deg).to_radians() < super::survey::NEAR_HALF_TURN_RAD {
+                " (half-turn: the sign of h follows the rounding)".to_string()
+            } else {
+                String::new()
+            };
+            format!(
+                "screw translation {} m{caveat}",
+                short(rep.screw.translation_along_axis_m.unwrap_or(0.0))
+            )
+        }
     };
     let tail = if invariant.len() == rep.detectors.len() && !invariant.is_empty() {
         "every detector family is frame-invariant on this rig".to_string()
