@@ -15,8 +15,10 @@
 //! Checks: a file claiming more points than it holds is an error (pre-allocation
 //! is capped, never taken from the header); a zero normal is an error naming the
 //! line (or vertex); normals off unit length by more than [`NORMAL_UNIT_TOL`] are
-//! renormalised with one `assumed-convention` warning for the file; points with a non-finite coordinate or normal (PCL marks invalid points with
-//! NaN) are skipped with a warning; a negative or non-finite weight is an error.
+//! renormalised with one `assumed-convention` warning for the file; points with
+//! a non-finite coordinate or normal (PCL marks invalid points with NaN) are
+//! skipped with a warning; a coordinate beyond [`MAX_COORDINATE`] and a negative
+//! or non-finite weight are errors.
 
 use crate::error::{Error, ErrorKind, Result, Warning, WarningCode};
 use std::path::Path;
@@ -25,6 +27,10 @@ use std::path::Path;
 pub const NORMAL_UNIT_TOL: f64 = 1e-6;
 /// `|n|` below which a normal is zero (an error).
 pub const NORMAL_ZERO_TOL: f64 = 1e-12;
+/// Largest accepted `|coordinate|`, in the file's unit. A LiDAR scan spans at most
+/// kilometres (1e6 in millimetres); beyond 1e9 the squares summed into `H` and
+/// `M` lose every digit of the small eigenvalues, and near 1e154 they overflow.
+pub const MAX_COORDINATE: f64 = 1e9;
 /// Largest point file read (bytes).
 pub const MAX_POINT_FILE_SIZE: u64 = 4 * 1024 * 1024 * 1024;
 /// Cap on the capacity reserved from a header's point count.
@@ -142,7 +148,25 @@ impl Builder {
             self.skipped_nonfinite += 1;
             return Ok(());
         }
-        let norm = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        if let Some(x) = p.iter().find(|x| x.abs() > MAX_COORDINATE) {
+            let (line, what) = where_();
+            let e = Error::parse(format!(
+                "{what}: expected coordinates within +-{MAX_COORDINATE:e}, found {x:e}"
+            ));
+            return Err(match line {
+                Some(l) => e.at_line(l, None),
+                None => e,
+            });
+        }
+        // Scaled norm: a normal like [1e200, 0, 0] must not overflow to inf and
+        // then normalise to zero.
+        let scale = n[0].abs().max(n[1].abs()).max(n[2].abs());
+        let norm = if scale > 0.0 {
+            let (a, b, c) = (n[0] / scale, n[1] / scale, n[2] / scale);
+            scale * (a * a + b * b + c * c).sqrt()
+        } else {
+            0.0
+        };
         if norm < NORMAL_ZERO_TOL {
             let (line, what) = where_();
             let e = Error::parse(format!(
