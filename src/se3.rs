@@ -223,15 +223,19 @@ impl Transform {
             QuatOrder::Xyzw => (q[0], q[1], q[2], q[3]),
             QuatOrder::Wxyz => (q[1], q[2], q[3], q[0]),
         };
-        // Scale first so that norms like 1e300 do not overflow when squared.
+        // Scale first so that norms like 1e300 (or f64::MAX) do not overflow
+        // when squared: the unit quaternion is taken from the scaled one; the
+        // norm itself (for the checks and messages) may round to inf, which
+        // only means "far from 1".
         let scale = x.abs().max(y.abs()).max(z.abs()).max(w.abs());
-        let norm = if scale > 0.0 {
-            let (xs, ys, zs, ws) = (x / scale, y / scale, z / scale, w / scale);
-            scale * (xs * xs + ys * ys + zs * zs + ws * ws).sqrt()
+        let (xs, ys, zs, ws) = if scale > 0.0 {
+            (x / scale, y / scale, z / scale, w / scale)
         } else {
-            0.0
+            (0.0, 0.0, 0.0, 0.0)
         };
-        if !norm.is_finite() || norm < QUATERNION_MIN_NORM {
+        let ns = (xs * xs + ys * ys + zs * zs + ws * ws).sqrt();
+        let norm = scale * ns;
+        if !(scale > 0.0) || norm < QUATERNION_MIN_NORM {
             return Err(Error::invalid(format!(
                 "quaternion {}: expected a unit quaternion, found norm {norm:e} (no rotation can be recovered)",
                 fmt_quat(q, order)
@@ -246,7 +250,7 @@ impl Transform {
                 ),
             ));
         }
-        let (x, y, z, w) = (x / norm, y / norm, z / norm, w / norm);
+        let (x, y, z, w) = (xs / ns, ys / ns, zs / ns, ws / ns);
         let r = Matrix3::new(
             1.0 - 2.0 * (y * y + z * z),
             2.0 * (x * y - z * w),
