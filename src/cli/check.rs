@@ -601,7 +601,11 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
         }
     }
     if let Some(path) = &args.write_baseline {
-        let mut text = serde_json::to_string_pretty(&current).unwrap_or_default();
+        // Never write an empty or partial baseline: a serialisation error is
+        // an error, not "".
+        let mut text = serde_json::to_string_pretty(&current).map_err(|e| {
+            Error::new(ErrorKind::Io, format!("cannot serialise the baseline: {e}")).in_file(path)
+        })?;
         text.push('\n');
         write_atomic(path, text.as_bytes())?;
     }
