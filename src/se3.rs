@@ -559,7 +559,23 @@ fn fmt_quat(q: [f64; 4], order: QuatOrder) -> String {
         QuatOrder::Xyzw => "xyzw",
         QuatOrder::Wxyz => "wxyz",
     };
-    format!("[{}, {}, {}, {}] ({names})", q[0], q[1], q[2], q[3])
+    format!(
+        "[{}, {}, {}, {}] ({names})",
+        short_num(q[0]),
+        short_num(q[1]),
+        short_num(q[2]),
+        short_num(q[3])
+    )
+}
+
+/// A number as written in files: plain for ordinary magnitudes, exponent form
+/// for very small or large ones (`{}` prints 1e-300 with 300 digits).
+fn short_num(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-6..1e9).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// Check and, if needed, project a 3x3 matrix to SO(3).

@@ -126,6 +126,19 @@ pub(crate) fn xml_err_at(e: &roxmltree::Error, row: usize, col: usize, text: &st
         return Error::parse("not well-formed XML: the file ends inside an element (truncated?)")
             .at_line(lines, Some(last));
     }
+    if matches!(e, roxmltree::Error::DtdDetected) {
+        // Refused on purpose: DTD entities can expand exponentially ("billion
+        // laughs") and no URDF or launch file needs them.
+        let line = text
+            .lines()
+            .position(|l| l.contains("<!DOCTYPE"))
+            .map(|i| i + 1)
+            .unwrap_or(row);
+        return Error::limit(
+            "XML with a <!DOCTYPE> (DTD / entity declarations): not read, entities can expand without bound; expected a plain URDF or launch file: remove the DOCTYPE block and write the values out",
+        )
+        .at_line(line, None);
+    }
     Error::parse(format!("not well-formed XML: {e}")).at_line(row, Some(col))
 }
 
