@@ -223,10 +223,10 @@ impl Transform {
             QuatOrder::Xyzw => (q[0], q[1], q[2], q[3]),
             QuatOrder::Wxyz => (q[1], q[2], q[3], q[0]),
         };
-        // Scale first so that norms like 1e300 (or f64::MAX) do not overflow
-        // when squared: the unit quaternion is taken from the scaled one; the
-        // norm itself (for the checks and messages) may round to inf, which
-        // only means "far from 1".
+        // Scale first so that norms like 1e300 do not overflow when squared;
+        // the unit quaternion is taken from the scaled one. A norm beyond the
+        // f64 range (components near f64::MAX) is an error, as is one below
+        // QUATERNION_MIN_NORM.
         let scale = x.abs().max(y.abs()).max(z.abs()).max(w.abs());
         let (xs, ys, zs, ws) = if scale > 0.0 {
             (x / scale, y / scale, z / scale, w / scale)
@@ -235,7 +235,7 @@ impl Transform {
         };
         let ns = (xs * xs + ys * ys + zs * zs + ws * ws).sqrt();
         let norm = scale * ns;
-        if !(scale > 0.0) || norm < QUATERNION_MIN_NORM {
+        if !(scale > 0.0) || !norm.is_finite() || norm < QUATERNION_MIN_NORM {
             return Err(Error::invalid(format!(
                 "quaternion {}: expected a unit quaternion, found norm {norm:e} (no rotation can be recovered)",
                 fmt_quat(q, order)
