@@ -235,7 +235,7 @@ impl Transform {
         };
         let ns = (xs * xs + ys * ys + zs * zs + ws * ws).sqrt();
         let norm = scale * ns;
-        if !(scale > 0.0) || !norm.is_finite() || norm < QUATERNION_MIN_NORM {
+        if scale.is_nan() || scale <= 0.0 || !norm.is_finite() || norm < QUATERNION_MIN_NORM {
             return Err(Error::invalid(format!(
                 "quaternion {}: expected a unit quaternion, found norm {norm:e} (no rotation can be recovered)",
                 fmt_quat(q, order)

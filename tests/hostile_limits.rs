@@ -79,7 +79,7 @@ fn yaml_bomb() -> String {
     let mut s = String::from("a0: &a0 [\"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\"]\n");
     for i in 1..10 {
         let prev = format!("*a{}", i - 1);
-        let list = vec![prev.as_str(); 10].join(", ");
+        let list = [prev.as_str(); 10].join(", ");
         s.push_str(&format!("a{i}: &a{i} [{list}]\n"));
     }
     s.push_str("extrinsic_T: *a9\nextrinsic_R: *a9\n");

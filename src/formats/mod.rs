@@ -546,7 +546,7 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     }
     for e in &loaded.edges {
         let d = e.transform.translation();
-        if let Some(x) = d.iter().find(|x| !(x.abs() <= MAX_TRANSLATION_M)) {
+        if let Some(x) = d.iter().find(|x| x.is_nan() || x.abs() > MAX_TRANSLATION_M) {
             return Err(Error::invalid(format!(
                 "edge {} -> {} ({}): translation component {x:e} m: expected at most {MAX_TRANSLATION_M:e} m in magnitude (a sensor extrinsic; check the units)",
                 e.parent, e.child, e.provenance.key
