@@ -452,3 +452,35 @@ fn collinear_and_identical_points_exit_2() {
         out.stdout
     );
 }
+
+#[test]
+fn huge_joint_axis_is_normalised_not_zeroed() {
+    // An axis whose squared norm overflows: normalised by a scaled norm (the
+    // motion is not silently lost), with the `non-unit-axis` warning.
+    for jt in ["prismatic", "revolute"] {
+        let text = format!(
+            "<robot name=\"r\"><link name=\"base\"/><link name=\"lidar\"/><joint name=\"j\" type=\"{jt}\"><parent link=\"base\"/><child link=\"lidar\"/><axis xyz=\"1e300 1e300 0\"/><limit lower=\"0\" upper=\"1\" effort=\"1\" velocity=\"1\"/><origin xyz=\"0 0 0\" rpy=\"0 0 0\"/></joint></robot>\n"
+        );
+        let mut opts = LoadOptions::default();
+        opts.joints.insert("j".into(), 0.5);
+        let l = load_str(&text, Path::new("axis.urdf"), &opts).unwrap();
+        assert_eq!(codes(&l), vec![WarningCode::NonUnitAxis], "{jt}");
+        assert!(
+            l.warnings[0].to_string().contains("1e300"),
+            "{}",
+            l.warnings[0]
+        );
+        let t = &l.edges[0].transform;
+        assert!(ortho_err(t) < 1e-12);
+        let s = 0.5 / 2f64.sqrt();
+        if jt == "prismatic" {
+            assert!(
+                (t.translation() - nalgebra::Vector3::new(s, s, 0.0)).norm() < 1e-12,
+                "{t:?}"
+            );
+        } else {
+            let want = Transform::from_axis_angle([1.0, 1.0, 0.0], 0.5, [0.0; 3]).unwrap();
+            assert!((t.rotation() - want.rotation()).norm() < 1e-12, "{t:?}");
+        }
+    }
+}
