@@ -64,7 +64,13 @@ pub struct FrameGraph {
     children: Vec<Vec<usize>>,
     /// For each frame, the index of its parent frame.
     parent_frame: Vec<Option<usize>>,
+    /// Union-find over frames (one set per tree), for an O(α(n)) cycle check:
+    /// walking ancestors on every edge is quadratic on adversarial inputs.
+    uf: Vec<usize>,
 }
+
+/// Frames listed in a cycle message before the middle is elided.
+pub const CYCLE_LIST_MAX: usize = 12;
 
 /// `file:line` of an edge, for messages.
 fn place(e: &Edge) -> String {
@@ -114,8 +120,18 @@ impl FrameGraph {
         self.parent.push(None);
         self.parent_frame.push(None);
         self.children.push(Vec::new());
+        self.uf.push(i);
         self.index.insert(name.to_string(), i);
         i
+    }
+
+    /// Representative of a frame's tree (path halving, iterative).
+    fn find(&mut self, mut x: usize) -> usize {
+        while self.uf[x] != x {
+            self.uf[x] = self.uf[self.uf[x]];
+            x = self.uf[x];
+        }
+        x
     }
 
     /// Add one edge, with the checks listed in the module documentation.
@@ -183,10 +199,9 @@ impl FrameGraph {
                 .at(&edge.provenance.location));
             }
         }
-        let is_new_child = !self.index.contains_key(&edge.child);
-        let p = self.frame_id(&edge.parent);
-        let c = self.frame_id(&edge.child);
-        if let Some(ei) = self.parent[c] {
+        // Two parents and cycles are checked before any frame is added, so a
+        // refused edge leaves the graph as it was.
+        if let Some(ei) = self.index.get(&edge.child).and_then(|&c| self.parent[c]) {
             let old = &self.edges[ei];
             return Err(Error::frame(format!(
                 "frame '{}' has two parents: expected one, found '{}' at {} and '{}' at {}",
@@ -198,38 +213,55 @@ impl FrameGraph {
             ))
             .at(&edge.provenance.location));
         }
-        // Cycle: is the child an ancestor of the parent? (A frame seen for the
-        // first time has no descendants, so only known children are walked.)
-        if !is_new_child {
-            let mut cur = p;
-            let mut path = vec![self.names[p].clone()];
-            let mut steps = 0usize;
-            while let Some(up) = self.parent_frame[cur] {
-                path.push(self.names[up].clone());
-                if up == c {
-                    path.reverse();
-                    return Err(Error::frame(format!(
-                        "edge {} -> {} closes a cycle: expected a tree, found {} -> {}",
-                        edge.parent,
-                        edge.child,
-                        path.join(" -> "),
-                        edge.child
-                    ))
-                    .at(&edge.provenance.location));
+        // Cycle: the child has no parent, so it is the root of its tree, and
+        // the edge closes a cycle exactly when the parent is in that tree.
+        if let (Some(&p), Some(&c)) = (self.index.get(&edge.parent), self.index.get(&edge.child)) {
+            if self.find(p) == self.find(c) {
+                let mut path = vec![p];
+                let mut cur = p;
+                while let Some(up) = self.parent_frame[cur] {
+                    path.push(up);
+                    if up == c || path.len() > self.names.len() {
+                        break;
+                    }
+                    cur = up;
                 }
-                cur = up;
-                steps += 1;
-                if steps > self.names.len() {
-                    break;
-                }
+                path.reverse();
+                path.push(c);
+                return Err(Error::frame(format!(
+                    "edge {} -> {} closes a cycle: expected a tree, found {}",
+                    edge.parent,
+                    edge.child,
+                    self.cycle_text(&path)
+                ))
+                .at(&edge.provenance.location));
             }
         }
+        let p = self.frame_id(&edge.parent);
+        let c = self.frame_id(&edge.child);
+        let (rp, rc) = (self.find(p), self.find(c));
+        self.uf[rc] = rp;
         let ei = self.edges.len();
         self.edges.push(edge);
         self.parent[c] = Some(ei);
         self.parent_frame[c] = Some(p);
         self.children[p].push(ei);
         Ok(())
+    }
+
+    /// `a -> b -> ... -> a`, the middle elided past [`CYCLE_LIST_MAX`] frames.
+    fn cycle_text(&self, path: &[usize]) -> String {
+        let names: Vec<&str> = path.iter().map(|&i| self.names[i].as_str()).collect();
+        if names.len() <= CYCLE_LIST_MAX {
+            return names.join(" -> ");
+        }
+        let h = CYCLE_LIST_MAX / 2;
+        format!(
+            "{} -> ... ({} more frames) ... -> {}",
+            names[..h].join(" -> "),
+            names.len() - 2 * h,
+            names[names.len() - h..].join(" -> ")
+        )
     }
 
     pub fn edges(&self) -> &[Edge] {

@@ -223,15 +223,19 @@ impl Transform {
             QuatOrder::Xyzw => (q[0], q[1], q[2], q[3]),
             QuatOrder::Wxyz => (q[1], q[2], q[3], q[0]),
         };
-        // Scale first so that norms like 1e300 do not overflow when squared.
+        // Scale first so that norms like 1e300 do not overflow when squared;
+        // the unit quaternion is taken from the scaled one. A norm beyond the
+        // f64 range (components near f64::MAX) is an error, as is one below
+        // QUATERNION_MIN_NORM.
         let scale = x.abs().max(y.abs()).max(z.abs()).max(w.abs());
-        let norm = if scale > 0.0 {
-            let (xs, ys, zs, ws) = (x / scale, y / scale, z / scale, w / scale);
-            scale * (xs * xs + ys * ys + zs * zs + ws * ws).sqrt()
+        let (xs, ys, zs, ws) = if scale > 0.0 {
+            (x / scale, y / scale, z / scale, w / scale)
         } else {
-            0.0
+            (0.0, 0.0, 0.0, 0.0)
         };
-        if !norm.is_finite() || norm < QUATERNION_MIN_NORM {
+        let ns = (xs * xs + ys * ys + zs * zs + ws * ws).sqrt();
+        let norm = scale * ns;
+        if scale.is_nan() || scale <= 0.0 || !norm.is_finite() || norm < QUATERNION_MIN_NORM {
             return Err(Error::invalid(format!(
                 "quaternion {}: expected a unit quaternion, found norm {norm:e} (no rotation can be recovered)",
                 fmt_quat(q, order)
@@ -246,7 +250,7 @@ impl Transform {
                 ),
             ));
         }
-        let (x, y, z, w) = (x / norm, y / norm, z / norm, w / norm);
+        let (x, y, z, w) = (xs / ns, ys / ns, zs / ns, ws / ns);
         let r = Matrix3::new(
             1.0 - 2.0 * (y * y + z * z),
             2.0 * (x * y - z * w),
@@ -555,7 +559,23 @@ fn fmt_quat(q: [f64; 4], order: QuatOrder) -> String {
         QuatOrder::Xyzw => "xyzw",
         QuatOrder::Wxyz => "wxyz",
     };
-    format!("[{}, {}, {}, {}] ({names})", q[0], q[1], q[2], q[3])
+    format!(
+        "[{}, {}, {}, {}] ({names})",
+        short_num(q[0]),
+        short_num(q[1]),
+        short_num(q[2]),
+        short_num(q[3])
+    )
+}
+
+/// A number as written in files: plain for ordinary magnitudes, exponent form
+/// for very small or large ones (`{}` prints 1e-300 with 300 digits).
+fn short_num(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-6..1e9).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// Check and, if needed, project a 3x3 matrix to SO(3).

@@ -502,3 +502,66 @@ fn rename_attaches_a_nameless_file_to_a_urdf() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--rename imuu=x"));
 }
+
+/// `audit check` on every catalogue file (issue 7): a file that cannot be used
+/// is a finding (exit 1) or unreadable (exit 2), never a panic (101) or a
+/// signal, and the output names the file. `.args` options are mapped to
+/// `check`'s (`--from A --to B` -> `--pair A:B`); a case that needs an option
+/// `check` does not have (`--key`, `--input-format`) may pass (exit 0) there.
+#[test]
+fn bad_input_catalogue_under_check_is_a_finding_naming_the_file() {
+    let dir = std::path::Path::new("tests/bad_inputs");
+    let mut n = 0;
+    let mut entries: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    entries.sort();
+    for p in entries {
+        let name = p.file_name().unwrap().to_str().unwrap().to_string();
+        if name.ends_with(".expected") || name.ends_with(".args") || name.ends_with(".md") {
+            continue;
+        }
+        let stem = name.split('.').next().unwrap();
+        let mut cmd = audit();
+        cmd.env("PATH", "").arg("check").arg(&p);
+        let mut unsupported = false;
+        if let Ok(a) = std::fs::read_to_string(dir.join(format!("{stem}.args"))) {
+            let w: Vec<&str> = a.split_whitespace().collect();
+            let mut i = 0;
+            while i + 1 < w.len() {
+                match w[i] {
+                    "--from" if w.get(i + 2) == Some(&"--to") && i + 3 < w.len() => {
+                        cmd.arg("--pair").arg(format!("{}:{}", w[i + 1], w[i + 3]));
+                        i += 4;
+                        continue;
+                    }
+                    "--joint" | "--max-file-size" => {
+                        cmd.args([w[i], w[i + 1]]);
+                    }
+                    _ => unsupported = true,
+                }
+                i += 2;
+            }
+        }
+        let out = cmd.output().unwrap();
+        let all = format!(
+            "{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let code = out.status.code();
+        assert!(code.is_some(), "{name}: killed by a signal: {all}");
+        assert_ne!(code, Some(101), "{name}: panicked: {all}");
+        if unsupported && code == Some(0) {
+            continue;
+        }
+        assert!(
+            matches!(code, Some(1) | Some(2)),
+            "{name}: exit {code:?}, expected 1 (finding) or 2: {all}"
+        );
+        assert!(all.contains(&name), "{name}: output names the file: {all}");
+        n += 1;
+    }
+    assert!(n >= 25, "catalogue has {n} inputs");
+}

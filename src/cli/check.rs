@@ -81,9 +81,25 @@ pub struct CheckArgs {
     /// numbers rounded to a few digits): reported, but not a problem; repeatable
     #[arg(long = "allow", value_name = "WARNING", value_parser = parse_warning_code)]
     pub allow: Vec<WarningCode>,
+    /// Refuse (as a problem) calibration files larger than this
+    #[arg(long, default_value_t = formats::DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
+    pub max_file_size: u64,
     /// Output format (github: workflow-command annotations)
     #[arg(long, value_enum, default_value_t = CheckFormat::Text)]
     pub format: CheckFormat,
+}
+
+/// The checked files for a message: all of them up to 5, then a count.
+fn checked_list(files: &[PathBuf]) -> String {
+    let mut v: Vec<String> = files
+        .iter()
+        .take(5)
+        .map(|f| f.display().to_string())
+        .collect();
+    if files.len() > 5 {
+        v.push(format!("and {} more", files.len() - 5));
+    }
+    v.join(", ")
 }
 
 fn parse_warning_code(s: &str) -> std::result::Result<WarningCode, String> {
@@ -270,6 +286,7 @@ impl Checker<'_> {
         let file = key_of(path);
         let opts = LoadOptions {
             joints: self.args.joints.iter().cloned().collect(),
+            max_file_size: self.args.max_file_size,
             ..LoadOptions::default()
         };
         let loaded = match formats::load_file(path, &opts) {
@@ -582,7 +599,10 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
                 "frames",
                 "",
                 None,
-                format!("--pair {a}:{b}: no checked file has both frames"),
+                format!(
+                    "--pair {a}:{b}: no checked file has both frames (checked: {})",
+                    checked_list(&files)
+                ),
             );
         }
     }
@@ -601,7 +621,11 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
         }
     }
     if let Some(path) = &args.write_baseline {
-        let mut text = serde_json::to_string_pretty(&current).unwrap_or_default();
+        // Never write an empty or partial baseline: a serialisation error is
+        // an error, not "".
+        let mut text = serde_json::to_string_pretty(&current).map_err(|e| {
+            Error::new(ErrorKind::Io, format!("cannot serialise the baseline: {e}")).in_file(path)
+        })?;
         text.push('\n');
         write_atomic(path, text.as_bytes())?;
     }

@@ -264,8 +264,13 @@ fn walk(dir: &Path, accept: fn(&Path) -> bool, out: &mut Vec<PathBuf>, depth: us
     Ok(())
 }
 
-/// Write a file atomically: a temporary file in the same directory, flushed and
-/// synced, then renamed over the target. An interrupted run leaves the old file.
+/// Write a file atomically: a temporary file `.NAME.tmp.PID` in the same
+/// directory, written, flushed and synced, then renamed over the target, and the
+/// directory synced so the rename itself is durable. An interrupted run leaves
+/// the old file complete; a failed write removes the temporary and leaves the
+/// old file. A process killed mid-write may leave its own temporary (nothing
+/// runs after SIGKILL); a later run with the same pid overwrites it.
+/// A symlink at `path` is replaced by the file, not followed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -280,6 +285,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
         f.sync_all()?;
+        drop(f);
         std::fs::rename(&tmp, path)?;
         Ok(())
     })();
@@ -288,6 +294,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         return Err(
             Error::new(crate::error::ErrorKind::Io, format!("cannot write: {e}")).in_file(path),
         );
+    }
+    // Best effort: some file systems cannot sync a directory.
+    if let Ok(d) = std::fs::File::open(&dir) {
+        let _ = d.sync_all();
     }
     Ok(())
 }

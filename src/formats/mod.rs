@@ -28,6 +28,12 @@ pub const DEFAULT_MAX_FILE_SIZE: u64 = 16 * 1024 * 1024;
 /// exceeds 2 m.
 pub const METRE_FIELD_WARN_M: f64 = 10.0;
 
+/// A translation component above this (m) is refused: no sensor extrinsic is
+/// 1000 km long, and beyond it the analysis squares lengths towards the ends of
+/// the f64 range (adjoint singular values `||d||^{\pm 1}`, bands `||d||^{\pm 2}`),
+/// so a report would print numbers that mean nothing.
+pub const MAX_TRANSLATION_M: f64 = 1e6;
+
 /// The formats the tool reads. `name()` is what `--input-format` takes and what
 /// provenance prints; [`all_formats`] says what each one's numbers mean.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -537,6 +543,17 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             format.name()
         ))
         .in_file(path));
+    }
+    for e in &loaded.edges {
+        let d = e.transform.translation();
+        if let Some(x) = d.iter().find(|x| x.is_nan() || x.abs() > MAX_TRANSLATION_M) {
+            return Err(Error::invalid(format!(
+                "edge {} -> {} ({}): translation component {x:e} m: expected at most {MAX_TRANSLATION_M:e} m in magnitude (a sensor extrinsic; check the units)",
+                e.parent, e.child, e.provenance.key
+            ))
+            .at(&e.provenance.location)
+            .in_file(path));
+        }
     }
     if opts.invert {
         loaded.edges = loaded.edges.into_iter().map(Edge::inverted).collect();

@@ -126,6 +126,19 @@ pub(crate) fn xml_err_at(e: &roxmltree::Error, row: usize, col: usize, text: &st
         return Error::parse("not well-formed XML: the file ends inside an element (truncated?)")
             .at_line(lines, Some(last));
     }
+    if matches!(e, roxmltree::Error::DtdDetected) {
+        // Refused on purpose: DTD entities can expand exponentially ("billion
+        // laughs") and no URDF or launch file needs them.
+        let line = text
+            .lines()
+            .position(|l| l.contains("<!DOCTYPE"))
+            .map(|i| i + 1)
+            .unwrap_or(row);
+        return Error::limit(
+            "XML with a <!DOCTYPE> (DTD / entity declarations): not read, entities can expand without bound; expected a plain URDF or launch file: remove the DOCTYPE block and write the values out",
+        )
+        .at_line(line, None);
+    }
     Error::parse(format!("not well-formed XML: {e}")).at_line(row, Some(col))
 }
 
@@ -494,8 +507,20 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             ))
             .at(&j.loc));
         }
-        let n = (j.axis[0].powi(2) + j.axis[1].powi(2) + j.axis[2].powi(2)).sqrt();
-        if n < 1e-12 {
+        // Scaled norm: an axis like [1e300, 1e300, 0] must not square to inf
+        // (dividing by it would give a zero axis and, for a prismatic joint, a
+        // silently zero motion).
+        let scale = j.axis.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let n = if scale > 0.0 {
+            scale
+                * ((j.axis[0] / scale).powi(2)
+                    + (j.axis[1] / scale).powi(2)
+                    + (j.axis[2] / scale).powi(2))
+                .sqrt()
+        } else {
+            0.0
+        };
+        if n.is_nan() || n < 1e-12 {
             let (l, c) = pos_of(&idx, j.node);
             return Err(Error::invalid(format!(
                 "{} joint '{}': expected a non-zero <axis xyz>, found {:?}",
@@ -508,14 +533,27 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
                 Warning::new(
                     WarningCode::NonUnitAxis,
                     format!(
-                        "{} joint '{}': axis [{}, {}, {}] has norm {n:.9}, expected 1; normalised",
-                        j.jtype, j.name, j.axis[0], j.axis[1], j.axis[2]
+                        "{} joint '{}': axis {:?} has norm {}, expected 1; normalised",
+                        j.jtype,
+                        j.name,
+                        j.axis,
+                        if n < 1e9 {
+                            format!("{n:.9}")
+                        } else {
+                            format!("{n:e}")
+                        }
                     ),
                 )
                 .at(&j.loc),
             );
         }
-        let e_axis = [j.axis[0] / n, j.axis[1] / n, j.axis[2] / n];
+        let e_axis = if n.is_finite() {
+            [j.axis[0] / n, j.axis[1] / n, j.axis[2] / n]
+        } else {
+            let a = [j.axis[0] / scale, j.axis[1] / scale, j.axis[2] / scale];
+            let m = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+            [a[0] / m, a[1] / m, a[2] / m]
+        };
         let motion = if j.jtype == "prismatic" {
             Transform::from_translation([e_axis[0] * value, e_axis[1] * value, e_axis[2] * value])?
         } else {

@@ -117,8 +117,21 @@ pub fn strip_opencv_directive(text: &str) -> std::borrow::Cow<'_, str> {
     }
 }
 
+/// Deepest YAML nesting read (block and flow). Calibration files nest at
+/// most ~8 levels (a tf_static dump); the deserializer recurses once per level
+/// with a large frame (tens of KiB in a debug build).
+pub const MAX_YAML_DEPTH: usize = 32;
+
+/// Stack for the thread that parses YAML: the parse recurses per nesting level,
+/// and callers may run on small thread stacks (2 MiB test threads).
+const YAML_STACK: usize = 64 * 1024 * 1024;
+
 fn options() -> serde_saphyr::options::Options {
     let mut o = serde_saphyr::options::Options::default();
+    let mut budget = o.budget.clone().unwrap_or_default();
+    budget.max_depth = MAX_YAML_DEPTH;
+    budget.flow_nesting_limit = MAX_YAML_DEPTH;
+    o.budget = Some(budget);
     o.duplicate_keys = serde_saphyr::options::DuplicateKeyPolicy::PassThrough;
     // `y:` is a coordinate key in tf dumps, not YAML 1.1's boolean.
     o.strict_booleans = true;
@@ -162,11 +175,27 @@ fn split_position(s: &str) -> (Option<usize>, Option<usize>, String) {
 }
 
 /// Parse every document of a YAML stream.
+///
+/// Runs on a thread of its own with a [`YAML_STACK`] stack, so the nesting
+/// limits hold whatever stack the caller has (a stack overflow is an abort,
+/// not an error). If that thread cannot be started, parses on the caller's.
 pub fn parse_documents(text: &str) -> Result<Vec<Node>> {
     let text = strip_opencv_directive(text);
-    let docs: Vec<Spanned<Raw>> =
-        serde_saphyr::from_multiple_with_options(&text, options()).map_err(yaml_error)?;
-    Ok(docs.into_iter().map(node).collect())
+    let parse = |t: &str| -> Result<Vec<Node>> {
+        let docs: Vec<Spanned<Raw>> =
+            serde_saphyr::from_multiple_with_options(t, options()).map_err(yaml_error)?;
+        Ok(docs.into_iter().map(node).collect())
+    };
+    std::thread::scope(|s| {
+        match std::thread::Builder::new()
+            .name("yaml".into())
+            .stack_size(YAML_STACK)
+            .spawn_scoped(s, || parse(&text))
+        {
+            Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
+            Err(_) => parse(&text),
+        }
+    })
 }
 
 impl Node {

@@ -1,0 +1,16 @@
+#![no_main]
+//! Ouster metadata JSON (legacy flat and nested) and matrix JSON.
+use extrinsic_audit::formats::Format;
+use fuzz_common::{load_and_check, split};
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| {
+    let Some((sel, text)) = split(data) else { return };
+    let (path, fmt) = match sel % 4 {
+        0 | 1 => ("metadata.json", None),
+        2 => ("metadata", None),
+        // JSON is YAML: the matrix-YAML reader must take JSON matrices too.
+        _ => ("calib.json", Some(Format::MatrixYaml)),
+    };
+    load_and_check(&text, path, fmt, sel);
+});
