@@ -1,15 +1,9 @@
-//! Point-file crash inputs found by the `points` fuzz target
-//! (fuzz/regressions/points/). `src/points.rs` belongs to another change in
-//! flight, so the bug is recorded here, not fixed:
-//!
-//! A normal whose squared norm overflows (a component above ~1.3e154) is
-//! divided by an infinite norm and becomes `[±0, ±0, ±0]`: a zero normal
-//! accepted with success (the reader refuses zero normals it reads as zero).
-//! Fix: scaled norm in the normal check (divide by the largest |component|
-//! first, as `se3::Transform::from_quaternion` does).
-//!
-//! The non-ignored test guards what holds today (no panic, no hang); the
-//! ignored one is the acceptance test for the fix: un-ignore it with the fix.
+//! Point-file inputs found by the `points` fuzz target
+//! (fuzz/regressions/points/). The bug: a normal whose squared norm overflowed
+//! (a component above ~1.3e154) was divided by an infinite norm and became
+//! `[±0, ±0, ±0]`, a zero normal accepted with success. Fixed in `src/points.rs`
+//! with a scaled norm; coordinates beyond `points::MAX_COORDINATE` are refused
+//! (tests/points_regressions.rs checks the messages).
 
 use extrinsic_audit::points::parse_points;
 use std::time::{Duration, Instant};
@@ -37,7 +31,6 @@ fn point_regressions_do_not_panic_or_hang() {
 }
 
 #[test]
-#[ignore = "open: src/points.rs normal check overflows (see module docs); un-ignore with the fix"]
 fn point_regressions_never_yield_a_zero_or_non_unit_normal() {
     for (name, bytes) in regressions() {
         if let Ok(p) = parse_points(&bytes) {

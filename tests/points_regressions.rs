@@ -6,7 +6,7 @@
 use extrinsic_audit::points::{read_points, MAX_COORDINATE};
 use std::path::Path;
 
-const DIR: &str = "tests/fixtures/detector/regressions";
+const DIR: &str = "fuzz/regressions/points";
 
 #[test]
 fn huge_normal_is_renormalised_not_zeroed() {
