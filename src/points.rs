@@ -31,6 +31,8 @@ pub const NORMAL_ZERO_TOL: f64 = 1e-12;
 /// kilometres (1e6 in millimetres); beyond 1e9 the squares summed into `H` and
 /// `M` lose every digit of the small eigenvalues, and near 1e154 they overflow.
 pub const MAX_COORDINATE: f64 = 1e9;
+/// Largest `COUNT` of one PCD field.
+pub const MAX_PCD_COUNT: usize = 1 << 16;
 /// Largest point file read (bytes).
 pub const MAX_POINT_FILE_SIZE: u64 = 4 * 1024 * 1024 * 1024;
 /// Cap on the capacity reserved from a header's point count.
@@ -762,6 +764,18 @@ fn parse_pcd(bytes: &[u8]) -> Result<PointData> {
             sizes.len(),
             types.len(),
             counts.len()
+        )));
+    }
+    // PCD's COUNT is the number of elements of a field: at least 1. A cap keeps
+    // the record arithmetic far from overflow (real descriptors use <= 352).
+    if let Some((k, c)) = counts
+        .iter()
+        .enumerate()
+        .find(|(_, c)| **c == 0 || **c > MAX_PCD_COUNT)
+    {
+        return Err(Error::parse(format!(
+            "PCD: field {:?}: expected COUNT between 1 and {MAX_PCD_COUNT}, found {c}",
+            fields[k]
         )));
     }
     let n = match (points, width, height) {

@@ -56,3 +56,16 @@ fn ply_huge_normal_reads_like_unit() {
         .iter()
         .all(|n| ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() < 1e-15));
 }
+
+#[test]
+fn pcd_count_zero_is_refused_not_a_panic() {
+    // Found by run 3: COUNT 0 made a field's element index point past the
+    // record and the ascii reader indexed out of bounds.
+    let e = read_points(Path::new(DIR).join("pcd-count-zero.pcd").as_path())
+        .expect_err("COUNT 0 is not a field");
+    assert!(
+        e.to_string()
+            .contains("field \"x\": expected COUNT between 1 and"),
+        "{e}"
+    );
+}
