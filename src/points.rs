@@ -115,6 +115,17 @@ fn looks_like_pcd(bytes: &[u8]) -> bool {
     false
 }
 
+/// The names of the six required roles (x y z and the normal) that `roles`
+/// has not found, in order.
+fn missing_roles<'a, T>(roles: &[Option<T>], names: [&'a str; 6]) -> Vec<&'a str> {
+    names
+        .into_iter()
+        .zip(roles)
+        .filter(|(_, r)| r.is_none())
+        .map(|(n, _)| n)
+        .collect()
+}
+
 /// Collects validated points.
 struct Builder {
     points: Vec<[f64; 3]>,
@@ -304,12 +315,7 @@ fn parse_csv(bytes: &[u8]) -> Result<PointData> {
                         cols[role] = Some(k);
                     }
                 }
-                let missing: Vec<&str> = ["x", "y", "z", "nx", "ny", "nz"]
-                    .iter()
-                    .enumerate()
-                    .filter(|(r, _)| cols[*r].is_none())
-                    .map(|(_, n)| *n)
-                    .collect();
+                let missing = missing_roles(&cols, ["x", "y", "z", "nx", "ny", "nz"]);
                 if !missing.is_empty() {
                     return Err(Error::parse(format!(
                         "CSV header: expected columns x,y,z,nx,ny,nz[,w], missing {} (found {:?})",
@@ -564,12 +570,7 @@ fn parse_ply(bytes: &[u8]) -> Result<PointData> {
             roles[r] = Some(k);
         }
     }
-    let missing: Vec<&str> = ["x", "y", "z", "nx", "ny", "nz"]
-        .iter()
-        .enumerate()
-        .filter(|(r, _)| roles[*r].is_none())
-        .map(|(_, n)| *n)
-        .collect();
+    let missing = missing_roles(&roles, ["x", "y", "z", "nx", "ny", "nz"]);
     if !missing.is_empty() {
         return Err(Error::parse(format!(
             "PLY: expected vertex properties x y z nx ny nz, missing {}",
@@ -810,12 +811,7 @@ fn parse_pcd(bytes: &[u8]) -> Result<PointData> {
         byte += counts[k] * sizes[k];
     }
     // Per-element scalar type, for binary reads.
-    let missing: Vec<&str> = ["x", "y", "z", "normal_x", "normal_y", "normal_z"]
-        .iter()
-        .enumerate()
-        .filter(|(r, _)| roles[*r].is_none())
-        .map(|(_, n)| *n)
-        .collect();
+    let missing = missing_roles(&roles, ["x", "y", "z", "normal_x", "normal_y", "normal_z"]);
     if !missing.is_empty() {
         return Err(Error::parse(format!(
             "PCD: expected FIELDS x y z normal_x normal_y normal_z, missing {} (found {})",
