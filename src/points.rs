@@ -924,27 +924,11 @@ pub fn write_csv(points: &[[f64; 3]], normals: &[[f64; 3]], weights: Option<&[f6
     s.into_bytes()
 }
 
-/// PLY with double properties `x y z nx ny nz`.
-pub fn write_ply(points: &[[f64; 3]], normals: &[[f64; 3]], enc: Encoding) -> Vec<u8> {
-    let n = points.len().min(normals.len());
-    let fmt = match enc {
-        Encoding::Ascii => "ascii",
-        Encoding::BinaryLittleEndian => "binary_little_endian",
-        Encoding::BinaryBigEndian => "binary_big_endian",
-    };
-    let mut out = format!(
-        "ply\nformat {fmt} 1.0\ncomment written by extrinsic-audit\nelement vertex {n}\nproperty double x\nproperty double y\nproperty double z\nproperty double nx\nproperty double ny\nproperty double nz\nend_header\n"
-    )
-    .into_bytes();
-    for i in 0..n {
-        let vals = [
-            points[i][0],
-            points[i][1],
-            points[i][2],
-            normals[i][0],
-            normals[i][1],
-            normals[i][2],
-        ];
+/// One record per point, `x y z nx ny nz` as doubles: ascii (shortest
+/// round-trip text) or binary in the given byte order.
+fn write_records(out: &mut Vec<u8>, points: &[[f64; 3]], normals: &[[f64; 3]], enc: Encoding) {
+    for (p, n) in points.iter().zip(normals) {
+        let vals = [p[0], p[1], p[2], n[0], n[1], n[2]];
         match enc {
             Encoding::Ascii => {
                 let line: Vec<String> = vals.iter().map(|v| format!("{v:?}")).collect();
@@ -959,6 +943,21 @@ pub fn write_ply(points: &[[f64; 3]], normals: &[[f64; 3]], enc: Encoding) -> Ve
                 .for_each(|v| out.extend_from_slice(&v.to_be_bytes())),
         }
     }
+}
+
+/// PLY with double properties `x y z nx ny nz`.
+pub fn write_ply(points: &[[f64; 3]], normals: &[[f64; 3]], enc: Encoding) -> Vec<u8> {
+    let n = points.len().min(normals.len());
+    let fmt = match enc {
+        Encoding::Ascii => "ascii",
+        Encoding::BinaryLittleEndian => "binary_little_endian",
+        Encoding::BinaryBigEndian => "binary_big_endian",
+    };
+    let mut out = format!(
+        "ply\nformat {fmt} 1.0\ncomment written by extrinsic-audit\nelement vertex {n}\nproperty double x\nproperty double y\nproperty double z\nproperty double nx\nproperty double ny\nproperty double nz\nend_header\n"
+    )
+    .into_bytes();
+    write_records(&mut out, points, normals, enc);
     out
 }
 
@@ -975,23 +974,12 @@ pub fn write_pcd(points: &[[f64; 3]], normals: &[[f64; 3]], enc: Encoding) -> Ve
         "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\nSIZE 8 8 8 8 8 8\nTYPE F F F F F F\nCOUNT 1 1 1 1 1 1\nWIDTH {n}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {n}\nDATA {data}\n"
     )
     .into_bytes();
-    for i in 0..n {
-        let vals = [
-            points[i][0],
-            points[i][1],
-            points[i][2],
-            normals[i][0],
-            normals[i][1],
-            normals[i][2],
-        ];
-        if enc == Encoding::Ascii {
-            let line: Vec<String> = vals.iter().map(|v| format!("{v:?}")).collect();
-            out.extend_from_slice(line.join(" ").as_bytes());
-            out.push(b'\n');
-        } else {
-            vals.iter()
-                .for_each(|v| out.extend_from_slice(&v.to_le_bytes()));
-        }
-    }
+    // PCL's binary is little endian.
+    let enc = if enc == Encoding::BinaryBigEndian {
+        Encoding::BinaryLittleEndian
+    } else {
+        enc
+    };
+    write_records(&mut out, points, normals, enc);
     out
 }
