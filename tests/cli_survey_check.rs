@@ -190,6 +190,14 @@ fn check_shipped_calibrations() {
     assert_eq!(code, 2);
 }
 
+/// A FAST-LIO config with the Avia rotation block `r` (row-major) and translation `t`.
+fn fast_lio(t: [f64; 3], r: [i32; 9]) -> String {
+    format!(
+        "mapping:\n  extrinsic_T: [ {}, {}, {} ]\n  extrinsic_R: [ {}, {}, {},\n                 {}, {}, {},\n                 {}, {}, {}]\n",
+        t[0], t[1], t[2], r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8]
+    )
+}
+
 #[test]
 fn check_exit_codes_findings_and_baseline() {
     let dir = tempfile::tempdir().unwrap();
@@ -197,7 +205,7 @@ fn check_exit_codes_findings_and_baseline() {
     // FAST-LIO style, Avia numbers.
     std::fs::write(
         &good,
-        "mapping:\n  extrinsic_T: [ 0.04165, 0.02326, -0.0284 ]\n  extrinsic_R: [ 1, 0, 0,\n                 0, 1, 0,\n                 0, 0, 1]\n",
+        fast_lio([0.04165, 0.02326, -0.0284], [1, 0, 0, 0, 1, 0, 0, 0, 1]),
     )
     .unwrap();
     let base = dir.path().join("baseline.json");
@@ -216,66 +224,38 @@ fn check_exit_codes_findings_and_baseline() {
     assert!((num(&rec["edges"][0]["translation_m"][0]) - 0.04165).abs() < 1e-15);
     assert_eq!(rec["pairs"][0]["screw_kind"], "pure_translation");
 
+    let (good_s, base_s) = (good.to_str().unwrap(), base.to_str().unwrap());
+    let against_baseline = |extra: &[&str]| {
+        let mut a = vec!["check", good_s, "--pair", "imu:lidar", "--baseline", base_s];
+        a.extend_from_slice(extra);
+        run(&a)
+    };
     // Unchanged: clean against the baseline.
-    let (code, out, _) = run(&[
-        "check",
-        good.to_str().unwrap(),
-        "--pair",
-        "imu:lidar",
-        "--baseline",
-        base.to_str().unwrap(),
-    ]);
+    let (code, out, _) = against_baseline(&[]);
     assert_eq!(code, 0, "{out}");
 
     // Drift of 2 mm: a finding, exit 1, and a GitHub annotation.
     std::fs::write(
         &good,
-        "mapping:\n  extrinsic_T: [ 0.04365, 0.02326, -0.0284 ]\n  extrinsic_R: [ 1, 0, 0,\n                 0, 1, 0,\n                 0, 0, 1]\n",
+        fast_lio([0.04365, 0.02326, -0.0284], [1, 0, 0, 0, 1, 0, 0, 0, 1]),
     )
     .unwrap();
-    let (code, out, _) = run(&[
-        "check",
-        good.to_str().unwrap(),
-        "--pair",
-        "imu:lidar",
-        "--baseline",
-        base.to_str().unwrap(),
-        "--format",
-        "github",
-    ]);
+    let (code, out, _) = against_baseline(&["--format", "github"]);
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("::error file="), "{out}");
     assert!(out.contains("title=drift::"), "{out}");
     assert!(out.contains("moved 0.002000 m"), "{out}");
     // 2 mm is within a 5 mm tolerance.
-    let (code, _, _) = run(&[
-        "check",
-        good.to_str().unwrap(),
-        "--pair",
-        "imu:lidar",
-        "--baseline",
-        base.to_str().unwrap(),
-        "--max-translation-drift",
-        "0.005",
-    ]);
+    let (code, _, _) = against_baseline(&["--max-translation-drift", "0.005"]);
     assert_eq!(code, 0);
 
     // Verdict change: a rotation appears (pure translation -> general screw).
     std::fs::write(
         &good,
-        "mapping:\n  extrinsic_T: [ 0.04165, 0.02326, -0.0284 ]\n  extrinsic_R: [ 0, -1, 0,\n                 1, 0, 0,\n                 0, 0, 1]\n",
+        fast_lio([0.04165, 0.02326, -0.0284], [0, -1, 0, 1, 0, 0, 0, 0, 1]),
     )
     .unwrap();
-    let (code, out, _) = run(&[
-        "check",
-        good.to_str().unwrap(),
-        "--pair",
-        "imu:lidar",
-        "--baseline",
-        base.to_str().unwrap(),
-        "--format",
-        "json",
-    ]);
+    let (code, out, _) = against_baseline(&["--format", "json"]);
     assert_eq!(code, 1);
     let j: Value = serde_json::from_str(&out).unwrap();
     let codes: Vec<&str> = j["findings"]
