@@ -169,13 +169,7 @@ pub fn markdown_table(header: &[&str], rows: &[Vec<String>]) -> String {
 /// A terminal table through comfy-table (no colour inside tables: they are
 /// copied into tickets and logs).
 pub fn terminal_table(header: &[&str], rows: &[Vec<String>]) -> String {
-    let mut t = comfy_table::Table::new();
-    t.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
-    t.set_header(header.iter().copied());
-    for r in rows {
-        t.add_row(r.iter().cloned());
-    }
-    t.to_string()
+    terminal_table_wrapped(header, rows, &[])
 }
 
 /// [`terminal_table`] with upper bounds on some columns' widths (content wraps).

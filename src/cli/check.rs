@@ -12,7 +12,7 @@
 
 use super::audit::io_err;
 use super::{expand_paths, parse_nonneg, parse_positive, write_atomic};
-use crate::error::{Error, ErrorKind, Location, Result, Warning, WarningCode};
+use crate::error::{Error, ErrorKind, Result, Warning, WarningCode};
 use crate::formats::{self, Edge, LoadOptions};
 use crate::graph::FrameGraph;
 use crate::report;
@@ -212,10 +212,6 @@ fn key_of(p: &Path) -> String {
     p.to_string_lossy().replace('\\', "/")
 }
 
-fn loc_line(loc: &Location) -> Option<usize> {
-    loc.line
-}
-
 /// Warnings that are findings in a check (the input is suspicious, not just noted).
 fn warning_is_problem(code: WarningCode) -> bool {
     matches!(
@@ -268,13 +264,7 @@ impl Checker<'_> {
         } else {
             Severity::Warning
         };
-        self.push(
-            sev,
-            w.code.name(),
-            file,
-            loc_line(&w.location),
-            w.message.clone(),
-        );
+        self.push(sev, w.code.name(), file, w.location.line, w.message.clone());
     }
 
     /// Check one file; returns its baseline record when it loaded.
