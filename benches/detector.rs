@@ -10,7 +10,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use extrinsic_audit::detector::{
     frame_sweep, generalized_eigen_raw, paper_frame_changes, Assembly, MetricRule,
 };
-use extrinsic_audit::scene::{synthesize, Preprocess, SceneKind, SceneRng};
+use extrinsic_audit::scene::{random_cloud, synthesize, Preprocess, SceneKind};
 use extrinsic_audit::threshold::default_threshold;
 use std::hint::black_box;
 
@@ -18,19 +18,7 @@ use std::hint::black_box;
 /// numpy comparison): seed 2024, points uniform in [-10, 10]^3, unit normals
 /// uniform on the sphere.
 fn data(n: usize) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
-    let mut rng = SceneRng::new(2024);
-    let mut p = Vec::with_capacity(n);
-    let mut nn = Vec::with_capacity(n);
-    for _ in 0..n {
-        p.push([
-            20.0 * rng.uniform() - 10.0,
-            20.0 * rng.uniform() - 10.0,
-            20.0 * rng.uniform() - 10.0,
-        ]);
-        let u = rng.unit_vector();
-        nn.push([u.x, u.y, u.z]);
-    }
-    (p, nn)
+    random_cloud(2024, n)
 }
 
 fn benches(c: &mut Criterion) {

@@ -8,7 +8,7 @@
 //! eigenvalues and the median times.
 
 use extrinsic_audit::detector::{generalized_eigen_raw, Assembly};
-use extrinsic_audit::scene::SceneRng;
+use extrinsic_audit::scene::random_cloud;
 use std::io::Write;
 use std::time::Instant;
 
@@ -31,18 +31,7 @@ fn main() {
         eprintln!("cannot create {}: {e}", dir.display());
         std::process::exit(2);
     }
-    let mut rng = SceneRng::new(2024);
-    let mut p = Vec::with_capacity(n);
-    let mut nn = Vec::with_capacity(n);
-    for _ in 0..n {
-        p.push([
-            20.0 * rng.uniform() - 10.0,
-            20.0 * rng.uniform() - 10.0,
-            20.0 * rng.uniform() - 10.0,
-        ]);
-        let u = rng.unit_vector();
-        nn.push([u.x, u.y, u.z]);
-    }
+    let (p, nn) = random_cloud(2024, n);
     let mut bytes = Vec::with_capacity(n * 48);
     for i in 0..n {
         for v in p[i].iter().chain(nn[i].iter()) {

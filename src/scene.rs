@@ -629,3 +629,22 @@ pub fn synthesize(kind: SceneKind, pre: &Preprocess) -> Result<Cloud> {
         }
     }
 }
+
+/// The benchmark cloud (criterion benches and `examples/bench_data.rs`, whose
+/// file the numpy comparison reads, must agree): `n` points uniform in
+/// `[-10, 10]^3` and unit normals uniform on the sphere, from `SceneRng(seed)`.
+pub fn random_cloud(seed: u64, n: usize) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    let mut rng = SceneRng::new(seed);
+    let mut p = Vec::with_capacity(n);
+    let mut nn = Vec::with_capacity(n);
+    for _ in 0..n {
+        p.push([
+            20.0 * rng.uniform() - 10.0,
+            20.0 * rng.uniform() - 10.0,
+            20.0 * rng.uniform() - 10.0,
+        ]);
+        let u = rng.unit_vector();
+        nn.push([u.x, u.y, u.z]);
+    }
+    (p, nn)
+}
