@@ -7,11 +7,11 @@
 //! Run: `cargo bench --bench detector`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use extrinsic_audit::detector::{
+use extrinsic_audit::degeneracy::scene::{random_cloud, synthesize, Preprocess, SceneKind};
+use extrinsic_audit::degeneracy::threshold::default_threshold;
+use extrinsic_audit::degeneracy::{
     frame_sweep, generalized_eigen_raw, paper_frame_changes, Assembly, MetricRule,
 };
-use extrinsic_audit::scene::{random_cloud, synthesize, Preprocess, SceneKind};
-use extrinsic_audit::threshold::default_threshold;
 use std::hint::black_box;
 
 /// The benchmark data set (also written by `examples/bench_data.rs` for the

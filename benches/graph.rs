@@ -4,7 +4,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use extrinsic_audit::formats::{load_str, LoadOptions};
-use extrinsic_audit::graph::FrameGraph;
+use extrinsic_audit::frames::FrameGraph;
 use std::hint::black_box;
 use std::path::Path;
 

@@ -1,19 +1,16 @@
 //! extrinsic-audit: what a robot's LiDAR extrinsic does to degeneracy detection.
+
 //!
 //! Data flow, one module per stage:
-//! files (`formats`) -> frame graph (`graph`) -> one transform (`se3`) ->
-//! analysis (`certificate`, `metric`; `detector`, `scene`, `points` and
-//! `threshold` for point data) -> report (`report`, `cli`).
+//! files (`formats`) -> frame graph (`frames`) -> one transform (`geometry`) ->
+//! analysis (`analysis`; `degeneracy` for point data) -> report (`report`, `cli`).
 
-pub mod certificate;
+pub mod analysis;
 pub mod cli;
-pub mod detector;
-pub mod error;
+pub mod degeneracy;
+pub mod diagnostic;
 pub mod formats;
-pub mod graph;
-pub mod metric;
-pub mod points;
+pub mod frames;
+pub mod geometry;
 pub mod report;
-pub mod scene;
-pub mod se3;
-pub mod threshold;
+pub mod tolerances;

@@ -3,8 +3,8 @@
 //! carries a wrong number, and feed the edges to a `FrameGraph`.
 
 use extrinsic_audit::formats::{load_str, Format, LoadOptions, Loaded};
-use extrinsic_audit::graph::FrameGraph;
-use extrinsic_audit::se3::Transform;
+use extrinsic_audit::frames::FrameGraph;
+use extrinsic_audit::geometry::se3::Transform;
 use std::path::Path;
 
 /// Orthonormality tolerance asserted on every edge of a successful load.

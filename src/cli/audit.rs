@@ -1,10 +1,11 @@
 //! `audit FILE... --from A --to B`: the rig report.
 
 use super::{parse_joint, parse_nonneg, parse_positive, print_warnings, Style};
-use crate::error::{Error, Result};
+use crate::diagnostic::{Error, Result};
 use crate::formats::{self, LoadOptions};
-use crate::graph::{Chain, FrameGraph};
+use crate::frames::{Chain, FrameGraph};
 use crate::report::{self, fixed, short, vec_str, RigReport};
+use crate::tolerances::DEFAULT_MAX_FILE_SIZE;
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::PathBuf;
@@ -41,7 +42,7 @@ pub struct AuditArgs {
     #[arg(long, requires = "kappa", value_parser = parse_nonneg)]
     pub lambda: Option<f64>,
     /// Zero-pitch tolerance on |h| (m); the raw h is always printed beside the verdict
-    #[arg(long, default_value_t = crate::se3::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
+    #[arg(long, default_value_t = crate::tolerances::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
     pub pitch_tol: f64,
     /// Set a movable joint's position (rad or m); repeatable
     #[arg(long = "joint", value_parser = parse_joint, value_name = "NAME=VALUE")]
@@ -60,7 +61,7 @@ pub struct AuditArgs {
     #[arg(long, value_name = "NAME")]
     pub input_format: Option<String>,
     /// Refuse input files larger than this many bytes
-    #[arg(long, default_value_t = formats::DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
+    #[arg(long, default_value_t = DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
     pub max_file_size: u64,
     /// Output format
     #[arg(long, value_enum, default_value_t = ReportFormat::Table)]
@@ -79,6 +80,7 @@ impl AuditArgs {
             invert: self.invert,
             format,
             max_file_size: self.max_file_size,
+            ..LoadOptions::default()
         })
     }
 }
@@ -282,7 +284,7 @@ fn check_joint_names(args: &AuditArgs, graph: &FrameGraph) -> Result<()> {
 
 pub(crate) fn io_err(e: std::io::Error) -> Error {
     Error::new(
-        crate::error::ErrorKind::Io,
+        crate::diagnostic::ErrorKind::Io,
         format!("cannot write output: {e}"),
     )
 }
@@ -301,12 +303,12 @@ pub fn verdict_line(rep: &RigReport) -> String {
         "pure_translation" => "no rotation (pure translation)".to_string(),
         _ => {
             let deg = rep.rotation.angle_deg;
-            let caveat = if deg < crate::formats::rig_toml::SMALL_ROTATION_DEG {
+            let caveat = if deg < crate::tolerances::SMALL_ROTATION_DEG {
                 format!(
                     " (rotation only {} deg: the screw axis is set by calibration noise)",
                     fixed(deg, 3)
                 )
-            } else if (180.0 - deg).to_radians() < super::survey::NEAR_HALF_TURN_RAD {
+            } else if (180.0 - deg).to_radians() < crate::tolerances::NEAR_HALF_TURN_RAD {
                 " (half-turn: the sign of h follows the rounding)".to_string()
             } else {
                 String::new()
@@ -452,7 +454,7 @@ pub fn render(rep: &RigReport, chain: &Chain, st: Style, md: bool) -> String {
                     if step.inverted { " (inverted)" } else { "" }
                 ),
                 e.provenance.location.to_string(),
-                e.provenance.format.name().to_string(),
+                e.provenance.format.to_string(),
                 e.provenance.key.clone(),
             ]
         })

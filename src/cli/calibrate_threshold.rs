@@ -4,11 +4,11 @@
 //! are documented in `crate::threshold`.
 
 use super::degeneracy::{fmt_num, io_err, parse_ells, OutputFormat};
-use crate::detector::MetricRule;
-use crate::error::{Error, Result};
-use crate::threshold::{
+use crate::degeneracy::threshold::{
     calibrate, Calibration, FamilyResult, Interval, NOISE_LEVELS, SEEDS, VOXEL_SIZES,
 };
+use crate::degeneracy::MetricRule;
+use crate::diagnostic::{Error, Result};
 use comfy_table::Table;
 use serde_json::{json, Value};
 

@@ -12,22 +12,19 @@
 
 use super::audit::io_err;
 use super::{expand_paths, parse_nonneg, parse_positive, write_atomic};
-use crate::error::{Error, ErrorKind, Result, Warning, WarningCode};
+use crate::diagnostic::{Error, ErrorKind, Result, Warning, WarningCode};
 use crate::formats::{self, Edge, LoadOptions};
-use crate::graph::FrameGraph;
+use crate::frames::FrameGraph;
+use crate::geometry::se3::Transform;
 use crate::report;
-use crate::se3::Transform;
+use crate::tolerances::{
+    DEFAULT_MAX_FILE_SIZE, DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT,
+};
 use clap::{Args, ValueEnum};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-/// Default drift tolerance on a translation (m): a millimetre, below what a
-/// recalibration moves on purpose and above the printed digits of any format.
-pub const DEFAULT_MAX_TRANSLATION_DRIFT: f64 = 1e-3;
-/// Default drift tolerance on a rotation (deg): the angle of `R_base^T R_now`.
-pub const DEFAULT_MAX_ROTATION_DRIFT_DEG: f64 = 0.05;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
 pub enum CheckFormat {
@@ -72,7 +69,7 @@ pub struct CheckArgs {
     #[arg(long, default_value_t = DEFAULT_MAX_ROTATION_DRIFT_DEG, value_parser = parse_nonneg, value_name = "DEG")]
     pub max_rotation_drift: f64,
     /// Zero-pitch tolerance on |h| (m)
-    #[arg(long, default_value_t = crate::se3::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
+    #[arg(long, default_value_t = crate::tolerances::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
     pub pitch_tol: f64,
     /// Set a movable joint's position (rad or m); repeatable
     #[arg(long = "joint", value_parser = super::parse_joint, value_name = "NAME=VALUE")]
@@ -82,7 +79,7 @@ pub struct CheckArgs {
     #[arg(long = "allow", value_name = "WARNING", value_parser = parse_warning_code)]
     pub allow: Vec<WarningCode>,
     /// Refuse (as a problem) calibration files larger than this
-    #[arg(long, default_value_t = formats::DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
+    #[arg(long, default_value_t = DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
     pub max_file_size: u64,
     /// Output format (github: workflow-command annotations)
     #[arg(long, value_enum, default_value_t = CheckFormat::Text)]

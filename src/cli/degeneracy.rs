@@ -5,13 +5,12 @@
 //! Also holds the small helpers the detector commands share (output format,
 //! `x,y,z` parsing, number formatting).
 
-use crate::detector::{
-    analyse, reexpress, Analysis, Assembly, MetricRule, AXIS_NAMES, DEFAULT_TAU,
-};
-use crate::error::{Error, ErrorKind, Result};
-use crate::points::{read_points, PointData};
-use crate::se3::Transform;
-use crate::threshold::default_threshold;
+use crate::degeneracy::points::{read_points, PointData};
+use crate::degeneracy::threshold::default_threshold;
+use crate::degeneracy::{analyse, reexpress, Analysis, Assembly, MetricRule, AXIS_NAMES};
+use crate::diagnostic::{Error, ErrorKind, Result};
+use crate::geometry::se3::Transform;
+use crate::tolerances::DEFAULT_TAU;
 use comfy_table::Table;
 use serde_json::{json, Value};
 use std::path::PathBuf;

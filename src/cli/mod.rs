@@ -12,7 +12,7 @@ pub mod simulate;
 pub mod survey;
 pub mod tunnel;
 
-use crate::error::{Error, Result, Warning};
+use crate::diagnostic::{Error, Result, Warning};
 use clap::{Parser, Subcommand};
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -291,9 +291,11 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     })();
     if let Err(e) = res {
         let _ = std::fs::remove_file(&tmp);
-        return Err(
-            Error::new(crate::error::ErrorKind::Io, format!("cannot write: {e}")).in_file(path),
-        );
+        return Err(Error::new(
+            crate::diagnostic::ErrorKind::Io,
+            format!("cannot write: {e}"),
+        )
+        .in_file(path));
     }
     // Best effort: some file systems cannot sync a directory.
     if let Ok(d) = std::fs::File::open(&dir) {

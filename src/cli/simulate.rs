@@ -12,16 +12,17 @@
 use super::degeneracy::{
     fmt_bools, fmt_num, fmt_vec, frame_from_args, io_err, parse_ells, OutputFormat,
 };
-use crate::detector::{
-    analyse, check_transport, correction_difference, reexpress, Assembly, MetricRule, DEFAULT_TAU,
+use crate::analysis::metric::adapted_metric_matrix;
+use crate::degeneracy::scene::{synthesize, Preprocess, SceneKind};
+use crate::degeneracy::threshold::default_threshold;
+use crate::degeneracy::{
+    analyse, check_transport, correction_difference, reexpress, Assembly, MetricRule,
 };
-use crate::error::{Error, Result};
+use crate::diagnostic::{Error, Result};
 use crate::formats::{load_file, LoadOptions};
-use crate::graph::FrameGraph;
-use crate::metric::adapted_metric_matrix;
-use crate::scene::{synthesize, Preprocess, SceneKind};
-use crate::se3::{Transform, DEFAULT_PITCH_TOL};
-use crate::threshold::default_threshold;
+use crate::frames::FrameGraph;
+use crate::geometry::se3::Transform;
+use crate::tolerances::{DEFAULT_PITCH_TOL, DEFAULT_TAU};
 use comfy_table::Table;
 use nalgebra::Vector6;
 use serde_json::{json, Value};

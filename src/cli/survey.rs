@@ -9,10 +9,11 @@
 
 use super::audit::io_err;
 use super::{expand_paths, parse_nonneg, print_warnings};
-use crate::error::{Error, Result};
+use crate::diagnostic::{Error, Result};
 use crate::formats::{self, LoadOptions, RigMeta};
-use crate::graph::FrameGraph;
+use crate::frames::FrameGraph;
 use crate::report::{self, fixed, SurveyJson, SurveyRigJson, SurveySummaryJson, SCHEMA_VERSION};
+use crate::tolerances::{NEAR_HALF_TURN_RAD, SMALL_ROTATION_DEG};
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -20,10 +21,6 @@ use std::path::{Path, PathBuf};
 /// Rotation angle (deg) below which the table marks a rig (`*`): its screw axis,
 /// and with it h, is set by calibration noise rather than by the mounting. The
 /// rig files own the threshold (see calibrations/README.md).
-pub use crate::formats::rig_toml::SMALL_ROTATION_DEG;
-/// Angle (rad) within which of a half-turn the table marks `h` (`±`): its sign
-/// follows the rounding of the published numbers.
-pub const NEAR_HALF_TURN_RAD: f64 = 1e-6;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
 pub enum SurveyFormat {
@@ -66,7 +63,7 @@ pub struct SurveyArgs {
     #[arg(long, value_enum, value_name = "COLUMN")]
     pub sort: Option<SortColumn>,
     /// Zero-pitch tolerance on |h| (m)
-    #[arg(long, default_value_t = crate::se3::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
+    #[arg(long, default_value_t = crate::tolerances::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
     pub pitch_tol: f64,
     /// Also list placeholder and duplicate rigs (never counted in the summary)
     #[arg(long)]

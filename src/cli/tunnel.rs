@@ -9,13 +9,13 @@
 //! and the per-axis footprint gains trans-y: the footprint is frame-dependent.
 
 use super::degeneracy::{fmt_bools, fmt_vec, parse_triple, OutputFormat};
-use crate::detector::{
+use crate::degeneracy::scene::{tunnel_exact, TUNNEL_RADIUS};
+use crate::degeneracy::{
     analyse, canonical_basis, check_transport, reexpress, rel_diff, Analysis, Assembly, MetricRule,
-    DEFAULT_TAU,
 };
-use crate::error::{Error, Result};
-use crate::scene::{tunnel_exact, TUNNEL_RADIUS};
-use crate::se3::Transform;
+use crate::diagnostic::{Error, Result};
+use crate::geometry::se3::Transform;
+use crate::tolerances::DEFAULT_TAU;
 use comfy_table::Table;
 use nalgebra::{DMatrix, Vector6};
 use serde_json::json;
@@ -208,7 +208,7 @@ pub fn run(args: &TunnelArgs, out: &mut dyn std::io::Write) -> Result<i32, Error
     let r = tunnel_example(args)?;
     let io = |e: std::io::Error| {
         Error::new(
-            crate::error::ErrorKind::Io,
+            crate::diagnostic::ErrorKind::Io,
             format!("cannot write output: {e}"),
         )
     };

@@ -35,12 +35,12 @@
 //! offset); the file does not say which direction it is, so an
 //! `assumed-convention` warning says so and `--invert` flips it.
 
-use crate::error::{Error, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
 use crate::formats::yaml::{self, Node, Value};
 use crate::formats::{
     check_metres, line_col, locate_warnings, parse_number, Edge, Format, LoadOptions, Loaded,
 };
-use crate::se3::{QuatOrder, Transform};
+use crate::geometry::se3::{QuatOrder, Transform};
 use std::path::Path;
 
 const FLAGS: &[&str] = &[
@@ -284,14 +284,7 @@ pub fn parse_stp_args(
 }
 
 fn xml_doc(text: &str) -> Result<roxmltree::Document<'_>> {
-    let opt = roxmltree::ParsingOptions {
-        allow_dtd: false,
-        ..Default::default()
-    };
-    roxmltree::Document::parse_with_options(text, opt).map_err(|e| {
-        let p = e.pos();
-        crate::formats::urdf::xml_err_at(&e, p.row as usize, p.col as usize, text)
-    })
+    crate::formats::xml::parse(text)
 }
 
 /// ROS 1 / ROS 2 launch XML.

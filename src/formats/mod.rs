@@ -7,32 +7,24 @@
 //! from, plus named warnings. Files that carry no frame names get the names listed
 //! in DESIGN.md ("Frame names for files that carry none").
 
-use crate::error::{Error, ErrorKind, Location, Result, Warning, WarningCode};
-use crate::se3::Transform;
+use crate::diagnostic::{Error, ErrorKind, Location, Result, Warning, WarningCode};
+pub use crate::frames::{Edge, JointState, JointType, Provenance};
+use crate::tolerances::{DEFAULT_MAX_FILE_SIZE, MAX_TRANSLATION_M, METRE_FIELD_WARN_M};
 use std::collections::BTreeMap;
 use std::path::Path;
 
+pub mod kitti_m2dgr;
 pub mod launch;
 pub mod ouster;
 pub mod rig_toml;
-pub mod text;
+pub mod source;
 pub mod urdf;
+pub mod xacro;
+pub mod xml;
+
+use source::{line_col, LineIndex};
 pub mod yaml;
 pub mod yaml_dialects;
-
-/// Default cap on the size of one input file (bytes); `--max-file-size` changes it.
-pub const DEFAULT_MAX_FILE_SIZE: u64 = 16 * 1024 * 1024;
-
-/// A translation component above this (m) in a field documented as metres is
-/// reported as `millimetres-in-metre-field`: no LiDAR extrinsic in the survey
-/// exceeds 2 m.
-pub const METRE_FIELD_WARN_M: f64 = 10.0;
-
-/// A translation component above this (m) is refused: no sensor extrinsic is
-/// 1000 km long, and beyond it the analysis squares lengths towards the ends of
-/// the f64 range (adjoint singular values `||d||^{\pm 1}`, bands `||d||^{\pm 2}`),
-/// so a report would print numbers that mean nothing.
-pub const MAX_TRANSLATION_M: f64 = 1e6;
 
 /// The formats the tool reads. `name()` is what `--input-format` takes and what
 /// provenance prints; [`all_formats`] says what each one's numbers mean.
@@ -141,76 +133,15 @@ impl Format {
     }
 }
 
+impl From<Format> for &'static str {
+    fn from(f: Format) -> &'static str {
+        f.name()
+    }
+}
+
 impl std::fmt::Display for Format {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
-    }
-}
-
-/// Where an edge's numbers came from.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Provenance {
-    /// File, line, column where known.
-    pub location: Location,
-    pub format: Format,
-    /// The key or element it came from, e.g. `joint "lidar_joint" <origin>` or
-    /// `extrinsic_T + extrinsic_R`.
-    pub key: String,
-}
-
-/// State of a non-fixed joint an edge passes through (URDF).
-#[derive(Debug, Clone, PartialEq)]
-pub struct JointState {
-    pub name: String,
-    /// `revolute`, `continuous`, `prismatic`, `floating`, `planar`.
-    pub joint_type: String,
-    /// The position used (rad or m); `None` when the joint cannot be used until
-    /// it is set (floating, planar).
-    pub value: Option<f64>,
-    /// True when the value is the default (0) rather than set by `--joint`.
-    pub defaulted: bool,
-}
-
-/// One parent -> child edge: `transform` is the pose of `child` in `parent`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Edge {
-    pub parent: String,
-    pub child: String,
-    pub transform: Transform,
-    pub provenance: Provenance,
-    /// `Some` for non-fixed joints.
-    pub joint: Option<JointState>,
-}
-
-impl Edge {
-    /// A fixed edge.
-    pub fn new(
-        parent: impl Into<String>,
-        child: impl Into<String>,
-        transform: Transform,
-        location: Location,
-        format: Format,
-        key: impl Into<String>,
-    ) -> Self {
-        Edge {
-            parent: parent.into(),
-            child: child.into(),
-            transform,
-            provenance: Provenance {
-                location,
-                format,
-                key: key.into(),
-            },
-            joint: None,
-        }
-    }
-
-    /// The same edge read the other way: child becomes parent, transform inverted.
-    pub fn inverted(mut self) -> Self {
-        std::mem::swap(&mut self.parent, &mut self.child);
-        self.transform = self.transform.inverse();
-        self.provenance.key = format!("{} (inverted by --invert)", self.provenance.key);
-        self
     }
 }
 
@@ -227,6 +158,9 @@ pub struct LoadOptions {
     pub format: Option<Format>,
     /// Refuse files larger than this (bytes).
     pub max_file_size: u64,
+    /// Where to look for the external `xacro` program: a `PATH`-style list;
+    /// `None` uses the process's `PATH`.
+    pub xacro_search_path: Option<std::ffi::OsString>,
 }
 
 impl Default for LoadOptions {
@@ -237,6 +171,7 @@ impl Default for LoadOptions {
             invert: false,
             format: None,
             max_file_size: DEFAULT_MAX_FILE_SIZE,
+            xacro_search_path: None,
         }
     }
 }
@@ -286,55 +221,6 @@ pub struct Loaded {
     pub edges: Vec<Edge>,
     pub warnings: Vec<Warning>,
     pub rig: Option<RigMeta>,
-}
-
-/// 1-based (line, column) of a byte offset in `text`.
-pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
-    let offset = offset.min(text.len());
-    let before = &text.as_bytes()[..offset];
-    let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
-    let line_start = before
-        .iter()
-        .rposition(|&b| b == b'\n')
-        .map(|p| p + 1)
-        .unwrap_or(0);
-    let col = text
-        .get(line_start..offset)
-        .map(|s| s.chars().count() + 1)
-        .unwrap_or(1);
-    (line, col)
-}
-
-/// Line starts of a text, for O(log n) offset -> (line, column) lookups
-/// (roxmltree's `text_pos_at` scans from the start each time).
-pub struct LineIndex<'a> {
-    text: &'a str,
-    starts: Vec<usize>,
-}
-
-impl<'a> LineIndex<'a> {
-    pub fn new(text: &'a str) -> Self {
-        let mut starts = vec![0];
-        starts.extend(
-            text.bytes()
-                .enumerate()
-                .filter(|(_, b)| *b == b'\n')
-                .map(|(i, _)| i + 1),
-        );
-        LineIndex { text, starts }
-    }
-    /// 1-based (line, column in characters) of a byte offset.
-    pub fn pos(&self, offset: usize) -> (usize, usize) {
-        let offset = offset.min(self.text.len());
-        let line = self.starts.partition_point(|&s| s <= offset);
-        let start = self.starts[line.saturating_sub(1)];
-        let col = self
-            .text
-            .get(start..offset)
-            .map(|s| s.chars().count() + 1)
-            .unwrap_or(1);
-        (line.max(1), col)
-    }
 }
 
 /// Parse one number as written in a file (also `+1`, `1.`, `.5`, `1e-3`).
@@ -420,11 +306,7 @@ pub fn detect_format(path: &Path, text: &str) -> Result<Format> {
             return Ok(Format::Urdf);
         }
         if looks_xml {
-            let opt = roxmltree::ParsingOptions {
-                allow_dtd: false,
-                ..Default::default()
-            };
-            return Err(match roxmltree::Document::parse_with_options(text, opt) {
+            return Err(match roxmltree::Document::parse_with_options(text, xml::parse_options()) {
                 Ok(doc) => {
                     let root = doc.root_element();
                     let (l, c) = LineIndex::new(text).pos(root.range().start);
@@ -434,10 +316,7 @@ pub fn detect_format(path: &Path, text: &str) -> Result<Format> {
                     ))
                     .at_line(l, Some(c))
                 }
-                Err(e) => {
-                    let p = e.pos();
-                    urdf::xml_err_at(&e, p.row as usize, p.col as usize, text)
-                }
+                Err(e) => xml::error(&e, text),
             }
             .in_file(path));
         }
@@ -517,15 +396,15 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     };
     let mut loaded = match format {
         Format::Urdf => urdf::parse(text, path, opts),
-        Format::Xacro => urdf::parse_xacro(text, path, opts),
+        Format::Xacro => xacro::parse(text, path, opts),
         Format::LaunchXml => launch::parse_launch_xml(text, path, opts),
         Format::LioLivoxLaunch => launch::parse_lio_livox(text, path, opts),
         Format::LaunchYaml => launch::parse_launch_yaml(text, path, opts),
         Format::LaunchPy => launch::parse_launch_py(text, path, opts),
         Format::StaticTfCommands => launch::parse_commands(text, path, opts),
         Format::OusterJson => ouster::parse(text, path, opts),
-        Format::KittiCalib => text::parse_kitti(text, path, opts),
-        Format::M2dgrTxt => text::parse_m2dgr(text, path, opts),
+        Format::KittiCalib => kitti_m2dgr::parse_kitti(text, path, opts),
+        Format::M2dgrTxt => kitti_m2dgr::parse_m2dgr(text, path, opts),
         Format::RigToml => rig_toml::parse(text, path, opts),
         Format::TfStaticEcho
         | Format::FastLio

@@ -11,10 +11,10 @@
 //! (see `yaml_dialects`): JSON is read through the YAML reader, which keeps
 //! line numbers.
 
-use crate::error::{Error, Location, Result};
+use crate::diagnostic::{Error, Location, Result};
 use crate::formats::yaml::{self, Node, Value};
 use crate::formats::{locate_warnings, yaml_dialects, Edge, Format, LoadOptions, Loaded};
-use crate::se3::Transform;
+use crate::geometry::se3::Transform;
 use std::path::Path;
 
 fn find<'a>(n: &'a Node, key: &str) -> Option<(&'a Node, &'a Node)> {

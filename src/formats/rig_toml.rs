@@ -40,23 +40,14 @@
 //! Errors name the file and line (from the TOML parser's span), what was expected
 //! and what was found. The parser never panics on any input.
 
-use crate::error::{Error, ErrorKind, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Error, ErrorKind, Location, Result, Warning, WarningCode};
+use crate::formats::source::line_col;
 use crate::formats::{Edge, Format, LoadOptions, Loaded, Provenance, RigMeta};
-use crate::se3::{QuatOrder, Transform};
+use crate::geometry::se3::{QuatOrder, Transform};
 use serde::Deserialize;
 use std::collections::BTreeSet;
 use std::path::{Component, Path, PathBuf};
 use toml::Spanned;
-
-/// Rotation angle (degrees) below which a rig's screw axis is set by calibration
-/// noise around the identity rather than by the mounting. The survey flags such
-/// rigs "small rotation: axis set by calibration noise" and prints `h` beside the
-/// angle; they still count as nonzero pitch unless `|h|` is within the pitch
-/// tolerance (see calibrations/README.md). 5 degrees: the real near-identity rigs
-/// shipped here rotate 0.35 to 3.1 degrees (the issue: "0.3 to 3 degrees") and the
-/// next smallest rotation is a deliberate 53.6-degree mount, so any threshold
-/// between 3.1 and 53 degrees classifies the shipped rigs the same way.
-pub const SMALL_ROTATION_DEG: f64 = 5.0;
 
 /// Values `[rig] category` may take.
 pub const CATEGORIES: [&str; 5] = [
@@ -169,19 +160,6 @@ struct IncludeDef {
     #[serde(default)]
     #[allow(dead_code)]
     note: Option<String>,
-}
-
-/// 1-based line and column of a byte offset.
-fn line_col(text: &str, offset: usize) -> (usize, usize) {
-    let mut off = offset.min(text.len());
-    while off > 0 && !text.is_char_boundary(off) {
-        off -= 1;
-    }
-    let before = &text[..off];
-    let line = before.matches('\n').count() + 1;
-    let line_start = before.rfind('\n').map(|i| i + 1).unwrap_or(0);
-    let col = before[line_start..].chars().count() + 1;
-    (line, col)
 }
 
 fn loc_of(text: &str, path: &Path, offset: usize) -> Location {
@@ -468,7 +446,7 @@ fn build_edge(
         transform: t,
         provenance: Provenance {
             location: loc.clone(),
-            format: Format::RigToml,
+            format: Format::RigToml.into(),
             key,
         },
         joint: None,
@@ -514,7 +492,7 @@ fn load_include(
         key: inc.key.clone(),
         invert: inc.invert,
         format: None,
-        max_file_size: opts.max_file_size,
+        ..opts.clone()
     };
     crate::formats::load_file(&p, &sub).map_err(|e| {
         let msg = format!(

@@ -9,7 +9,8 @@
 //! Duplicate keys are kept in order (policy "pass through") so that a loader can
 //! say where both copies are.
 
-use crate::error::{Error, Result};
+use crate::diagnostic::{Error, Result};
+use crate::tolerances::MAX_YAML_DEPTH;
 use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_saphyr::Spanned;
 
@@ -116,11 +117,6 @@ pub fn strip_opencv_directive(text: &str) -> std::borrow::Cow<'_, str> {
         std::borrow::Cow::Borrowed(text)
     }
 }
-
-/// Deepest YAML nesting read (block and flow). Calibration files nest at
-/// most ~8 levels (a tf_static dump); the deserializer recurses once per level
-/// with a large frame (tens of KiB in a debug build).
-pub const MAX_YAML_DEPTH: usize = 32;
 
 /// Stack for the thread that parses YAML: the parse recurses per nesting level,
 /// and callers may run on small thread stacks (2 MiB test threads).

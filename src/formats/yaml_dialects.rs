@@ -52,11 +52,11 @@
 //! still not YAML (UrbanNav's `KEY:!!opencv-matrix (comment)` with mis-indented
 //! fields) is refused with the parser's position and what to fix.
 
-use crate::error::{Error, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
 use crate::formats::yaml::{self, Node, Value};
 use crate::formats::{check_metres, locate_warnings, Edge, Format, LoadOptions, Loaded};
-use crate::graph::FrameGraph;
-use crate::se3::{QuatOrder, Transform};
+use crate::frames::FrameGraph;
+use crate::geometry::se3::{QuatOrder, Transform};
 use std::path::Path;
 
 /// A non-comment line that starts (after indentation) with `key:`.

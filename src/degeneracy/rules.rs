@@ -1,0 +1,151 @@
+//! Metric rules: one family with its parameter (a characteristic length, an adapted matrix) and the metric it assigns to data.
+
+#![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
+
+use super::*;
+use crate::analysis::metric::{block_scaling_ell, Family};
+use crate::diagnostic::{Error, Result};
+use crate::tolerances::{DEFAULT_ELLS, JACOBI_FLOOR};
+use nalgebra::{Matrix6, Vector6};
+
+// ---------------------------------------------------------------------------
+// Metric rules
+// ---------------------------------------------------------------------------
+
+/// One metric configuration: a family and its parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MetricRule {
+    /// `I6`.
+    Unnormalized,
+    /// `diag(l^2 I3, I3)` with the given `l` (m).
+    CharacteristicLength(f64),
+    /// `diag(l^2 I3, I3)`, `l^2 = tr(H_rr) / tr(H_tt)` ([`block_scaling_ell`]).
+    BlockScaling,
+    /// `diag(H)` (floored, see [`JACOBI_FLOOR`]).
+    Jacobi,
+    /// A constant metric adapted to one rig (`metric::adapted_metric_matrix`).
+    AdaptedConstant(Box<Matrix6<f64>>),
+    /// `M = sum w J^T J`.
+    PointDisplacement,
+}
+
+impl MetricRule {
+    pub fn family(&self) -> Family {
+        match self {
+            MetricRule::Unnormalized => Family::Unnormalized,
+            MetricRule::CharacteristicLength(_) => Family::CharacteristicLength,
+            MetricRule::BlockScaling => Family::BlockScaling,
+            MetricRule::Jacobi => Family::Jacobi,
+            MetricRule::AdaptedConstant(_) => Family::AdaptedConstant,
+            MetricRule::PointDisplacement => Family::PointDisplacement,
+        }
+    }
+
+    /// Short label for tables, e.g. `I6`, `l=2.85`, `point displacement`.
+    pub fn label(&self) -> String {
+        match self {
+            MetricRule::Unnormalized => "I6".into(),
+            MetricRule::CharacteristicLength(l) => format!("l={l}"),
+            MetricRule::BlockScaling => "block scaling".into(),
+            MetricRule::Jacobi => "Jacobi".into(),
+            MetricRule::AdaptedConstant(_) => "adapted constant".into(),
+            MetricRule::PointDisplacement => "point displacement".into(),
+        }
+    }
+
+    /// Whether the rule is equivariant (only point displacement).
+    pub fn equivariant(&self) -> bool {
+        matches!(self, MetricRule::PointDisplacement)
+    }
+
+    /// `l` used (fixed, or from `H` for block scaling).
+    pub fn ell(&self, asm: &Assembly) -> Option<f64> {
+        match self {
+            MetricRule::CharacteristicLength(l) => Some(*l),
+            MetricRule::BlockScaling => Some(block_scaling_ell(&asm.h)),
+            _ => None,
+        }
+    }
+
+    /// The metric this rule assigns to the data.
+    pub fn metric(&self, asm: &Assembly) -> Result<Matrix6<f64>> {
+        let diag_ell = |l: f64| {
+            let l2 = l * l;
+            Matrix6::from_diagonal(&Vector6::new(l2, l2, l2, 1.0, 1.0, 1.0))
+        };
+        match self {
+            MetricRule::Unnormalized => Ok(Matrix6::identity()),
+            MetricRule::CharacteristicLength(l) => {
+                if !(l.is_finite() && *l > 0.0) {
+                    return Err(Error::usage(format!(
+                        "characteristic length: expected a positive number of metres, found {l}"
+                    )));
+                }
+                Ok(diag_ell(*l))
+            }
+            MetricRule::BlockScaling => {
+                let l = block_scaling_ell(&asm.h);
+                if !(l.is_finite() && l > 0.0) {
+                    return Err(Error::invalid(format!(
+                        "block scaling: l^2 = tr(H_rr)/tr(H_tt) is not a positive finite number (l = {l}); the data constrain no rotation or no translation at all"
+                    )));
+                }
+                Ok(diag_ell(l))
+            }
+            MetricRule::Jacobi => {
+                let mx = (0..6).map(|k| asm.h[(k, k)]).fold(0.0f64, f64::max);
+                if mx.is_nan() || mx <= 0.0 {
+                    return Err(Error::invalid(
+                        "Jacobi metric: H has no positive diagonal entry",
+                    ));
+                }
+                let floor = JACOBI_FLOOR * mx;
+                Ok(Matrix6::from_diagonal(&Vector6::from_fn(|k, _| {
+                    asm.h[(k, k)].max(floor)
+                })))
+            }
+            MetricRule::AdaptedConstant(m0) => Ok(**m0),
+            MetricRule::PointDisplacement => Ok(asm.m),
+        }
+    }
+
+    /// The paper's eight configurations: I6, l = 0.25, 1, 2.85, 10, block
+    /// scaling, Jacobi, point displacement.
+    pub fn paper_configs() -> Vec<MetricRule> {
+        let mut v = vec![MetricRule::Unnormalized];
+        v.extend(
+            DEFAULT_ELLS
+                .iter()
+                .map(|&l| MetricRule::CharacteristicLength(l)),
+        );
+        v.push(MetricRule::BlockScaling);
+        v.push(MetricRule::Jacobi);
+        v.push(MetricRule::PointDisplacement);
+        v
+    }
+
+    /// The families reported by default (`ells` for the characteristic length;
+    /// `adapted`, when given, adds the adapted constant metric of a rig).
+    pub fn default_set(ells: &[f64], adapted: Option<Matrix6<f64>>) -> Vec<MetricRule> {
+        let mut v = vec![MetricRule::Unnormalized];
+        v.extend(ells.iter().map(|&l| MetricRule::CharacteristicLength(l)));
+        v.push(MetricRule::BlockScaling);
+        v.push(MetricRule::Jacobi);
+        if let Some(m0) = adapted {
+            v.push(MetricRule::AdaptedConstant(Box::new(m0)));
+        }
+        v.push(MetricRule::PointDisplacement);
+        v
+    }
+
+    pub(crate) fn what(&self) -> &'static str {
+        match self {
+            MetricRule::PointDisplacement => "point-displacement",
+            MetricRule::Unnormalized => "unnormalized (I6)",
+            MetricRule::CharacteristicLength(_) => "characteristic-length",
+            MetricRule::BlockScaling => "block-scaling",
+            MetricRule::Jacobi => "Jacobi",
+            MetricRule::AdaptedConstant(_) => "adapted constant",
+        }
+    }
+}

@@ -1,0 +1,187 @@
+//! The degenerate subspace: orthonormal and canonical bases, the per-axis footprint, and a twist read as a screw.
+
+#![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
+
+use crate::tolerances::{FOOTPRINT_TOL, PURE_TRANSLATION_TOL, TWIST_PITCH_TOL};
+use nalgebra::{DMatrix, Vector3, Vector6};
+
+/// Orthonormal (Euclidean) basis of the span of `vs`, by SVD; rank by
+/// singular value above `1e-12` of the largest.
+pub(crate) fn orthonormal_basis(vs: &[Vector6<f64>]) -> DMatrix<f64> {
+    if vs.is_empty() {
+        return DMatrix::zeros(6, 0);
+    }
+    let m = DMatrix::from_fn(6, vs.len(), |i, j| vs[j][i]);
+    let svd = m.svd(true, false);
+    let smax = svd.singular_values.max();
+    let Some(u) = svd.u else {
+        return DMatrix::zeros(6, 0);
+    };
+    let cols: Vec<usize> = (0..svd.singular_values.len())
+        .filter(|&k| svd.singular_values[k] > 1e-12 * smax)
+        .collect();
+    DMatrix::from_fn(6, cols.len(), |i, j| u[(i, cols[j])])
+}
+
+/// Per-axis footprint of the span of `vs` (see [`Analysis::footprint`]).
+pub fn footprint(vs: &[Vector6<f64>]) -> [bool; 6] {
+    let q = orthonormal_basis(vs);
+    let mut f = [false; 6];
+    for (k, fk) in f.iter_mut().enumerate() {
+        let d: f64 = (0..q.ncols()).map(|j| q[(k, j)] * q[(k, j)]).sum();
+        *fk = d > FOOTPRINT_TOL;
+    }
+    f
+}
+
+/// A canonical basis of the span of `vs`: first the rotational twists, then the
+/// pure translations.
+///
+/// Pure translations are the directions of the span with no rotational part
+/// (singular value of the rotational block at or below
+/// [`PURE_TRANSLATION_TOL`]); each rotational twist has the pure-translation
+/// directions removed from its translational part (for the tunnel that leaves
+/// the zero-pitch rotation about the axis), is scaled to `|omega| = 1` and signed
+/// so that its largest rotational component is positive. Pure translations are
+/// unit and signed the same way. The span is frame-covariant (`v = A v'`); this
+/// representative is a coordinate choice.
+pub fn canonical_basis(vs: &[Vector6<f64>]) -> Vec<Vector6<f64>> {
+    let q = orthonormal_basis(vs);
+    let k = q.ncols();
+    if k == 0 {
+        return Vec::new();
+    }
+    let w = q.rows(0, 3).into_owned();
+    // SVD of the 3 x k rotational block; right singular vectors (k x k).
+    let svd = w.clone().svd(false, true);
+    let Some(vt) = svd.v_t else {
+        return Vec::new();
+    };
+    let nsv = svd.singular_values.len();
+    let mut sv = vec![0.0; k];
+    sv[..nsv].copy_from_slice(&svd.singular_values.as_slice()[..nsv]);
+    // Complete V when k > 3 (thin SVD): use full k x k basis via QR of V^T rows.
+    let v_full: DMatrix<f64> = if vt.nrows() == k {
+        vt.transpose()
+    } else {
+        // Null space of w (k > 3): extend.
+        let svd2 = (w.transpose() * &w).symmetric_eigen();
+        let mut idx: Vec<usize> = (0..k).collect();
+        idx.sort_by(|&a, &b| svd2.eigenvalues[b].total_cmp(&svd2.eigenvalues[a]));
+        for (j, &i) in idx.iter().enumerate() {
+            sv[j] = svd2.eigenvalues[i].max(0.0).sqrt();
+        }
+        DMatrix::from_fn(k, k, |r, c| svd2.eigenvectors[(r, idx[c])])
+    };
+    let mut rot = Vec::new();
+    let mut trans: Vec<Vector3<f64>> = Vec::new();
+    for j in 0..k {
+        let x = &q * v_full.column(j);
+        let xi = Vector6::from_fn(|i, _| x[i]);
+        if sv[j] <= PURE_TRANSLATION_TOL {
+            let t = Vector3::new(xi[3], xi[4], xi[5]);
+            let n = t.norm();
+            if n > 0.0 {
+                trans.push(t / n);
+            }
+        } else {
+            rot.push(xi);
+        }
+    }
+    // Orthonormalise the translation directions (Gram-Schmidt).
+    let mut tdirs: Vec<Vector3<f64>> = Vec::new();
+    for t in trans {
+        let mut u = t;
+        for e in &tdirs {
+            u -= *e * e.dot(&u);
+        }
+        let n = u.norm();
+        if n > 1e-12 {
+            tdirs.push(u / n);
+        }
+    }
+    let mut out = Vec::new();
+    for xi in rot {
+        let om = Vector3::new(xi[0], xi[1], xi[2]);
+        let mut t = Vector3::new(xi[3], xi[4], xi[5]);
+        for e in &tdirs {
+            t -= *e * e.dot(&t);
+        }
+        let n = om.norm();
+        let mut v = Vector6::new(om.x, om.y, om.z, t.x, t.y, t.z) / n;
+        if largest_component(&Vector3::new(v[0], v[1], v[2])) < 0.0 {
+            v = -v;
+        }
+        out.push(v);
+    }
+    for e in tdirs {
+        let mut e = e;
+        if largest_component(&e) < 0.0 {
+            e = -e;
+        }
+        out.push(Vector6::new(0.0, 0.0, 0.0, e.x, e.y, e.z));
+    }
+    out
+}
+
+fn largest_component(v: &Vector3<f64>) -> f64 {
+    let mut best = v[0];
+    for k in 1..3 {
+        if v[k].abs() > best.abs() + 1e-12 {
+            best = v[k];
+        }
+    }
+    best
+}
+
+/// A degenerate twist read as a screw.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TwistScrew {
+    /// The twist `[omega; t]`.
+    pub twist: Vector6<f64>,
+    /// `pure_translation`, `zero_pitch` (rotation about an axis in space) or
+    /// `general` (a screw with pitch); names as `se3::ScrewKind::name`.
+    pub kind: &'static str,
+    /// Unit rotation axis (none for a pure translation).
+    pub axis: Option<Vector3<f64>>,
+    /// `omega . t / |omega|^2` (m/rad).
+    pub pitch: Option<f64>,
+    /// Point of the axis closest to the origin, `omega x t / |omega|^2` (m).
+    pub axis_point: Option<Vector3<f64>>,
+    /// Unit direction of a pure translation.
+    pub direction: Option<Vector3<f64>>,
+}
+
+impl TwistScrew {
+    pub fn from_twist(xi: &Vector6<f64>) -> TwistScrew {
+        let om = Vector3::new(xi[0], xi[1], xi[2]);
+        let t = Vector3::new(xi[3], xi[4], xi[5]);
+        let n2 = om.norm_squared();
+        let scale = xi.norm();
+        if om.norm() <= PURE_TRANSLATION_TOL * scale || n2 == 0.0 {
+            let n = t.norm();
+            return TwistScrew {
+                twist: *xi,
+                kind: "pure_translation",
+                axis: None,
+                pitch: None,
+                axis_point: None,
+                direction: if n > 0.0 { Some(t / n) } else { None },
+            };
+        }
+        let pitch = om.dot(&t) / n2;
+        let c = om.cross(&t) / n2;
+        TwistScrew {
+            twist: *xi,
+            kind: if pitch.abs() <= TWIST_PITCH_TOL {
+                "zero_pitch"
+            } else {
+                "general"
+            },
+            axis: Some(om / om.norm()),
+            pitch: Some(pitch),
+            axis_point: Some(c),
+            direction: None,
+        }
+    }
+}

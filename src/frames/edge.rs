@@ -1,0 +1,132 @@
+//! Edges and their provenance: the data every loader produces and the frame
+//! graph stores. Defined here, below both, so that the graph knows no file
+//! format and a format is only a client that adds edges.
+
+use crate::diagnostic::Location;
+use crate::geometry::Transform;
+
+/// Where an edge's numbers came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Provenance {
+    /// File, line, column where known.
+    pub location: Location,
+    /// The id of the format that read it (`urdf`, `fast-lio`, ...), as
+    /// `--input-format` takes it.
+    pub format: &'static str,
+    /// The key or element it came from, e.g. `joint "lidar_joint" <origin>` or
+    /// `extrinsic_T + extrinsic_R`.
+    pub key: String,
+}
+
+/// The kind of a non-fixed joint (URDF `<joint type>`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum JointType {
+    /// Rotation about the axis, within limits (rad).
+    Revolute,
+    /// Rotation about the axis, no limits (rad).
+    Continuous,
+    /// Translation along the axis (m).
+    Prismatic,
+    /// Six degrees of freedom: no pose until set.
+    Floating,
+    /// Motion in a plane: no pose until set.
+    Planar,
+}
+
+impl JointType {
+    /// The URDF name (`revolute`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            JointType::Revolute => "revolute",
+            JointType::Continuous => "continuous",
+            JointType::Prismatic => "prismatic",
+            JointType::Floating => "floating",
+            JointType::Planar => "planar",
+        }
+    }
+
+    /// The joint type named `name` in a URDF (`fixed` is not a joint state).
+    pub fn from_name(name: &str) -> Option<JointType> {
+        [
+            JointType::Revolute,
+            JointType::Continuous,
+            JointType::Prismatic,
+            JointType::Floating,
+            JointType::Planar,
+        ]
+        .into_iter()
+        .find(|j| j.name() == name)
+    }
+
+    /// Whether one number (`--joint NAME=VALUE`) sets the joint.
+    pub fn has_one_value(self) -> bool {
+        !matches!(self, JointType::Floating | JointType::Planar)
+    }
+}
+
+impl std::fmt::Display for JointType {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// State of a non-fixed joint an edge passes through (URDF).
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointState {
+    /// The joint's name in the file.
+    pub name: String,
+    /// Its kind.
+    pub joint_type: JointType,
+    /// The position used (rad or m); `None` when the joint cannot be used until
+    /// it is set (floating, planar).
+    pub value: Option<f64>,
+    /// True when the value is the default (0) rather than set by `--joint`.
+    pub defaulted: bool,
+}
+
+/// One parent -> child edge: `transform` is the pose of `child` in `parent`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Edge {
+    /// Parent frame.
+    pub parent: String,
+    /// Child frame.
+    pub child: String,
+    /// Pose of `child` in `parent`: `p_parent = R p_child + d`.
+    pub transform: Transform,
+    /// Where the numbers came from.
+    pub provenance: Provenance,
+    /// `Some` for non-fixed joints.
+    pub joint: Option<JointState>,
+}
+
+impl Edge {
+    /// A fixed edge read by format `format` at `location`.
+    pub fn new(
+        parent: impl Into<String>,
+        child: impl Into<String>,
+        transform: Transform,
+        location: Location,
+        format: impl Into<&'static str>,
+        key: impl Into<String>,
+    ) -> Self {
+        Edge {
+            parent: parent.into(),
+            child: child.into(),
+            transform,
+            provenance: Provenance {
+                location,
+                format: format.into(),
+                key: key.into(),
+            },
+            joint: None,
+        }
+    }
+
+    /// The same edge read the other way: child becomes parent, transform inverted.
+    pub fn inverted(mut self) -> Self {
+        std::mem::swap(&mut self.parent, &mut self.child);
+        self.transform = self.transform.inverse();
+        self.provenance.key = format!("{} (inverted by --invert)", self.provenance.key);
+        self
+    }
+}

@@ -1,0 +1,544 @@
+//! Frame graph with provenance: frames are nodes, edges carry a `Transform`
+//! (pose of child in parent) and where it came from.
+//!
+//! The graph is a forest: every frame has at most one parent. Adding an edge
+//! checks, in this order:
+//!
+//! - a frame that is its own parent: error;
+//! - the same edge again (same parent and child, or the reverse pair): if the two
+//!   transforms agree within [`DUPLICATE_TRANSLATION_TOL`] (m) and
+//!   [`DUPLICATE_ROTATION_TOL`] (rad, angle of `R1^T R2`), a `duplicate-edge`
+//!   warning naming both places; otherwise an error naming both places;
+//! - a child that already has another parent: error naming both edges;
+//! - an edge whose child is an ancestor of its parent: a cycle, error listing it.
+//!
+//! [`FrameGraph::transform`] walks from both frames up to their common ancestor
+//! (O(depth) with parent pointers), composes `T_from_to = T_lca_from^-1 T_lca_to`
+//! and returns the edges used in order from `from` to `to`, edges walked upwards
+//! marked `inverted`. Movable joints at their default position on the path give a
+//! `joint-at-default` warning in [`Chain::warnings`]; floating and planar joints
+//! that were not set make the path an error.
+
+use crate::diagnostic::{Error, Result, Warning, WarningCode};
+use crate::formats::{Edge, Loaded};
+use crate::geometry::se3::Transform;
+use crate::tolerances::{
+    CYCLE_LIST_MAX, DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, TREE_MAX_INDENT,
+};
+use std::collections::HashMap;
+
+/// One step of a composed chain: an edge walked down (parent -> child) or up
+/// (`inverted`, child -> parent).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainStep {
+    pub edge: Edge,
+    pub inverted: bool,
+}
+
+/// `T_from_to` and the edges used, in order from `from` to `to`.
+#[derive(Debug, Clone)]
+pub struct Chain {
+    pub from: String,
+    pub to: String,
+    pub transform: Transform,
+    pub steps: Vec<ChainStep>,
+    /// Warnings raised by the path (joints at default position, ...).
+    pub warnings: Vec<Warning>,
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct FrameGraph {
+    edges: Vec<Edge>,
+    warnings: Vec<Warning>,
+    /// Frame name -> index into `names` / `parent`.
+    index: HashMap<String, usize>,
+    names: Vec<String>,
+    /// For each frame, the index of the edge that names it as child.
+    parent: Vec<Option<usize>>,
+    /// For each frame, the edges that name it as parent (in insertion order).
+    children: Vec<Vec<usize>>,
+    /// For each frame, the index of its parent frame.
+    parent_frame: Vec<Option<usize>>,
+    /// Union-find over frames (one set per tree), for an O(α(n)) cycle check:
+    /// walking ancestors on every edge is quadratic on adversarial inputs.
+    uf: Vec<usize>,
+}
+
+/// `file:line` of an edge, for messages.
+fn place(e: &Edge) -> String {
+    format!("{} ({})", e.provenance.location, e.provenance.key)
+}
+
+fn rotation_angle_between(a: &Transform, b: &Transform) -> f64 {
+    let m = a.rotation().transpose() * b.rotation();
+    let c = ((m.trace() - 1.0) / 2.0).clamp(-1.0, 1.0);
+    // acos is ill-conditioned near 0: use the skew part there.
+    let s = 0.5
+        * ((m[(2, 1)] - m[(1, 2)]).powi(2)
+            + (m[(0, 2)] - m[(2, 0)]).powi(2)
+            + (m[(1, 0)] - m[(0, 1)]).powi(2))
+        .sqrt();
+    s.atan2(c)
+}
+
+/// Whether two transforms agree within the duplicate-edge tolerances.
+pub fn transforms_agree(a: &Transform, b: &Transform) -> bool {
+    (a.translation() - b.translation()).norm() <= DUPLICATE_TRANSLATION_TOL
+        && rotation_angle_between(a, b) <= DUPLICATE_ROTATION_TOL
+}
+
+impl FrameGraph {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Add everything a file yielded: all of it or, on an error, none of it.
+    pub fn add(&mut self, loaded: Loaded) -> Result<()> {
+        let mut next = self.clone();
+        next.warnings.extend(loaded.warnings);
+        for e in loaded.edges {
+            next.add_edge(e)?;
+        }
+        *self = next;
+        Ok(())
+    }
+
+    fn frame_id(&mut self, name: &str) -> usize {
+        if let Some(&i) = self.index.get(name) {
+            return i;
+        }
+        let i = self.names.len();
+        self.names.push(name.to_string());
+        self.parent.push(None);
+        self.parent_frame.push(None);
+        self.children.push(Vec::new());
+        self.uf.push(i);
+        self.index.insert(name.to_string(), i);
+        i
+    }
+
+    /// Representative of a frame's tree (path halving, iterative).
+    fn find(&mut self, mut x: usize) -> usize {
+        while self.uf[x] != x {
+            self.uf[x] = self.uf[self.uf[x]];
+            x = self.uf[x];
+        }
+        x
+    }
+
+    /// Add one edge, with the checks listed in the module documentation.
+    pub fn add_edge(&mut self, edge: Edge) -> Result<()> {
+        if edge.parent.is_empty() || edge.child.is_empty() {
+            return Err(Error::frame(format!(
+                "expected two non-empty frame names, found parent '{}' and child '{}'",
+                edge.parent, edge.child
+            ))
+            .at(&edge.provenance.location));
+        }
+        if edge.parent == edge.child {
+            return Err(Error::frame(format!(
+                "frame '{}' is its own parent: expected two different frames",
+                edge.parent
+            ))
+            .at(&edge.provenance.location));
+        }
+        // Duplicate (same or reversed pair)?
+        if let (Some(&p), Some(&c)) = (self.index.get(&edge.parent), self.index.get(&edge.child)) {
+            let existing = self.parent[c]
+                .filter(|&ei| self.edges[ei].parent == edge.parent)
+                .map(|ei| (ei, false))
+                .or_else(|| {
+                    self.parent[p]
+                        .filter(|&ei| self.edges[ei].parent == edge.child)
+                        .map(|ei| (ei, true))
+                });
+            if let Some((ei, reversed)) = existing {
+                let old = &self.edges[ei];
+                let given = if reversed {
+                    edge.transform.inverse()
+                } else {
+                    edge.transform
+                };
+                if transforms_agree(&old.transform, &given) {
+                    self.warnings.push(
+                        Warning::new(
+                            WarningCode::DuplicateEdge,
+                            format!(
+                                "edge {} -> {} given twice, agreeing within {:e} m and {:e} rad: here and at {}",
+                                edge.parent,
+                                edge.child,
+                                DUPLICATE_TRANSLATION_TOL,
+                                DUPLICATE_ROTATION_TOL,
+                                place(old)
+                            ),
+                        )
+                        .at(&edge.provenance.location),
+                    );
+                    return Ok(());
+                }
+                let dt = (old.transform.translation() - given.translation()).norm();
+                let da = rotation_angle_between(&old.transform, &given);
+                return Err(Error::frame(format!(
+                    "edge {} -> {} given twice with different values (translation differs by {:.3e} m, rotation by {:.3e} rad): first at {}, again at {}{}",
+                    old.parent,
+                    old.child,
+                    dt,
+                    da,
+                    place(old),
+                    place(&edge),
+                    if reversed { " (as the reverse pair)" } else { "" }
+                ))
+                .at(&edge.provenance.location));
+            }
+        }
+        // Two parents and cycles are checked before any frame is added, so a
+        // refused edge leaves the graph as it was.
+        if let Some(ei) = self.index.get(&edge.child).and_then(|&c| self.parent[c]) {
+            let old = &self.edges[ei];
+            return Err(Error::frame(format!(
+                "frame '{}' has two parents: expected one, found '{}' at {} and '{}' at {}",
+                edge.child,
+                old.parent,
+                place(old),
+                edge.parent,
+                place(&edge)
+            ))
+            .at(&edge.provenance.location));
+        }
+        // Cycle: the child has no parent, so it is the root of its tree, and
+        // the edge closes a cycle exactly when the parent is in that tree.
+        if let (Some(&p), Some(&c)) = (self.index.get(&edge.parent), self.index.get(&edge.child)) {
+            if self.find(p) == self.find(c) {
+                let mut path = vec![p];
+                let mut cur = p;
+                while let Some(up) = self.parent_frame[cur] {
+                    path.push(up);
+                    if up == c || path.len() > self.names.len() {
+                        break;
+                    }
+                    cur = up;
+                }
+                path.reverse();
+                path.push(c);
+                return Err(Error::frame(format!(
+                    "edge {} -> {} closes a cycle: expected a tree, found {}",
+                    edge.parent,
+                    edge.child,
+                    self.cycle_text(&path)
+                ))
+                .at(&edge.provenance.location));
+            }
+        }
+        let p = self.frame_id(&edge.parent);
+        let c = self.frame_id(&edge.child);
+        let (rp, rc) = (self.find(p), self.find(c));
+        self.uf[rc] = rp;
+        let ei = self.edges.len();
+        self.edges.push(edge);
+        self.parent[c] = Some(ei);
+        self.parent_frame[c] = Some(p);
+        self.children[p].push(ei);
+        Ok(())
+    }
+
+    /// `a -> b -> ... -> a`, the middle elided past [`CYCLE_LIST_MAX`] frames.
+    fn cycle_text(&self, path: &[usize]) -> String {
+        let names: Vec<&str> = path.iter().map(|&i| self.names[i].as_str()).collect();
+        if names.len() <= CYCLE_LIST_MAX {
+            return names.join(" -> ");
+        }
+        let h = CYCLE_LIST_MAX / 2;
+        format!(
+            "{} -> ... ({} more frames) ... -> {}",
+            names[..h].join(" -> "),
+            names.len() - 2 * h,
+            names[names.len() - h..].join(" -> ")
+        )
+    }
+
+    pub fn edges(&self) -> &[Edge] {
+        &self.edges
+    }
+
+    pub fn warnings(&self) -> &[Warning] {
+        &self.warnings
+    }
+
+    /// All frame names, sorted.
+    pub fn frames(&self) -> Vec<String> {
+        let mut v = self.names.clone();
+        v.sort();
+        v
+    }
+
+    /// Whether the graph knows this frame.
+    pub fn contains(&self, frame: &str) -> bool {
+        self.index.contains_key(frame)
+    }
+
+    /// The edge whose child is `frame` (its parent edge), if any.
+    pub fn parent_edge(&self, frame: &str) -> Option<&Edge> {
+        let i = *self.index.get(frame)?;
+        self.parent[i].map(|ei| &self.edges[ei])
+    }
+
+    /// Frames without a parent, sorted.
+    pub fn roots(&self) -> Vec<String> {
+        let mut v: Vec<String> = (0..self.names.len())
+            .filter(|&i| self.parent[i].is_none())
+            .map(|i| self.names[i].clone())
+            .collect();
+        v.sort();
+        v
+    }
+
+    /// Names of the non-fixed joints the graph's edges carry, sorted.
+    pub fn joint_names(&self) -> Vec<String> {
+        let mut v: Vec<String> = self
+            .edges
+            .iter()
+            .filter_map(|e| e.joint.as_ref().map(|j| j.name.clone()))
+            .collect();
+        v.sort();
+        v.dedup();
+        v
+    }
+
+    /// Up to `n` known frame names closest to `name` (edit distance, then
+    /// Jaro-Winkler similarity), best first.
+    pub fn closest_frames(&self, name: &str, n: usize) -> Vec<String> {
+        let lower = name.to_lowercase();
+        let mut scored: Vec<(usize, f64, &String)> = self
+            .names
+            .iter()
+            .map(|f| {
+                let fl = f.to_lowercase();
+                (
+                    strsim::levenshtein(&lower, &fl),
+                    -strsim::jaro_winkler(&lower, &fl),
+                    f,
+                )
+            })
+            .collect();
+        scored.sort_by(|a, b| {
+            a.0.cmp(&b.0)
+                .then(a.1.total_cmp(&b.1))
+                .then_with(|| a.2.cmp(b.2))
+        });
+        scored.into_iter().take(n).map(|s| s.2.clone()).collect()
+    }
+
+    fn lookup(&self, name: &str) -> Result<usize> {
+        if let Some(&i) = self.index.get(name) {
+            return Ok(i);
+        }
+        if self.names.is_empty() {
+            return Err(Error::frame(format!(
+                "unknown frame '{name}': the loaded files yield no frames"
+            )));
+        }
+        let close = self.closest_frames(name, 3);
+        Err(Error::frame(format!(
+            "unknown frame '{name}': expected one of the {} loaded frames; closest: {}",
+            self.names.len(),
+            close
+                .iter()
+                .map(|s| format!("'{s}'"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )))
+    }
+
+    /// The frames from `i` up to its root, with the edge leading to each parent.
+    fn ancestors(&self, i: usize) -> Vec<(usize, Option<usize>)> {
+        let mut v = vec![];
+        let mut cur = i;
+        loop {
+            let pe = self.parent[cur];
+            v.push((cur, pe));
+            match (pe, self.parent_frame[cur]) {
+                (Some(_), Some(up)) => cur = up,
+                _ => break,
+            }
+            if v.len() > self.names.len() {
+                break; // cannot happen: cycles are refused on insertion
+            }
+        }
+        v
+    }
+
+    /// The files the edges came from, in first-seen order.
+    pub fn files(&self) -> Vec<std::path::PathBuf> {
+        let mut v: Vec<std::path::PathBuf> = Vec::new();
+        for e in &self.edges {
+            if let Some(f) = &e.provenance.location.file {
+                if !v.contains(f) {
+                    v.push(f.clone());
+                }
+            }
+        }
+        v
+    }
+
+    /// Compose `T_from_to` along the path through the common ancestor.
+    ///
+    /// Errors that concern no single edge (unknown frame, not connected) name the
+    /// file when the graph holds one file, else list the files.
+    pub fn transform(&self, from: &str, to: &str) -> Result<Chain> {
+        self.transform_inner(from, to).map_err(|e| {
+            if e.location.file.is_some() {
+                return e;
+            }
+            let files = self.files();
+            match files.len() {
+                0 => e,
+                1 => e.in_file(&files[0]),
+                _ => Error {
+                    message: format!(
+                        "{} (files: {})",
+                        e.message,
+                        files
+                            .iter()
+                            .map(|f| f.display().to_string())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                    ..e
+                },
+            }
+        })
+    }
+
+    fn transform_inner(&self, from: &str, to: &str) -> Result<Chain> {
+        let fi = self.lookup(from)?;
+        let ti = self.lookup(to)?;
+        let up_from = self.ancestors(fi);
+        let up_to = self.ancestors(ti);
+        let root_f = up_from.last().map(|x| x.0).unwrap_or(fi);
+        let root_t = up_to.last().map(|x| x.0).unwrap_or(ti);
+        if root_f != root_t {
+            return Err(Error::frame(format!(
+                "frames '{from}' and '{to}' are not connected: '{from}' is in the tree rooted at '{}', '{to}' in the tree rooted at '{}'",
+                self.names[root_f], self.names[root_t]
+            )));
+        }
+        // Lowest common ancestor: strip the common suffix of both root paths.
+        let (mut a, mut b) = (up_from.len(), up_to.len());
+        while a > 0 && b > 0 && up_from[a - 1].0 == up_to[b - 1].0 {
+            a -= 1;
+            b -= 1;
+        }
+        // up_from[..a] are the frames strictly below the LCA on the `from` side.
+        let mut steps = Vec::with_capacity(a + b);
+        let mut t_lca_from = Transform::identity();
+        for &(_, pe) in up_from[..a].iter() {
+            if let Some(ei) = pe {
+                steps.push(ChainStep {
+                    edge: self.edges[ei].clone(),
+                    inverted: true,
+                });
+            }
+        }
+        for &(_, pe) in up_from[..a].iter().rev() {
+            if let Some(ei) = pe {
+                t_lca_from = t_lca_from.compose(&self.edges[ei].transform);
+            }
+        }
+        let mut t_lca_to = Transform::identity();
+        for &(_, pe) in up_to[..b].iter().rev() {
+            if let Some(ei) = pe {
+                t_lca_to = t_lca_to.compose(&self.edges[ei].transform);
+                steps.push(ChainStep {
+                    edge: self.edges[ei].clone(),
+                    inverted: false,
+                });
+            }
+        }
+        let transform = t_lca_from.inverse().compose(&t_lca_to);
+        let mut warnings = Vec::new();
+        let mut defaulted = Vec::new();
+        for s in &steps {
+            if let Some(j) = &s.edge.joint {
+                if j.value.is_none() {
+                    return Err(Error::frame(format!(
+                        "joint '{}' ({}) lies on the path {from} -> {to}: its pose is not defined by the file; refusing (set it to its origin with --joint {}=0, or give this transform in another file)",
+                        j.name, j.joint_type, j.name
+                    ))
+                    .at(&s.edge.provenance.location));
+                }
+                if j.defaulted {
+                    defaulted.push((j.name.clone(), j.joint_type, s));
+                }
+            }
+        }
+        for (name, jt, s) in defaulted {
+            warnings.push(
+                Warning::new(
+                    WarningCode::JointAtDefault,
+                    format!(
+                        "{jt} joint '{name}' on the path {from} -> {to} taken at position 0; set it with --joint {name}=VALUE"
+                    ),
+                )
+                .at(&s.edge.provenance.location),
+            );
+        }
+        Ok(Chain {
+            from: from.to_string(),
+            to: to.to_string(),
+            transform,
+            steps,
+            warnings,
+        })
+    }
+
+    /// The frame tree as text, one frame a line, children indented under their
+    /// parent (like `check_urdf`), each with the place its edge came from.
+    /// Levels deeper than [`TREE_MAX_INDENT`] are written `[depth N]` instead of
+    /// being indented further, so the text stays linear in the number of frames.
+    pub fn tree(&self) -> String {
+        let mut out = String::new();
+        for root in self.roots() {
+            out.push_str(&root);
+            out.push('\n');
+            let ri = self.index[&root];
+            // Explicit stack (deep chains must not exhaust the call stack):
+            // (edge, depth, last child of its parent).
+            let mut stack: Vec<(usize, usize, bool)> = Vec::new();
+            let kids = &self.children[ri];
+            for (k, &ei) in kids.iter().enumerate().rev() {
+                stack.push((ei, 0, k + 1 == kids.len()));
+            }
+            // trail[d]: whether the ancestor at depth d was a last child.
+            let mut trail: Vec<bool> = Vec::new();
+            while let Some((ei, depth, last)) = stack.pop() {
+                trail.truncate(depth);
+                trail.push(last);
+                let e = &self.edges[ei];
+                if depth >= TREE_MAX_INDENT {
+                    for &l in &trail[..TREE_MAX_INDENT] {
+                        out.push_str(if l { "    " } else { "│   " });
+                    }
+                    out.push_str(&format!("[depth {}] ", depth + 1));
+                } else {
+                    for &l in &trail[..depth] {
+                        out.push_str(if l { "    " } else { "│   " });
+                    }
+                    out.push_str(if last { "└── " } else { "├── " });
+                }
+                out.push_str(&e.child);
+                out.push_str("  [");
+                out.push_str(&e.provenance.location.to_string());
+                if let Some(j) = &e.joint {
+                    out.push_str(&format!(", {} joint '{}'", j.joint_type, j.name));
+                }
+                out.push_str("]\n");
+                let ci = self.index[&e.child];
+                let kids = &self.children[ci];
+                for (k, &cei) in kids.iter().enumerate().rev() {
+                    stack.push((cei, depth + 1, k + 1 == kids.len()));
+                }
+            }
+        }
+        out
+    }
+}

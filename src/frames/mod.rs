@@ -1,0 +1,8 @@
+//! Frames: edges with provenance, the frame graph (a forest), and chains of
+//! edges composed into one transform. Knows no file format.
+
+mod edge;
+mod graph;
+
+pub use edge::{Edge, JointState, JointType, Provenance};
+pub use graph::*;

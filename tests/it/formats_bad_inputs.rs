@@ -1,0 +1,101 @@
+//! The bad-input catalogue (tests/bad_inputs/README.md): every file is refused
+//! with the committed message. `BLESS=1` rewrites the `.expected` files.
+
+use extrinsic_audit::formats::{load_file, Format, LoadOptions};
+use extrinsic_audit::frames::FrameGraph;
+use std::path::{Path, PathBuf};
+
+const DIR: &str = "tests/bad_inputs";
+
+fn stem(p: &Path) -> String {
+    let name = p.file_name().and_then(|s| s.to_str()).unwrap_or("");
+    name.split('.').next().unwrap_or("").to_string()
+}
+
+fn run(path: &Path) -> Result<(), String> {
+    // The xacro case must not depend on whether `xacro` is installed.
+    let mut opts = LoadOptions {
+        xacro_search_path: Some("".into()),
+        ..LoadOptions::default()
+    };
+    let (mut from, mut to) = (None, None);
+    let args_path = Path::new(DIR).join(format!("{}.args", stem(path)));
+    if let Ok(a) = std::fs::read_to_string(&args_path) {
+        let words: Vec<&str> = a.split_whitespace().collect();
+        let mut i = 0;
+        while i + 1 < words.len() {
+            let v = words[i + 1];
+            match words[i] {
+                "--from" => from = Some(v.to_string()),
+                "--to" => to = Some(v.to_string()),
+                "--key" => opts.key = Some(v.to_string()),
+                "--max-file-size" => opts.max_file_size = v.parse().expect("size"),
+                "--input-format" => {
+                    opts.format = Some(Format::from_name(v).map_err(|e| e.to_string())?)
+                }
+                "--joint" => {
+                    let (n, x) = v.split_once('=').expect("NAME=VALUE");
+                    opts.joints.insert(n.to_string(), x.parse().expect("value"));
+                }
+                other => panic!("{}: unknown option {other}", args_path.display()),
+            }
+            i += 2;
+        }
+    }
+    let loaded = load_file(path, &opts).map_err(|e| e.to_string())?;
+    let mut g = FrameGraph::new();
+    g.add(loaded).map_err(|e| e.to_string())?;
+    if let (Some(f), Some(t)) = (from, to) {
+        g.transform(&f, &t).map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+#[test]
+fn catalogue() {
+    let bless = std::env::var_os("BLESS").is_some();
+    let mut inputs: Vec<PathBuf> = std::fs::read_dir(DIR)
+        .expect("dir")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| {
+            let n = p.file_name().and_then(|s| s.to_str()).unwrap_or("");
+            n.chars()
+                .next()
+                .map(|c| c.is_ascii_digit())
+                .unwrap_or(false)
+                && !n.ends_with(".expected")
+                && !n.ends_with(".args")
+        })
+        .collect();
+    inputs.sort();
+    assert!(inputs.len() >= 25, "only {} bad inputs", inputs.len());
+    let mut failures = Vec::new();
+    for p in &inputs {
+        let got = match run(p) {
+            Ok(()) => {
+                failures.push(format!("{}: accepted, expected an error", p.display()));
+                continue;
+            }
+            Err(m) => m,
+        };
+        assert!(
+            got.contains(&p.display().to_string()),
+            "{}: message does not name the file: {got}",
+            p.display()
+        );
+        let exp_path = Path::new(DIR).join(format!("{}.expected", stem(p)));
+        if bless {
+            std::fs::write(&exp_path, format!("{got}\n")).expect("write");
+            continue;
+        }
+        let want = std::fs::read_to_string(&exp_path).unwrap_or_default();
+        if want.trim_end() != got {
+            failures.push(format!(
+                "{}:\n  expected: {}\n  got:      {got}",
+                p.display(),
+                want.trim_end()
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

@@ -1,0 +1,476 @@
+//! Table-driven: every format of shared/rig-sources/raw and authored/ (through the
+//! project's own fixtures in tests/fixtures/formats) yields the `T_body_lidar`
+//! recorded for its rig (tests/fixtures/formats/expected_rigs.json, copied from
+//! rigs.json).
+
+use extrinsic_audit::formats::{load_file, Format, LoadOptions};
+use extrinsic_audit::frames::FrameGraph;
+use std::path::Path;
+
+const DIR: &str = "tests/fixtures/formats";
+
+struct Case {
+    file: &'static str,
+    key: Option<&'static str>,
+    from: &'static str,
+    to: &'static str,
+    rig: &'static str,
+    format: Format,
+    /// Max abs difference per matrix entry. rigs.json prints 9 decimals; files
+    /// whose rotation is projected to SO(3) (rounded published values) differ more.
+    tol: f64,
+}
+
+const fn c(
+    file: &'static str,
+    key: Option<&'static str>,
+    from: &'static str,
+    to: &'static str,
+    rig: &'static str,
+    format: Format,
+    tol: f64,
+) -> Case {
+    Case {
+        file,
+        key,
+        from,
+        to,
+        rig,
+        format,
+        tol,
+    }
+}
+
+const CASES: &[Case] = &[
+    c(
+        "fastlio_avia.yaml",
+        None,
+        "imu",
+        "lidar",
+        "fastlio-avia",
+        Format::FastLio,
+        1e-9,
+    ),
+    c(
+        "fastlivo2_hilti22.yaml",
+        None,
+        "imu",
+        "lidar",
+        "hilti2022-hesai",
+        Format::FastLio,
+        1e-9,
+    ),
+    c(
+        "liosam-default__params.yaml",
+        None,
+        "imu",
+        "lidar",
+        "liosam-default",
+        Format::LioSam,
+        1e-9,
+    ),
+    c(
+        "liosam-mid360-9axis__params9axisIMU.yaml",
+        None,
+        "imu",
+        "lidar",
+        "liosam-mid360-9axis",
+        Format::LioSam,
+        1e-9,
+    ),
+    c(
+        "ouster-os0-128-fw2.3__OS-0-128-U1_v2.3.0_1024x10.json",
+        None,
+        "os_imu",
+        "os_lidar",
+        "ouster-os0-128-fw2.3",
+        Format::OusterJson,
+        1e-9,
+    ),
+    c(
+        "ouster-os1-128-fw3.0__3_0_1_os-122246000293-128.json",
+        None,
+        "os_imu",
+        "os_lidar",
+        "ouster-os1-128-fw3.0",
+        Format::OusterJson,
+        1e-9,
+    ),
+    c(
+        "grandtour-hesai-cpt7__calibration_latest.yaml",
+        None,
+        "box_base",
+        "hesai_lidar",
+        "grandtour-hesai-cpt7",
+        Format::TfTreeYaml,
+        1e-9,
+    ),
+    c(
+        "grandtour-hesai-cpt7__calibration_latest.yaml",
+        None,
+        "livox_imu",
+        "livox_lidar",
+        "grandtour-mid360-internal",
+        Format::TfTreeYaml,
+        1e-9,
+    ),
+    c(
+        "liolivox-mid360__mid360.launch",
+        None,
+        "imu",
+        "lidar",
+        "liolivox-mid360",
+        Format::LioLivoxLaunch,
+        2e-5,
+    ),
+    c(
+        "geode_gamma_opencv.yaml",
+        Some("T_IMU_LiDAR"),
+        "IMU",
+        "LiDAR",
+        "geode-gamma-avia",
+        Format::MatrixYaml,
+        2e-6,
+    ),
+    c(
+        "urbannav_20190428.yaml",
+        None,
+        "body",
+        "LiDAR",
+        "urbannav-hk-20190428-hdl32e",
+        Format::MatrixYaml,
+        1e-9,
+    ),
+    // rigs.json reads CENTER_LiDAR_T_IMU against its name (the file's comment says
+    // "from Center Lidar to IMU"): the tool follows the name rule (pose of IMU in
+    // CENTER_LiDAR), so the rig's T_body_lidar is the CENTER_LiDAR -> IMU transform.
+    c(
+        "urbannav_medium_fixed.yaml",
+        None,
+        "CENTER_LiDAR",
+        "IMU",
+        "urbannav-hk-medium-hdl32e",
+        Format::MatrixYaml,
+        1e-9,
+    ),
+    c(
+        "m2dgr-vlp32c-handsfree__calibration_results.txt",
+        None,
+        "handsfree_imu",
+        "velodyne",
+        "m2dgr-vlp32c-handsfree",
+        Format::M2dgrTxt,
+        1e-9,
+    ),
+    c(
+        "m2dgr-vlp32c-handsfree__calibration_results.txt",
+        None,
+        "xsens_imu",
+        "velodyne",
+        "m2dgr-vlp32c-xsens",
+        Format::M2dgrTxt,
+        1e-9,
+    ),
+    c(
+        "fusionportable_ouster00.yaml",
+        None,
+        "body_imu",
+        "sensor",
+        "fusionportable-os1-128-stim300",
+        Format::QuaternionYaml,
+        1e-8,
+    ),
+    c(
+        "slict_mcdviral_hhs.yaml",
+        None,
+        "body",
+        "lidar",
+        "mcdviral-hhs-ouster",
+        Format::Slict,
+        1e-8,
+    ),
+    c(
+        "cocolic_viral_lidar.yaml",
+        None,
+        "imu",
+        "lidar1",
+        "ntuviral-vert-os1-16",
+        Format::CocoLic,
+        1e-9,
+    ),
+    c(
+        "cocolic_viral_lidar.yaml",
+        None,
+        "imu",
+        "lidar0",
+        "ntuviral-horz-os1-16",
+        Format::CocoLic,
+        1e-9,
+    ),
+    c(
+        "calib_imu_to_velo.txt",
+        None,
+        "imu",
+        "velo",
+        "kitti-velo64-oxts",
+        Format::KittiCalib,
+        1e-6,
+    ),
+    c(
+        "warthog_expanded.urdf",
+        None,
+        "mti10",
+        "rslidar32",
+        "norlab-warthog-rs32-mti10",
+        Format::Urdf,
+        1e-9,
+    ),
+    c(
+        "warthog_expanded.urdf",
+        None,
+        "mti10",
+        "rslidar16_left",
+        "norlab-warthog-rs16left-mti10",
+        Format::Urdf,
+        1e-8,
+    ),
+    c(
+        "../urdf/anymal_d.urdf",
+        None,
+        "imu_link",
+        "lidar",
+        "anymal-d-lidar-imu",
+        Format::Urdf,
+        1e-8,
+    ),
+    c(
+        "ros1_tf_static_echo.yaml",
+        None,
+        "imu",
+        "os_sensor",
+        "ntnu-os0-128-vn100",
+        Format::TfStaticEcho,
+        1e-6,
+    ),
+    c(
+        "ros2_tf_static_echo.yaml",
+        None,
+        "box_base",
+        "hesai_lidar",
+        "grandtour-hesai-cpt7",
+        Format::TfStaticEcho,
+        1e-8,
+    ),
+    c(
+        "ros2_tf_static_echo.yaml",
+        None,
+        "body",
+        "livox_frame",
+        "fastlio-mid360",
+        Format::TfStaticEcho,
+        1e-9,
+    ),
+    c(
+        "ros2_static_tf_commands.txt",
+        None,
+        "box_base",
+        "hesai_lidar",
+        "grandtour-hesai-cpt7",
+        Format::StaticTfCommands,
+        1e-8,
+    ),
+    c(
+        "ros2_static_tf_commands.txt",
+        None,
+        "imu",
+        "os_sensor",
+        "ntnu-os0-128-vn100",
+        Format::StaticTfCommands,
+        1e-6,
+    ),
+    c(
+        "ros2_static_tf_commands.txt",
+        None,
+        "body",
+        "avia_frame",
+        "fastlio-avia",
+        Format::StaticTfCommands,
+        1e-9,
+    ),
+    c(
+        "ros1_static_tf.launch",
+        None,
+        "box_base",
+        "hesai_lidar",
+        "grandtour-hesai-cpt7",
+        Format::LaunchXml,
+        1e-8,
+    ),
+    c(
+        "ros1_static_tf.launch",
+        None,
+        "imu",
+        "os_sensor",
+        "ntnu-os0-128-vn100",
+        Format::LaunchXml,
+        1e-6,
+    ),
+    c(
+        "ros2_static_tf.launch.xml",
+        None,
+        "box_base",
+        "hesai_lidar",
+        "grandtour-hesai-cpt7",
+        Format::LaunchXml,
+        1e-8,
+    ),
+    c(
+        "ros2_static_tf.launch.yaml",
+        None,
+        "imu",
+        "os_sensor",
+        "ntnu-os0-128-vn100",
+        Format::LaunchYaml,
+        1e-6,
+    ),
+    c(
+        "ros2_static_tf.launch.py",
+        None,
+        "box_base",
+        "hesai_lidar",
+        "grandtour-hesai-cpt7",
+        Format::LaunchPy,
+        1e-8,
+    ),
+    c(
+        "ros2_static_tf.launch.py",
+        None,
+        "imu",
+        "os_sensor",
+        "ntnu-os0-128-vn100",
+        Format::LaunchPy,
+        1e-6,
+    ),
+    c(
+        "kr_quadrotor_publish_tf.launch",
+        None,
+        "quadrotor/base_link",
+        "quadrotor/lidar",
+        "kr-quadrotor-lidar-base",
+        Format::LaunchXml,
+        1e-9,
+    ),
+];
+
+fn expected() -> serde_json::Value {
+    let text =
+        std::fs::read_to_string(format!("{DIR}/expected_rigs.json")).expect("expected_rigs.json");
+    serde_json::from_str(&text).expect("json")
+}
+
+#[test]
+fn every_fixture_yields_its_rig() {
+    let exp = expected();
+    let mut failures = Vec::new();
+    for case in CASES {
+        let path = Path::new(DIR).join(case.file);
+        let opts = LoadOptions {
+            key: case.key.map(String::from),
+            ..Default::default()
+        };
+        let loaded = match load_file(&path, &opts) {
+            Ok(l) => l,
+            Err(e) => {
+                failures.push(format!("{}: load error {e}", case.file));
+                continue;
+            }
+        };
+        assert!(
+            loaded
+                .edges
+                .iter()
+                .all(|e| e.provenance.format == case.format.name()),
+            "{}: expected format {}",
+            case.file,
+            case.format.name()
+        );
+        assert!(
+            loaded
+                .edges
+                .iter()
+                .all(|e| e.provenance.location.line.is_some()),
+            "{}: every edge knows its line",
+            case.file
+        );
+        let mut g = FrameGraph::new();
+        g.add(loaded).expect("graph");
+        let chain = g.transform(case.from, case.to).expect("transform");
+        let m = chain.transform.matrix4();
+        let want = &exp["rigs"][case.rig]["T_body_lidar"];
+        let mut worst = 0.0f64;
+        for i in 0..4 {
+            for j in 0..4 {
+                let w = want[i][j].as_f64().expect("number");
+                worst = worst.max((m[(i, j)] - w).abs());
+            }
+        }
+        if worst > case.tol {
+            failures.push(format!(
+                "{} {} -> {} ({}): max entry error {worst:e} > {:e}",
+                case.file, case.from, case.to, case.rig, case.tol
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The same transforms in the four ROS syntaxes of authored/ (plus ROS 2 launch
+/// XML/YAML/Python) read identically.
+#[test]
+fn ros_syntaxes_agree() {
+    let files = [
+        "ros1_static_tf.launch",
+        "ros2_static_tf_commands.txt",
+        "ros2_tf_static_echo.yaml",
+        "ros2_static_tf.launch.xml",
+        "ros2_static_tf.launch.yaml",
+        "ros2_static_tf.launch.py",
+    ];
+    let mut reference = None;
+    for f in files {
+        let l = load_file(&Path::new(DIR).join(f), &LoadOptions::default()).expect(f);
+        let mut g = FrameGraph::new();
+        g.add(l).expect(f);
+        let t = g
+            .transform("box_base", "hesai_lidar")
+            .expect(f)
+            .transform
+            .matrix4();
+        match &reference {
+            None => reference = Some(t),
+            Some(r) => {
+                let diff = (t - r).abs().max();
+                assert!(diff < 1e-12, "{f}: differs from {} by {diff:e}", files[0]);
+            }
+        }
+    }
+    let mut refs = Vec::new();
+    for f in [
+        "ros1_static_tf.launch",
+        "ros1_tf_static_echo.yaml",
+        "ros2_static_tf_commands.txt",
+    ] {
+        let l = load_file(&Path::new(DIR).join(f), &LoadOptions::default()).expect(f);
+        let mut g = FrameGraph::new();
+        g.add(l).expect(f);
+        refs.push(
+            g.transform("imu", "os_sensor")
+                .expect(f)
+                .transform
+                .matrix4(),
+        );
+    }
+    for r in &refs[1..] {
+        assert!((r - refs[0]).abs().max() < 1e-12);
+    }
+}

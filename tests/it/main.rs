@@ -1,0 +1,32 @@
+//! The integration suite, one binary so that it builds once: one module per
+//! area (`core_*` the maths, `formats_*` and `graph_*` the readers and the frame
+//! graph, `cli_*` the binary, `hostile_*` hostile input, `detector_*`,
+//! `points_*` and `scene_*` the degeneracy wing), helpers in `common`.
+
+mod calibrations;
+mod cli_audit;
+mod cli_detector;
+mod cli_survey_check;
+mod common;
+mod core_alloc;
+mod core_edges;
+mod core_fixtures;
+mod core_props;
+mod detector_core;
+mod detector_threshold;
+mod formats_bad_inputs;
+mod formats_no_panic;
+mod formats_rigs;
+mod formats_xacro;
+mod graph_basic;
+mod graph_urdf_corpus;
+mod hostile_atomic;
+mod hostile_limits;
+mod hostile_numbers;
+mod hostile_points;
+mod points_readers;
+mod points_regressions;
+mod readme;
+mod rig_toml;
+mod scene_simulate;
+mod scene_tunnel;

@@ -1,0 +1,261 @@
+//! Point-file readers and `audit degeneracy`.
+
+use extrinsic_audit::cli::degeneracy::{
+    degeneracy_json, frame_from_args, run, DegeneracyArgs, OutputFormat,
+};
+use extrinsic_audit::degeneracy::points::*;
+use extrinsic_audit::degeneracy::scene::SceneRng;
+use extrinsic_audit::geometry::se3::Transform;
+use std::path::{Path, PathBuf};
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/detector")
+        .join(name)
+}
+
+#[test]
+fn all_formats_read_the_same_tunnel() {
+    let base = read_points(&fixture("tunnel_small.csv")).unwrap();
+    assert_eq!(base.points.len(), 408);
+    assert_eq!(base.format, PointFormat::Csv);
+    assert!(base.warnings.is_empty());
+    for (name, fmt) in [
+        ("tunnel_small_ascii.ply", PointFormat::PlyAscii),
+        ("tunnel_small_le.ply", PointFormat::PlyBinaryLittleEndian),
+        ("tunnel_small_be.ply", PointFormat::PlyBinaryBigEndian),
+        ("tunnel_small_ascii.pcd", PointFormat::PcdAscii),
+    ] {
+        let d = read_points(&fixture(name)).unwrap();
+        assert_eq!(d.format, fmt, "{name}");
+        assert_eq!(d.points, base.points, "{name}");
+        assert_eq!(d.normals, base.normals, "{name}");
+        assert!(d.weights.is_none());
+    }
+    // float32 files agree to float precision.
+    for name in ["tunnel_small_float.ply", "tunnel_small_bin.pcd"] {
+        let d = read_points(&fixture(name)).unwrap();
+        assert_eq!(d.points.len(), 408, "{name}");
+        for i in 0..408 {
+            for k in 0..3 {
+                assert!((d.points[i][k] - base.points[i][k]).abs() < 1e-6, "{name}");
+                assert!(
+                    (d.normals[i][k] - base.normals[i][k]).abs() < 1e-6,
+                    "{name}"
+                );
+            }
+        }
+    }
+    let w = read_points(&fixture("tunnel_small_noheader.csv")).unwrap();
+    assert_eq!(w.points, base.points);
+    assert_eq!(w.weights.as_ref().unwrap().len(), 408);
+}
+
+#[test]
+fn writers_round_trip_ascii_and_binary_exactly() {
+    let mut rng = SceneRng::new(5);
+    let mut p = Vec::new();
+    let mut n = Vec::new();
+    for _ in 0..257 {
+        p.push([rng.normal() * 3.0, rng.normal() * 1e-3, rng.normal() * 1e4]);
+        let u = rng.unit_vector();
+        n.push([u.x, u.y, u.z]);
+    }
+    let w: Vec<f64> = (0..257).map(|i| i as f64 * 0.5).collect();
+    let csv = parse_points(&write_csv(&p, &n, Some(&w))).unwrap();
+    assert_eq!(csv.points, p);
+    assert_eq!(csv.weights.unwrap(), w);
+    for enc in [
+        Encoding::Ascii,
+        Encoding::BinaryLittleEndian,
+        Encoding::BinaryBigEndian,
+    ] {
+        let ply = parse_points(&write_ply(&p, &n, enc)).unwrap();
+        assert_eq!(ply.points, p, "{enc:?}");
+        assert_eq!(ply.normals, n, "{enc:?}");
+        let pcd = parse_points(&write_pcd(&p, &n, enc)).unwrap();
+        assert_eq!(pcd.points, p, "{enc:?}");
+        assert_eq!(pcd.normals, n, "{enc:?}");
+    }
+}
+
+#[test]
+fn malformed_files_are_clear_errors() {
+    let e = read_points(&fixture("zero_normal.csv")).unwrap_err();
+    assert_eq!(e.location.line, Some(4), "{e}");
+    assert!(e.to_string().contains("zero_normal.csv:4"), "{e}");
+    assert!(e.message.contains("zero normal"), "{e}");
+    let e = read_points(&fixture("truncated_le.ply")).unwrap_err();
+    assert!(
+        e.message.contains("claims 408 vertices") && e.message.contains("holds 10"),
+        "{e}"
+    );
+    let e = read_points(&fixture("huge_count.ply")).unwrap_err();
+    assert!(e.message.contains("claims 1000000000000000"), "{e}");
+    let e = read_points(&fixture("compressed.pcd")).unwrap_err();
+    assert!(
+        e.message.contains("binary_compressed is not supported"),
+        "{e}"
+    );
+    let e = read_points(&fixture("does_not_exist.csv")).unwrap_err();
+    assert!(e.to_string().contains("does_not_exist.csv"));
+    // Non-unit normals: renormalised with one warning.
+    let d = read_points(&fixture("nonunit.csv")).unwrap();
+    assert_eq!(d.warnings.len(), 1);
+    assert!(d.warnings[0].message.contains("408 normals were not unit"));
+    assert!((d.normals[5][0].hypot(d.normals[5][1]) - 1.0).abs() < 1e-15);
+    // Assorted garbage never panics.
+    for bytes in [
+        &b""[..],
+        b"ply\n",
+        b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n",
+        b"ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty list uchar float x\nend_header\n",
+        b"VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n",
+        b"VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\nTYPE F F F F F F\nPOINTS 99999999999\nDATA binary\n\0\0\0",
+        b"x,y,z,nx,ny,nz\n1,2,3,a,0,0\n",
+        b"1,2,3\n",
+        b"1,2,3,0,0,1\n1,2,3,0,0\n",
+        b"1,2,3,0,0,1,-5\n",
+    ] {
+        assert!(parse_points(bytes).is_err(), "{:?}", String::from_utf8_lossy(bytes));
+    }
+}
+
+#[test]
+fn degeneracy_json_has_the_design_schema() {
+    let d = read_points(&fixture("tunnel_small_le.ply")).unwrap();
+    let ells = [0.25, 1.0, 2.85, 10.0];
+    let v = degeneracy_json(&d, &Transform::identity(), 1e-2, &ells).unwrap();
+    assert_eq!(v["schema_version"], 1);
+    assert_eq!(v["points"], 408);
+    assert_eq!(
+        v["frame"]["translation_m"],
+        serde_json::json!([0.0, 0.0, 0.0])
+    );
+    assert_eq!(v["frame"]["rpy_rad"].as_array().unwrap().len(), 3);
+    let fams = v["families"].as_array().unwrap();
+    let names: Vec<&str> = fams.iter().map(|f| f["family"].as_str().unwrap()).collect();
+    assert_eq!(
+        names,
+        [
+            "unnormalized",
+            "characteristic_length",
+            "characteristic_length",
+            "characteristic_length",
+            "characteristic_length",
+            "block_scaling",
+            "jacobi",
+            "point_displacement"
+        ]
+    );
+    for f in fams {
+        let ev: Vec<f64> = f["eigenvalues"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        assert_eq!(ev.len(), 6);
+        assert!(ev.windows(2).all(|w| w[0] <= w[1]));
+        assert!(f["threshold"].as_f64().unwrap() > 0.0);
+        assert!(f["degenerate_count"].is_u64());
+    }
+    // Point displacement uses --tau; the baselines their calibrated thresholds.
+    assert_eq!(fams[7]["threshold"].as_f64(), Some(1e-2));
+    assert_eq!(fams[0]["threshold"].as_f64(), Some(114.62));
+    assert_eq!(fams[1]["ell_m"].as_f64(), Some(0.25));
+    let pd = fams.last().unwrap();
+    assert_eq!(pd["degenerate_count"], 2);
+    let sub = v["degenerate_subspace"].as_array().unwrap();
+    assert_eq!(sub.len(), 2);
+    assert_eq!(sub[0]["screw"]["kind"], "zero_pitch");
+    assert_eq!(sub[0]["twist"].as_array().unwrap().len(), 6);
+    assert!(sub[0]["eigenvalue"].as_f64().unwrap().abs() < 1e-12);
+    assert!(sub[0]["screw"]["direction"].is_null());
+    assert_eq!(sub[1]["screw"]["kind"], "pure_translation");
+    let dir: Vec<f64> = sub[1]["screw"]["direction"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(
+        (dir[0].abs() + dir[1].abs()) < 1e-12 && (dir[2] - 1.0).abs() < 1e-12,
+        "{dir:?}"
+    );
+    assert!(sub[1]["screw"]["axis"].is_null() && sub[1]["screw"]["pitch_m_per_rad"].is_null());
+    assert_eq!(
+        v["footprint"],
+        serde_json::json!([false, false, true, false, false, true])
+    );
+    // Shifted one metre: footprint gains trans-y; axis point at x = -1.
+    let t = frame_from_args(Some("1,0,0"), None).unwrap();
+    let v = degeneracy_json(&d, &t, 1e-2, &ells).unwrap();
+    assert_eq!(
+        v["footprint"],
+        serde_json::json!([false, false, true, false, true, true])
+    );
+    let ap = v["degenerate_subspace"][0]["screw"]["axis_point_m"]
+        .as_array()
+        .unwrap()
+        .clone();
+    assert!((ap[0].as_f64().unwrap() + 1.0).abs() < 1e-9, "{ap:?}");
+    assert_eq!(
+        v["frame"]["translation_m"],
+        serde_json::json!([1.0, 0.0, 0.0])
+    );
+    // Point-displacement eigenvalues unchanged; I6's changed.
+    let v0 = degeneracy_json(&d, &Transform::identity(), 1e-2, &ells).unwrap();
+    let ev = |v: &serde_json::Value, k: usize| -> Vec<f64> {
+        v["families"][k]["eigenvalues"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    for (a, b) in ev(&v0, 7).iter().zip(ev(&v, 7).iter()) {
+        assert!((a - b).abs() < 1e-12);
+    }
+    assert!(ev(&v0, 0)
+        .iter()
+        .zip(ev(&v, 0).iter())
+        .any(|(a, b)| (a - b).abs() > 1e-3));
+}
+
+#[test]
+fn degeneracy_command_runs_and_reports_errors() {
+    let args = DegeneracyArgs {
+        points: fixture("tunnel_small_bin.pcd"),
+        tau: 1e-2,
+        shift: Some("1,0,0".into()),
+        rotate_rpy: Some("0,0,0.3".into()),
+        ell: "0.25,1,2.85,10".into(),
+        format: OutputFormat::Table,
+    };
+    let mut out = Vec::new();
+    assert_eq!(run(&args, &mut out).unwrap(), 0);
+    let s = String::from_utf8(out).unwrap();
+    assert!(s.contains("point_displacement"), "{s}");
+    assert!(
+        s.contains("zero_pitch") && s.contains("pure_translation"),
+        "{s}"
+    );
+    let mut a = args.clone();
+    a.format = OutputFormat::Json;
+    let mut out = Vec::new();
+    run(&a, &mut out).unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(v["families"][7]["degenerate_count"], 2);
+    let mut a = args.clone();
+    a.points = fixture("collinear.csv");
+    let e = run(&a, &mut Vec::new()).unwrap_err();
+    assert!(e.message.contains("points are collinear"), "{e}");
+    assert!(e.to_string().contains("collinear.csv"));
+    let mut a = args.clone();
+    a.shift = Some("1,2".into());
+    assert!(run(&a, &mut Vec::new()).is_err());
+    let mut a = args;
+    a.tau = -1.0;
+    assert!(run(&a, &mut Vec::new()).is_err());
+}
