@@ -223,6 +223,15 @@ pub struct Loaded {
     pub rig: Option<RigMeta>,
 }
 
+impl From<Loaded> for crate::frames::EdgeSet {
+    fn from(l: Loaded) -> Self {
+        crate::frames::EdgeSet {
+            edges: l.edges,
+            warnings: l.warnings,
+        }
+    }
+}
+
 /// Parse one number as written in a file (also `+1`, `1.`, `.5`, `1e-3`).
 /// `nan` / `inf` parse and are refused later by the transform constructors.
 pub fn parse_number(s: &str) -> Option<f64> {

@@ -20,7 +20,7 @@
 //! that were not set make the path an error.
 
 use crate::diagnostic::{Error, Result, Warning, WarningCode};
-use crate::formats::{Edge, Loaded};
+use crate::frames::Edge;
 use crate::geometry::se3::Transform;
 use crate::tolerances::{
     CYCLE_LIST_MAX, DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, TREE_MAX_INDENT,
@@ -33,6 +33,16 @@ use std::collections::HashMap;
 pub struct ChainStep {
     pub edge: Edge,
     pub inverted: bool,
+}
+
+/// What one source yields for the graph: edges and the warnings raised while
+/// reading them.
+#[derive(Debug, Clone, Default)]
+pub struct EdgeSet {
+    /// Edges, in the order they were read.
+    pub edges: Vec<Edge>,
+    /// Named warnings about them.
+    pub warnings: Vec<Warning>,
 }
 
 /// `T_from_to` and the edges used, in order from `from` to `to`.
@@ -92,11 +102,13 @@ impl FrameGraph {
         Self::default()
     }
 
-    /// Add everything a file yielded: all of it or, on an error, none of it.
-    pub fn add(&mut self, loaded: Loaded) -> Result<()> {
+    /// Add everything one source yielded (a file's edges and warnings): all
+    /// of it or, on an error, none of it.
+    pub fn add(&mut self, set: impl Into<EdgeSet>) -> Result<()> {
+        let set = set.into();
         let mut next = self.clone();
-        next.warnings.extend(loaded.warnings);
-        for e in loaded.edges {
+        next.warnings.extend(set.warnings);
+        for e in set.edges {
             next.add_edge(e)?;
         }
         *self = next;
