@@ -1,9 +1,14 @@
-//! Errors and named warnings, with the place in the input they refer to.
+//! Diagnostics: one type for errors, warnings and `audit check` findings.
 //!
-//! Every error the tool reports names the file, the line where it is known, what
-//! was expected and what was found. Every error maps to exit code 2 (usage or
-//! input error); findings of `audit check` are not errors (exit code 1).
-//! Warnings are named (`code`) so scripts and CI annotations can filter them.
+//! A [`Diagnostic`] has a typed [`Code`] (kebab-case name, stable: CI filters,
+//! annotations and `--allow` use it), a [`Severity`], the place in the input
+//! ([`Location`]: file, 1-based line and column where known), a message that says
+//! what was expected and what was found, and optional help. The same value is
+//! rendered as text, JSON, GitHub annotations or anything else by `render`.
+//!
+//! [`Error`] and [`Warning`] are names for the same type, used where a function
+//! returns one or the other; a `Result`'s error always has severity `error` and
+//! maps to exit code 2 (usage or input error). Findings of `audit check` exit 1.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -12,14 +17,16 @@ use std::path::{Path, PathBuf};
 /// maths knows no file, a loader attaches one.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Location {
+    /// The file, as the user named it (or as found in a directory walk).
     pub file: Option<PathBuf>,
     /// 1-based line.
     pub line: Option<usize>,
-    /// 1-based column.
+    /// 1-based column (characters).
     pub column: Option<usize>,
 }
 
 impl Location {
+    /// A whole file.
     pub fn file(path: impl AsRef<Path>) -> Self {
         Location {
             file: Some(path.as_ref().to_path_buf()),
@@ -27,6 +34,7 @@ impl Location {
             column: None,
         }
     }
+    /// A line (and column) in a file.
     pub fn at(path: impl AsRef<Path>, line: usize, column: Option<usize>) -> Self {
         Location {
             file: Some(path.as_ref().to_path_buf()),
@@ -34,6 +42,7 @@ impl Location {
             column,
         }
     }
+    /// Neither file nor line known.
     pub fn is_empty(&self) -> bool {
         self.file.is_none() && self.line.is_none()
     }
@@ -56,57 +65,194 @@ impl fmt::Display for Location {
     }
 }
 
-/// What went wrong, coarsely; the message carries the detail.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ErrorKind {
+/// How bad a diagnostic is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    /// The input is wrong or the command cannot do what was asked.
+    Error,
+    /// Suspicious input: reported, the answer is still given.
+    Warning,
+}
+
+macro_rules! codes {
+    ($( $(#[$doc:meta])* $variant:ident = $name:literal, $sev:ident; )*) => {
+        /// Every diagnostic code, with its stable kebab-case name and default
+        /// severity. The table in docs/ARCHITECTURE.md lists them.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum Code {
+            $( $(#[$doc])* $variant, )*
+        }
+
+        impl Code {
+            /// Every code, in declaration order.
+            pub const ALL: &'static [Code] = &[$(Code::$variant),*];
+
+            /// The stable name (`non-unit-quaternion`, ...).
+            pub fn name(self) -> &'static str {
+                match self { $(Code::$variant => $name,)* }
+            }
+
+            /// The severity a diagnostic of this code has unless a policy
+            /// (`--allow`, a check rule) changes it.
+            pub fn default_severity(self) -> Severity {
+                match self { $(Code::$variant => Severity::$sev,)* }
+            }
+        }
+    };
+}
+
+codes! {
+    // Errors: the input cannot be used (exit code 2, or a check finding).
     /// The file could not be read.
-    Io,
+    Io = "io", Error;
     /// The file is not valid in its format (syntax, structure, types).
-    Parse,
+    Parse = "parse", Error;
     /// The numbers are there but do not describe a rigid transform
     /// (non-finite, det -1, zero quaternion, bad bottom row, ...).
-    Invalid,
+    Invalid = "invalid", Error;
     /// Frame graph problems: unknown frame, not connected, cycle, two parents,
     /// conflicting duplicate edge, a joint that must be set.
-    Frame,
+    Frame = "frames", Error;
     /// Input beyond a resource limit (file size, nesting, alias expansion, ...).
-    Limit,
+    Limit = "limit", Error;
     /// The command line asks for something impossible.
-    Usage,
+    Usage = "usage", Error;
+
+    // Warnings raised while reading: the answer is given, the input is suspicious.
+    /// A rotation matrix off orthonormal by more than the warning tolerance;
+    /// it was projected to the nearest rotation.
+    NonOrthonormalRotation = "non-orthonormal-rotation", Warning;
+    /// A quaternion whose norm is off 1 by more than the tolerance; normalised.
+    NonUnitQuaternion = "non-unit-quaternion", Warning;
+    /// A translation that looks like millimetres in a field documented as metres.
+    MillimetresInMetreField = "millimetres-in-metre-field", Warning;
+    /// A movable joint (revolute, continuous, prismatic) on a path, taken at its
+    /// default position because the user did not set it.
+    JointAtDefault = "joint-at-default", Warning;
+    /// The same edge given twice, agreeing within tolerance.
+    DuplicateEdge = "duplicate-edge", Warning;
+    /// A frame convention the tool had to assume; the message says which.
+    AssumedConvention = "assumed-convention", Warning;
+    /// A movable URDF joint whose axis is not a unit vector; normalised.
+    NonUnitAxis = "non-unit-axis", Warning;
+    /// A value present in the file but ignored (e.g. a commented alternative, a
+    /// key the tool does not use); the message says which and why.
+    Ignored = "ignored", Warning;
+
+    // Findings of `audit check` (errors unless a policy says otherwise).
+    /// A file in the checked paths is not in the baseline.
+    NewFile = "new-file", Error;
+    /// An edge in the file is not in the baseline.
+    NewEdge = "new-edge", Error;
+    /// An edge in the baseline is no longer in the file.
+    MissingEdge = "missing-edge", Error;
+    /// A transform moved beyond the drift tolerances since the baseline.
+    Drift = "drift", Error;
+    /// A verdict (screw kind, zero pitch, adapted metric) changed since the
+    /// baseline.
+    VerdictChanged = "verdict-changed", Error;
+    /// A checked pair's lever arm exceeds `--max-lever-arm`.
+    LeverArm = "lever-arm", Error;
+    /// A checked pair does not have zero screw pitch (`--require-zero-pitch`).
+    NonzeroPitch = "nonzero-pitch", Error;
 }
 
+impl Code {
+    /// The code named `name` (as printed by [`Code::name`]).
+    pub fn from_name(name: &str) -> Option<Code> {
+        Code::ALL.iter().copied().find(|c| c.name() == name)
+    }
+
+    /// The warning codes a reader can raise (what `--allow` accepts).
+    pub fn warnings() -> impl Iterator<Item = Code> {
+        Code::ALL
+            .iter()
+            .copied()
+            .filter(|c| c.default_severity() == Severity::Warning)
+    }
+}
+
+impl fmt::Display for Code {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl serde::Serialize for Code {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+/// One error, warning or finding, with the place it refers to.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Error {
-    pub kind: ErrorKind,
+pub struct Diagnostic {
+    /// What kind of problem.
+    pub code: Code,
+    /// How bad (the code's default unless a policy changed it).
+    pub severity: Severity,
+    /// Where in the input.
     pub location: Location,
+    /// What was expected and what was found.
     pub message: String,
+    /// How to fix it, when there is something to say.
+    pub help: Option<String>,
 }
 
-impl Error {
-    pub fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
-        Error {
-            kind,
+/// A diagnostic of severity `error`: the error type of every fallible function.
+pub type Error = Diagnostic;
+/// A diagnostic of severity `warning`.
+pub type Warning = Diagnostic;
+/// Former name of [`Code`] for readers' warnings.
+pub type WarningCode = Code;
+/// Former name of [`Code`] for errors.
+pub type ErrorKind = Code;
+
+impl Diagnostic {
+    /// A diagnostic of `code` with its default severity and no location.
+    pub fn new(code: Code, message: impl Into<String>) -> Self {
+        Diagnostic {
+            code,
+            severity: code.default_severity(),
             location: Location::default(),
             message: message.into(),
+            help: None,
         }
     }
+    /// A [`Code::Parse`] error.
     pub fn parse(message: impl Into<String>) -> Self {
-        Self::new(ErrorKind::Parse, message)
+        Self::new(Code::Parse, message)
     }
+    /// A [`Code::Invalid`] error.
     pub fn invalid(message: impl Into<String>) -> Self {
-        Self::new(ErrorKind::Invalid, message)
+        Self::new(Code::Invalid, message)
     }
+    /// A [`Code::Frame`] error.
     pub fn frame(message: impl Into<String>) -> Self {
-        Self::new(ErrorKind::Frame, message)
+        Self::new(Code::Frame, message)
     }
+    /// A [`Code::Usage`] error.
     pub fn usage(message: impl Into<String>) -> Self {
-        Self::new(ErrorKind::Usage, message)
+        Self::new(Code::Usage, message)
     }
+    /// A [`Code::Limit`] error.
     pub fn limit(message: impl Into<String>) -> Self {
-        Self::new(ErrorKind::Limit, message)
+        Self::new(Code::Limit, message)
     }
+    /// A [`Code::Io`] error reading `path`.
     pub fn io(path: &Path, err: &std::io::Error) -> Self {
-        Self::new(ErrorKind::Io, format!("cannot read: {err}")).in_file(path)
+        Self::new(Code::Io, format!("cannot read: {err}")).in_file(path)
+    }
+    /// The same diagnostic with another severity.
+    pub fn with_severity(mut self, severity: Severity) -> Self {
+        self.severity = severity;
+        self
+    }
+    /// The same diagnostic with help text.
+    pub fn with_help(mut self, help: impl Into<String>) -> Self {
+        self.help = Some(help.into());
+        self
     }
     /// Attach a file, keeping a line that is already known.
     pub fn in_file(mut self, path: impl AsRef<Path>) -> Self {
@@ -123,6 +269,7 @@ impl Error {
         }
         self
     }
+    /// Attach the parts of `loc` that are not known yet.
     pub fn at(mut self, loc: &Location) -> Self {
         if self.location.file.is_none() {
             self.location.file = loc.file.clone();
@@ -133,14 +280,19 @@ impl Error {
         }
         self
     }
-    /// Every error is a usage or input error: exit code 2.
+    /// Exit code of a command that fails with this error: 2 (usage or input).
     pub fn exit_code(&self) -> i32 {
         2
     }
 }
 
-impl fmt::Display for Error {
+impl fmt::Display for Diagnostic {
+    /// Errors: `file:line:col: message`; warnings: `warning[code]: file:line:col:
+    /// message` (the place omitted when unknown).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.severity == Severity::Warning {
+            write!(f, "warning[{}]: ", self.code)?;
+        }
         if self.location.is_empty() {
             write!(f, "{}", self.message)
         } else {
@@ -149,108 +301,34 @@ impl fmt::Display for Error {
     }
 }
 
-impl std::error::Error for Error {}
+impl std::error::Error for Diagnostic {}
 
+impl serde::Serialize for Diagnostic {
+    /// `{severity, code, file, line, column?, message, help?}`: `file` is ""
+    /// and `line` null when unknown.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(None)?;
+        m.serialize_entry("severity", &self.severity)?;
+        m.serialize_entry("code", &self.code)?;
+        let file = self
+            .location
+            .file
+            .as_ref()
+            .map(|f| f.to_string_lossy().replace('\\', "/"))
+            .unwrap_or_default();
+        m.serialize_entry("file", &file)?;
+        m.serialize_entry("line", &self.location.line)?;
+        if let Some(c) = self.location.column {
+            m.serialize_entry("column", &c)?;
+        }
+        m.serialize_entry("message", &self.message)?;
+        if let Some(h) = &self.help {
+            m.serialize_entry("help", h)?;
+        }
+        m.end()
+    }
+}
+
+/// `Result` with a [`Diagnostic`] error.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
-
-/// Named warnings. The name (kebab-case, see [`WarningCode::name`]) is stable:
-/// CI filters and `::warning` annotations use it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum WarningCode {
-    /// A rotation matrix off orthonormal by more than the warning tolerance;
-    /// it was projected to the nearest rotation.
-    NonOrthonormalRotation,
-    /// A quaternion whose norm is off 1 by more than the tolerance; normalised.
-    NonUnitQuaternion,
-    /// A translation that looks like millimetres in a field documented as metres.
-    MillimetresInMetreField,
-    /// A movable joint (revolute, continuous, prismatic) on a path, taken at its
-    /// default position because the user did not set it.
-    JointAtDefault,
-    /// The same edge given twice, agreeing within tolerance.
-    DuplicateEdge,
-    /// A rotation so small that its screw axis is set by calibration noise.
-    SmallRotation,
-    /// A rotation within a hair of a half-turn: the sign of the axis and of h
-    /// depend on rounding.
-    NearHalfTurn,
-    /// A frame convention the tool had to assume; the message says which.
-    AssumedConvention,
-    /// A movable URDF joint whose axis is not a unit vector; normalised.
-    NonUnitAxis,
-    /// A value present in the file but ignored (e.g. a commented alternative, a
-    /// key the tool does not use); the message says which and why.
-    Ignored,
-}
-
-impl WarningCode {
-    pub const ALL: [WarningCode; 10] = [
-        WarningCode::NonOrthonormalRotation,
-        WarningCode::NonUnitQuaternion,
-        WarningCode::MillimetresInMetreField,
-        WarningCode::JointAtDefault,
-        WarningCode::DuplicateEdge,
-        WarningCode::SmallRotation,
-        WarningCode::NearHalfTurn,
-        WarningCode::AssumedConvention,
-        WarningCode::NonUnitAxis,
-        WarningCode::Ignored,
-    ];
-    pub fn name(self) -> &'static str {
-        match self {
-            WarningCode::NonOrthonormalRotation => "non-orthonormal-rotation",
-            WarningCode::NonUnitQuaternion => "non-unit-quaternion",
-            WarningCode::MillimetresInMetreField => "millimetres-in-metre-field",
-            WarningCode::JointAtDefault => "joint-at-default",
-            WarningCode::DuplicateEdge => "duplicate-edge",
-            WarningCode::SmallRotation => "small-rotation",
-            WarningCode::NearHalfTurn => "near-half-turn",
-            WarningCode::AssumedConvention => "assumed-convention",
-            WarningCode::NonUnitAxis => "non-unit-axis",
-            WarningCode::Ignored => "ignored",
-        }
-    }
-}
-
-#[derive(Debug, Clone, PartialEq)]
-pub struct Warning {
-    pub code: WarningCode,
-    pub location: Location,
-    pub message: String,
-}
-
-impl Warning {
-    pub fn new(code: WarningCode, message: impl Into<String>) -> Self {
-        Warning {
-            code,
-            location: Location::default(),
-            message: message.into(),
-        }
-    }
-    pub fn at(mut self, loc: &Location) -> Self {
-        if self.location.file.is_none() {
-            self.location.file = loc.file.clone();
-        }
-        if self.location.line.is_none() {
-            self.location.line = loc.line;
-            self.location.column = loc.column;
-        }
-        self
-    }
-}
-
-impl fmt::Display for Warning {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.location.is_empty() {
-            write!(f, "warning[{}]: {}", self.code.name(), self.message)
-        } else {
-            write!(
-                f,
-                "warning[{}]: {}: {}",
-                self.code.name(),
-                self.location,
-                self.message
-            )
-        }
-    }
-}

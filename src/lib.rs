@@ -6,11 +6,13 @@
 //! analysis (`analysis`; `degeneracy` for point data) -> report (`report`, `cli`).
 
 pub mod analysis;
-pub mod cli;
+pub mod baseline;
 pub mod degeneracy;
 pub mod diagnostic;
 pub mod formats;
 pub mod frames;
 pub mod geometry;
+pub mod pipeline;
+pub mod render;
 pub mod report;
 pub mod tolerances;

@@ -1,7 +1,10 @@
-//! `audit`: thin front end; everything lives in the library (`extrinsic_audit::cli`).
+//! `audit`: the command-line front end of extrinsic-audit. Arguments and
+//! output live in `cli`; everything else is the library's.
+
+mod cli;
 
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    extrinsic_audit::cli::main()
+    cli::main()
 }

@@ -22,54 +22,12 @@
 //! [[I + ||c||^2 I - c c^T, [c]x], [-[c]x, I]]`, so the off-diagonal norm is
 //! `sqrt(2) ||c||` and `rel_diff_identity = ||c|| sqrt((||c||^2 + 2) / 3)`.
 
+pub use super::family::Family;
 use crate::diagnostic::{Error, Result};
 use crate::geometry::certificate::{self, AdjointSummary, Certificates};
 use crate::geometry::se3::{Screw, ScrewKind, Transform};
 use crate::tolerances::{LENGTH_ZERO_TOL, SIGNED_PERMUTATION_TOL};
 use nalgebra::{Matrix3, Matrix6, Vector3};
-
-/// The detector families, by the metric rule each implies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Family {
-    /// `I6`.
-    Unnormalized,
-    /// `diag(l^2 I3, I3)` for a fixed `l`.
-    CharacteristicLength,
-    /// Same family, `l` from `H` (see [`block_scaling_ell`]).
-    BlockScaling,
-    /// `diag(H)`.
-    Jacobi,
-    /// `M0 = Ad(P)^-T Ad(P)^-1`, built for one zero-pitch rig.
-    AdaptedConstant,
-    /// `M = sum_i J_i^T J_i`.
-    PointDisplacement,
-}
-
-impl Family {
-    pub const ALL: [Family; 6] = [
-        Family::Unnormalized,
-        Family::CharacteristicLength,
-        Family::BlockScaling,
-        Family::Jacobi,
-        Family::AdaptedConstant,
-        Family::PointDisplacement,
-    ];
-    /// The JSON name (DESIGN.md schema).
-    pub fn name(self) -> &'static str {
-        match self {
-            Family::Unnormalized => "unnormalized",
-            Family::CharacteristicLength => "characteristic_length",
-            Family::BlockScaling => "block_scaling",
-            Family::Jacobi => "jacobi",
-            Family::AdaptedConstant => "adapted_constant",
-            Family::PointDisplacement => "point_displacement",
-        }
-    }
-    /// Only the point-displacement rule transforms by the same congruence as `H`.
-    pub fn is_equivariant_rule(self) -> bool {
-        matches!(self, Family::PointDisplacement)
-    }
-}
 
 /// Block scaling: the paper gives no formula for `l` from `H`. This crate uses the
 /// `l` that equalises the traces of the two scaled diagonal blocks of

@@ -1,6 +1,8 @@
 //! Analysis of one rig: the detector families, the adapted constant metric and
 //! the per-rig verdicts, from one transform.
 
+pub mod family;
 pub mod metric;
 
-pub use metric::{analyze, Family, RigAnalysis};
+pub use family::{Family, FamilySpec, FAMILIES};
+pub use metric::{analyze, RigAnalysis};

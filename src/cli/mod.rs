@@ -1,21 +1,19 @@
-//! Command-line front end. One file per subcommand; this file holds the clap
-//! tree, the dispatch and the few helpers they share.
+//! Command-line front end: the clap tree, the dispatch, and output. Each
+//! command parses its arguments, calls `extrinsic_audit::pipeline`, and renders
+//! the typed report it gets back with `extrinsic_audit::render`.
 //!
 //! Exit codes for every command: 0 ok, 1 the check found problems, 2 usage or
 //! input error (clap's own usage errors also exit 2).
 
-pub mod audit;
-pub mod calibrate_threshold;
-pub mod check;
-pub mod degeneracy;
-pub mod simulate;
-pub mod survey;
-pub mod tunnel;
+mod audit;
+mod check;
+mod detector;
+mod survey;
 
-use crate::diagnostic::{Error, Result, Warning};
 use clap::{Parser, Subcommand};
-use std::io::{IsTerminal, Write};
-use std::path::{Path, PathBuf};
+use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
+use extrinsic_audit::render::{self, OutputFormat, Report, Style};
+use std::io::Write;
 use std::process::ExitCode;
 
 const ABOUT: &str = "What your LiDAR extrinsic does to degeneracy detection";
@@ -66,13 +64,13 @@ pub enum Command {
     /// CI check of calibration files: validation, drift against a baseline
     Check(check::CheckArgs),
     // about/long_about come from the Args struct.
-    Tunnel(tunnel::TunnelArgs),
+    Tunnel(detector::TunnelArgs),
     // about/long_about come from the Args struct.
-    Simulate(simulate::SimulateArgs),
+    Simulate(detector::SimulateArgs),
     // about/long_about come from the Args struct.
-    Degeneracy(degeneracy::DegeneracyArgs),
+    Degeneracy(detector::DegeneracyArgs),
     // about/long_about come from the Args struct.
-    CalibrateThreshold(calibrate_threshold::CalibrateThresholdArgs),
+    CalibrateThreshold(detector::CalibrateThresholdArgs),
     /// Print shell completions (bash, zsh, fish, elvish, powershell)
     #[command(
         long_about = "Print a completion script for your shell to standard output.",
@@ -113,10 +111,10 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
     match cli.command {
         Some(Command::Survey(args)) => survey::run(&args, out),
         Some(Command::Check(args)) => check::run(&args, out),
-        Some(Command::Tunnel(args)) => tunnel::run(&args, out),
-        Some(Command::Simulate(args)) => simulate::run(&args, out),
-        Some(Command::Degeneracy(args)) => degeneracy::run(&args, out),
-        Some(Command::CalibrateThreshold(args)) => calibrate_threshold::run(&args, out),
+        Some(Command::Tunnel(args)) => detector::tunnel(&args, out),
+        Some(Command::Simulate(args)) => detector::simulate(&args, out),
+        Some(Command::Degeneracy(args)) => detector::degeneracy(&args, out),
+        Some(Command::CalibrateThreshold(args)) => detector::calibrate_threshold(&args, out),
         Some(Command::Completions { shell }) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();
             clap_complete::generate(shell, &mut cmd, "audit", out);
@@ -126,50 +124,16 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
     }
 }
 
-/// Terminal styling: colour only on a terminal and never when `NO_COLOR` is set.
-#[derive(Debug, Clone, Copy)]
-pub struct Style {
-    pub color: bool,
-}
-
-impl Style {
-    fn detect(is_tty: bool) -> Self {
-        let no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
-        Style {
-            color: is_tty && !no_color,
-        }
-    }
-    pub fn stdout() -> Self {
-        Self::detect(std::io::stdout().is_terminal())
-    }
-    pub fn stderr() -> Self {
-        Self::detect(std::io::stderr().is_terminal())
-    }
-    pub fn plain() -> Self {
-        Style { color: false }
-    }
-    fn paint(&self, code: &str, s: &str) -> String {
-        if self.color {
-            format!("\x1b[{code}m{s}\x1b[0m")
-        } else {
-            s.to_string()
-        }
-    }
-    pub fn bold(&self, s: &str) -> String {
-        self.paint("1", s)
-    }
-    pub fn good(&self, s: &str) -> String {
-        self.paint("1;32", s)
-    }
-    pub fn bad(&self, s: &str) -> String {
-        self.paint("1;33", s)
-    }
-    pub fn error(&self, s: &str) -> String {
-        self.paint("1;31", s)
-    }
-    pub fn dim(&self, s: &str) -> String {
-        self.paint("2", s)
-    }
+/// Render `report` in `format` to `out` (colour for tables on a terminal).
+pub fn emit<R: Report>(report: &R, format: OutputFormat, out: &mut dyn Write) -> Result<()> {
+    let style = if format == OutputFormat::Table {
+        Style::stdout()
+    } else {
+        Style::plain()
+    };
+    let text = render::render(report, format, style)?;
+    out.write_all(text.as_bytes())
+        .map_err(|e| Error::new(Code::Io, format!("cannot write output: {e}")))
 }
 
 /// Print warnings to stderr, one per line, with their names.
@@ -225,81 +189,4 @@ pub fn parse_nonneg(s: &str) -> std::result::Result<f64, String> {
         ));
     }
     Ok(v)
-}
-
-/// Expand directories (one level deep and below, sorted) into the files the tool
-/// reads; plain files are taken as given.
-pub fn expand_paths(paths: &[PathBuf], accept: fn(&Path) -> bool) -> Result<Vec<PathBuf>> {
-    let mut out = Vec::new();
-    for p in paths {
-        let meta = std::fs::metadata(p).map_err(|e| Error::io(p, &e))?;
-        if meta.is_dir() {
-            let mut found = Vec::new();
-            walk(p, accept, &mut found, 0)?;
-            found.sort();
-            out.extend(found);
-        } else {
-            out.push(p.clone());
-        }
-    }
-    Ok(out)
-}
-
-fn walk(dir: &Path, accept: fn(&Path) -> bool, out: &mut Vec<PathBuf>, depth: usize) -> Result<()> {
-    // Depth cap: a calibration tree is shallow; a symlink loop must not hang us.
-    if depth > 16 {
-        return Ok(());
-    }
-    let rd = std::fs::read_dir(dir).map_err(|e| Error::io(dir, &e))?;
-    for entry in rd {
-        let entry = entry.map_err(|e| Error::io(dir, &e))?;
-        let path = entry.path();
-        let ft = entry.file_type().map_err(|e| Error::io(&path, &e))?;
-        if ft.is_dir() {
-            walk(&path, accept, out, depth + 1)?;
-        } else if accept(&path) {
-            out.push(path);
-        }
-    }
-    Ok(())
-}
-
-/// Write a file atomically: a temporary file `.NAME.tmp.PID` in the same
-/// directory, written, flushed and synced, then renamed over the target, and the
-/// directory synced so the rename itself is durable. An interrupted run leaves
-/// the old file complete; a failed write removes the temporary and leaves the
-/// old file. A process killed mid-write may leave its own temporary (nothing
-/// runs after SIGKILL); a later run with the same pid overwrites it.
-/// A symlink at `path` is replaced by the file, not followed.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
-    let tmp = dir.join(format!(".{name}.tmp.{}", std::process::id()));
-    let res = (|| -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)?;
-        Ok(())
-    })();
-    if let Err(e) = res {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(Error::new(
-            crate::diagnostic::ErrorKind::Io,
-            format!("cannot write: {e}"),
-        )
-        .in_file(path));
-    }
-    // Best effort: some file systems cannot sync a directory.
-    if let Ok(d) = std::fs::File::open(&dir) {
-        let _ = d.sync_all();
-    }
-    Ok(())
 }

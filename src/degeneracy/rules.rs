@@ -44,18 +44,22 @@ impl MetricRule {
     /// Short label for tables, e.g. `I6`, `l=2.85`, `point displacement`.
     pub fn label(&self) -> String {
         match self {
-            MetricRule::Unnormalized => "I6".into(),
             MetricRule::CharacteristicLength(l) => format!("l={l}"),
-            MetricRule::BlockScaling => "block scaling".into(),
-            MetricRule::Jacobi => "Jacobi".into(),
-            MetricRule::AdaptedConstant(_) => "adapted constant".into(),
-            MetricRule::PointDisplacement => "point displacement".into(),
+            _ => self.family().spec().short_label.to_string(),
         }
     }
 
-    /// Whether the rule is equivariant (only point displacement).
+    /// Whether the rule is equivariant (the family table says).
     pub fn equivariant(&self) -> bool {
-        matches!(self, MetricRule::PointDisplacement)
+        self.family().is_equivariant_rule()
+    }
+
+    /// The fixed characteristic length (m) of a characteristic-length rule.
+    pub fn fixed_ell(&self) -> Option<f64> {
+        match self {
+            MetricRule::CharacteristicLength(l) => Some(*l),
+            _ => None,
+        }
     }
 
     /// `l` used (fixed, or from `H` for block scaling).

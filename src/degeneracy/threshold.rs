@@ -290,23 +290,5 @@ pub fn calibrate(c: &Calibration) -> Result<Vec<FamilyResult>> {
 /// on other data they are only as good as the synthetic corridors resemble it,
 /// which is the paper's point.
 pub fn default_threshold(rule: &MetricRule, tau: f64) -> f64 {
-    match rule {
-        MetricRule::PointDisplacement => tau,
-        MetricRule::Unnormalized | MetricRule::AdaptedConstant(_) => CALIBRATED[0],
-        MetricRule::CharacteristicLength(l) => {
-            match CALIBRATED_ELLS.iter().position(|x| (x - l).abs() < 1e-12) {
-                Some(i) => CALIBRATED[1 + i],
-                None => tau,
-            }
-        }
-        MetricRule::BlockScaling => CALIBRATED[5],
-        MetricRule::Jacobi => CALIBRATED[6],
-    }
+    rule.family().calibrated_threshold(rule.fixed_ell(), tau)
 }
-
-/// The characteristic lengths (m) with a calibrated threshold.
-pub const CALIBRATED_ELLS: [f64; 4] = [0.25, 1.0, 2.85, 10.0];
-
-/// Calibrated thresholds: I6, `l` = 0.25, 1, 2.85, 10, block scaling, Jacobi
-/// (see [`default_threshold`]).
-pub const CALIBRATED: [f64; 7] = [114.62, 464.42, 114.62, 96.55, 17.13, 81.14, 0.8619];

@@ -582,7 +582,8 @@ fn checked_rotation(m: &Matrix3<f64>, warnings: &mut Vec<Warning>) -> Result<Mat
 }
 
 /// Kind of rigid motion (Chasles).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum ScrewKind {
     Identity,
     PureTranslation,

@@ -89,7 +89,7 @@ fn quaternion_orders_agree_and_round_trip() {
 fn quaternion_norm_zero_is_an_error() {
     let mut w = Vec::new();
     let e = Transform::from_quaternion([0.0; 4], QuatOrder::Xyzw, [0.0; 3], &mut w).unwrap_err();
-    assert_eq!(e.kind, ErrorKind::Invalid);
+    assert_eq!(e.code, ErrorKind::Invalid);
     assert!(e.message.contains("norm"), "{}", e.message);
     let e = Transform::from_quaternion([1e-300, 0.0, 0.0, 0.0], QuatOrder::Wxyz, [0.0; 3], &mut w)
         .unwrap_err();
@@ -129,7 +129,7 @@ fn quaternion_norm_1e300_is_normalised_with_a_warning() {
     assert!((t.rotation() - rz(FRAC_PI_2)).norm() < 1e-15);
     // Beyond f64 range the norm is infinite: an error, not a panic.
     let e = Transform::from_quaternion([1e308; 4], QuatOrder::Xyzw, [0.0; 3], &mut w).unwrap_err();
-    assert_eq!(e.kind, ErrorKind::Invalid);
+    assert_eq!(e.code, ErrorKind::Invalid);
 }
 
 #[test]
@@ -141,7 +141,7 @@ fn det_minus_one_is_an_error_that_says_det() {
         &mut w,
     )
     .unwrap_err();
-    assert_eq!(e.kind, ErrorKind::Invalid);
+    assert_eq!(e.code, ErrorKind::Invalid);
     assert!(e.message.contains("det"), "{}", e.message);
     assert!(e.message.contains("-1"), "{}", e.message);
 }
@@ -511,7 +511,7 @@ fn pitch_tolerance_is_configurable_and_h_is_reported() {
     // Built on the axis of the nearly-zero-pitch rig, M0 is invariant only up to h.
     assert!(loose.adapted_metric.invariance_residual.unwrap() < 1e-6);
     for bad in [-1.0, f64::NAN, f64::INFINITY] {
-        assert_eq!(analyze(&t, &[1.0], bad).unwrap_err().kind, ErrorKind::Usage);
+        assert_eq!(analyze(&t, &[1.0], bad).unwrap_err().code, ErrorKind::Usage);
     }
 }
 
@@ -583,7 +583,7 @@ fn certificate_edges_and_errors() {
     // Errors: kappa <= 0 or non-finite, lambda non-finite, delta_eff invalid.
     for bad_k in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         assert_eq!(
-            certifies_no_crossing(0.1, bad_k, de).unwrap_err().kind,
+            certifies_no_crossing(0.1, bad_k, de).unwrap_err().code,
             ErrorKind::Usage
         );
     }
@@ -608,7 +608,7 @@ fn characteristic_lengths() {
     assert!(certificates(0.5, &[]).unwrap().is_empty());
     assert!(certificates(0.5, &[1.0; MAX_ELLS]).is_ok());
     assert_eq!(
-        certificates(0.5, &[1.0; MAX_ELLS + 1]).unwrap_err().kind,
+        certificates(0.5, &[1.0; MAX_ELLS + 1]).unwrap_err().code,
         ErrorKind::Usage
     );
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {

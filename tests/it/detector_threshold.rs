@@ -1,8 +1,7 @@
 //! calibrate-threshold on a reduced configuration (the full sweep takes about
 //! 30 s in release; its numbers are in BENCHMARKS.md).
 
-use extrinsic_audit::cli::calibrate_threshold::{run, CalibrateThresholdArgs};
-use extrinsic_audit::cli::degeneracy::OutputFormat;
+use crate::common::run_cli;
 use extrinsic_audit::degeneracy::threshold::*;
 use extrinsic_audit::degeneracy::MetricRule;
 
@@ -66,7 +65,7 @@ fn point_displacement_interval_contains_1e2_and_calibrated_values_fit() {
     );
     assert_eq!(
         default_threshold(&MetricRule::CharacteristicLength(2.85), 0.01),
-        CALIBRATED[3]
+        96.55
     );
     assert_eq!(
         default_threshold(&MetricRule::CharacteristicLength(3.0), 0.01),
@@ -80,25 +79,32 @@ fn count_interval_and_command() {
     assert_eq!(count_interval(&ev, 2), Interval { lo: 2e-3, hi: 0.3 });
     assert!(count_interval(&ev, 0).contains(1e-5));
     assert!(!count_interval(&ev, 0).contains(1e-3));
-    let args = CalibrateThresholdArgs {
-        seeds: 1,
-        noise: "0".into(),
-        voxel: "0.2".into(),
-        ell: "1".into(),
-        threads: 2,
-        format: OutputFormat::Json,
-    };
-    let mut out = Vec::new();
-    assert_eq!(run(&args, &mut out).unwrap(), 0);
-    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let a = [
+        "calibrate-threshold",
+        "--seeds",
+        "1",
+        "--noise",
+        "0",
+        "--voxel",
+        "0.2",
+        "--ell",
+        "1",
+        "--threads",
+        "2",
+        "--format",
+        "json",
+    ];
+    let (code, out, _) = run_cli(&a);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     let fams = v["families"].as_array().unwrap();
     assert_eq!(fams.len(), 5);
     assert_eq!(fams[4]["family"], "point_displacement");
     assert_eq!(fams[4]["configurations"][0]["scenes_reproduced"], 3);
-    let mut bad = args.clone();
-    bad.voxel = "0.001".into();
-    assert!(run(&bad, &mut Vec::new()).is_err());
-    bad = args;
-    bad.seeds = 0;
-    assert!(run(&bad, &mut Vec::new()).is_err());
+    let mut bad = a;
+    bad[6] = "0.001";
+    assert_eq!(run_cli(&bad).0, 2);
+    bad = a;
+    bad[2] = "0";
+    assert_eq!(run_cli(&bad).0, 2);
 }

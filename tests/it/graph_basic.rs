@@ -77,7 +77,7 @@ fn duplicate_edges() {
     let e = g
         .add_edge(edge("a", "b", tr(0.2, 0.0, 0.0), 4))
         .expect_err("conflict");
-    assert_eq!(e.kind, ErrorKind::Frame);
+    assert_eq!(e.code, ErrorKind::Frame);
     let m = e.to_string();
     assert!(m.contains("test.txt:1") && m.contains("test.txt:4"), "{m}");
     let e = g
@@ -262,7 +262,7 @@ fn invert_key_format_and_size_options() {
         },
     )
     .expect_err("cap");
-    assert_eq!(e.kind, ErrorKind::Limit);
+    assert_eq!(e.code, ErrorKind::Limit);
     // --input-format skips detection.
     let e = load_file(
         p,

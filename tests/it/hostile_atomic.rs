@@ -1,5 +1,5 @@
 //! Output safety (issue 7): `--write-baseline` (the one file the tool writes)
-//! goes through `cli::write_atomic`: a temporary file in the same directory,
+//! goes through `pipeline::write_atomic`: a temporary file in the same directory,
 //! written, fsynced, renamed over the target. An interrupted run leaves the old
 //! baseline, complete; a failed write leaves the old state and no temporary.
 //!
@@ -10,7 +10,7 @@
 //! temporary `.B.tmp.<pid>` (it never ran its clean-up): that one is allowed
 //! and removed; any other stray file fails the test.
 
-use extrinsic_audit::cli::write_atomic;
+use extrinsic_audit::pipeline::write_atomic;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

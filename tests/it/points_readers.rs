@@ -1,11 +1,10 @@
 //! Point-file readers and `audit degeneracy`.
 
-use extrinsic_audit::cli::degeneracy::{
-    degeneracy_json, frame_from_args, run, DegeneracyArgs, OutputFormat,
-};
+use crate::common::run_cli;
 use extrinsic_audit::degeneracy::points::*;
 use extrinsic_audit::degeneracy::scene::SceneRng;
 use extrinsic_audit::geometry::se3::Transform;
+use extrinsic_audit::pipeline::detector::degeneracy;
 use std::path::{Path, PathBuf};
 
 fn fixture(name: &str) -> PathBuf {
@@ -121,6 +120,16 @@ fn malformed_files_are_clear_errors() {
     }
 }
 
+fn degeneracy_json(
+    d: &PointData,
+    t: &Transform,
+    tau: f64,
+    ells: &[f64],
+) -> extrinsic_audit::diagnostic::Result<serde_json::Value> {
+    let r = degeneracy(d, t, tau, ells)?;
+    Ok(serde_json::to_value(&r).unwrap())
+}
+
 #[test]
 fn degeneracy_json_has_the_design_schema() {
     let d = read_points(&fixture("tunnel_small_le.ply")).unwrap();
@@ -189,7 +198,7 @@ fn degeneracy_json_has_the_design_schema() {
         serde_json::json!([false, false, true, false, false, true])
     );
     // Shifted one metre: footprint gains trans-y; axis point at x = -1.
-    let t = frame_from_args(Some("1,0,0"), None).unwrap();
+    let t = Transform::from_translation([1.0, 0.0, 0.0]).unwrap();
     let v = degeneracy_json(&d, &t, 1e-2, &ells).unwrap();
     assert_eq!(
         v["footprint"],
@@ -225,37 +234,34 @@ fn degeneracy_json_has_the_design_schema() {
 
 #[test]
 fn degeneracy_command_runs_and_reports_errors() {
-    let args = DegeneracyArgs {
-        points: fixture("tunnel_small_bin.pcd"),
-        tau: 1e-2,
-        shift: Some("1,0,0".into()),
-        rotate_rpy: Some("0,0,0.3".into()),
-        ell: "0.25,1,2.85,10".into(),
-        format: OutputFormat::Table,
-    };
-    let mut out = Vec::new();
-    assert_eq!(run(&args, &mut out).unwrap(), 0);
-    let s = String::from_utf8(out).unwrap();
+    let pcd = fixture("tunnel_small_bin.pcd");
+    let pcd = pcd.to_str().unwrap();
+    let base = [
+        "degeneracy",
+        pcd,
+        "--shift",
+        "1,0,0",
+        "--rotate-rpy",
+        "0,0,0.3",
+    ];
+    let (code, s, _) = run_cli(&base);
+    assert_eq!(code, 0);
     assert!(s.contains("point_displacement"), "{s}");
     assert!(
         s.contains("zero_pitch") && s.contains("pure_translation"),
         "{s}"
     );
-    let mut a = args.clone();
-    a.format = OutputFormat::Json;
-    let mut out = Vec::new();
-    run(&a, &mut out).unwrap();
-    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let mut a = base.to_vec();
+    a.extend(["--format", "json"]);
+    let (code, out, _) = run_cli(&a);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["families"][7]["degenerate_count"], 2);
-    let mut a = args.clone();
-    a.points = fixture("collinear.csv");
-    let e = run(&a, &mut Vec::new()).unwrap_err();
-    assert!(e.message.contains("points are collinear"), "{e}");
-    assert!(e.to_string().contains("collinear.csv"));
-    let mut a = args.clone();
-    a.shift = Some("1,2".into());
-    assert!(run(&a, &mut Vec::new()).is_err());
-    let mut a = args;
-    a.tau = -1.0;
-    assert!(run(&a, &mut Vec::new()).is_err());
+    let col = fixture("collinear.csv");
+    let (code, _, err) = run_cli(&["degeneracy", col.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("points are collinear"), "{err}");
+    assert!(err.contains("collinear.csv"), "{err}");
+    assert_eq!(run_cli(&["degeneracy", pcd, "--shift", "1,2"]).0, 2);
+    assert_eq!(run_cli(&["degeneracy", pcd, "--tau=-1"]).0, 2);
 }

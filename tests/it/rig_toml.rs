@@ -94,7 +94,7 @@ fn missing_rotation() {
         line_of(&text, "[[transform]]"),
         &["expected exactly one rotation form", "found none"],
     );
-    assert_eq!(e.kind, ErrorKind::Parse);
+    assert_eq!(e.code, ErrorKind::Parse);
 }
 
 #[test]
@@ -125,7 +125,7 @@ fn nan_and_infinity() {
         line_of(&text, "[[transform]]"),
         &["translation", "expected finite numbers, found NaN"],
     );
-    assert_eq!(e.kind, ErrorKind::Invalid);
+    assert_eq!(e.code, ErrorKind::Invalid);
     let text = with_transform(&GOOD.replace("[0, 1, 0], [0, 0, 1]]", "[0, 1, 0], [0, 0, inf]]"));
     err(
         &text,
@@ -214,7 +214,7 @@ fn bad_matrices() {
 fn syntax_errors_carry_a_line() {
     let text = format!("{HEADER}\n[[transform]]\nparent = \"imu\nchild = 1\n");
     let e = run(&text).expect_err("error");
-    assert_eq!(e.kind, ErrorKind::Parse);
+    assert_eq!(e.code, ErrorKind::Parse);
     assert!(e.location.line.is_some(), "{e}");
     assert!(e.to_string().starts_with("calibrations/bad-rig.toml:"));
     let e = run("this is not toml").expect_err("error");

@@ -1,28 +1,39 @@
 //! `audit simulate` on a transform given directly (the file-loading glue is
 //! another module's; see `load_transform`).
 
-use extrinsic_audit::cli::degeneracy::OutputFormat;
-use extrinsic_audit::cli::simulate::{run, simulate, SimulateArgs};
-use extrinsic_audit::degeneracy::MetricRule;
+use crate::common::run_cli;
+use extrinsic_audit::analysis::Family;
+use extrinsic_audit::degeneracy::scene::SceneKind;
 use extrinsic_audit::geometry::se3::Transform;
+use extrinsic_audit::pipeline::detector::{simulate, SimulateParams};
 
-fn args(scene: &str) -> SimulateArgs {
-    SimulateArgs {
-        files: vec![],
-        from: None,
-        to: None,
-        shift: Some("0.3,-0.2,0.4".into()),
-        rotate_rpy: Some("0.1,-0.2,0.3".into()),
-        scene: scene.into(),
+fn args(scene: &str) -> SimulateParams {
+    SimulateParams {
+        scene: SceneKind::parse(scene).unwrap(),
         noise: 0.01,
         seed: 1,
         voxel: 0.1,
         exact_normals: false,
         tau: 1e-2,
-        ell: "0.25,1,2.85,10".into(),
-        update: "0.01,-0.02,0.015,0.05,0.03,-0.04".into(),
-        format: OutputFormat::Table,
+        ells: vec![0.25, 1.0, 2.85, 10.0],
+        update: nalgebra::Vector6::new(0.01, -0.02, 0.015, 0.05, 0.03, -0.04),
     }
+}
+
+const CLI: [&str; 6] = [
+    "--shift",
+    "0.3,-0.2,0.4",
+    "--rotate-rpy",
+    "0.1,-0.2,0.3",
+    "--noise",
+    "0.01",
+];
+
+fn cli(scene: &str, extra: &[&str]) -> (i32, String, String) {
+    let mut a = vec!["simulate", "--scene", scene, "--seed", "1"];
+    a.extend(CLI);
+    a.extend(extra);
+    run_cli(&a)
 }
 
 #[test]
@@ -30,10 +41,10 @@ fn simulate_tunnel_point_displacement_is_frame_independent() {
     let a = args("tunnel");
     let t = Transform::from_rpy([0.1, -0.2, 0.3], [0.3, -0.2, 0.4]).unwrap();
     let s = simulate(&a, &t).unwrap();
-    assert_eq!(s.rows.len(), 8);
-    let pd = s.rows.last().unwrap();
-    assert_eq!(pd.rule, MetricRule::PointDisplacement);
-    assert_eq!(pd.counts, [2, 2]);
+    assert_eq!(s.families.len(), 8);
+    let pd = s.families.last().unwrap();
+    assert_eq!(pd.family, Family::PointDisplacement);
+    assert_eq!([pd.degenerate_count.from, pd.degenerate_count.to], [2, 2]);
     assert!(!pd.decision_changes);
     assert!(
         pd.max_eigenvalue_rel_change < 1e-9,
@@ -42,33 +53,35 @@ fn simulate_tunnel_point_displacement_is_frame_independent() {
     );
     assert!(pd.subspace_angle_deg.unwrap() < 1e-6);
     assert!(
-        pd.delta_trans_m < 1e-12 && pd.delta_rot_rad < 1e-12,
+        pd.correction_difference.translation_m < 1e-12
+            && pd.correction_difference.rotation_rad < 1e-12,
         "{:e}",
-        pd.delta_trans_m
+        pd.correction_difference.translation_m
     );
     // The footprint changes even under the equivariant metric.
-    assert_ne!(pd.footprints[0], pd.footprints[1]);
+    assert_ne!(pd.footprint.from, pd.footprint.to);
     // I6: eigenvalues move, the correction differs.
-    let i6 = &s.rows[0];
-    assert_eq!(i6.rule, MetricRule::Unnormalized);
+    let i6 = &s.families[0];
+    assert_eq!(i6.family, Family::Unnormalized);
     assert!(i6.max_eigenvalue_rel_change > 1e-3);
-    assert!(i6.delta_trans_m > 1e-6, "{:e}", i6.delta_trans_m);
+    assert!(
+        i6.correction_difference.translation_m > 1e-6,
+        "{:e}",
+        i6.correction_difference.translation_m
+    );
 }
 
 #[test]
 fn simulate_command_output() {
     for scene in ["tunnel", "corridor", "corner"] {
-        let mut out = Vec::new();
-        assert_eq!(run(&args(scene), &mut out).unwrap(), 0);
-        let s = String::from_utf8(out).unwrap();
+        let (code, s, _) = cli(scene, &[]);
+        assert_eq!(code, 0);
         println!("{s}");
         assert!(s.contains("point displacement"));
     }
-    let mut a = args("corridor");
-    a.format = OutputFormat::Json;
-    let mut out = Vec::new();
-    run(&a, &mut out).unwrap();
-    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let (code, out, _) = cli("corridor", &["--format", "json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     let pd = &v["families"][7];
     assert_eq!(pd["family"], "point_displacement");
     assert_eq!(pd["degenerate_count"]["from"], 1);
@@ -80,15 +93,9 @@ fn simulate_command_output() {
             .unwrap()
             < 1e-12
     );
-    let mut a = args("moon");
-    assert!(run(&a, &mut Vec::new()).is_err());
-    a = args("tunnel");
-    a.shift = None;
-    a.rotate_rpy = None;
-    assert!(run(&a, &mut Vec::new()).is_err());
-    a = args("tunnel");
-    a.update = "1,2,3".into();
-    assert!(run(&a, &mut Vec::new()).is_err());
+    assert_eq!(cli("moon", &[]).0, 2);
+    assert_eq!(run_cli(&["simulate", "--scene", "tunnel"]).0, 2);
+    assert_eq!(cli("tunnel", &["--update", "1,2,3"]).0, 2);
 }
 
 #[test]
@@ -101,14 +108,14 @@ fn simulate_zero_pitch_rig_adds_the_adapted_metric() {
     a.exact_normals = true;
     let s = simulate(&a, &t).unwrap();
     let ad = s
-        .rows
+        .families
         .iter()
-        .find(|r| matches!(r.rule, MetricRule::AdaptedConstant(_)))
+        .find(|r| r.family == Family::AdaptedConstant)
         .unwrap();
     assert!(
         ad.max_eigenvalue_rel_change < 1e-9,
         "{:e}",
         ad.max_eigenvalue_rel_change
     );
-    assert_eq!(s.rows.len(), 9);
+    assert_eq!(s.families.len(), 9);
 }

@@ -1,24 +1,23 @@
 //! Synthetic scenes and `audit tunnel`.
 
-use extrinsic_audit::cli::degeneracy::OutputFormat;
-use extrinsic_audit::cli::tunnel::{run, tunnel_example, TunnelArgs};
+use crate::common::run_cli;
 use extrinsic_audit::degeneracy::scene::*;
 use extrinsic_audit::degeneracy::{analyse, Assembly, MetricRule};
+use extrinsic_audit::pipeline::detector::{tunnel, TunnelParams};
 use extrinsic_audit::tolerances::DEFAULT_TAU;
 
-fn args() -> TunnelArgs {
-    TunnelArgs {
+fn args() -> TunnelParams {
+    TunnelParams {
         radius: TUNNEL_RADIUS,
         length: 20.0,
         ring_spacing: 0.1,
         points_per_ring: 360,
-        shift: "1,0,0".into(),
+        shift: [1.0, 0.0, 0.0],
         tau: DEFAULT_TAU,
-        format: OutputFormat::Table,
     }
 }
 
-fn rounded(v: &nalgebra::Vector6<f64>) -> [f64; 6] {
+fn rounded(v: &[f64; 6]) -> [f64; 6] {
     let mut r = [0.0; 6];
     for k in 0..6 {
         r[k] = (v[k] * 1e6).round() / 1e6 + 0.0; // +0.0 turns -0 into 0
@@ -28,7 +27,7 @@ fn rounded(v: &nalgebra::Vector6<f64>) -> [f64; 6] {
 
 #[test]
 fn tunnel_example_exactly_as_in_the_paper() {
-    let r = tunnel_example(&args()).unwrap();
+    let r = tunnel(&args()).unwrap();
     // Nullity 2 in both frames.
     assert_eq!(r.on_axis.nullity, 2);
     assert_eq!(r.shifted.nullity, 2);
@@ -43,7 +42,7 @@ fn tunnel_example_exactly_as_in_the_paper() {
         rounded(&r.shifted.rotational_twists[0]),
         [0.0, 0.0, 1.0, 0.0, 1.0, 0.0]
     );
-    assert!((r.tuple_angle_deg.unwrap() - 45.0).abs() < 1e-6);
+    assert!((r.rotational_tuple_angle_deg.unwrap() - 45.0).abs() < 1e-6);
     // Subspace footprints (DESIGN.md): rot-z + trans-z; rot-z + trans-y + trans-z.
     assert_eq!(
         r.on_axis.footprint,
@@ -63,14 +62,13 @@ fn tunnel_example_exactly_as_in_the_paper() {
     assert!(r.on_axis.eigenvalues[2] > 0.1);
     // Same physical subspace after transport, and congruence = reassembly.
     assert!(r.transported_subspace_angle_deg.unwrap() < 1e-6);
-    assert!(r.congruence_rel_diff_h < 1e-12 && r.congruence_rel_diff_m < 1e-12);
+    assert!(r.congruence_rel_diff.h < 1e-12 && r.congruence_rel_diff.m < 1e-12);
 }
 
 #[test]
 fn tunnel_command_prints_the_numbers() {
-    let mut out = Vec::new();
-    assert_eq!(run(&args(), &mut out).unwrap(), 0);
-    let s = String::from_utf8(out).unwrap();
+    let (code, s, _) = run_cli(&["tunnel"]);
+    assert_eq!(code, 0);
     assert!(s.contains("rot-z + trans-z"), "{s}");
     assert!(s.contains("rot-z + trans-y + trans-z"), "{s}");
     assert!(s.contains("[0.000 0.000 1.000 0.000 1.000 0.000]"), "{s}");
@@ -78,11 +76,9 @@ fn tunnel_command_prints_the_numbers() {
         s.contains("angle between the two twist tuples: 45.00 deg"),
         "{s}"
     );
-    let mut a = args();
-    a.format = OutputFormat::Json;
-    let mut out = Vec::new();
-    run(&a, &mut out).unwrap();
-    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let (code, out, _) = run_cli(&["tunnel", "--format", "json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["on_axis"]["nullity"], 2);
     assert_eq!(
         v["shifted"]["footprint"],
@@ -98,12 +94,11 @@ fn tunnel_command_prints_the_numbers() {
         assert!((x - y).abs() < 1e-12, "{tw:?}");
     }
     // Bad input is an error, not a panic.
+    assert_eq!(run_cli(&["tunnel", "--shift", "1,0"]).0, 2);
+    assert_eq!(run_cli(&["tunnel", "--radius=-1"]).0, 2);
     let mut a = args();
-    a.shift = "1,0".into();
-    assert!(run(&a, &mut Vec::new()).is_err());
-    a = args();
     a.radius = -1.0;
-    assert!(run(&a, &mut Vec::new()).is_err());
+    assert!(tunnel(&a).is_err());
 }
 
 fn pd_count(c: &Cloud) -> (usize, [f64; 6]) {

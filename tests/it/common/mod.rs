@@ -11,3 +11,13 @@ pub fn audit() -> assert_cmd::Command {
     c.env("NO_COLOR", "1");
     c
 }
+
+/// Run `audit ARGS`: (exit code, stdout, stderr).
+pub fn run_cli(args: &[&str]) -> (i32, String, String) {
+    let out = audit().args(args).output().expect("run");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}

@@ -1,0 +1,323 @@
+//! The detector commands' computations: every family on the user's points, the
+//! paper's circular tunnel, a synthetic scene seen from both frames of a rig,
+//! and the threshold calibration. Each returns its typed report.
+
+use crate::analysis::metric::adapted_metric_matrix;
+use crate::analysis::Family;
+use crate::degeneracy::points::PointData;
+use crate::degeneracy::scene::{synthesize, tunnel_exact, Preprocess, SceneKind};
+use crate::degeneracy::threshold::default_threshold;
+use crate::degeneracy::threshold::{calibrate, Calibration};
+use crate::degeneracy::{
+    analyse, canonical_basis, check_transport, correction_difference, reexpress, rel_diff,
+    Analysis, Assembly, MetricRule,
+};
+use crate::diagnostic::{Error, Result};
+use crate::geometry::Transform;
+use crate::report::detector::{
+    CorrectionJson, DegeneracyReport, FamilyComparison, FamilyEigen, FrameJson, FromTo, HmJson,
+    SimulateReport, SubspaceJson, ThresholdReport, TunnelFrameJson, TunnelReport,
+};
+use crate::tolerances::DEFAULT_PITCH_TOL;
+use nalgebra::{DMatrix, Vector6};
+
+fn check_tau(tau: f64) -> Result<()> {
+    if tau.is_finite() && tau > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::usage(format!(
+            "--tau: expected a positive number, found {tau}"
+        )))
+    }
+}
+
+fn frame_json(t: &Transform) -> FrameJson {
+    let d = t.translation();
+    FrameJson {
+        translation_m: [d.x, d.y, d.z],
+        rpy_rad: t.rpy(),
+    }
+}
+
+/// Every family on points with normals, re-expressed in `frame`.
+pub fn degeneracy(
+    data: &PointData,
+    frame: &Transform,
+    tau: f64,
+    ells: &[f64],
+) -> Result<DegeneracyReport> {
+    check_tau(tau)?;
+    let (p, n) = reexpress(&data.points, &data.normals, frame);
+    let asm = Assembly::from_points(&p, &n, data.weights.as_deref())?;
+    // Point displacement first: its error (collinear points) is the one to report.
+    let pd = analyse(&asm, &MetricRule::PointDisplacement, tau)?;
+    let mut families = Vec::new();
+    for rule in MetricRule::default_set(ells, None) {
+        let threshold = default_threshold(&rule, tau);
+        let an: Result<Analysis> = if rule == MetricRule::PointDisplacement {
+            Ok(pd.clone())
+        } else {
+            analyse(&asm, &rule, threshold)
+        };
+        families.push(match an {
+            Ok(a) => FamilyEigen {
+                family: rule.family(),
+                ell_m: rule.ell(&asm),
+                eigenvalues: Some(a.eig.values),
+                threshold: a.tau,
+                degenerate_count: Some(a.degenerate_count),
+                error: None,
+                label: rule.label(),
+            },
+            Err(e) => FamilyEigen {
+                family: rule.family(),
+                ell_m: rule.ell(&asm).filter(|x| x.is_finite()),
+                eigenvalues: None,
+                threshold,
+                degenerate_count: None,
+                error: Some(e.message),
+                label: rule.label(),
+            },
+        });
+    }
+    let degenerate_subspace = pd
+        .subspace_screws(&asm.h)
+        .iter()
+        .map(|(q, s)| SubspaceJson::new(*q, s))
+        .collect();
+    Ok(DegeneracyReport {
+        schema_version: crate::report::SCHEMA_VERSION,
+        points: data.points.len(),
+        frame: frame_json(frame),
+        families,
+        degenerate_subspace,
+        footprint: pd.footprint(),
+        warnings: DegeneracyReport::warning_lines(&data.warnings),
+    })
+}
+
+/// The tunnel's parameters.
+#[derive(Debug, Clone)]
+pub struct TunnelParams {
+    /// Radius (m).
+    pub radius: f64,
+    /// Length along z (m), centred on the origin.
+    pub length: f64,
+    /// Distance between rings (m).
+    pub ring_spacing: f64,
+    /// Points per ring.
+    pub points_per_ring: usize,
+    /// Origin of the second frame in the first (m).
+    pub shift: [f64; 3],
+    /// Threshold on the point-displacement eigenvalues.
+    pub tau: f64,
+}
+
+/// Whether some non-zero twist in the span has zero translational part: the
+/// translational block of an orthonormal basis is rank-deficient.
+pub fn contains_pure_rotation(vs: &[Vector6<f64>]) -> bool {
+    if vs.is_empty() {
+        return false;
+    }
+    let m = DMatrix::from_fn(6, vs.len(), |i, j| vs[j][i]);
+    let q = m.qr().q();
+    let t = q.rows(3, 3).into_owned();
+    let sv = t.svd(false, false).singular_values;
+    // A 3 x k block with k > 3 always has a null vector.
+    vs.len() > 3 || sv.iter().any(|&s| s <= 1e-6)
+}
+
+fn tunnel_frame(an: &Analysis, shift: [f64; 3]) -> (TunnelFrameJson, Vec<Vector6<f64>>) {
+    let basis = canonical_basis(&an.degenerate_vectors());
+    let rot: Vec<Vector6<f64>> = basis
+        .iter()
+        .filter(|v| v.fixed_rows::<3>(0).norm() > 0.0)
+        .copied()
+        .collect();
+    // Rounding noise (|x| < 1e-12) printed as 0.
+    let clean =
+        |v: &Vector6<f64>| std::array::from_fn(|i| if v[i].abs() < 1e-12 { 0.0 } else { v[i] });
+    let f = TunnelFrameJson {
+        origin_m: shift,
+        eigenvalues: an.eig.values,
+        nullity: an.degenerate_count,
+        footprint: an.footprint(),
+        footprint_frame_dependent: true,
+        rotational_twists: rot.iter().map(clean).collect(),
+        contains_pure_rotation: contains_pure_rotation(&an.degenerate_vectors()),
+    };
+    (f, rot)
+}
+
+fn check_tunnel(p: &TunnelParams) -> Result<()> {
+    for (name, v) in [
+        ("radius", p.radius),
+        ("length", p.length),
+        ("ring spacing", p.ring_spacing),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::usage(format!(
+                "--{name}: expected a positive number of metres, found {v}"
+            )));
+        }
+    }
+    if p.points_per_ring < 3 || p.points_per_ring > 100_000 {
+        return Err(Error::usage(format!(
+            "--points-per-ring: expected 3 to 100000, found {}",
+            p.points_per_ring
+        )));
+    }
+    if p.length / p.ring_spacing * p.points_per_ring as f64 > 2e7 {
+        return Err(Error::limit(
+            "tunnel would have more than 2e7 points: increase --ring-spacing",
+        ));
+    }
+    Ok(())
+}
+
+/// The paper's circular tunnel, on the axis and shifted.
+pub fn tunnel(p: &TunnelParams) -> Result<TunnelReport> {
+    check_tunnel(p)?;
+    let cloud = tunnel_exact(p.radius, p.length, p.ring_spacing, p.points_per_ring);
+    let asm = Assembly::from_points(&cloud.points, &cloud.normals, None)?;
+    let t = Transform::from_translation(p.shift)?;
+    let (p2, n2) = reexpress(&cloud.points, &cloud.normals, &t);
+    let asm2 = Assembly::from_points(&p2, &n2, None)?;
+    let a = t.adjoint();
+    let cong = asm.congruence(&a);
+    let an1 = analyse(&asm, &MetricRule::PointDisplacement, p.tau)?;
+    let an2 = analyse(&asm2, &MetricRule::PointDisplacement, p.tau)?;
+    let (f1, r1) = tunnel_frame(&an1, [0.0; 3]);
+    let (f2, r2) = tunnel_frame(&an2, p.shift);
+    let eigenvalue_max_abs_diff = (0..6)
+        .map(|k| (f1.eigenvalues[k] - f2.eigenvalues[k]).abs())
+        .fold(0.0, f64::max);
+    let tuple_angle = match (r1.first(), r2.first()) {
+        (Some(x), Some(y)) => {
+            let c = (x.dot(y) / (x.norm() * y.norm())).clamp(-1.0, 1.0);
+            Some(c.acos().to_degrees())
+        }
+        _ => None,
+    };
+    let tc = check_transport(&an1, &an2, &a);
+    Ok(TunnelReport {
+        radius_m: p.radius,
+        points: cloud.len(),
+        tau: p.tau,
+        metric: Family::PointDisplacement,
+        on_axis: f1,
+        shifted: f2,
+        eigenvalue_max_abs_diff,
+        rotational_tuple_angle_deg: tuple_angle,
+        transported_subspace_angle_deg: tc.subspace_angle.map(f64::to_degrees),
+        congruence_rel_diff: HmJson {
+            h: rel_diff(&cong.h, &asm2.h),
+            m: rel_diff(&cong.m, &asm2.m),
+        },
+    })
+}
+
+/// A synthetic scene for `simulate`.
+#[derive(Debug, Clone)]
+pub struct SimulateParams {
+    /// The scene.
+    pub scene: SceneKind,
+    /// Range noise (m).
+    pub noise: f64,
+    /// Seed.
+    pub seed: u64,
+    /// Voxel size (m) of the preprocessing.
+    pub voxel: f64,
+    /// Exact normals, no preprocessing.
+    pub exact_normals: bool,
+    /// Point-displacement threshold.
+    pub tau: f64,
+    /// Characteristic lengths (m).
+    pub ells: Vec<f64>,
+    /// Update `xi` in frame A for the correction difference.
+    pub update: Vector6<f64>,
+}
+
+/// A scene built about frame A, seen from frame B (`t`: pose of B in A).
+pub fn simulate(p: &SimulateParams, t: &Transform) -> Result<SimulateReport> {
+    check_tau(p.tau)?;
+    let pre = if p.exact_normals {
+        Preprocess::exact(0.05, p.noise, p.seed)
+    } else {
+        if !(p.voxel.is_finite() && p.voxel >= 0.02) {
+            return Err(Error::usage(format!(
+                "--voxel: expected at least 0.02 m, found {}",
+                p.voxel
+            )));
+        }
+        Preprocess::pipeline(p.voxel, p.noise, p.seed)
+    };
+    let cloud = synthesize(p.scene, &pre)?;
+    let asm_a = Assembly::from_points(&cloud.points, &cloud.normals, None)?;
+    let (pb, nb) = reexpress(&cloud.points, &cloud.normals, t);
+    let asm_b = Assembly::from_points(&pb, &nb, None)?;
+    let (a, a_inv) = (t.adjoint(), t.adjoint_inverse());
+    let rules = MetricRule::default_set(&p.ells, adapted_metric_matrix(t, DEFAULT_PITCH_TOL));
+    let mut families = Vec::new();
+    for rule in rules {
+        let tau = default_threshold(&rule, p.tau);
+        let an_a = analyse(&asm_a, &rule, tau)?;
+        let an_b = analyse(&asm_b, &rule, tau)?;
+        let tc = check_transport(&an_a, &an_b, &a);
+        let delta = correction_difference(&an_a, &an_b, &a, &a_inv, &p.update);
+        let max_rel = (0..6)
+            .map(|k| {
+                (an_a.eig.values[k] - an_b.eig.values[k]).abs()
+                    / an_a.eig.values[k].abs().max(1e-12)
+            })
+            .fold(0.0, f64::max);
+        let footprint = FromTo {
+            from: an_a.footprint(),
+            to: an_b.footprint(),
+        };
+        families.push(FamilyComparison {
+            family: rule.family(),
+            ell_m: [rule.ell(&asm_a), rule.ell(&asm_b)],
+            threshold: tau,
+            eigenvalues: FromTo {
+                from: an_a.eig.values,
+                to: an_b.eig.values,
+            },
+            degenerate_count: FromTo {
+                from: an_a.degenerate_count,
+                to: an_b.degenerate_count,
+            },
+            decision_changes: an_a.degenerate() != an_b.degenerate(),
+            footprint_changes: footprint.from != footprint.to,
+            footprint,
+            subspace_angle_deg: tc.subspace_angle.map(f64::to_degrees),
+            correction_difference: CorrectionJson {
+                rotation_rad: delta.fixed_rows::<3>(0).norm(),
+                translation_m: delta.fixed_rows::<3>(3).norm(),
+            },
+            max_eigenvalue_rel_change: max_rel,
+            label: rule.label(),
+        });
+    }
+    Ok(SimulateReport {
+        scene: p.scene.name(),
+        points: cloud.len(),
+        noise_m: p.noise,
+        seed: p.seed,
+        tau: p.tau,
+        transform: frame_json(t),
+        families,
+        lever_arm_m: t.lever_arm(),
+    })
+}
+
+/// The threshold calibration over the synthetic corridors.
+pub fn calibrate_threshold(c: &Calibration) -> Result<ThresholdReport> {
+    let res = calibrate(c)?;
+    Ok(ThresholdReport::new(
+        &res,
+        &c.noise_levels,
+        &c.voxel_sizes,
+        c.seeds,
+    ))
+}

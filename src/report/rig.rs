@@ -1,0 +1,564 @@
+//! The rig report (`audit FILE... --from A --to B`): the analysis of one
+//! composed transform in the JSON schema `docs/schemas/rig-report.schema.json`
+//! (schema_version 1, other programs read it: keep field names and types), and
+//! its layout for people.
+
+#![allow(missing_docs)] // the JSON fields are documented in the schema
+
+use super::SCHEMA_VERSION;
+use crate::analysis::metric::{self, RigAnalysis};
+use crate::analysis::Family;
+use crate::diagnostic::Result;
+use crate::frames::Chain;
+use crate::geometry::{ScrewKind, Transform};
+use crate::render::numbers::{fixed, short, vec_str};
+use crate::render::{Block, Document, Report, Table};
+use crate::tolerances::{NEAR_HALF_TURN_RAD, SMALL_ROTATION_DEG};
+use serde::Serialize;
+
+/// `sources[]`: one per edge used, in chain order.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SourceJson {
+    pub file: String,
+    pub line: Option<usize>,
+    pub format: String,
+}
+
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct TransformJson {
+    pub translation_m: [f64; 3],
+    pub rotation_matrix: [[f64; 3]; 3],
+    pub quaternion_xyzw: [f64; 4],
+    pub rpy_rad: [f64; 3],
+}
+
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct RotationJson {
+    pub angle_rad: f64,
+    pub angle_deg: f64,
+    pub axis: Option<[f64; 3]>,
+}
+
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct ScrewJson {
+    pub kind: ScrewKind,
+    pub translation_along_axis_m: Option<f64>,
+    pub pitch_m_per_rad: Option<f64>,
+    pub axis_point_m: Option<[f64; 3]>,
+}
+
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct AdjointJson {
+    /// Six, descending.
+    pub singular_values: [f64; 6],
+    pub orthogonal: bool,
+    pub ata_minus_i_rel: f64,
+}
+
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct CertificateJson {
+    pub ell_m: f64,
+    pub delta_eff: f64,
+    pub band: [f64; 2],
+}
+
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct AdaptedMetricJson {
+    pub exists: bool,
+    pub reason: String,
+    pub matrix: Option<[[f64; 6]; 6]>,
+    pub invariance_residual: Option<f64>,
+    pub offdiag_norm: Option<f64>,
+    pub rel_diff_identity: Option<f64>,
+}
+
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct DetectorJson {
+    pub family: Family,
+    pub equivariant_rule: bool,
+    pub invariant_on_rig: bool,
+    pub reason: String,
+}
+
+/// `--kappa K --lambda L`: does the band certify that L cannot cross K?
+/// Present only when asked for.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct KappaCheckJson {
+    pub kappa: f64,
+    pub lambda: f64,
+    pub ratio: f64,
+    /// Per characteristic length, same order as `certificate`.
+    pub certified: Vec<bool>,
+}
+
+/// The rig report (`audit FILE... --from A --to B --format json`).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct RigReport {
+    pub schema_version: u32,
+    pub from: String,
+    pub to: String,
+    pub sources: Vec<SourceJson>,
+    pub transform: TransformJson,
+    pub lever_arm_m: f64,
+    pub rotation: RotationJson,
+    pub screw: ScrewJson,
+    pub adjoint: AdjointJson,
+    pub certificate: Vec<CertificateJson>,
+    pub adapted_metric: AdaptedMetricJson,
+    pub detectors: Vec<DetectorJson>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub kappa_check: Option<KappaCheckJson>,
+    /// The chain's edges for the text renderings (the JSON has `sources`).
+    #[serde(skip)]
+    pub chain: Vec<ChainRow>,
+}
+
+/// One edge of the chain as the report's table shows it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainRow {
+    /// `parent -> child`, in the direction walked.
+    pub edge: String,
+    /// Walked child -> parent.
+    pub inverted: bool,
+    /// `file:line:col`.
+    pub place: String,
+    /// Format id.
+    pub format: &'static str,
+    /// The key or element the numbers came from.
+    pub key: String,
+}
+
+fn arr3(v: &nalgebra::Vector3<f64>) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+pub fn transform_json(t: &Transform) -> TransformJson {
+    let r = t.rotation();
+    TransformJson {
+        translation_m: arr3(t.translation()),
+        rotation_matrix: [
+            [r[(0, 0)], r[(0, 1)], r[(0, 2)]],
+            [r[(1, 0)], r[(1, 1)], r[(1, 2)]],
+            [r[(2, 0)], r[(2, 1)], r[(2, 2)]],
+        ],
+        quaternion_xyzw: t.quaternion_xyzw(),
+        rpy_rad: t.rpy(),
+    }
+}
+
+pub fn sources_json(chain: &Chain) -> Vec<SourceJson> {
+    chain
+        .steps
+        .iter()
+        .map(|s| SourceJson {
+            file: s
+                .edge
+                .provenance
+                .location
+                .file
+                .as_ref()
+                .map(|p| p.display().to_string())
+                .unwrap_or_default(),
+            line: s.edge.provenance.location.line,
+            format: s.edge.provenance.format.to_string(),
+        })
+        .collect()
+}
+
+fn chain_rows(chain: &Chain) -> Vec<ChainRow> {
+    chain
+        .steps
+        .iter()
+        .map(|step| {
+            let e = &step.edge;
+            let (a, b) = if step.inverted {
+                (e.child.as_str(), e.parent.as_str())
+            } else {
+                (e.parent.as_str(), e.child.as_str())
+            };
+            ChainRow {
+                edge: format!("{a} -> {b}"),
+                inverted: step.inverted,
+                place: e.provenance.location.to_string(),
+                format: e.provenance.format,
+                key: e.provenance.key.clone(),
+            }
+        })
+        .collect()
+}
+
+/// Build the rig report from a composed chain: the analysis is
+/// [`metric::analyze`]; this only arranges it in the schema.
+pub fn rig_report(chain: &Chain, ells: &[f64], pitch_tol: f64) -> Result<RigReport> {
+    let an = metric::analyze(&chain.transform, ells, pitch_tol)?;
+    Ok(report_from_analysis(&an, chain))
+}
+
+pub fn report_from_analysis(an: &RigAnalysis, chain: &Chain) -> RigReport {
+    let s = &an.screw;
+    let am = &an.adapted_metric;
+    RigReport {
+        schema_version: SCHEMA_VERSION,
+        from: chain.from.clone(),
+        to: chain.to.clone(),
+        sources: sources_json(chain),
+        transform: transform_json(&an.transform),
+        lever_arm_m: an.lever_arm_m,
+        rotation: RotationJson {
+            angle_rad: an.angle_rad,
+            angle_deg: an.angle_rad.to_degrees(),
+            axis: an.axis.map(|e| arr3(&e)),
+        },
+        screw: ScrewJson {
+            kind: s.kind,
+            translation_along_axis_m: s.translation_along_axis,
+            pitch_m_per_rad: s.pitch,
+            axis_point_m: s.axis_point.map(|c| arr3(&c)),
+        },
+        adjoint: AdjointJson {
+            singular_values: an.adjoint.singular_values,
+            orthogonal: an.adjoint.orthogonal,
+            ata_minus_i_rel: an.adjoint.ata_minus_i_rel,
+        },
+        certificate: an
+            .certificate
+            .iter()
+            .map(|c| CertificateJson {
+                ell_m: c.ell_m,
+                delta_eff: c.delta_eff,
+                band: c.band,
+            })
+            .collect(),
+        adapted_metric: AdaptedMetricJson {
+            exists: am.exists,
+            reason: am.reason.text().to_string(),
+            matrix: am
+                .matrix
+                .map(|m| std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))),
+            invariance_residual: am.invariance_residual,
+            offdiag_norm: am.offdiag_norm,
+            rel_diff_identity: am.rel_diff_identity,
+        },
+        detectors: an
+            .detectors
+            .iter()
+            .map(|d| DetectorJson {
+                family: d.family,
+                equivariant_rule: d.equivariant_rule,
+                invariant_on_rig: d.invariant_on_rig,
+                reason: d.reason.text().to_string(),
+            })
+            .collect(),
+        kappa_check: None,
+        chain: chain_rows(chain),
+    }
+}
+
+/// Band check for `--kappa K --lambda L`: certified when `L/K` lies outside the
+/// band `[s_min^2, s_max^2]` of that characteristic length
+/// ([`crate::geometry::certificate::certifies_no_crossing`]).
+pub fn kappa_check(rep: &RigReport, kappa: f64, lambda: f64) -> Result<KappaCheckJson> {
+    let certified = rep
+        .certificate
+        .iter()
+        .map(|c| crate::geometry::certificate::certifies_no_crossing(lambda, kappa, c.delta_eff))
+        .collect::<Result<Vec<bool>>>()?;
+    Ok(KappaCheckJson {
+        kappa,
+        lambda,
+        ratio: lambda / kappa,
+        certified,
+    })
+}
+
+/// Whether `angle` (rad) is within [`NEAR_HALF_TURN_RAD`] of a half-turn: the
+/// sign of the axis, and of `h`, then follows the rounding of the numbers.
+pub fn near_half_turn(angle_rad: f64) -> bool {
+    (std::f64::consts::PI - angle_rad).abs() < NEAR_HALF_TURN_RAD
+}
+
+/// Whether a rotation (deg) is small enough that its screw axis is set by
+/// calibration noise ([`SMALL_ROTATION_DEG`]).
+pub fn small_rotation(angle_deg: f64) -> bool {
+    angle_deg > 0.0 && angle_deg < SMALL_ROTATION_DEG
+}
+
+impl RigReport {
+    /// The one-line verdict that opens the report.
+    pub fn verdict_line(&self) -> String {
+        let invariant: Vec<Family> = self
+            .detectors
+            .iter()
+            .filter(|d| d.invariant_on_rig)
+            .map(|d| d.family)
+            .collect();
+        let lever = format!("lever arm {} m", fixed(self.lever_arm_m, 3));
+        let screw = match self.screw.kind {
+            ScrewKind::Identity => "identity transform".to_string(),
+            ScrewKind::PureTranslation => "no rotation (pure translation)".to_string(),
+            ScrewKind::ZeroPitch | ScrewKind::General => {
+                let deg = self.rotation.angle_deg;
+                let caveat = if deg < SMALL_ROTATION_DEG {
+                    format!(
+                        " (rotation only {} deg: the screw axis is set by calibration noise)",
+                        fixed(deg, 3)
+                    )
+                } else if near_half_turn(self.rotation.angle_rad) {
+                    " (half-turn: the sign of h follows the rounding)".to_string()
+                } else {
+                    String::new()
+                };
+                format!(
+                    "screw translation {} m{caveat}",
+                    short(self.screw.translation_along_axis_m.unwrap_or(0.0))
+                )
+            }
+        };
+        let tail = if invariant.len() == self.detectors.len() && !invariant.is_empty() {
+            "every detector family is frame-invariant on this rig".to_string()
+        } else if invariant == [Family::PointDisplacement] {
+            if self.adapted_metric.exists {
+                "only the point-displacement metric is frame-invariant on this rig".to_string()
+            } else {
+                "no constant metric is frame-invariant on this rig; only the point-displacement metric is".to_string()
+            }
+        } else if invariant.is_empty() {
+            "no detector family is frame-invariant on this rig".to_string()
+        } else {
+            format!(
+                "frame-invariant on this rig: {}",
+                invariant
+                    .iter()
+                    .map(|f| f.label())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        };
+        format!("{lever}, {screw}: {tail}")
+    }
+
+    fn transform_section(&self, doc: &mut Document) {
+        doc.section(format!("Transform {} -> {}", self.from, self.to));
+        let tf = &self.transform;
+        let (angle_deg, axis) = (self.rotation.angle_deg, self.rotation.axis);
+        let mut rows = vec![vec![
+            "translation (m)".into(),
+            vec_str(&tf.translation_m, 9),
+        ]];
+        for (i, r) in tf.rotation_matrix.iter().enumerate() {
+            rows.push(vec![
+                format!("rotation matrix row {}", i + 1),
+                vec_str(r, 9),
+            ]);
+        }
+        rows.push(vec![
+            "quaternion [x, y, z, w]".into(),
+            vec_str(&tf.quaternion_xyzw, 9),
+        ]);
+        rows.push(vec![
+            "URDF rpy (rad)".into(),
+            format!(
+                "{}  = {} deg",
+                vec_str(&tf.rpy_rad, 9),
+                vec_str(&tf.rpy_rad.map(f64::to_degrees), 6)
+            ),
+        ]);
+        rows.push(vec![
+            "axis-angle".into(),
+            match axis {
+                Some(e) => format!("{} deg about {}", fixed(angle_deg, 6), vec_str(&e, 6)),
+                None => format!("{} deg (no axis)", fixed(angle_deg, 6)),
+            },
+        ]);
+        let (a, b) = (&self.from, &self.to);
+        doc.push(Block::Note {
+            text: format!("pose of {b} in {a}: p_{a} = R p_{b} + d"),
+            markdown: Some(format!("Pose of `{b}` in `{a}`: `p_{a} = R p_{b} + d`.")),
+        });
+        doc.table(Table::new(&["quantity", "value"], rows));
+    }
+
+    fn chain_section(&self, doc: &mut Document) {
+        doc.section("Chain of edges");
+        if self.chain.is_empty() {
+            doc.text("(from and to are the same frame)");
+            return;
+        }
+        let rows = self
+            .chain
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                vec![
+                    format!("{}", i + 1),
+                    format!("{}{}", c.edge, if c.inverted { " (inverted)" } else { "" }),
+                    c.place.clone(),
+                    c.format.to_string(),
+                    c.key.clone(),
+                ]
+            })
+            .collect();
+        doc.table(Table::new(
+            &["#", "edge", "file:line", "format", "from"],
+            rows,
+        ));
+    }
+
+    fn rig_section(&self, doc: &mut Document) {
+        doc.section("Rig");
+        let sc = &self.screw;
+        let mut rows = vec![
+            vec![
+                "lever arm ||d||".into(),
+                format!("{} m", fixed(self.lever_arm_m, 6)),
+            ],
+            vec![
+                "rotation angle".into(),
+                format!(
+                    "{} deg ({} rad)",
+                    fixed(self.rotation.angle_deg, 6),
+                    short(self.rotation.angle_rad)
+                ),
+            ],
+            vec!["screw kind".into(), sc.kind.name().replace('_', " ")],
+        ];
+        if let Some(h) = sc.translation_along_axis_m {
+            rows.push(vec![
+                "screw translation h = e.d".into(),
+                format!("{} m", short(h)),
+            ]);
+        }
+        if let Some(p) = sc.pitch_m_per_rad {
+            rows.push(vec![
+                "screw pitch h/phi".into(),
+                format!("{} m/rad", short(p)),
+            ]);
+        }
+        if let Some(c) = sc.axis_point_m {
+            rows.push(vec![
+                "screw axis point (closest to origin)".into(),
+                format!("{} m", vec_str(&c, 6)),
+            ]);
+        }
+        let sv = self.adjoint.singular_values;
+        rows.push(vec![
+            "Ad(T) singular values".into(),
+            format!("{} (x2), 1 (x2), {} (x2)", fixed(sv[0], 6), fixed(sv[5], 6)),
+        ]);
+        rows.push(vec![
+            "Ad(T) orthogonal".into(),
+            if self.adjoint.orthogonal {
+                "yes (d = 0)".into()
+            } else {
+                "no (d != 0)".into()
+            },
+        ]);
+        rows.push(vec![
+            "||A^T A - I||_F / ||I||_F".into(),
+            fixed(self.adjoint.ata_minus_i_rel, 6),
+        ]);
+        doc.table(Table::new(&["quantity", "value"], rows));
+    }
+
+    fn certificate_section(&self, doc: &mut Document) {
+        doc.section("Certificate bands");
+        let rows = self
+            .certificate
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let mut r = vec![
+                    short(c.ell_m),
+                    fixed(c.delta_eff, 6),
+                    fixed(c.band[0], 6),
+                    fixed(c.band[1], 6),
+                ];
+                if let Some(k) = &self.kappa_check {
+                    r.push(if k.certified[i] { "yes" } else { "no" }.into());
+                }
+                r
+            })
+            .collect();
+        let mut header = vec!["ell (m)", "delta_eff", "band lower", "band upper"];
+        if self.kappa_check.is_some() {
+            header.push("lambda/kappa outside: certified");
+        }
+        doc.table(Table::new(&header, rows));
+        doc.text("If lambda/kappa lies outside the band, no frame change with this lever arm can move eigenvalue lambda across threshold kappa.");
+        if let Some(k) = &self.kappa_check {
+            doc.text(format!(
+                "lambda/kappa = {} / {} = {}",
+                short(k.lambda),
+                short(k.kappa),
+                short(k.ratio)
+            ));
+        }
+    }
+
+    fn adapted_section(&self, doc: &mut Document) {
+        doc.section("Adapted constant metric");
+        let am = &self.adapted_metric;
+        if !am.exists {
+            doc.text(format!("none: {}", am.reason));
+            return;
+        }
+        doc.text(format!("exists: {}", am.reason));
+        if let Some(m) = &am.matrix {
+            let rows = m
+                .iter()
+                .map(|r| r.iter().map(|x| fixed(*x, 6)).collect())
+                .collect();
+            doc.table(Table::new(&["wx", "wy", "wz", "tx", "ty", "tz"], rows));
+        }
+        let opt = |x: Option<f64>| x.map(short).unwrap_or_else(|| "-".into());
+        doc.text(format!(
+            "invariance residual {}, off-diagonal block norm {}, ||M0 - I||_F/||I||_F {}",
+            opt(am.invariance_residual),
+            opt(am.offdiag_norm),
+            opt(am.rel_diff_identity)
+        ));
+    }
+
+    fn families_section(&self, doc: &mut Document) {
+        doc.section("Detector families");
+        let yes_no = |b: bool| if b { "yes" } else { "no" }.to_string();
+        let rows = self
+            .detectors
+            .iter()
+            .map(|d| {
+                vec![
+                    d.family.label().to_string(),
+                    yes_no(d.equivariant_rule),
+                    yes_no(d.invariant_on_rig),
+                    d.reason.clone(),
+                ]
+            })
+            .collect();
+        // The reasons are sentences: wrap them.
+        doc.table(
+            Table::new(
+                &["family", "equivariant rule", "invariant on this rig", "why"],
+                rows,
+            )
+            .bounded(&[(0, 22), (3, 60)]),
+        );
+    }
+}
+
+impl Report for RigReport {
+    fn document(&self) -> Document {
+        let mut doc = Document::new();
+        let good = self.detectors.iter().filter(|d| d.invariant_on_rig).count() > 1;
+        doc.push(Block::Headline {
+            text: self.verdict_line(),
+            good,
+        });
+        self.transform_section(&mut doc);
+        self.chain_section(&mut doc);
+        self.rig_section(&mut doc);
+        self.certificate_section(&mut doc);
+        self.adapted_section(&mut doc);
+        self.families_section(&mut doc);
+        doc
+    }
+}

@@ -1,0 +1,251 @@
+//! The survey (`audit survey PATHS`): one row per rig, then a summary; JSON in
+//! `docs/schemas/survey.schema.json`.
+//!
+//! "Nonzero pitch" counts every rig without an adapted constant metric:
+//! general screws and pure translations (a pure translation is a screw of
+//! infinite pitch). Placeholder and duplicate rigs are listed only on request
+//! and never counted.
+
+#![allow(missing_docs)] // the JSON fields are documented in the schema
+
+use super::rig::{near_half_turn, small_rotation};
+use super::SCHEMA_VERSION;
+use crate::render::numbers::{fixed, metres_h};
+use crate::render::{Document, Report, Table};
+use crate::tolerances::{NEAR_HALF_TURN_RAD, SMALL_ROTATION_DEG};
+use serde::Serialize;
+
+/// One survey row (DESIGN.md survey JSON).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SurveyRigJson {
+    pub id: String,
+    pub sensor: String,
+    pub platform: String,
+    pub dataset: String,
+    pub from: String,
+    pub to: String,
+    pub lever_arm_m: f64,
+    pub angle_deg: f64,
+    pub screw_translation_m: Option<f64>,
+    pub zero_pitch: bool,
+    pub sigma_max: f64,
+    pub band_l1: [f64; 2],
+    pub adapted_metric_exists: bool,
+}
+
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SurveySummaryJson {
+    pub count: usize,
+    pub lever_arm_min_m: f64,
+    pub lever_arm_median_m: f64,
+    pub lever_arm_max_m: f64,
+    pub nonzero_pitch_count: usize,
+}
+
+/// The survey report.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SurveyReport {
+    pub schema_version: u32,
+    pub rigs: Vec<SurveyRigJson>,
+    pub summary: SurveySummaryJson,
+    /// Per row: placeholder, and the rig it duplicates (for the tables).
+    #[serde(skip)]
+    pub marks: Vec<RowMarks>,
+}
+
+/// What the table notes beside a rig's id.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RowMarks {
+    /// Identity or zero extrinsic.
+    pub placeholder: bool,
+    /// The id of the rig this one duplicates.
+    pub duplicate_of: Option<String>,
+}
+
+/// Median of a slice (mean of the two middle values for even counts; NaN
+/// when empty).
+pub fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
+}
+
+impl SurveyReport {
+    /// The report over rows (in the order to print), counting those `counted`.
+    pub fn new(rows: Vec<(SurveyRigJson, RowMarks)>, counted: &[bool]) -> Self {
+        let levers: Vec<f64> = rows
+            .iter()
+            .zip(counted)
+            .filter(|(_, c)| **c)
+            .map(|(r, _)| r.0.lever_arm_m)
+            .collect();
+        let nonzero = rows
+            .iter()
+            .zip(counted)
+            .filter(|(r, c)| **c && !r.0.zero_pitch)
+            .count();
+        let summary = SurveySummaryJson {
+            count: levers.len(),
+            lever_arm_min_m: levers.iter().copied().fold(f64::INFINITY, f64::min),
+            lever_arm_median_m: median(&levers),
+            lever_arm_max_m: levers.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            nonzero_pitch_count: nonzero,
+        };
+        let (rigs, marks) = rows.into_iter().unzip();
+        SurveyReport {
+            schema_version: SCHEMA_VERSION,
+            rigs,
+            summary,
+            marks,
+        }
+    }
+
+    /// The summary line as printed under the table.
+    pub fn summary_line(&self) -> String {
+        let s = &self.summary;
+        format!(
+            "{} rigs; lever arm min {} m, median {} m, max {} m; {} of {} with nonzero pitch (no adapted constant metric), {} with zero pitch",
+            s.count,
+            fixed(s.lever_arm_min_m, 4),
+            fixed(s.lever_arm_median_m, 4),
+            fixed(s.lever_arm_max_m, 4),
+            s.nonzero_pitch_count,
+            s.count,
+            s.count - s.nonzero_pitch_count
+        )
+    }
+
+    fn display_table(&self) -> Table {
+        let rows = self
+            .rigs
+            .iter()
+            .zip(&self.marks)
+            .map(|(j, m)| display_row(j, m))
+            .collect();
+        Table::new(&HEADER, rows).bounded(&[(1, 28), (2, 28)])
+    }
+
+    fn data_table(&self) -> Table {
+        let rows = self
+            .rigs
+            .iter()
+            .zip(&self.marks)
+            .map(|(j, m)| {
+                vec![
+                    j.id.clone(),
+                    j.sensor.clone(),
+                    j.platform.clone(),
+                    j.dataset.clone(),
+                    j.from.clone(),
+                    j.to.clone(),
+                    format!("{}", j.lever_arm_m),
+                    format!("{}", j.angle_deg),
+                    j.screw_translation_m
+                        .map(|h| format!("{h}"))
+                        .unwrap_or_default(),
+                    format!("{}", j.zero_pitch),
+                    format!("{}", j.sigma_max),
+                    format!("{}", j.band_l1[0]),
+                    format!("{}", j.band_l1[1]),
+                    format!("{}", j.adapted_metric_exists),
+                    format!("{}", m.placeholder),
+                ]
+            })
+            .collect();
+        Table {
+            data_only: true,
+            ..Table::new(&CSV_HEADER, rows)
+        }
+    }
+}
+
+const HEADER: [&str; 10] = [
+    "id",
+    "sensor",
+    "platform",
+    "lever arm (m)",
+    "angle (deg)",
+    "screw transl. h (m)",
+    "zero pitch",
+    "s_max",
+    "band at l = 1",
+    "adapted metric",
+];
+
+const CSV_HEADER: [&str; 15] = [
+    "id",
+    "sensor",
+    "platform",
+    "dataset",
+    "from",
+    "to",
+    "lever_arm_m",
+    "angle_deg",
+    "screw_translation_m",
+    "zero_pitch",
+    "sigma_max",
+    "band_l1_lower",
+    "band_l1_upper",
+    "adapted_metric_exists",
+    "placeholder",
+];
+
+fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
+    let mut id = j.id.clone();
+    if m.placeholder {
+        id.push_str(" (placeholder)");
+    } else if let Some(d) = &m.duplicate_of {
+        id.push_str(&format!(" (duplicate of {d})"));
+    }
+    let small = small_rotation(j.angle_deg);
+    vec![
+        id,
+        j.sensor.clone(),
+        j.platform.clone(),
+        fixed(j.lever_arm_m, 4),
+        format!("{}{}", fixed(j.angle_deg, 3), if small { "*" } else { "" }),
+        match j.screw_translation_m {
+            Some(h) => format!(
+                "{}{}",
+                metres_h(h),
+                if near_half_turn(j.angle_deg.to_radians()) {
+                    " ±"
+                } else {
+                    ""
+                }
+            ),
+            None => "- (pure transl.)".into(),
+        },
+        if j.zero_pitch { "yes" } else { "no" }.into(),
+        fixed(j.sigma_max, 4),
+        format!("[{}, {}]", fixed(j.band_l1[0], 3), fixed(j.band_l1[1], 3)),
+        if j.adapted_metric_exists {
+            "exists"
+        } else {
+            "none"
+        }
+        .into(),
+    ]
+}
+
+impl Report for SurveyReport {
+    fn document(&self) -> Document {
+        let mut doc = Document::new();
+        doc.table(self.display_table());
+        doc.table(self.data_table());
+        doc.text(self.summary_line());
+        doc.text(format!(
+            "* rotation below {SMALL_ROTATION_DEG} deg: the screw axis, and with it h, is set by calibration noise\n\
+             ± half-turn within {NEAR_HALF_TURN_RAD:e} rad: the sign of h follows the rounding of the published numbers"
+        ));
+        doc
+    }
+}
