@@ -108,7 +108,7 @@ fuzz_target!(|data: &[u8]| {
                     NAMES[c as usize % NAMES.len()],
                     t,
                     loc.clone(),
-                    Format::Urdf,
+                    Format::from_name("urdf").unwrap(),
                     "fuzz",
                 );
                 let before = g.edges().len();

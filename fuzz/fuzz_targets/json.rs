@@ -10,7 +10,7 @@ fuzz_target!(|data: &[u8]| {
         0 | 1 => ("metadata.json", None),
         2 => ("metadata", None),
         // JSON is YAML: the matrix-YAML reader must take JSON matrices too.
-        _ => ("calib.json", Some(Format::MatrixYaml)),
+        _ => ("calib.json", Some(Format::from_name("matrix-yaml").unwrap())),
     };
     load_and_check(&text, path, fmt, sel);
 });

@@ -13,9 +13,9 @@ fuzz_target!(|data: &[u8]| {
         2 => ("robot.launch.yaml", None),
         3 => ("robot.launch.py", None),
         4 => ("commands.txt", None),
-        5 => ("robot.launch", Some(Format::LioLivoxLaunch)),
-        6 => ("commands.sh", Some(Format::StaticTfCommands)),
-        _ => ("robot.xml", Some(Format::LaunchXml)),
+        5 => ("robot.launch", Some(Format::from_name("lio-livox-launch").unwrap())),
+        6 => ("commands.sh", Some(Format::from_name("static-tf-commands").unwrap())),
+        _ => ("robot.xml", Some(Format::from_name("launch-xml").unwrap())),
     };
     load_and_check(&text, path, fmt, sel);
 });

@@ -9,7 +9,7 @@ fuzz_target!(|data: &[u8]| {
     let (path, fmt) = match sel % 3 {
         0 => ("tf_static.yaml", None),
         1 => ("tf_static.txt", None),
-        _ => ("tf_static.yaml", Some(Format::TfStaticEcho)),
+        _ => ("tf_static.yaml", Some(Format::from_name("tf-static-echo").unwrap())),
     };
     load_and_check(&text, path, fmt, sel);
 });

@@ -11,7 +11,7 @@ fuzz_target!(|data: &[u8]| {
         0 => ("robot.urdf", None),
         1 => ("robot.xml", None),
         2 => ("robot", None),
-        _ => ("robot.txt", Some(Format::Urdf)),
+        _ => ("robot.txt", Some(Format::from_name("urdf").unwrap())),
     };
     load_and_check(&text, path, fmt, sel);
 });

@@ -6,15 +6,15 @@ use fuzz_common::{load_and_check, split};
 use libfuzzer_sys::fuzz_target;
 
 const FORCED: &[Format] = &[
-    Format::FastLio,
-    Format::LioSam,
-    Format::CocoLic,
-    Format::Slict,
-    Format::TfTreeYaml,
-    Format::MatrixYaml,
-    Format::QuaternionYaml,
-    Format::KittiCalib,
-    Format::M2dgrTxt,
+    Format::from_name("fast-lio").unwrap(),
+    Format::from_name("lio-sam").unwrap(),
+    Format::from_name("coco-lic").unwrap(),
+    Format::from_name("slict").unwrap(),
+    Format::from_name("tf-tree-yaml").unwrap(),
+    Format::from_name("matrix-yaml").unwrap(),
+    Format::from_name("quaternion-yaml").unwrap(),
+    Format::from_name("kitti-calib").unwrap(),
+    Format::from_name("m2dgr-txt").unwrap(),
 ];
 
 fuzz_target!(|data: &[u8]| {

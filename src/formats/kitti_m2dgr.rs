@@ -13,9 +13,8 @@
 //!   skipped.
 
 use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
-use crate::formats::{
-    check_metres, locate_warnings, parse_number, Edge, Format, LoadOptions, Loaded,
-};
+use crate::formats::registry::FormatSpec;
+use crate::formats::{check_metres, locate_warnings, parse_number, Edge, LoadOptions, Loaded};
 use crate::geometry::se3::Transform;
 use std::path::Path;
 
@@ -89,7 +88,7 @@ pub fn parse_kitti(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded
         }
     };
     out.edges
-        .push(Edge::new(b, a, tf, loc, Format::KittiCalib, "R: + T:"));
+        .push(Edge::new(b, a, tf, loc, KITTI_CALIB.id, "R: + T:"));
     Ok(out)
 }
 
@@ -175,7 +174,7 @@ pub fn parse_m2dgr(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded
                         },
                         t,
                         loc,
-                        Format::M2dgrTxt,
+                        M2DGR_TXT.id,
                         format!("%% {name}: Extrinsic [to LIDAR] data"),
                     ));
                 }
@@ -193,3 +192,26 @@ pub fn parse_m2dgr(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded
     }
     Ok(out)
 }
+
+/// KITTI calib text.
+pub const KITTI_CALIB: FormatSpec = FormatSpec {
+    id: "kitti-calib",
+    description: "KITTI calib text (`R:` 9 numbers row-major, `T:` 3 numbers; calib_A_to_B.txt maps A coordinates into B): edge B -> A",
+    extensions: &[],
+    walk: &[".txt"],
+    sniff: |s| {
+        let has = |p: &str| s.text.lines().any(|l| l.trim_start().starts_with(p));
+        (has("R:") && has("T:")).then_some(30)
+    },
+    parse: parse_kitti,
+};
+
+/// M2DGR calibration_results.txt.
+pub const M2DGR_TXT: FormatSpec = FormatSpec {
+    id: "m2dgr-txt",
+    description: "M2DGR calibration_results.txt: `%% NAME` blocks with `% Extrinsic [to LIDAR]` 4x4 or 3x4 `data:`: the sensor's pose in the LiDAR frame, edges velodyne -> <name>",
+    extensions: &[],
+    walk: &[".txt"],
+    sniff: |s| (s.text.contains("% Extrinsic") && s.text.contains("data:")).then_some(40),
+    parse: parse_m2dgr,
+};

@@ -36,9 +36,10 @@
 //! `assumed-convention` warning says so and `--invert` flips it.
 
 use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::formats::registry::{FormatSpec, Sniff};
 use crate::formats::yaml::{self, Node, Value};
 use crate::formats::{
-    check_metres, line_col, locate_warnings, parse_number, Edge, Format, LoadOptions, Loaded,
+    check_metres, line_col, locate_warnings, parse_number, Edge, LoadOptions, Loaded,
 };
 use crate::geometry::se3::{QuatOrder, Transform};
 use std::path::Path;
@@ -88,7 +89,7 @@ fn number_arg(tok: &str, idx: usize, warnings: &mut Vec<Warning>, loc: &Location
 pub fn parse_stp_args(
     args: &[String],
     loc: &Location,
-    format: Format,
+    format: &'static str,
     context: &str,
     warnings: &mut Vec<Warning>,
 ) -> Result<Edge> {
@@ -318,7 +319,7 @@ pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<L
         out.edges.push(parse_stp_args(
             &toks,
             &loc,
-            Format::LaunchXml,
+            LAUNCH_XML.id,
             &ctx,
             &mut out.warnings,
         )?);
@@ -384,7 +385,7 @@ pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
             "lidar",
             t,
             loc,
-            Format::LioLivoxLaunch,
+            LIO_LIVOX_LAUNCH.id,
             format!("<rosparam param=\"{param}\">"),
         ));
     }
@@ -467,7 +468,7 @@ pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<
         out.edges.push(parse_stp_args(
             &toks,
             &loc,
-            Format::LaunchYaml,
+            LAUNCH_YAML.id,
             "node ",
             &mut out.warnings,
         )?);
@@ -536,7 +537,7 @@ pub fn parse_commands(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loa
         out.edges.push(parse_stp_args(
             &words[pos + 1..],
             &loc,
-            Format::StaticTfCommands,
+            STATIC_TF_COMMANDS.id,
             "",
             &mut out.warnings,
         )?);
@@ -725,10 +726,84 @@ pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
         out.edges.push(parse_stp_args(
             &toks,
             &loc,
-            Format::LaunchPy,
+            LAUNCH_PY.id,
             "Node(arguments=[...]) ",
             &mut out.warnings,
         )?);
     }
     Ok(out)
 }
+
+/// Whether XML text is a launch file, and whether it holds static transform
+/// publishers or a LIO-Livox extrinsic.
+fn launch_xml(s: &Sniff) -> Option<(bool, bool)> {
+    (s.xml_candidate() && s.text.contains("<launch")).then(|| {
+        (
+            s.text.contains("static_transform_publisher"),
+            s.text.contains("Extrinsic_Tlb"),
+        )
+    })
+}
+
+/// ROS launch XML.
+pub const LAUNCH_XML: FormatSpec = FormatSpec {
+    id: "launch-xml",
+    description: "ROS 1 / ROS 2 launch XML: static_transform_publisher nodes (x y z yaw pitch roll | x y z qx qy qz qw, or ROS 2 --flags): child pose in parent",
+    extensions: &[],
+    walk: &[".launch", ".xml"],
+    sniff: |s| match launch_xml(s)? {
+        (true, _) => Some(90),
+        (false, true) => None,
+        (false, false) => Some(85),
+    },
+    parse: parse_launch_xml,
+};
+
+/// LIO-Livox launch files with `Extrinsic_Tlb`.
+pub const LIO_LIVOX_LAUNCH: FormatSpec = FormatSpec {
+    id: "lio-livox-launch",
+    description: "LIO-Livox launch `<rosparam param=\"Extrinsic_Tlb\">` 4x4 row-major: read as the LiDAR pose in the IMU frame (FAST-LIO sign, as mid360.launch uses), edge imu -> lidar; the direction is assumed (--invert flips it)",
+    extensions: &[],
+    walk: &[".launch"],
+    sniff: |s| matches!(launch_xml(s)?, (false, true)).then_some(88),
+    parse: parse_lio_livox,
+};
+
+/// ROS 2 launch YAML.
+pub const LAUNCH_YAML: FormatSpec = FormatSpec {
+    id: "launch-yaml",
+    description: "ROS 2 launch YAML: static_transform_publisher nodes with literal args; child pose in parent",
+    extensions: &["launch.yaml", "launch.yml"],
+    walk: &[".yaml", ".yml"],
+    sniff: |s| (s.yaml_dialect() == "launch-yaml").then_some(10),
+    parse: parse_launch_yaml,
+};
+
+/// ROS 2 Python launch.
+pub const LAUNCH_PY: FormatSpec = FormatSpec {
+    id: "launch-py",
+    description: "ROS 2 Python launch: literal `arguments=[...]` of static_transform_publisher Nodes; anything not literal is refused",
+    extensions: &["py", "launch.py"],
+    walk: &[".launch.py"],
+    sniff: |s| s.head.contains("LaunchDescription").then_some(60),
+    parse: parse_launch_py,
+};
+
+/// Command lines saved as text.
+pub const STATIC_TF_COMMANDS: FormatSpec = FormatSpec {
+    id: "static-tf-commands",
+    description: "command lines saved as text (rosrun tf / ros2 run tf2_ros static_transform_publisher ...): child pose in parent",
+    extensions: &[],
+    walk: &[".txt"],
+    sniff: |s| {
+        let commands = s.text.lines().any(|l| {
+            let l = l.trim_start();
+            !l.starts_with('#')
+                && !l.starts_with('%')
+                && (l.starts_with("rosrun") || l.starts_with("ros2 run"))
+                && l.contains("static_transform_publisher")
+        });
+        (commands && !s.text.contains("!!opencv-matrix")).then_some(50)
+    },
+    parse: parse_commands,
+};

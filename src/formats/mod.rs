@@ -16,134 +16,17 @@ use std::path::Path;
 pub mod kitti_m2dgr;
 pub mod launch;
 pub mod ouster;
+pub mod registry;
 pub mod rig_toml;
 pub mod source;
 pub mod urdf;
 pub mod xacro;
 pub mod xml;
 
-use source::{line_col, LineIndex};
+pub use registry::{all_formats, is_calibration_file, Format, FormatSpec, FORMATS};
+use source::line_col;
 pub mod yaml;
 pub mod yaml_dialects;
-
-/// The formats the tool reads. `name()` is what `--input-format` takes and what
-/// provenance prints; [`all_formats`] says what each one's numbers mean.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Format {
-    Urdf,
-    Xacro,
-    LaunchXml,
-    LaunchYaml,
-    LaunchPy,
-    StaticTfCommands,
-    TfStaticEcho,
-    FastLio,
-    LioSam,
-    LioLivoxLaunch,
-    CocoLic,
-    Slict,
-    TfTreeYaml,
-    MatrixYaml,
-    QuaternionYaml,
-    OusterJson,
-    KittiCalib,
-    M2dgrTxt,
-    RigToml,
-}
-
-const ALL_FORMATS: &[(Format, &str)] = &[
-    (Format::Urdf, "URDF robot description: each joint <origin> is the child link's pose in the parent link (R = Rz(yaw) Ry(pitch) Rx(roll)); movable joints at 0 unless --joint NAME=VALUE"),
-    (Format::Xacro, "xacro macro file: expanded with the `xacro` program when it is on PATH, otherwise refused with the command to run"),
-    (Format::LaunchXml, "ROS 1 / ROS 2 launch XML: static_transform_publisher nodes (x y z yaw pitch roll | x y z qx qy qz qw, or ROS 2 --flags): child pose in parent"),
-    (Format::LaunchYaml, "ROS 2 launch YAML: static_transform_publisher nodes with literal args; child pose in parent"),
-    (Format::LaunchPy, "ROS 2 Python launch: literal `arguments=[...]` of static_transform_publisher Nodes; anything not literal is refused"),
-    (Format::StaticTfCommands, "command lines saved as text (rosrun tf / ros2 run tf2_ros static_transform_publisher ...): child pose in parent"),
-    (Format::TfStaticEcho, "`rostopic echo /tf_static` / `ros2 topic echo /tf_static` YAML (several documents): child_frame_id pose in header.frame_id"),
-    (Format::FastLio, "FAST-LIO / FAST-LIVO2 / Point-LIO `extrinsic_T` + `extrinsic_R` (row-major): the LiDAR pose in the IMU frame, edge imu -> lidar"),
-    (Format::LioSam, "LIO-SAM `extrinsicRot` + `extrinsicTrans` (\"T_lb\"): extrinsicRot rotates IMU readings into the LiDAR frame and the code uses extrinsicTrans as lidar2Imu, so the pair is the IMU pose in the LiDAR frame, edge lidar -> imu; extrinsicRPY (attitude only) is not used"),
-    (Format::LioLivoxLaunch, "LIO-Livox launch `<rosparam param=\"Extrinsic_Tlb\">` 4x4 row-major: read as the LiDAR pose in the IMU frame (FAST-LIO sign, as mid360.launch uses), edge imu -> lidar; the direction is assumed (--invert flips it)"),
-    (Format::CocoLic, "Coco-LIC `lidarN: Extrinsics: {Trans, Rot}` (\"lidar to imu\"): LiDAR pose in the IMU frame, edges imu -> lidarN"),
-    (Format::Slict, "SLICT `lidar_extr`: stacked row-major 4x4, \"transform of coordinates in lidar's frame to body\": edges body -> lidar (lidar0, lidar1, ... when several); the (4,4) entry is a timestamp flag and the bottom row is not used"),
-    (Format::TfTreeYaml, "tf-tree YAML (`<parent>_to_<child>: {x, y, z, roll, pitch, yaw}`, GrandTour): child pose in parent, URDF rpy"),
-    (Format::MatrixYaml, "YAML with 4x4 matrices under keys `T_A_B` or `A_T_B` (OpenCV FileStorage `!!opencv-matrix`, Kalibr `T_cam_imu`, plain lists, `T_A_B_t_xyz_q_xyzw`): the pose of B in A, edge A -> B; --key NAME picks one"),
-    (Format::QuaternionYaml, "`quaternion_A_B` (qw, qx, qy, qz: w first) + `translation_A_B` blocks (FusionPortable): the pose of B in A, edge A -> B"),
-    (Format::OusterJson, "Ouster sensor metadata JSON (legacy flat or nested): `lidar_to_sensor_transform` / `imu_to_sensor_transform`, row-major 4x4 in millimetres, converted to metres: edges os_sensor -> os_lidar and os_sensor -> os_imu"),
-    (Format::KittiCalib, "KITTI calib text (`R:` 9 numbers row-major, `T:` 3 numbers; calib_A_to_B.txt maps A coordinates into B): edge B -> A"),
-    (Format::M2dgrTxt, "M2DGR calibration_results.txt: `%% NAME` blocks with `% Extrinsic [to LIDAR]` 4x4 or 3x4 `data:`: the sensor's pose in the LiDAR frame, edges velodyne -> <name>"),
-    (Format::RigToml, "the tool's own TOML rig file (see calibrations/README.md)"),
-];
-
-/// Every format with a one-line description of what its numbers mean.
-pub fn all_formats() -> &'static [(Format, &'static str)] {
-    ALL_FORMATS
-}
-
-impl Format {
-    pub fn name(self) -> &'static str {
-        match self {
-            Format::Urdf => "urdf",
-            Format::Xacro => "xacro",
-            Format::LaunchXml => "launch-xml",
-            Format::LaunchYaml => "launch-yaml",
-            Format::LaunchPy => "launch-py",
-            Format::StaticTfCommands => "static-tf-commands",
-            Format::TfStaticEcho => "tf-static-echo",
-            Format::FastLio => "fast-lio",
-            Format::LioSam => "lio-sam",
-            Format::LioLivoxLaunch => "lio-livox-launch",
-            Format::CocoLic => "coco-lic",
-            Format::Slict => "slict",
-            Format::TfTreeYaml => "tf-tree-yaml",
-            Format::MatrixYaml => "matrix-yaml",
-            Format::QuaternionYaml => "quaternion-yaml",
-            Format::OusterJson => "ouster-json",
-            Format::KittiCalib => "kitti-calib",
-            Format::M2dgrTxt => "m2dgr-txt",
-            Format::RigToml => "rig-toml",
-        }
-    }
-
-    /// The format named `name` (as printed by [`Format::name`]); the error lists
-    /// the names.
-    pub fn from_name(name: &str) -> Result<Format> {
-        let n = name.trim().to_ascii_lowercase().replace('_', "-");
-        ALL_FORMATS
-            .iter()
-            .find(|(f, _)| f.name() == n)
-            .map(|(f, _)| *f)
-            .ok_or_else(|| {
-                Error::usage(format!(
-                    "unknown input format '{name}': expected one of {}",
-                    ALL_FORMATS
-                        .iter()
-                        .map(|(f, _)| f.name())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ))
-            })
-    }
-
-    /// One line: what the numbers of this format mean.
-    pub fn description(self) -> &'static str {
-        ALL_FORMATS
-            .iter()
-            .find(|(f, _)| *f == self)
-            .map(|(_, d)| *d)
-            .unwrap_or("")
-    }
-}
-
-impl From<Format> for &'static str {
-    fn from(f: Format) -> &'static str {
-        f.name()
-    }
-}
-
-impl std::fmt::Display for Format {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
 
 /// Options that change how files are read.
 #[derive(Debug, Clone)]
@@ -263,99 +146,9 @@ pub(crate) fn locate_warnings(ws: Vec<Warning>, loc: &Location, out: &mut Vec<Wa
     out.extend(ws.into_iter().map(|w| w.at(loc)));
 }
 
-fn extension(path: &Path) -> String {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().to_lowercase())
-        .unwrap_or_default();
-    for multi in [
-        ".launch.xml",
-        ".launch.yaml",
-        ".launch.yml",
-        ".launch.py",
-        ".urdf.xacro",
-    ] {
-        if name.ends_with(multi) {
-            return multi[1..].to_string();
-        }
-    }
-    path.extension()
-        .map(|e| e.to_string_lossy().to_lowercase())
-        .unwrap_or_default()
-}
-
-/// Detect the format from the extension and the content.
+/// Detect the format from the extension and the content (see [`registry`]).
 pub fn detect_format(path: &Path, text: &str) -> Result<Format> {
-    let ext = extension(path);
-    let head: String = text.chars().take(4096).collect();
-    let trimmed = text.trim_start_matches('\u{feff}').trim_start();
-    let looks_xml = trimmed.starts_with('<');
-    match ext.as_str() {
-        "xacro" | "urdf.xacro" => return Ok(Format::Xacro),
-        "toml" => return Ok(Format::RigToml),
-        "json" => return Ok(Format::OusterJson),
-        "py" | "launch.py" => return Ok(Format::LaunchPy),
-        "launch.yaml" | "launch.yml" => return Ok(Format::LaunchYaml),
-        _ => {}
-    }
-    if looks_xml || matches!(ext.as_str(), "urdf" | "xml" | "launch" | "launch.xml") {
-        if text.contains("<robot") {
-            return Ok(Format::Urdf);
-        }
-        if text.contains("<launch") {
-            if text.contains("static_transform_publisher") {
-                return Ok(Format::LaunchXml);
-            }
-            if text.contains("Extrinsic_Tlb") {
-                return Ok(Format::LioLivoxLaunch);
-            }
-            return Ok(Format::LaunchXml);
-        }
-        if ext == "urdf" {
-            return Ok(Format::Urdf);
-        }
-        if looks_xml {
-            return Err(match roxmltree::Document::parse_with_options(text, xml::parse_options()) {
-                Ok(doc) => {
-                    let root = doc.root_element();
-                    let (l, c) = LineIndex::new(text).pos(root.range().start);
-                    Error::parse(format!(
-                        "root element is <{}>: expected a URDF <robot> or a ROS <launch> file; pass --input-format NAME to force a format",
-                        root.tag_name().name()
-                    ))
-                    .at_line(l, Some(c))
-                }
-                Err(e) => xml::error(&e, text),
-            }
-            .in_file(path));
-        }
-    }
-    if trimmed.starts_with('{') {
-        return Ok(Format::OusterJson);
-    }
-    if ext == "py" || head.contains("LaunchDescription") {
-        return Ok(Format::LaunchPy);
-    }
-    if text.lines().any(|l| {
-        let l = l.trim_start();
-        !l.starts_with('#')
-            && !l.starts_with('%')
-            && (l.starts_with("rosrun") || l.starts_with("ros2 run"))
-            && l.contains("static_transform_publisher")
-    }) && !text.contains("!!opencv-matrix")
-    {
-        return Ok(Format::StaticTfCommands);
-    }
-    if text.contains("% Extrinsic") && text.contains("data:") {
-        return Ok(Format::M2dgrTxt);
-    }
-    if text.lines().any(|l| l.trim_start().starts_with("R:"))
-        && text.lines().any(|l| l.trim_start().starts_with("T:"))
-    {
-        return Ok(Format::KittiCalib);
-    }
-    // YAML dialects: decided on the parsed keys.
-    Ok(yaml_dialects::sniff(text))
+    registry::detect(path, text)
 }
 
 /// Read one file: detect its format (or use `opts.format`), parse, validate.
@@ -403,28 +196,7 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         Some(f) => f,
         None => detect_format(path, text)?,
     };
-    let mut loaded = match format {
-        Format::Urdf => urdf::parse(text, path, opts),
-        Format::Xacro => xacro::parse(text, path, opts),
-        Format::LaunchXml => launch::parse_launch_xml(text, path, opts),
-        Format::LioLivoxLaunch => launch::parse_lio_livox(text, path, opts),
-        Format::LaunchYaml => launch::parse_launch_yaml(text, path, opts),
-        Format::LaunchPy => launch::parse_launch_py(text, path, opts),
-        Format::StaticTfCommands => launch::parse_commands(text, path, opts),
-        Format::OusterJson => ouster::parse(text, path, opts),
-        Format::KittiCalib => kitti_m2dgr::parse_kitti(text, path, opts),
-        Format::M2dgrTxt => kitti_m2dgr::parse_m2dgr(text, path, opts),
-        Format::RigToml => rig_toml::parse(text, path, opts),
-        Format::TfStaticEcho
-        | Format::FastLio
-        | Format::LioSam
-        | Format::CocoLic
-        | Format::Slict
-        | Format::TfTreeYaml
-        | Format::MatrixYaml
-        | Format::QuaternionYaml => yaml_dialects::parse(format, text, path, opts),
-    }
-    .map_err(|e| e.in_file(path))?;
+    let mut loaded = (format.0.parse)(text, path, opts).map_err(|e| e.in_file(path))?;
     if loaded.edges.is_empty() {
         return Err(Error::parse(format!(
             "read as {}: expected at least one transform, found none",

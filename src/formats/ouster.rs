@@ -12,8 +12,9 @@
 //! line numbers.
 
 use crate::diagnostic::{Error, Location, Result};
+use crate::formats::registry::FormatSpec;
 use crate::formats::yaml::{self, Node, Value};
-use crate::formats::{locate_warnings, yaml_dialects, Edge, Format, LoadOptions, Loaded};
+use crate::formats::{locate_warnings, yaml_dialects, Edge, LoadOptions, Loaded};
 use crate::geometry::se3::Transform;
 use std::path::Path;
 
@@ -88,7 +89,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             child,
             t,
             loc,
-            Format::OusterJson,
+            SPEC.id,
             format!("{key} (mm -> m)"),
         ));
     }
@@ -103,3 +104,13 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     }
     Ok(out)
 }
+
+/// Ouster sensor metadata JSON.
+pub const SPEC: FormatSpec = FormatSpec {
+    id: "ouster-json",
+    description: "Ouster sensor metadata JSON (legacy flat or nested): `lidar_to_sensor_transform` / `imu_to_sensor_transform`, row-major 4x4 in millimetres, converted to metres: edges os_sensor -> os_lidar and os_sensor -> os_imu",
+    extensions: &["json"],
+    walk: &[".json"],
+    sniff: |s| s.trimmed.starts_with('{').then_some(70),
+    parse,
+};

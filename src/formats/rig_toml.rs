@@ -41,8 +41,9 @@
 //! and what was found. The parser never panics on any input.
 
 use crate::diagnostic::{Error, ErrorKind, Location, Result, Warning, WarningCode};
+use crate::formats::registry::FormatSpec;
 use crate::formats::source::line_col;
-use crate::formats::{Edge, Format, LoadOptions, Loaded, Provenance, RigMeta};
+use crate::formats::{Edge, LoadOptions, Loaded, Provenance, RigMeta};
 use crate::geometry::se3::{QuatOrder, Transform};
 use serde::Deserialize;
 use std::collections::BTreeSet;
@@ -446,7 +447,7 @@ fn build_edge(
         transform: t,
         provenance: Provenance {
             location: loc.clone(),
-            format: Format::RigToml.into(),
+            format: SPEC.id,
             key,
         },
         joint: None,
@@ -506,6 +507,16 @@ fn load_include(
         Error { message: msg, ..e }
     })
 }
+
+/// The tool's own TOML rig file.
+pub const SPEC: FormatSpec = FormatSpec {
+    id: "rig-toml",
+    description: "the tool's own TOML rig file (see calibrations/README.md)",
+    extensions: &["toml"],
+    walk: &[".toml"],
+    sniff: |_| None,
+    parse,
+};
 
 #[cfg(test)]
 mod tests {

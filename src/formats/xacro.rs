@@ -3,6 +3,7 @@
 //! the expanded text), otherwise refused with the command to run.
 
 use crate::diagnostic::{Error, Result};
+use crate::formats::registry::FormatSpec;
 use crate::formats::{urdf, LoadOptions, Loaded};
 use std::path::Path;
 
@@ -78,3 +79,13 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     }
     Ok(loaded)
 }
+
+/// xacro macro files.
+pub const SPEC: FormatSpec = FormatSpec {
+    id: "xacro",
+    description: "xacro macro file: expanded with the `xacro` program when it is on PATH, otherwise refused with the command to run",
+    extensions: &["xacro", "urdf.xacro"],
+    walk: &[".xacro"],
+    sniff: |_| None,
+    parse,
+};

@@ -53,8 +53,9 @@
 //! fields) is refused with the parser's position and what to fix.
 
 use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::formats::registry::{FormatSpec, Sniff};
 use crate::formats::yaml::{self, Node, Value};
-use crate::formats::{check_metres, locate_warnings, Edge, Format, LoadOptions, Loaded};
+use crate::formats::{check_metres, locate_warnings, Edge, LoadOptions, Loaded};
 use crate::frames::FrameGraph;
 use crate::geometry::se3::{QuatOrder, Transform};
 use std::path::Path;
@@ -70,35 +71,36 @@ fn has_key_line(text: &str, key: &str) -> bool {
     })
 }
 
-/// Pick the YAML dialect from the keys present.
-pub fn sniff(text: &str) -> Format {
+/// The id of the YAML dialect the keys present name (`matrix-yaml` when
+/// none does).
+pub fn dialect(text: &str) -> &'static str {
     if text.contains("child_frame_id") && has_key_line(text, "transforms") {
-        return Format::TfStaticEcho;
+        return TF_STATIC_ECHO.id;
     }
     if text.contains("static_transform_publisher")
         && (has_key_line(text, "exec")
             || has_key_line(text, "- node")
             || has_key_line(text, "node"))
     {
-        return Format::LaunchYaml;
+        return crate::formats::launch::LAUNCH_YAML.id;
     }
     if has_key_line(text, "extrinsic_T") {
-        return Format::FastLio;
+        return FAST_LIO.id;
     }
     if has_key_line(text, "extrinsicTrans") || has_key_line(text, "extrinsicRot") {
-        return Format::LioSam;
+        return LIO_SAM.id;
     }
     if has_key_line(text, "lidar_extr") {
-        return Format::Slict;
+        return SLICT.id;
     }
     if has_key_line(text, "Extrinsics") && has_key_line(text, "Trans") {
-        return Format::CocoLic;
+        return COCO_LIC.id;
     }
     if text.lines().any(|l| {
         let t = l.trim_start();
         !t.starts_with('#') && t.starts_with("quaternion_")
     }) {
-        return Format::QuaternionYaml;
+        return QUATERNION_YAML.id;
     }
     if text.lines().any(|l| {
         !l.starts_with([' ', '\t', '#'])
@@ -108,9 +110,9 @@ pub fn sniff(text: &str) -> Format {
                 .unwrap_or(false)
     }) && has_key_line(text, "roll")
     {
-        return Format::TfTreeYaml;
+        return TF_TREE_YAML.id;
     }
-    Format::MatrixYaml
+    MATRIX_YAML.id
 }
 
 fn loc_of(path: &Path, n: &Node) -> Location {
@@ -207,25 +209,46 @@ fn key_node<'a>(m: &'a Node, key: &str) -> Option<&'a Node> {
         .map(|(k, _)| k)
 }
 
-/// Parse a YAML dialect.
-pub fn parse(format: Format, text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+type DocsParser = fn(&[Node], &str, &Path) -> Result<Loaded>;
+
+/// Parse YAML text with one dialect's reader; `--key` reads one key instead
+/// (except in tf_static dumps, whose keys are not transforms).
+fn parse_with(
+    read: DocsParser,
+    keyed: bool,
+    text: &str,
+    path: &Path,
+    opts: &LoadOptions,
+) -> Result<Loaded> {
     let docs = yaml::parse_documents(text).map_err(|e| explain_yaml_error(e, text))?;
-    if let Some(key) = &opts.key {
-        if format != Format::TfStaticEcho {
-            return parse_keyed(&docs, key, text, path);
-        }
+    if let (Some(key), true) = (&opts.key, keyed) {
+        return parse_keyed(&docs, key, text, path);
     }
-    match format {
-        Format::TfStaticEcho => parse_tf_echo(&docs, path),
-        Format::FastLio => parse_fast_lio(&docs, path),
-        Format::LioSam => parse_lio_sam(&docs, path),
-        Format::CocoLic => parse_coco_lic(&docs, path),
-        Format::Slict => parse_slict(&docs, path),
-        Format::TfTreeYaml => parse_tf_tree(&docs, path),
-        Format::QuaternionYaml => parse_quaternion(&docs, text, path),
-        _ => parse_matrices(&docs, text, path),
-    }
+    read(&docs, text, path)
 }
+
+macro_rules! dialect {
+    ($name:ident, $id:literal, $keyed:literal, $read:expr, $desc:literal) => {
+        #[doc = $desc]
+        pub const $name: FormatSpec = FormatSpec {
+            id: $id,
+            description: $desc,
+            extensions: &[],
+            walk: &[".yaml", ".yml"],
+            sniff: |s: &Sniff| (s.yaml_dialect() == $id).then_some(10),
+            parse: |text, path, opts| parse_with($read, $keyed, text, path, opts),
+        };
+    };
+}
+
+dialect!(TF_STATIC_ECHO, "tf-static-echo", false, |d, _, p| parse_tf_echo(d, p), "`rostopic echo /tf_static` / `ros2 topic echo /tf_static` YAML (several documents): child_frame_id pose in header.frame_id");
+dialect!(FAST_LIO, "fast-lio", true, |d, _, p| parse_fast_lio(d, p), "FAST-LIO / FAST-LIVO2 / Point-LIO `extrinsic_T` + `extrinsic_R` (row-major): the LiDAR pose in the IMU frame, edge imu -> lidar");
+dialect!(LIO_SAM, "lio-sam", true, |d, _, p| parse_lio_sam(d, p), "LIO-SAM `extrinsicRot` + `extrinsicTrans` (\"T_lb\"): extrinsicRot rotates IMU readings into the LiDAR frame and the code uses extrinsicTrans as lidar2Imu, so the pair is the IMU pose in the LiDAR frame, edge lidar -> imu; extrinsicRPY (attitude only) is not used");
+dialect!(COCO_LIC, "coco-lic", true, |d, _, p| parse_coco_lic(d, p), "Coco-LIC `lidarN: Extrinsics: {Trans, Rot}` (\"lidar to imu\"): LiDAR pose in the IMU frame, edges imu -> lidarN");
+dialect!(SLICT, "slict", true, |d, _, p| parse_slict(d, p), "SLICT `lidar_extr`: stacked row-major 4x4, \"transform of coordinates in lidar's frame to body\": edges body -> lidar (lidar0, lidar1, ... when several); the (4,4) entry is a timestamp flag and the bottom row is not used");
+dialect!(TF_TREE_YAML, "tf-tree-yaml", true, |d, _, p| parse_tf_tree(d, p), "tf-tree YAML (`<parent>_to_<child>: {x, y, z, roll, pitch, yaw}`, GrandTour): child pose in parent, URDF rpy");
+dialect!(MATRIX_YAML, "matrix-yaml", true, parse_matrices, "YAML with 4x4 matrices under keys `T_A_B` or `A_T_B` (OpenCV FileStorage `!!opencv-matrix`, Kalibr `T_cam_imu`, plain lists, `T_A_B_t_xyz_q_xyzw`): the pose of B in A, edge A -> B; --key NAME picks one");
+dialect!(QUATERNION_YAML, "quaternion-yaml", true, parse_quaternion, "`quaternion_A_B` (qw, qx, qy, qz: w first) + `translation_A_B` blocks (FusionPortable): the pose of B in A, edge A -> B");
 
 fn explain_yaml_error(e: Error, text: &str) -> Error {
     if text.contains("!!opencv-matrix") || text.trim_start().starts_with("%YAML:") {
@@ -295,7 +318,7 @@ fn parse_tf_echo(docs: &[Node], path: &Path) -> Result<Loaded> {
                 child.trim_start_matches('/'),
                 tf,
                 loc,
-                Format::TfStaticEcho,
+                TF_STATIC_ECHO.id,
                 format!("transforms[] {} -> {}", parent, child),
             ));
         }
@@ -330,7 +353,7 @@ fn parse_fast_lio(docs: &[Node], path: &Path) -> Result<Loaded> {
         "lidar",
         t,
         loc,
-        Format::FastLio,
+        FAST_LIO.id,
         "extrinsic_T + extrinsic_R",
     ));
     Ok(out)
@@ -382,7 +405,7 @@ fn parse_lio_sam(docs: &[Node], path: &Path) -> Result<Loaded> {
         "imu",
         t,
         loc,
-        Format::LioSam,
+        LIO_SAM.id,
         "extrinsicTrans + extrinsicRot",
     ));
     Ok(out)
@@ -418,7 +441,7 @@ fn parse_coco_lic(docs: &[Node], path: &Path) -> Result<Loaded> {
                 name.clone(),
                 t,
                 loc,
-                Format::CocoLic,
+                COCO_LIC.id,
                 format!("{name}.Extrinsics Trans + Rot"),
             ));
         }
@@ -475,7 +498,7 @@ fn parse_slict(docs: &[Node], path: &Path) -> Result<Loaded> {
             child,
             t,
             loc.clone(),
-            Format::Slict,
+            SLICT.id,
             format!("lidar_extr[{i}]"),
         ));
     }
@@ -534,7 +557,7 @@ fn parse_tf_tree(docs: &[Node], path: &Path) -> Result<Loaded> {
                 c,
                 t,
                 loc,
-                Format::TfTreeYaml,
+                TF_TREE_YAML.id,
                 format!("{name} {{x, y, z, roll, pitch, yaw}}"),
             ));
         }
@@ -711,7 +734,7 @@ fn matrix_edge(
         frames.1,
         t,
         loc,
-        Format::MatrixYaml,
+        MATRIX_YAML.id,
         key.to_string(),
     ));
     Ok(())
@@ -833,7 +856,7 @@ fn parse_quaternion(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
                 b,
                 t,
                 loc,
-                Format::QuaternionYaml,
+                QUATERNION_YAML.id,
                 format!("{name} (qw qx qy qz) + {tname}"),
             ));
         }

@@ -10,7 +10,7 @@
 use super::{expand_paths, write_atomic};
 use crate::baseline::{self, Baseline, BaselineFile, BaselinePair, BaselineTransform, Tolerances};
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result, Severity, Warning};
-use crate::formats::{self, LoadOptions};
+use crate::formats::{self, is_calibration_file, LoadOptions};
 use crate::frames::FrameGraph;
 use crate::geometry::ScrewKind;
 use crate::report::rig::rig_report;
@@ -41,31 +41,6 @@ pub struct CheckOptions {
     pub load: LoadOptions,
     /// Warnings accepted: reported, but not a problem.
     pub allow: Vec<Code>,
-}
-
-/// Files the checker reads from a directory.
-fn is_calibration_file(p: &Path) -> bool {
-    let name = p
-        .file_name()
-        .map(|n| n.to_string_lossy().to_lowercase())
-        .unwrap_or_default();
-    if name.starts_with('.') {
-        return false;
-    }
-    [
-        ".urdf",
-        ".xacro",
-        ".launch",
-        ".xml",
-        ".yaml",
-        ".yml",
-        ".json",
-        ".toml",
-        ".txt",
-        ".launch.py",
-    ]
-    .iter()
-    .any(|ext| name.ends_with(ext))
 }
 
 fn key_of(p: &Path) -> String {

@@ -38,7 +38,7 @@ fn no_panics_on_any_format() {
             let t = &text[..cut];
             for (f, _) in all_formats() {
                 let opts = LoadOptions {
-                    format: Some(*f),
+                    format: Some(f),
                     ..Default::default()
                 };
                 if let Ok(l) = load_str(t, p, &opts) {

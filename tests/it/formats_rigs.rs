@@ -3,6 +3,7 @@
 //! recorded for its rig (tests/fixtures/formats/expected_rigs.json, copied from
 //! rigs.json).
 
+use extrinsic_audit::formats;
 use extrinsic_audit::formats::{load_file, Format, LoadOptions};
 use extrinsic_audit::frames::FrameGraph;
 use std::path::Path;
@@ -48,7 +49,7 @@ const CASES: &[Case] = &[
         "imu",
         "lidar",
         "fastlio-avia",
-        Format::FastLio,
+        Format(&formats::yaml_dialects::FAST_LIO),
         1e-9,
     ),
     c(
@@ -57,7 +58,7 @@ const CASES: &[Case] = &[
         "imu",
         "lidar",
         "hilti2022-hesai",
-        Format::FastLio,
+        Format(&formats::yaml_dialects::FAST_LIO),
         1e-9,
     ),
     c(
@@ -66,7 +67,7 @@ const CASES: &[Case] = &[
         "imu",
         "lidar",
         "liosam-default",
-        Format::LioSam,
+        Format(&formats::yaml_dialects::LIO_SAM),
         1e-9,
     ),
     c(
@@ -75,7 +76,7 @@ const CASES: &[Case] = &[
         "imu",
         "lidar",
         "liosam-mid360-9axis",
-        Format::LioSam,
+        Format(&formats::yaml_dialects::LIO_SAM),
         1e-9,
     ),
     c(
@@ -84,7 +85,7 @@ const CASES: &[Case] = &[
         "os_imu",
         "os_lidar",
         "ouster-os0-128-fw2.3",
-        Format::OusterJson,
+        Format(&formats::ouster::SPEC),
         1e-9,
     ),
     c(
@@ -93,7 +94,7 @@ const CASES: &[Case] = &[
         "os_imu",
         "os_lidar",
         "ouster-os1-128-fw3.0",
-        Format::OusterJson,
+        Format(&formats::ouster::SPEC),
         1e-9,
     ),
     c(
@@ -102,7 +103,7 @@ const CASES: &[Case] = &[
         "box_base",
         "hesai_lidar",
         "grandtour-hesai-cpt7",
-        Format::TfTreeYaml,
+        Format(&formats::yaml_dialects::TF_TREE_YAML),
         1e-9,
     ),
     c(
@@ -111,7 +112,7 @@ const CASES: &[Case] = &[
         "livox_imu",
         "livox_lidar",
         "grandtour-mid360-internal",
-        Format::TfTreeYaml,
+        Format(&formats::yaml_dialects::TF_TREE_YAML),
         1e-9,
     ),
     c(
@@ -120,7 +121,7 @@ const CASES: &[Case] = &[
         "imu",
         "lidar",
         "liolivox-mid360",
-        Format::LioLivoxLaunch,
+        Format(&formats::launch::LIO_LIVOX_LAUNCH),
         2e-5,
     ),
     c(
@@ -129,7 +130,7 @@ const CASES: &[Case] = &[
         "IMU",
         "LiDAR",
         "geode-gamma-avia",
-        Format::MatrixYaml,
+        Format(&formats::yaml_dialects::MATRIX_YAML),
         2e-6,
     ),
     c(
@@ -138,7 +139,7 @@ const CASES: &[Case] = &[
         "body",
         "LiDAR",
         "urbannav-hk-20190428-hdl32e",
-        Format::MatrixYaml,
+        Format(&formats::yaml_dialects::MATRIX_YAML),
         1e-9,
     ),
     // rigs.json reads CENTER_LiDAR_T_IMU against its name (the file's comment says
@@ -150,7 +151,7 @@ const CASES: &[Case] = &[
         "CENTER_LiDAR",
         "IMU",
         "urbannav-hk-medium-hdl32e",
-        Format::MatrixYaml,
+        Format(&formats::yaml_dialects::MATRIX_YAML),
         1e-9,
     ),
     c(
@@ -159,7 +160,7 @@ const CASES: &[Case] = &[
         "handsfree_imu",
         "velodyne",
         "m2dgr-vlp32c-handsfree",
-        Format::M2dgrTxt,
+        Format(&formats::kitti_m2dgr::M2DGR_TXT),
         1e-9,
     ),
     c(
@@ -168,7 +169,7 @@ const CASES: &[Case] = &[
         "xsens_imu",
         "velodyne",
         "m2dgr-vlp32c-xsens",
-        Format::M2dgrTxt,
+        Format(&formats::kitti_m2dgr::M2DGR_TXT),
         1e-9,
     ),
     c(
@@ -177,7 +178,7 @@ const CASES: &[Case] = &[
         "body_imu",
         "sensor",
         "fusionportable-os1-128-stim300",
-        Format::QuaternionYaml,
+        Format(&formats::yaml_dialects::QUATERNION_YAML),
         1e-8,
     ),
     c(
@@ -186,7 +187,7 @@ const CASES: &[Case] = &[
         "body",
         "lidar",
         "mcdviral-hhs-ouster",
-        Format::Slict,
+        Format(&formats::yaml_dialects::SLICT),
         1e-8,
     ),
     c(
@@ -195,7 +196,7 @@ const CASES: &[Case] = &[
         "imu",
         "lidar1",
         "ntuviral-vert-os1-16",
-        Format::CocoLic,
+        Format(&formats::yaml_dialects::COCO_LIC),
         1e-9,
     ),
     c(
@@ -204,7 +205,7 @@ const CASES: &[Case] = &[
         "imu",
         "lidar0",
         "ntuviral-horz-os1-16",
-        Format::CocoLic,
+        Format(&formats::yaml_dialects::COCO_LIC),
         1e-9,
     ),
     c(
@@ -213,7 +214,7 @@ const CASES: &[Case] = &[
         "imu",
         "velo",
         "kitti-velo64-oxts",
-        Format::KittiCalib,
+        Format(&formats::kitti_m2dgr::KITTI_CALIB),
         1e-6,
     ),
     c(
@@ -222,7 +223,7 @@ const CASES: &[Case] = &[
         "mti10",
         "rslidar32",
         "norlab-warthog-rs32-mti10",
-        Format::Urdf,
+        Format(&formats::urdf::SPEC),
         1e-9,
     ),
     c(
@@ -231,7 +232,7 @@ const CASES: &[Case] = &[
         "mti10",
         "rslidar16_left",
         "norlab-warthog-rs16left-mti10",
-        Format::Urdf,
+        Format(&formats::urdf::SPEC),
         1e-8,
     ),
     c(
@@ -240,7 +241,7 @@ const CASES: &[Case] = &[
         "imu_link",
         "lidar",
         "anymal-d-lidar-imu",
-        Format::Urdf,
+        Format(&formats::urdf::SPEC),
         1e-8,
     ),
     c(
@@ -249,7 +250,7 @@ const CASES: &[Case] = &[
         "imu",
         "os_sensor",
         "ntnu-os0-128-vn100",
-        Format::TfStaticEcho,
+        Format(&formats::yaml_dialects::TF_STATIC_ECHO),
         1e-6,
     ),
     c(
@@ -258,7 +259,7 @@ const CASES: &[Case] = &[
         "box_base",
         "hesai_lidar",
         "grandtour-hesai-cpt7",
-        Format::TfStaticEcho,
+        Format(&formats::yaml_dialects::TF_STATIC_ECHO),
         1e-8,
     ),
     c(
@@ -267,7 +268,7 @@ const CASES: &[Case] = &[
         "body",
         "livox_frame",
         "fastlio-mid360",
-        Format::TfStaticEcho,
+        Format(&formats::yaml_dialects::TF_STATIC_ECHO),
         1e-9,
     ),
     c(
@@ -276,7 +277,7 @@ const CASES: &[Case] = &[
         "box_base",
         "hesai_lidar",
         "grandtour-hesai-cpt7",
-        Format::StaticTfCommands,
+        Format(&formats::launch::STATIC_TF_COMMANDS),
         1e-8,
     ),
     c(
@@ -285,7 +286,7 @@ const CASES: &[Case] = &[
         "imu",
         "os_sensor",
         "ntnu-os0-128-vn100",
-        Format::StaticTfCommands,
+        Format(&formats::launch::STATIC_TF_COMMANDS),
         1e-6,
     ),
     c(
@@ -294,7 +295,7 @@ const CASES: &[Case] = &[
         "body",
         "avia_frame",
         "fastlio-avia",
-        Format::StaticTfCommands,
+        Format(&formats::launch::STATIC_TF_COMMANDS),
         1e-9,
     ),
     c(
@@ -303,7 +304,7 @@ const CASES: &[Case] = &[
         "box_base",
         "hesai_lidar",
         "grandtour-hesai-cpt7",
-        Format::LaunchXml,
+        Format(&formats::launch::LAUNCH_XML),
         1e-8,
     ),
     c(
@@ -312,7 +313,7 @@ const CASES: &[Case] = &[
         "imu",
         "os_sensor",
         "ntnu-os0-128-vn100",
-        Format::LaunchXml,
+        Format(&formats::launch::LAUNCH_XML),
         1e-6,
     ),
     c(
@@ -321,7 +322,7 @@ const CASES: &[Case] = &[
         "box_base",
         "hesai_lidar",
         "grandtour-hesai-cpt7",
-        Format::LaunchXml,
+        Format(&formats::launch::LAUNCH_XML),
         1e-8,
     ),
     c(
@@ -330,7 +331,7 @@ const CASES: &[Case] = &[
         "imu",
         "os_sensor",
         "ntnu-os0-128-vn100",
-        Format::LaunchYaml,
+        Format(&formats::launch::LAUNCH_YAML),
         1e-6,
     ),
     c(
@@ -339,7 +340,7 @@ const CASES: &[Case] = &[
         "box_base",
         "hesai_lidar",
         "grandtour-hesai-cpt7",
-        Format::LaunchPy,
+        Format(&formats::launch::LAUNCH_PY),
         1e-8,
     ),
     c(
@@ -348,7 +349,7 @@ const CASES: &[Case] = &[
         "imu",
         "os_sensor",
         "ntnu-os0-128-vn100",
-        Format::LaunchPy,
+        Format(&formats::launch::LAUNCH_PY),
         1e-6,
     ),
     c(
@@ -357,7 +358,7 @@ const CASES: &[Case] = &[
         "quadrotor/base_link",
         "quadrotor/lidar",
         "kr-quadrotor-lidar-base",
-        Format::LaunchXml,
+        Format(&formats::launch::LAUNCH_XML),
         1e-9,
     ),
 ];

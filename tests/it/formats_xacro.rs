@@ -5,7 +5,7 @@
 #[cfg(unix)]
 #[test]
 fn xacro_on_path_is_run() {
-    use extrinsic_audit::formats::{load_file, Format, LoadOptions};
+    use extrinsic_audit::formats::{load_file, LoadOptions};
     use std::os::unix::fs::PermissionsExt;
 
     let dir = tempfile::tempdir().expect("tempdir");
@@ -27,7 +27,7 @@ fn xacro_on_path_is_run() {
     )
     .expect("expanded");
     assert_eq!(l.edges.len(), 1);
-    assert_eq!(l.edges[0].provenance.format, Format::Urdf.name());
+    assert_eq!(l.edges[0].provenance.format, "urdf");
     assert!(l.edges[0].provenance.key.contains("expanded"));
     assert!((l.edges[0].transform.translation().z - 0.5).abs() < 1e-15);
 }

@@ -6,7 +6,7 @@
 use super::read::JointRaw;
 use crate::diagnostic::{Error, Result, Warning, WarningCode};
 use crate::formats::source::LineIndex;
-use crate::formats::{xml, Format, LoadOptions};
+use crate::formats::{xml, LoadOptions};
 use crate::frames::{Edge, JointState, JointType};
 use crate::geometry::se3::{robust_norm, scaled_unit};
 use crate::geometry::Transform;
@@ -28,7 +28,7 @@ pub(super) fn edges(
         let set = opts.joints.get(&j.name).copied();
         let key = format!("joint \"{}\" <origin>", j.name);
         let edge = |t: Transform, key: String| {
-            Edge::new(&j.parent, &j.child, t, j.loc.clone(), Format::Urdf, key)
+            Edge::new(&j.parent, &j.child, t, j.loc.clone(), super::SPEC.id, key)
         };
         match j.jtype {
             None => {

@@ -44,6 +44,7 @@ mod joints;
 mod read;
 
 use crate::diagnostic::{Error, Result};
+use crate::formats::registry::FormatSpec;
 use crate::formats::source::LineIndex;
 use crate::formats::{xacro, xml, LoadOptions, Loaded};
 use crate::frames::FrameGraph;
@@ -126,3 +127,19 @@ fn refuse_xacro(idx: &LineIndex, doc: &roxmltree::Document, path: &Path) -> Resu
 
 /// Links by name, for the joints' parent and child checks.
 pub(crate) type Links<'a> = HashMap<String, roxmltree::Node<'a, 'a>>;
+
+/// URDF.
+pub const SPEC: FormatSpec = FormatSpec {
+    id: "urdf",
+    description: "URDF robot description: each joint <origin> is the child link's pose in the parent link (R = Rz(yaw) Ry(pitch) Rx(roll)); movable joints at 0 unless --joint NAME=VALUE",
+    extensions: &[],
+    walk: &[".urdf", ".xml"],
+    sniff: |s| {
+        if s.xml_candidate() && s.text.contains("<robot") {
+            Some(90)
+        } else {
+            (s.ext == "urdf").then_some(80)
+        }
+    },
+    parse,
+};
