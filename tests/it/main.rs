@@ -24,6 +24,7 @@ mod hostile_atomic;
 mod hostile_limits;
 mod hostile_numbers;
 mod hostile_points;
+mod json_schemas;
 mod points_readers;
 mod points_regressions;
 mod readme;

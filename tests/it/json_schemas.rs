@@ -1,0 +1,93 @@
+//! Every JSON output validates against its committed schema in docs/schemas
+//! (JSON Schema 2020-12, checked with the `jsonschema` crate).
+
+use crate::common::run_cli;
+use serde_json::Value;
+
+fn schema(name: &str) -> jsonschema::Validator {
+    let path = format!(
+        "{}/docs/schemas/{name}.schema.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let s: Value = serde_json::from_str(&std::fs::read_to_string(&path).expect("schema"))
+        .expect("schema JSON");
+    jsonschema::validator_for(&s).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+fn assert_valid(name: &str, args: &[&str]) {
+    let (code, out, err) = run_cli(args);
+    assert!(code == 0 || code == 1, "{args:?}: exit {code}: {err}");
+    let v: Value = serde_json::from_str(&out).expect("JSON output");
+    let errors: Vec<String> = schema(name)
+        .iter_errors(&v)
+        .map(|e| format!("{} at {}", e, e.instance_path))
+        .collect();
+    assert!(errors.is_empty(), "{args:?} against {name}: {errors:#?}");
+}
+
+#[test]
+fn json_outputs_match_the_committed_schemas() {
+    assert_valid(
+        "rig-report",
+        &[
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--from",
+            "base",
+            "--to",
+            "lidar",
+            "--format",
+            "json",
+        ],
+    );
+    assert_valid(
+        "rig-report",
+        &[
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--from",
+            "base",
+            "--to",
+            "lidar",
+            "--kappa",
+            "0.01",
+            "--lambda",
+            "0.004",
+            "--format",
+            "json",
+        ],
+    );
+    assert_valid(
+        "survey",
+        &["survey", "calibrations/", "--all", "--format", "json"],
+    );
+    assert_valid("check", &["check", "calibrations/", "--format", "json"]);
+    assert_valid(
+        "degeneracy",
+        &[
+            "degeneracy",
+            "tests/fixtures/detector/tunnel_small_le.ply",
+            "--shift",
+            "1,0,0",
+            "--format",
+            "json",
+        ],
+    );
+}
+
+#[test]
+fn the_schemas_refuse_a_wrong_report() {
+    // A validator that accepts anything would make the test above worthless.
+    let s = schema("rig-report");
+    assert!(!s.is_valid(&serde_json::json!({"schema_version": 1})));
+    let (_, out, _) = run_cli(&[
+        "tests/fixtures/urdf/anymal_c.urdf",
+        "--from",
+        "base",
+        "--to",
+        "lidar",
+        "--format",
+        "json",
+    ]);
+    let mut v: Value = serde_json::from_str(&out).unwrap();
+    v["screw"]["kind"] = "helical".into();
+    assert!(!s.is_valid(&v));
+}
