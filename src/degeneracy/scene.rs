@@ -244,174 +244,187 @@ pub fn sample_scene(kind: SceneKind, spacing: f64, rng: &mut SceneRng) -> Result
             "sampling spacing {spacing} m would give about {n:.0} points, more than the limit of {MAX_SCENE_POINTS}"
         )));
     }
+    let mut c = Cloud::default();
+    match kind {
+        SceneKind::Tunnel => sample_tunnel(&mut c, spacing, rng),
+        SceneKind::Corridor => sample_corridor(&mut c, spacing, rng),
+        SceneKind::Corner => sample_corner(&mut c, spacing, rng),
+    }
+    Ok(c)
+}
+
+/// Rings of the circular tunnel about z, normals toward the axis.
+fn sample_tunnel(c: &mut Cloud, spacing: f64, rng: &mut SceneRng) {
+    let half = 0.5 * SCENE_LENGTH;
+    let n_theta = ((2.0 * PI * TUNNEL_RADIUS) / spacing).round().max(3.0) as usize;
+    let th0 = rng.uniform() * 2.0 * PI / n_theta as f64;
+    let z0 = rng.uniform() * spacing;
+    let n_rings = ((SCENE_LENGTH - z0) / spacing).floor() as usize + 1;
+    for r in 0..n_rings {
+        let zz = -half + z0 + r as f64 * spacing;
+        for k in 0..n_theta {
+            let th = th0 + 2.0 * PI * k as f64 / n_theta as f64;
+            let (s, co) = th.sin_cos();
+            c.points.push([TUNNEL_RADIUS * co, TUNNEL_RADIUS * s, zz]);
+            c.normals.push([-co, -s, 0.0]);
+        }
+    }
+}
+
+/// The rectangular corridor along z: two walls, floor and ceiling.
+fn sample_corridor(c: &mut Cloud, spacing: f64, rng: &mut SceneRng) {
     let half = 0.5 * SCENE_LENGTH;
     let a = CORRIDOR_HALF_WIDTH;
     let (y0, y1) = CORRIDOR_Y;
     let h = y1 - y0;
-    let mut c = Cloud::default();
-    let x = Vector3::x();
-    let y = Vector3::y();
-    let z = Vector3::z();
+    let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
     let all = |_: &Vector3<f64>| true;
-    match kind {
-        SceneKind::Tunnel => {
-            let n_theta = ((2.0 * PI * TUNNEL_RADIUS) / spacing).round().max(3.0) as usize;
-            let th0 = rng.uniform() * 2.0 * PI / n_theta as f64;
-            let z0 = rng.uniform() * spacing;
-            let n_rings = ((SCENE_LENGTH - z0) / spacing).floor() as usize + 1;
-            for r in 0..n_rings {
-                let zz = -half + z0 + r as f64 * spacing;
-                for k in 0..n_theta {
-                    let th = th0 + 2.0 * PI * k as f64 / n_theta as f64;
-                    let (s, co) = th.sin_cos();
-                    c.points.push([TUNNEL_RADIUS * co, TUNNEL_RADIUS * s, zz]);
-                    c.normals.push([-co, -s, 0.0]);
-                }
-            }
-        }
-        SceneKind::Corridor => {
-            let mut ph = || (rng.uniform() * spacing, rng.uniform() * spacing);
-            let o = Vector3::new(0.0, 0.0, -half);
-            // Walls x = -a and x = +a (u along y, v along z).
-            sample_rect(
-                &mut c,
-                o + Vector3::new(-a, y0, 0.0),
-                y,
-                h,
-                z,
-                SCENE_LENGTH,
-                x,
-                spacing,
-                ph(),
-                &all,
-            );
-            sample_rect(
-                &mut c,
-                o + Vector3::new(a, y0, 0.0),
-                y,
-                h,
-                z,
-                SCENE_LENGTH,
-                -x,
-                spacing,
-                ph(),
-                &all,
-            );
-            // Floor y = y0 and ceiling y = y1 (u along x, v along z).
-            sample_rect(
-                &mut c,
-                o + Vector3::new(-a, y0, 0.0),
-                x,
-                2.0 * a,
-                z,
-                SCENE_LENGTH,
-                y,
-                spacing,
-                ph(),
-                &all,
-            );
-            sample_rect(
-                &mut c,
-                o + Vector3::new(-a, y1, 0.0),
-                x,
-                2.0 * a,
-                z,
-                SCENE_LENGTH,
-                -y,
-                spacing,
-                ph(),
-                &all,
-            );
-        }
-        SceneKind::Corner => {
-            let mut ph = || (rng.uniform() * spacing, rng.uniform() * spacing);
-            // Leg 1: |x| <= a, z in [-half, a]; leg 2: x in [-a, half], |z| <= a.
-            let in_l = |p: &Vector3<f64>| {
-                (p.x.abs() <= a && p.z >= -half && p.z <= a)
-                    || (p.x >= -a && p.x <= half && p.z.abs() <= a)
-            };
-            let lx = half + a;
-            let lz = half + a;
-            // Floor and ceiling over the bounding box, kept inside the L.
-            sample_rect(
-                &mut c,
-                Vector3::new(-a, y0, -half),
-                x,
-                lx,
-                z,
-                lz,
-                y,
-                spacing,
-                ph(),
-                &in_l,
-            );
-            sample_rect(
-                &mut c,
-                Vector3::new(-a, y1, -half),
-                x,
-                lx,
-                z,
-                lz,
-                -y,
-                spacing,
-                ph(),
-                &in_l,
-            );
-            // Outer wall x = -a, z in [-half, a].
-            sample_rect(
-                &mut c,
-                Vector3::new(-a, y0, -half),
-                y,
-                h,
-                z,
-                lz,
-                x,
-                spacing,
-                ph(),
-                &all,
-            );
-            // Outer wall z = +a, x in [-a, half].
-            sample_rect(
-                &mut c,
-                Vector3::new(-a, y0, a),
-                y,
-                h,
-                x,
-                lx,
-                -z,
-                spacing,
-                ph(),
-                &all,
-            );
-            // Inner wall x = +a, z in [-half, -a].
-            sample_rect(
-                &mut c,
-                Vector3::new(a, y0, -half),
-                y,
-                h,
-                z,
-                half - a,
-                -x,
-                spacing,
-                ph(),
-                &all,
-            );
-            // Inner wall z = -a, x in [a, half].
-            sample_rect(
-                &mut c,
-                Vector3::new(a, y0, -a),
-                y,
-                h,
-                x,
-                half - a,
-                z,
-                spacing,
-                ph(),
-                &all,
-            );
-        }
-    }
-    Ok(c)
+    let mut ph = || (rng.uniform() * spacing, rng.uniform() * spacing);
+    let o = Vector3::new(0.0, 0.0, -half);
+    // Walls x = -a and x = +a (u along y, v along z).
+    sample_rect(
+        c,
+        o + Vector3::new(-a, y0, 0.0),
+        y,
+        h,
+        z,
+        SCENE_LENGTH,
+        x,
+        spacing,
+        ph(),
+        &all,
+    );
+    sample_rect(
+        c,
+        o + Vector3::new(a, y0, 0.0),
+        y,
+        h,
+        z,
+        SCENE_LENGTH,
+        -x,
+        spacing,
+        ph(),
+        &all,
+    );
+    // Floor y = y0 and ceiling y = y1 (u along x, v along z).
+    sample_rect(
+        c,
+        o + Vector3::new(-a, y0, 0.0),
+        x,
+        2.0 * a,
+        z,
+        SCENE_LENGTH,
+        y,
+        spacing,
+        ph(),
+        &all,
+    );
+    sample_rect(
+        c,
+        o + Vector3::new(-a, y1, 0.0),
+        x,
+        2.0 * a,
+        z,
+        SCENE_LENGTH,
+        -y,
+        spacing,
+        ph(),
+        &all,
+    );
+}
+
+/// The right-angle L corner: floor and ceiling kept inside the L, four walls.
+fn sample_corner(c: &mut Cloud, spacing: f64, rng: &mut SceneRng) {
+    let half = 0.5 * SCENE_LENGTH;
+    let a = CORRIDOR_HALF_WIDTH;
+    let (y0, y1) = CORRIDOR_Y;
+    let h = y1 - y0;
+    let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
+    let all = |_: &Vector3<f64>| true;
+    let mut ph = || (rng.uniform() * spacing, rng.uniform() * spacing);
+    // Leg 1: |x| <= a, z in [-half, a]; leg 2: x in [-a, half], |z| <= a.
+    let in_l = |p: &Vector3<f64>| {
+        (p.x.abs() <= a && p.z >= -half && p.z <= a) || (p.x >= -a && p.x <= half && p.z.abs() <= a)
+    };
+    let lx = half + a;
+    let lz = half + a;
+    // Floor and ceiling over the bounding box, kept inside the L.
+    sample_rect(
+        c,
+        Vector3::new(-a, y0, -half),
+        x,
+        lx,
+        z,
+        lz,
+        y,
+        spacing,
+        ph(),
+        &in_l,
+    );
+    sample_rect(
+        c,
+        Vector3::new(-a, y1, -half),
+        x,
+        lx,
+        z,
+        lz,
+        -y,
+        spacing,
+        ph(),
+        &in_l,
+    );
+    // Outer wall x = -a, z in [-half, a].
+    sample_rect(
+        c,
+        Vector3::new(-a, y0, -half),
+        y,
+        h,
+        z,
+        lz,
+        x,
+        spacing,
+        ph(),
+        &all,
+    );
+    // Outer wall z = +a, x in [-a, half].
+    sample_rect(
+        c,
+        Vector3::new(-a, y0, a),
+        y,
+        h,
+        x,
+        lx,
+        -z,
+        spacing,
+        ph(),
+        &all,
+    );
+    // Inner wall x = +a, z in [-half, -a].
+    sample_rect(
+        c,
+        Vector3::new(a, y0, -half),
+        y,
+        h,
+        z,
+        half - a,
+        -x,
+        spacing,
+        ph(),
+        &all,
+    );
+    // Inner wall z = -a, x in [a, half].
+    sample_rect(
+        c,
+        Vector3::new(a, y0, -a),
+        y,
+        h,
+        x,
+        half - a,
+        z,
+        spacing,
+        ph(),
+        &all,
+    );
 }
 
 /// Range noise: each point moves along its ray from the sensor at the origin by

@@ -332,7 +332,52 @@ fn build_edge(
         )));
     }
 
-    let mut forms: Vec<&str> = Vec::new();
+    let form = rotation_form(index, &def)?;
+    let carries_translation = matches!(form, "matrix4" | "matrix3x4");
+    let d = match (carries_translation, def.translation) {
+        (true, Some(_)) => {
+            return Err(Error::parse(format!(
+                "rig TOML: [[transform]] #{index}: {form} carries the translation in its last column; expected no separate `translation`, found one"
+            )))
+        }
+        (true, None) => [0.0; 3],
+        (false, Some(t)) => t,
+        (false, None) => {
+            return Err(Error::parse(format!(
+                "rig TOML: [[transform]] #{index} ({} -> {}): expected `translation = [x, y, z]` with {form}, found none",
+                def.parent, def.child
+            )))
+        }
+    };
+    check_finite(index, "translation", &d)?;
+
+    let t = rotation(index, &def, d, warnings)?;
+    let t = match def.unit {
+        Unit::M => t,
+        Unit::Mm => t.scaled_translation(1e-3),
+    };
+    let t = if def.invert { t.inverse() } else { t };
+
+    let mut key = def.source_key;
+    if def.invert {
+        key.push_str(" (inverted: published as the pose of the parent in the child)");
+    }
+    Ok(Edge {
+        parent: def.parent,
+        child: def.child,
+        transform: t,
+        provenance: Provenance {
+            location: loc.clone(),
+            format: SPEC.id,
+            key,
+        },
+        joint: None,
+    })
+}
+
+/// The one rotation form a `[[transform]]` gives (none or several: an error).
+fn rotation_form(index: usize, def: &TransformDef) -> Result<&'static str> {
+    let mut forms: Vec<&'static str> = Vec::new();
     if def.rotation_matrix.is_some() {
         forms.push("rotation_matrix");
     }
@@ -359,63 +404,49 @@ fn build_edge(
     }
     const FORMS: &str = "rotation_matrix, quaternion_xyzw, quaternion_wxyz, rpy, ypr, axis_angle, matrix4 or matrix3x4";
     match forms.len() {
-        0 => {
-            return Err(Error::parse(format!(
+        0 => Err(Error::parse(format!(
                 "rig TOML: [[transform]] #{index} ({} -> {}): expected exactly one rotation form ({FORMS}), found none",
                 def.parent, def.child
-            )))
-        }
-        1 => {}
-        _ => {
-            return Err(Error::parse(format!(
+            ))),
+        1 => Ok(forms[0]),
+        _ => Err(Error::parse(format!(
                 "rig TOML: [[transform]] #{index} ({} -> {}): expected exactly one rotation form ({FORMS}), found {}",
                 def.parent,
                 def.child,
                 forms.join(" and ")
-            )))
-        }
+            ))),
     }
-    let form = forms[0];
-    let carries_translation = matches!(form, "matrix4" | "matrix3x4");
-    let d = match (carries_translation, def.translation) {
-        (true, Some(_)) => {
-            return Err(Error::parse(format!(
-                "rig TOML: [[transform]] #{index}: {form} carries the translation in its last column; expected no separate `translation`, found one"
-            )))
-        }
-        (true, None) => [0.0; 3],
-        (false, Some(t)) => t,
-        (false, None) => {
-            return Err(Error::parse(format!(
-                "rig TOML: [[transform]] #{index} ({} -> {}): expected `translation = [x, y, z]` with {form}, found none",
-                def.parent, def.child
-            )))
-        }
-    };
-    check_finite(index, "translation", &d)?;
+}
 
-    let t = if let Some(r) = def.rotation_matrix {
+/// The transform from the one rotation form given and translation `d`.
+fn rotation(
+    index: usize,
+    def: &TransformDef,
+    d: [f64; 3],
+    warnings: &mut Vec<Warning>,
+) -> Result<Transform> {
+    if let Some(r) = def.rotation_matrix {
         check_finite(index, "rotation_matrix", r.as_flattened())?;
-        Transform::from_matrix3(r, d, warnings)?
+        Transform::from_matrix3(r, d, warnings)
     } else if let Some(q) = def.quaternion_xyzw {
         check_finite(index, "quaternion_xyzw", &q)?;
-        Transform::from_quaternion(q, QuatOrder::Xyzw, d, warnings)?
+        Transform::from_quaternion(q, QuatOrder::Xyzw, d, warnings)
     } else if let Some(q) = def.quaternion_wxyz {
         check_finite(index, "quaternion_wxyz", &q)?;
-        Transform::from_quaternion(q, QuatOrder::Wxyz, d, warnings)?
+        Transform::from_quaternion(q, QuatOrder::Wxyz, d, warnings)
     } else if let Some(a) = def.rpy {
         check_finite(index, "rpy", &a)?;
-        Transform::from_rpy(a, d)?
+        Transform::from_rpy(a, d)
     } else if let Some(a) = def.ypr {
         check_finite(index, "ypr", &a)?;
-        Transform::from_ypr(a, d)?
-    } else if let Some(aa) = def.axis_angle {
+        Transform::from_ypr(a, d)
+    } else if let Some(aa) = &def.axis_angle {
         check_finite(index, "axis_angle.axis", &aa.axis)?;
         check_finite(index, "axis_angle.angle", &[aa.angle])?;
-        Transform::from_axis_angle(aa.axis, aa.angle, d)?
+        Transform::from_axis_angle(aa.axis, aa.angle, d)
     } else if let Some(m) = def.matrix4 {
         check_finite(index, "matrix4", m.as_flattened())?;
-        Transform::from_matrix4(m, warnings)?
+        Transform::from_matrix4(m, warnings)
     } else if let Some(m) = def.matrix3x4 {
         check_finite(index, "matrix3x4", m.as_flattened())?;
         let r = [
@@ -423,35 +454,14 @@ fn build_edge(
             [m[1][0], m[1][1], m[1][2]],
             [m[2][0], m[2][1], m[2][2]],
         ];
-        Transform::from_matrix3(r, [m[0][3], m[1][3], m[2][3]], warnings)?
+        Transform::from_matrix3(r, [m[0][3], m[1][3], m[2][3]], warnings)
     } else {
         // Unreachable: exactly one form was found above.
-        return Err(Error::new(
+        Err(Error::new(
             ErrorKind::Parse,
             format!("rig TOML: [[transform]] #{index}: no rotation form"),
-        ));
-    };
-    let t = match def.unit {
-        Unit::M => t,
-        Unit::Mm => t.scaled_translation(1e-3),
-    };
-    let t = if def.invert { t.inverse() } else { t };
-
-    let mut key = def.source_key;
-    if def.invert {
-        key.push_str(" (inverted: published as the pose of the parent in the child)");
+        ))
     }
-    Ok(Edge {
-        parent: def.parent,
-        child: def.child,
-        transform: t,
-        provenance: Provenance {
-            location: loc.clone(),
-            format: SPEC.id,
-            key,
-        },
-        joint: None,
-    })
 }
 
 /// Resolve an include path: relative, inside the TOML's directory, no `..`.

@@ -897,104 +897,12 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
         },
         None => (key, None),
     };
-    let mut found: Vec<(&Node, &Node)> = Vec::new();
-    for d in docs {
-        if key.contains('.') {
-            let mut cur = vec![d];
-            let parts: Vec<&str> = key.split('.').collect();
-            let mut hit: Option<(&Node, &Node)> = None;
-            for (i, p) in parts.iter().enumerate() {
-                let Some(m) = cur.last() else { break };
-                let Some((k, v)) = m
-                    .entries()
-                    .iter()
-                    .rev()
-                    .find(|(k, _)| k.as_str().as_deref() == Some(*p))
-                else {
-                    break;
-                };
-                if i + 1 == parts.len() {
-                    hit = Some((k, v));
-                }
-                cur.push(v);
-            }
-            if let Some(h) = hit {
-                found.push(h);
-            }
-        }
-        if found.is_empty() {
-            find_key(d, key, &mut found);
-        }
-    }
-    if found.is_empty() {
-        let mut names = Vec::new();
-        for d in docs {
-            for (k, _) in d.entries() {
-                if let Some(s) = k.as_str() {
-                    names.push(s);
-                }
-            }
-        }
-        return Err(Error::parse(format!(
-            "--key {key}: no such key in this file; top-level keys: {}",
-            names.join(", ")
-        )));
-    }
-    if found.len() > 1 {
-        let same = found.windows(2).all(|w| w[0].1.value == w[1].1.value);
-        if !same {
-            return Err(err_at(
-                found[1].0,
-                format!(
-                    "--key {key}: the key appears {} times with different values (lines {}): the file is ambiguous; copy the right one into a file of its own",
-                    found.len(),
-                    found.iter().map(|(k, _)| k.line.to_string()).collect::<Vec<_>>().join(", ")
-                ),
-            ));
-        }
-    }
-    let (k, v) = found[0];
+    let (k, v) = find_one_key(docs, key)?;
     let picked;
     let v = match index {
         None => v,
         Some(i) => {
-            let nums = v.numbers(key)?;
-            let count = nums.len() / 16;
-            if nums.len() % 16 != 0 || i >= count {
-                return Err(err_at(
-                    v,
-                    format!(
-                        "--key {key}[{i}]: expected at least {} stacked 4x4 matrices (16 numbers each), found {} numbers",
-                        i + 1,
-                        nums.len()
-                    ),
-                ));
-            }
-            let b = &nums[16 * i..16 * (i + 1)];
-            if !(b[12] == 0.0 && b[13] == 0.0 && b[14] == 0.0 && (b[15] == 0.0 || b[15] == 1.0)) {
-                return Err(err_at(
-                    v,
-                    format!(
-                        "--key {key}[{i}]: expected bottom row [0, 0, 0, 1] (or SLICT's [0, 0, 0, 0] flag), found [{}, {}, {}, {}]",
-                        b[12], b[13], b[14], b[15]
-                    ),
-                ));
-            }
-            // The top 3x4 only: stacked files use the (4,4) entry as a flag.
-            picked = Node {
-                value: Value::Seq(
-                    nums[16 * i..16 * i + 12]
-                        .iter()
-                        .map(|x| Node {
-                            value: Value::Num(*x),
-                            line: v.line,
-                            column: v.column,
-                        })
-                        .collect(),
-                ),
-                line: v.line,
-                column: v.column,
-            };
+            picked = stacked_matrix(v, key, i)?;
             &picked
         }
     };
@@ -1019,4 +927,100 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
     };
     matrix_edge(&label, frames, v, k, text, path, &mut out)?;
     Ok(out)
+}
+
+/// The value under a dotted path (`a.b.c`) in one document.
+fn dotted<'a>(d: &'a Node, key: &str) -> Option<(&'a Node, &'a Node)> {
+    let parts: Vec<&str> = key.split('.').collect();
+    let mut cur = d;
+    let mut hit = None;
+    for (i, p) in parts.iter().enumerate() {
+        let (k, v) = cur
+            .entries()
+            .iter()
+            .rev()
+            .find(|(k, _)| k.as_str().as_deref() == Some(*p))?;
+        if i + 1 == parts.len() {
+            hit = Some((k, v));
+        }
+        cur = v;
+    }
+    hit
+}
+
+/// The one value of `key` (a dotted path, or a key anywhere); several equal
+/// values are one, different ones are an error naming their lines.
+fn find_one_key<'a>(docs: &'a [Node], key: &str) -> Result<(&'a Node, &'a Node)> {
+    let mut found: Vec<(&Node, &Node)> = Vec::new();
+    for d in docs {
+        if key.contains('.') {
+            found.extend(dotted(d, key));
+        }
+        if found.is_empty() {
+            find_key(d, key, &mut found);
+        }
+    }
+    if found.is_empty() {
+        let names: Vec<String> = docs
+            .iter()
+            .flat_map(|d| d.entries().iter().filter_map(|(k, _)| k.as_str()))
+            .map(|s| s.to_string())
+            .collect();
+        return Err(Error::parse(format!(
+            "--key {key}: no such key in this file; top-level keys: {}",
+            names.join(", ")
+        )));
+    }
+    if found.len() > 1 && !found.windows(2).all(|w| w[0].1.value == w[1].1.value) {
+        return Err(err_at(
+            found[1].0,
+            format!(
+                "--key {key}: the key appears {} times with different values (lines {}): the file is ambiguous; copy the right one into a file of its own",
+                found.len(),
+                found.iter().map(|(k, _)| k.line.to_string()).collect::<Vec<_>>().join(", ")
+            ),
+        ));
+    }
+    Ok(found[0])
+}
+
+/// The `i`-th of stacked 4x4 matrices under `key`, as its top 3x4 (stacked
+/// files use the (4,4) entry as a flag).
+fn stacked_matrix(v: &Node, key: &str, i: usize) -> Result<Node> {
+    let nums = v.numbers(key)?;
+    let count = nums.len() / 16;
+    if nums.len() % 16 != 0 || i >= count {
+        return Err(err_at(
+            v,
+            format!(
+                "--key {key}[{i}]: expected at least {} stacked 4x4 matrices (16 numbers each), found {} numbers",
+                i + 1,
+                nums.len()
+            ),
+        ));
+    }
+    let b = &nums[16 * i..16 * (i + 1)];
+    if !(b[12] == 0.0 && b[13] == 0.0 && b[14] == 0.0 && (b[15] == 0.0 || b[15] == 1.0)) {
+        return Err(err_at(
+            v,
+            format!(
+                "--key {key}[{i}]: expected bottom row [0, 0, 0, 1] (or SLICT's [0, 0, 0, 0] flag), found [{}, {}, {}, {}]",
+                b[12], b[13], b[14], b[15]
+            ),
+        ));
+    }
+    Ok(Node {
+        value: Value::Seq(
+            nums[16 * i..16 * i + 12]
+                .iter()
+                .map(|x| Node {
+                    value: Value::Num(*x),
+                    line: v.line,
+                    column: v.column,
+                })
+                .collect(),
+        ),
+        line: v.line,
+        column: v.column,
+    })
 }
