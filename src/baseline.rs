@@ -6,8 +6,6 @@
 //! Drift: the translation difference `||d_now - d_base||` (m) and the angle of
 //! `R_base^T R_now` (deg, from the quaternions) against the tolerances given.
 
-#![allow(missing_docs)] // the stored fields are documented in docs/schemas
-
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result};
 use crate::frames::Edge;
 use crate::geometry::Transform;
@@ -18,23 +16,33 @@ use std::path::Path;
 /// A baseline: per file (key: the path as checked, `/`-separated), its record.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Default)]
 pub struct Baseline {
+    /// Version of this JSON layout; [`read`] accepts only 1.
     pub schema_version: u32,
+    /// One record per calibration file that loaded, keyed by its path as
+    /// checked (`/`-separated), sorted by path.
     pub files: BTreeMap<String, BaselineFile>,
 }
 
 /// One file's record.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Default)]
 pub struct BaselineFile {
+    /// Every edge the file yields, each as stored (pose of child in parent).
     pub edges: Vec<BaselineTransform>,
+    /// The frame pairs checked in this file: the rig file's `[rig] from -> to`
+    /// and each `--pair FROM:TO` whose frames the file has.
     pub pairs: Vec<BaselinePair>,
 }
 
 /// A transform as stored: pose of `child` in `parent`.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct BaselineTransform {
+    /// The frame the pose is expressed in (`from` for a pair).
     pub parent: String,
+    /// The frame whose pose it is (`to` for a pair).
     pub child: String,
+    /// `d` (m): the origin of `child` in `parent` coordinates.
     pub translation_m: [f64; 3],
+    /// `R` as a unit quaternion `[x, y, z, w]`, `w >= 0`.
     pub quaternion_xyzw: [f64; 4],
 }
 
@@ -42,10 +50,18 @@ pub struct BaselineTransform {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct BaselinePair {
     #[serde(flatten)]
+    /// The composed transform `from -> to` (flattened into this object:
+    /// `parent` is `from`, `child` is `to`).
     pub transform: BaselineTransform,
+    /// `||d||` (m) of the composed transform.
     pub lever_arm_m: f64,
+    /// The screw kind's JSON name (`identity`, `pure_translation`,
+    /// `zero_pitch`, `general`; [`ScrewKind::name`](crate::geometry::se3::ScrewKind::name)).
     pub screw_kind: String,
+    /// The screw kind is `zero_pitch` (a rotation with `|h|` within the pitch
+    /// tolerance; the identity does not count).
     pub zero_pitch: bool,
+    /// An adapted constant metric exists for this pair (identity or zero pitch).
     pub adapted_metric_exists: bool,
 }
 

@@ -80,7 +80,7 @@ pub const DUPLICATE_TRANSLATION_TOL: f64 = 1e-9;
 /// ...and the rotation between them is at most this angle (rad).
 pub const DUPLICATE_ROTATION_TOL: f64 = 1e-9;
 
-/// Deepest level [`FrameGraph::tree`] indents.
+/// Deepest level [`FrameGraph::tree`](crate::frames::FrameGraph::tree) indents.
 pub const TREE_MAX_INDENT: usize = 40;
 
 /// Frames listed in a cycle message before the middle is elided.

@@ -1,9 +1,9 @@
 //! Metric families as rules `M(D)` for `H v = lambda M v`, the adapted constant
-//! metric of one rig, per-rig verdicts (DESIGN.md, "Detector families"; paper,
+//! metric of one rig, per-rig verdicts (the README's detector table; paper,
 //! Section IV), and [`analyze`], the one allocation-free entry point that
 //! computes everything the report says about a single transform.
 //!
-//! Conventions are those of [`crate::se3`]. In short: `T = (R, d)`,
+//! Conventions are those of [`crate::geometry::se3`]. In short: `T = (R, d)`,
 //! `A = Ad(T) = [[R, 0], [[d]x R, R]]`, `H' = A^T H A`; a metric rule is
 //! *equivariant* if `M(T . D) = A^T M(D) A` for every `T`, and a fixed metric `M`
 //! is *invariant on a rig* if `A^T M A = M` for that rig's `T`.
@@ -126,7 +126,10 @@ impl std::fmt::Display for AdaptedReason {
 /// The adapted constant metric of one rig (JSON `adapted_metric`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AdaptedMetric {
+    /// A constant metric `M0` with `A^T M0 A = M0` exists for this rig (identity
+    /// or zero-pitch screw); then `matrix` and the three numbers are `Some`.
     pub exists: bool,
+    /// Why it exists or not (the report prints its text).
     pub reason: AdaptedReason,
     /// `M0`, when it exists.
     pub matrix: Option<Matrix6<f64>>,
@@ -294,11 +297,13 @@ impl std::fmt::Display for VerdictReason {
 /// One family's verdict on one rig (JSON `detectors[i]`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FamilyVerdict {
+    /// The detector family judged.
     pub family: Family,
     /// `M(T . D) = Ad(T)^T M(D) Ad(T)` for every `T`: only point displacement.
     pub equivariant_rule: bool,
     /// The family's eigenvalues are unchanged by this rig's frame change.
     pub invariant_on_rig: bool,
+    /// Why (the report prints its text).
     pub reason: VerdictReason,
 }
 
@@ -367,9 +372,12 @@ pub struct RigAnalysis {
     pub screw: Screw,
     /// Zero-pitch tolerance on `|h|` (m) used for `screw.kind`.
     pub pitch_tol: f64,
+    /// Singular values of `Ad(T)` (closed form), orthogonality and
+    /// `||A^T A - I||_F / ||I||_F`.
     pub adjoint: AdjointSummary,
     /// One band per characteristic length, in the order given.
     pub certificate: Certificates,
+    /// The adapted constant metric `M0` of this rig, or why there is none.
     pub adapted_metric: AdaptedMetric,
     /// In [`Family::ALL`] order.
     pub detectors: [FamilyVerdict; 6],
@@ -377,7 +385,7 @@ pub struct RigAnalysis {
 
 /// Analyse one transform: lever arm, angle and axis, screw, closed-form adjoint
 /// singular values, certificate bands for each `l` in `ells` (at most
-/// [`MAX_ELLS`]), adapted metric and detector verdicts.
+/// [`MAX_ELLS`](crate::tolerances::MAX_ELLS)), adapted metric and detector verdicts.
 ///
 /// Allocation-free on success. Errors (which build a message): a non-finite
 /// transform, more than `MAX_ELLS` lengths or one that is not finite and `> 0`,

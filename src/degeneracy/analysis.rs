@@ -13,9 +13,14 @@ use nalgebra::{Matrix6, Vector6};
 /// One family's answer on one data set.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Analysis {
+    /// The family (and its parameter) that assigned the metric.
     pub rule: MetricRule,
+    /// The metric `M` the rule assigned to this data (6x6, twist order
+    /// `[omega; t]`, symmetric positive definite).
     pub metric: Matrix6<f64>,
+    /// `H v = lambda M v`: eigenvalues ascending, `M`-orthonormal eigenvectors.
     pub eig: GenEigen,
+    /// Degeneracy threshold on the generalized eigenvalues (dimensionless).
     pub tau: f64,
     /// Number of eigenvalues `< tau` (they are the first ones).
     pub degenerate_count: usize,
@@ -60,7 +65,7 @@ impl Analysis {
 
     /// Per-axis footprint (frame-dependent): axis `k` flagged when the `k`-th
     /// diagonal entry of the Euclidean projector onto the degenerate subspace
-    /// exceeds [`FOOTPRINT_TOL`].
+    /// exceeds [`FOOTPRINT_TOL`](crate::tolerances::FOOTPRINT_TOL).
     pub fn footprint(&self) -> [bool; 6] {
         footprint(&self.degenerate_vectors())
     }

@@ -77,7 +77,11 @@ fn backward_t(l: &Matrix6<f64>, b: &Matrix6<f64>) -> Matrix6<f64> {
 /// (columns, `V^T M V = I`, `H V = M V diag(values)`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GenEigen {
+    /// The six generalized eigenvalues `lambda`, ascending (dimensionless
+    /// when `H` and `M` carry the same units).
     pub values: [f64; 6],
+    /// Eigenvector `k` is column `k`, a twist `[omega; t]` paired with
+    /// `values[k]`.
     pub vectors: Matrix6<f64>,
 }
 

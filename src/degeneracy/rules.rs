@@ -30,6 +30,7 @@ pub enum MetricRule {
 }
 
 impl MetricRule {
+    /// The detector family this rule belongs to (the parameter dropped).
     pub fn family(&self) -> Family {
         match self {
             MetricRule::Unnormalized => Family::Unnormalized,

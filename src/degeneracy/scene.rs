@@ -52,6 +52,8 @@ pub const MAX_SCENE_POINTS: usize = 20_000_000;
 pub struct SceneRng(rand_pcg::Pcg64);
 
 impl SceneRng {
+    /// A generator seeded with `seed` (`Pcg64::seed_from_u64`): the same seed
+    /// gives the same stream on every platform.
     pub fn new(seed: u64) -> Self {
         SceneRng(rand_pcg::Pcg64::seed_from_u64(seed))
     }
@@ -112,14 +114,18 @@ impl SceneRng {
 /// Points with unit normals.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Cloud {
+    /// Point positions `[x, y, z]` (m) in the sensor frame.
     pub points: Vec<[f64; 3]>,
+    /// Unit normal of each point, same index as `points`.
     pub normals: Vec<[f64; 3]>,
 }
 
 impl Cloud {
+    /// Number of points.
     pub fn len(&self) -> usize {
         self.points.len()
     }
+    /// No points.
     pub fn is_empty(&self) -> bool {
         self.points.is_empty()
     }
@@ -128,13 +134,19 @@ impl Cloud {
 /// The three synthetic scenes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum SceneKind {
+    /// Circular tunnel about z (two degenerate directions).
     Tunnel,
+    /// Rectangular corridor along z (one degenerate direction).
     Corridor,
+    /// Right-angle corner (none).
     Corner,
 }
 
 impl SceneKind {
+    /// Every scene, in the order the threshold sweep visits them.
     pub const ALL: [SceneKind; 3] = [SceneKind::Corridor, SceneKind::Tunnel, SceneKind::Corner];
+    /// The name on the command line and in reports (`tunnel`, `corridor`,
+    /// `corner`).
     pub fn name(self) -> &'static str {
         match self {
             SceneKind::Tunnel => "tunnel",
@@ -150,6 +162,7 @@ impl SceneKind {
             SceneKind::Corner => 0,
         }
     }
+    /// The scene called `s` ([`Self::name`]); `None` for any other string.
     pub fn parse(s: &str) -> Option<SceneKind> {
         match s {
             "tunnel" => Some(SceneKind::Tunnel),
@@ -572,7 +585,11 @@ pub struct Preprocess {
     pub voxel: Option<f64>,
     /// Normal-estimation radius (m); `None` keeps the exact normals.
     pub normal_radius: Option<f64>,
+    /// Points with fewer neighbours (itself included) within `normal_radius`
+    /// are dropped; unused without `normal_radius`.
     pub min_neighbours: usize,
+    /// Seed of the one [`SceneRng`] that draws the sampling phases, the range
+    /// noise and the voxel-grid origin.
     pub seed: u64,
 }
 

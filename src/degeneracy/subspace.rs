@@ -23,7 +23,7 @@ pub(crate) fn orthonormal_basis(vs: &[Vector6<f64>]) -> DMatrix<f64> {
     DMatrix::from_fn(6, cols.len(), |i, j| u[(i, cols[j])])
 }
 
-/// Per-axis footprint of the span of `vs` (see [`Analysis::footprint`]).
+/// Per-axis footprint of the span of `vs` (see [`Analysis::footprint`](crate::degeneracy::Analysis::footprint)).
 pub fn footprint(vs: &[Vector6<f64>]) -> [bool; 6] {
     let q = orthonormal_basis(vs);
     let mut f = [false; 6];
@@ -153,6 +153,11 @@ pub struct TwistScrew {
 }
 
 impl TwistScrew {
+    /// Reads the twist `xi = [omega; t]` as a screw: a pure translation when
+    /// `|omega| <= PURE_TRANSLATION_TOL |xi|` (direction `t / |t|`, none for the
+    /// zero twist), otherwise a rotation about the axis through
+    /// `omega x t / |omega|^2` with pitch `omega . t / |omega|^2`, zero pitch
+    /// within `TWIST_PITCH_TOL` (m/rad).
     pub fn from_twist(xi: &Vector6<f64>) -> TwistScrew {
         let om = Vector3::new(xi[0], xi[1], xi[2]);
         let t = Vector3::new(xi[3], xi[4], xi[5]);

@@ -14,15 +14,21 @@ use nalgebra::{Matrix3, Matrix6, Vector3};
 /// Arm of the per-pair frame sweep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Arm {
+    /// `A = I6`: the reference frame itself (one change).
     Identity,
+    /// `Ad(T)` of a uniform random rotation with `d = 0`.
     PureRotation,
+    /// `Ad(T)` of `R = I` and a random direction of `d` at each lever arm.
     PureTranslation,
+    /// `Ad(T)` of a random rotation and a random direction of `d` at each
+    /// lever arm.
     General,
     /// `A` a random orthogonal 6x6 matrix, not an adjoint.
     OrthogonalControl,
 }
 
 impl Arm {
+    /// Label in tables and reports (`identity`, `pure rotation`, ...).
     pub fn name(self) -> &'static str {
         match self {
             Arm::Identity => "identity",
@@ -37,8 +43,10 @@ impl Arm {
 /// One frame change of the sweep.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameChange {
+    /// Which arm of the sweep the change belongs to.
     pub arm: Arm,
-    /// `||d||` (m); 0 for identity and pure rotation.
+    /// `||d||` (m); 0 for identity and pure rotation. For the orthogonal
+    /// control (no `d`) it is only the magnitude slot the draw was filed under.
     pub magnitude: f64,
     /// `Ad(T)` or the orthogonal control matrix.
     pub a: Matrix6<f64>,
@@ -99,7 +107,9 @@ pub fn paper_frame_changes(seed: u64) -> Vec<FrameChange> {
 /// Outcome of the sweep for one metric configuration.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SweepRow {
+    /// The metric configuration swept.
     pub rule: MetricRule,
+    /// Its degeneracy threshold on the generalized eigenvalues.
     pub tau: f64,
     /// Frame changes whose binary decision (any `lambda < tau`) differs from the
     /// reference frame's.
@@ -113,10 +123,12 @@ pub struct SweepRow {
     pub max_eigenvalue_change_by_arm: [f64; 5],
     /// Largest relative eigenvalue change over the whole sweep.
     pub max_eigenvalue_change: f64,
+    /// Frame changes evaluated (the length of the sweep).
     pub evaluations: usize,
 }
 
 impl Arm {
+    /// The five arms in the order of the per-arm arrays of [`SweepRow`].
     pub const ALL: [Arm; 5] = [
         Arm::Identity,
         Arm::PureRotation,

@@ -52,31 +52,42 @@ pub const SEEDS: u64 = 8;
 /// One preprocessing configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Config {
+    /// Range-noise standard deviation (m), along the ray from the sensor.
     pub noise: f64,
+    /// Voxel edge of the downsampling grid (m); the surfaces are sampled at
+    /// half of it.
     pub voxel: f64,
 }
 
 /// Half-open interval `lo < tau <= hi` (lo may be 0 or negative rounding).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Interval {
+    /// Exclusive lower end: the largest eigenvalue that must stay below `tau`
+    /// (`-inf` when none must).
     pub lo: f64,
+    /// Inclusive upper end: the smallest eigenvalue that must not fall below
+    /// `tau` (`+inf` when none must stay).
     pub hi: f64,
 }
 
 impl Interval {
+    /// The whole line `(-inf, +inf]`: the neutral element of [`Self::intersect`].
     pub const ALL: Interval = Interval {
         lo: f64::NEG_INFINITY,
         hi: f64::INFINITY,
     };
+    /// No `tau` fits: `lo >= hi` (or an end is NaN).
     pub fn is_empty(&self) -> bool {
         self.lo.partial_cmp(&self.hi) != Some(std::cmp::Ordering::Less)
     }
+    /// The `tau` that lie in both intervals (possibly empty).
     pub fn intersect(&self, o: &Interval) -> Interval {
         Interval {
             lo: self.lo.max(o.lo),
             hi: self.hi.min(o.hi),
         }
     }
+    /// `lo < tau <= hi`.
     pub fn contains(&self, tau: f64) -> bool {
         self.lo < tau && tau <= self.hi
     }
@@ -108,6 +119,7 @@ pub fn count_interval(sorted: &[f64; 6], k: usize) -> Interval {
 /// Per family and configuration.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ConfigResult {
+    /// The preprocessing configuration (noise, voxel).
     pub config: Config,
     /// Intersection over every instance of the configuration.
     pub interval: Interval,
@@ -120,7 +132,9 @@ pub struct ConfigResult {
 /// Per family.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FamilyResult {
+    /// The metric configuration calibrated.
     pub rule: MetricRule,
+    /// One result per configuration, noise level outer, voxel size inner.
     pub configs: Vec<ConfigResult>,
     /// Intersection across configurations.
     pub intersection: Interval,
@@ -129,9 +143,14 @@ pub struct FamilyResult {
 /// Sweep options.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Calibration {
+    /// Range-noise standard deviations to sweep (m); default [`NOISE_LEVELS`].
     pub noise_levels: Vec<f64>,
+    /// Voxel edges to sweep (m); default [`VOXEL_SIZES`].
     pub voxel_sizes: Vec<f64>,
+    /// Seeds `0..seeds` per configuration and scene; default [`SEEDS`].
     pub seeds: u64,
+    /// Metric configurations calibrated; default the paper's
+    /// ([`MetricRule::paper_configs`]).
     pub rules: Vec<MetricRule>,
     /// Worker threads (at least 1).
     pub threads: usize,

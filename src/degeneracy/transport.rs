@@ -36,9 +36,10 @@ pub fn subspace_angle(a: &[Vector6<f64>], b: &[Vector6<f64>]) -> Option<f64> {
 /// frame 1.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TransportCheck {
-    /// `max_k |lambda_k - lambda'_k| / max(|lambda_k|, 1e-300)`... relative to
-    /// `max(1, |lambda_k|)` so zeros compare absolutely.
+    /// `max_k |lambda_k - lambda'_k| / max(|lambda_k|, 1)` (`lambda` in frame 1,
+    /// `lambda'` in frame 2): relative for large eigenvalues, absolute near zero.
     pub eigenvalue_diff: f64,
+    /// Both frames declare the same number of degenerate directions.
     pub count_equal: bool,
     /// Largest principal angle between the degenerate subspaces (rad), when
     /// both have the same non-zero dimension.

@@ -4,8 +4,10 @@
 //! `se3::Transform` -> analysis (`certificate`, `metric`) -> `report`.
 //!
 //! Every loader returns the edges a file yields, each with the place it came
-//! from, plus named warnings. Files that carry no frame names get the names listed
-//! in DESIGN.md ("Frame names for files that carry none").
+//! from, plus named warnings. Files that carry no frame names get fixed names
+//! (FAST-LIO `imu -> lidar`, LIO-SAM `lidar -> imu`, Ouster `os_sensor -> os_lidar`
+//! and `os_sensor -> os_imu`, ...), each stated in its parser's module doc and
+//! listed in the README's "Input formats" section.
 
 use crate::diagnostic::{Error, ErrorKind, Location, Result, Warning, WarningCode};
 pub use crate::frames::{Edge, JointState, JointType, Provenance};
@@ -19,6 +21,8 @@ pub mod ouster;
 pub mod registry;
 pub mod rig_toml;
 pub mod source;
+// TODO(issue 10): urdf/mod.rs links to its private `read` and `joints`.
+#[allow(rustdoc::private_intra_doc_links)]
 pub mod urdf;
 pub mod xacro;
 pub mod xml;
@@ -62,16 +66,27 @@ impl Default for LoadOptions {
 /// Metadata a rig file carries (TOML rig files; see `rig_toml`).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct RigMeta {
+    /// Unique rig id (`[rig] id`; the shipped files are named `<id>.toml`).
     pub id: String,
+    /// What was measured (`[rig] sensor`), e.g. the LiDAR and IMU models.
     pub sensor: String,
+    /// What it is mounted on (`[rig] platform`).
     pub platform: String,
+    /// The dataset or project the calibration comes from (`[rig] dataset`).
     pub dataset: String,
-    /// Body frame and LiDAR frame the survey uses.
+    /// Body (IMU) frame the survey reports from: the rig's transform is the
+    /// pose of `to` in `from`.
     pub from: String,
+    /// LiDAR frame the survey reports to.
     pub to: String,
+    /// Source repository, `owner/name` (`[rig.source] repo`).
     pub source_repo: String,
+    /// File in that repository the numbers come from, with the table or section
+    /// when they sit in prose (`[rig.source] path`).
     pub source_path: String,
+    /// Full commit hash of the source (`[rig.source] commit`).
     pub source_commit: String,
+    /// The source's licence as far as known (`[rig] licence`).
     pub licence: String,
     /// Which frame is expressed in which, as the source documents it.
     pub direction: String,
@@ -101,8 +116,12 @@ impl RigMeta {
 /// What one file yields.
 #[derive(Debug, Clone, Default)]
 pub struct Loaded {
+    /// The edges the file yields (each the pose of its child in its parent),
+    /// in file order, with provenance.
     pub edges: Vec<Edge>,
+    /// Named warnings raised while reading (suspicious but usable input).
     pub warnings: Vec<Warning>,
+    /// The rig metadata, for TOML rig files (`None` for every other format).
     pub rig: Option<RigMeta>,
 }
 

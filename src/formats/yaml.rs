@@ -17,19 +17,28 @@ use serde_saphyr::Spanned;
 /// A YAML value.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Value {
+    /// A mapping: `(key, value)` pairs in file order, duplicate keys kept.
     Map(Vec<(Node, Node)>),
+    /// A sequence, in file order.
     Seq(Vec<Node>),
+    /// A number (integers converted to `f64`).
     Num(f64),
+    /// A string scalar.
     Str(String),
+    /// `true` or `false`.
     Bool(bool),
+    /// A YAML null.
     Null,
 }
 
 /// A YAML value with its 1-based line and column (0 when unknown).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Node {
+    /// The value, with its children.
     pub value: Value,
+    /// 1-based line of the node's first character (0 when unknown).
     pub line: usize,
+    /// 1-based column of the node's first character (0 when unknown).
     pub column: usize,
 }
 
@@ -172,7 +181,7 @@ fn split_position(s: &str) -> (Option<usize>, Option<usize>, String) {
 
 /// Parse every document of a YAML stream.
 ///
-/// Runs on a thread of its own with a [`YAML_STACK`] stack, so the nesting
+/// Runs on a thread of its own with a 64 MiB stack, so the nesting
 /// limits hold whatever stack the caller has (a stack overflow is an abort,
 /// not an error). If that thread cannot be started, parses on the caller's.
 pub fn parse_documents(text: &str) -> Result<Vec<Node>> {
@@ -204,6 +213,8 @@ impl Node {
             _ => None,
         }
     }
+    /// The number a scalar holds: a plain number, or a string that
+    /// [`parse_number`](crate::formats::parse_number) reads; `None` otherwise.
     pub fn as_f64(&self) -> Option<f64> {
         match &self.value {
             Value::Num(n) => Some(*n),
@@ -227,6 +238,8 @@ impl Node {
     pub fn get(&self, key: &str) -> Option<&Node> {
         self.get_all(key).into_iter().last()
     }
+    /// The `(key, value)` pairs of a mapping in file order; empty for any other
+    /// value.
     pub fn entries(&self) -> &[(Node, Node)] {
         match &self.value {
             Value::Map(m) => m,

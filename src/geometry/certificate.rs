@@ -1,6 +1,6 @@
 //! Adjoint singular values in closed form, the effective lever arm and the
-//! certificate band (paper, Sections III and IV-D; DESIGN.md, "Quantities per
-//! rig"). Conventions are those of [`crate::se3`].
+//! certificate band (paper, Sections III and IV-D; the README's rig report).
+//! Conventions are those of [`crate::geometry::se3`].
 //!
 //! - `Ad(T) = [[R, 0], [[d]x R, R]]` factors as `D Q` with `Q = diag(R, R)`
 //!   orthogonal, so its singular values depend on the lever arm `delta = ||d||`
@@ -157,6 +157,9 @@ pub struct CertificateEntry {
 }
 
 impl CertificateEntry {
+    /// The entry for lever arm `||d||` (m) at characteristic length `ell` (m);
+    /// an error when `ell` is not finite and `> 0` or the lever arm is not
+    /// finite and `>= 0`.
     pub fn new(lever_arm: f64, ell: f64) -> Result<Self> {
         let de = delta_eff(lever_arm, ell)?;
         Ok(CertificateEntry {
@@ -179,15 +182,19 @@ pub struct Certificates {
 }
 
 impl Certificates {
+    /// The entries, one per characteristic length, in the order given.
     pub fn as_slice(&self) -> &[CertificateEntry] {
         &self.entries[..self.len]
     }
+    /// How many characteristic lengths were given.
     pub fn len(&self) -> usize {
         self.len
     }
+    /// No characteristic length was given.
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }
+    /// Iterates over [`Self::as_slice`].
     pub fn iter(&self) -> std::slice::Iter<'_, CertificateEntry> {
         self.as_slice().iter()
     }

@@ -37,7 +37,9 @@ use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3};
 /// Quaternion component order as written in a file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum QuatOrder {
+    /// `[x, y, z, w]`: scalar last (ROS, Eigen's `coeffs()`, scipy).
     Xyzw,
+    /// `[w, x, y, z]`: scalar first (Eigen's constructor, FusionPortable).
     Wxyz,
 }
 
@@ -136,6 +138,7 @@ impl Default for Transform {
 }
 
 impl Transform {
+    /// The identity: `R = I`, `d = 0` (`from` and `to` coincide).
     pub fn identity() -> Self {
         Transform {
             r: Matrix3::identity(),
@@ -358,6 +361,7 @@ impl Transform {
         }
     }
 
+    /// The homogeneous 4x4 matrix `[[R, d], [0, 1]]` (translation in metres).
     pub fn matrix4(&self) -> Matrix4<f64> {
         let mut m = Matrix4::identity();
         m.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.r);
@@ -585,14 +589,20 @@ fn checked_rotation(m: &Matrix3<f64>, warnings: &mut Vec<Warning>) -> Result<Mat
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ScrewKind {
+    /// No rotation (angle below `ANGLE_ZERO_TOL`) and no translation
+    /// (`||d||` at most `LENGTH_ZERO_TOL`).
     Identity,
+    /// No rotation, nonzero translation: no axis, no pitch.
     PureTranslation,
+    /// A rotation whose screw translation `|h| = |e . d|` is within the pitch
+    /// tolerance: a pure rotation about an axis that may miss the origin.
     ZeroPitch,
+    /// A rotation with nonzero screw translation `h` (a helical motion).
     General,
 }
 
 impl ScrewKind {
-    /// The JSON name (DESIGN.md schema).
+    /// The name in the JSON reports (`screw.kind`, README "JSON").
     pub fn name(self) -> &'static str {
         match self {
             ScrewKind::Identity => "identity",
@@ -606,6 +616,7 @@ impl ScrewKind {
 /// Screw decomposition of a transform.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Screw {
+    /// Which kind of motion; decides which of the optional fields are set.
     pub kind: ScrewKind,
     /// Rotation angle `phi` in `[0, pi]`.
     pub angle: f64,

@@ -2,8 +2,6 @@
 //! `calibrate-threshold`): typed, `Serialize` for JSON (schemas in
 //! docs/schemas), laid out as tables for people.
 
-#![allow(missing_docs)] // the JSON fields are documented in the schemas
-
 use crate::analysis::Family;
 use crate::degeneracy::threshold::{FamilyResult, Interval};
 use crate::degeneracy::{TwistScrew, AXIS_NAMES};
@@ -26,10 +24,13 @@ fn opt(x: Option<f64>, prec: usize) -> String {
     x.map(|x| sci(x, prec)).unwrap_or_else(|| "-".into())
 }
 
-/// A frame as `{translation_m, rpy_rad}`.
+/// A frame as `{translation_m, rpy_rad}`: its pose `T = (R, d)` in the
+/// reference frame (`p_ref = R p + d`).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct FrameJson {
+    /// `d` (m): the frame's origin in reference coordinates.
     pub translation_m: [f64; 3],
+    /// `R` as URDF fixed-axis `[roll, pitch, yaw]` (rad).
     pub rpy_rad: [f64; 3],
 }
 
@@ -40,11 +41,22 @@ pub struct FrameJson {
 /// One family's answer on the user's points.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct FamilyEigen {
+    /// The family's JSON name.
     pub family: Family,
+    /// The characteristic length `l` (m): the given one for
+    /// `characteristic_length`, the one computed from `H` for `block_scaling`;
+    /// null for the other families (and for a non-finite block-scaling `l`).
     pub ell_m: Option<f64>,
+    /// Generalized eigenvalues of `H v = lambda M v`, ascending; null when the
+    /// family's metric could not be factored (see `error`).
     pub eigenvalues: Option<[f64; 6]>,
+    /// The threshold applied: `--tau` for point displacement, the calibrated
+    /// default for the other families.
     pub threshold: f64,
+    /// Number of eigenvalues below `threshold`; null with `error`.
     pub degenerate_count: Option<usize>,
+    /// Why this family has no answer (e.g. a singular metric); absent when it
+    /// has one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
     /// Table label (`I6`, `l=2.85`, ...).
@@ -55,18 +67,29 @@ pub struct FamilyEigen {
 /// A screw of the degenerate subspace.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct ScrewJson {
+    /// `pure_translation`, `zero_pitch` or `general`.
     pub kind: &'static str,
+    /// Unit rotation axis; null for a pure translation.
     pub axis: Option<[f64; 3]>,
+    /// `omega . t / |omega|^2` (m/rad); null for a pure translation.
     pub pitch_m_per_rad: Option<f64>,
+    /// Point of the axis closest to the origin, `omega x t / |omega|^2` (m);
+    /// null for a pure translation.
     pub axis_point_m: Option<[f64; 3]>,
+    /// Unit direction of a pure translation; null otherwise.
     pub direction: Option<[f64; 3]>,
 }
 
 /// One basis twist of the degenerate subspace.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct SubspaceJson {
+    /// Rayleigh quotient `v^T H v / v^T M v` of the basis twist under the
+    /// point-displacement metric.
     pub eigenvalue: f64,
+    /// The basis twist `[omega; t]` (canonical basis: rotational twists first,
+    /// then pure translations).
     pub twist: [f64; 6],
+    /// The twist read as a screw.
     pub screw: ScrewJson,
 }
 
@@ -91,12 +114,23 @@ impl SubspaceJson {
 /// `audit degeneracy`.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct DegeneracyReport {
+    /// Version of this JSON layout (1).
     pub schema_version: u32,
+    /// Number of points (with normals) analysed.
     pub points: usize,
+    /// The body frame the points were re-expressed in (`--shift`,
+    /// `--rotate-rpy`): its pose in the points' frame, `p~ = R^T (p - d)`.
     pub frame: FrameJson,
+    /// One answer per family: unnormalized, each characteristic length, block
+    /// scaling, Jacobi, point displacement.
     pub families: Vec<FamilyEigen>,
+    /// The point-displacement degenerate subspace, one screw per basis twist;
+    /// empty when nothing is degenerate.
     pub degenerate_subspace: Vec<SubspaceJson>,
+    /// Per axis (`rot-x, rot-y, rot-z, trans-x, trans-y, trans-z`): the
+    /// point-displacement degenerate subspace reaches it. Depends on the frame.
     pub footprint: [bool; 6],
+    /// The point file's warnings, as text.
     pub warnings: Vec<String>,
 }
 
@@ -216,34 +250,59 @@ fn json_vec(v: &[f64]) -> String {
 /// One frame's view of the tunnel.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct TunnelFrameJson {
+    /// The frame's origin in the on-axis frame (m); its axes stay parallel.
     pub origin_m: [f64; 3],
+    /// Point-displacement generalized eigenvalues, ascending.
     pub eigenvalues: [f64; 6],
+    /// Number of eigenvalues below `tau`.
     pub nullity: usize,
+    /// Per axis (`rot-x .. trans-z`): the degenerate subspace reaches it.
     pub footprint: [bool; 6],
+    /// Always `true`: a reminder that `footprint` is a coordinate artefact.
     pub footprint_frame_dependent: bool,
+    /// The canonical-basis twists `[omega; t]` of the degenerate subspace with
+    /// a rotational part (entries below 1e-12 written as 0).
     pub rotational_twists: Vec<[f64; 6]>,
+    /// Some non-zero twist of the degenerate subspace has no translational
+    /// part (a rotation about an axis through this origin).
     pub contains_pure_rotation: bool,
 }
 
 /// `{h, m}` relative differences.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct HmJson {
+    /// For `H`: `max |A^T H A - H'| / max |H'|`, `H'` assembled from the
+    /// re-expressed points.
     pub h: f64,
+    /// The same for the point-displacement metric `M`.
     pub m: f64,
 }
 
 /// `audit tunnel`.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct TunnelReport {
+    /// Tunnel radius (m), about the z axis.
     pub radius_m: f64,
+    /// Number of points (exact radial normals, no noise).
     pub points: usize,
+    /// Threshold on the point-displacement eigenvalues.
     pub tau: f64,
+    /// The metric used: always `point_displacement`.
     pub metric: Family,
+    /// The analysis with the origin on the tunnel axis.
     pub on_axis: TunnelFrameJson,
+    /// The analysis with the origin at `--shift`.
     pub shifted: TunnelFrameJson,
+    /// `max_k |lambda_k - lambda'_k|` between the two frames (absolute).
     pub eigenvalue_max_abs_diff: f64,
+    /// Angle (deg) between the first rotational twists of the two frames, taken
+    /// as plain 6-vectors (a coordinate diagnostic); null when either has none.
     pub rotational_tuple_angle_deg: Option<f64>,
+    /// Largest principal angle (deg) between the on-axis degenerate subspace
+    /// and the shifted one transported back (`v = A v'`); null when their
+    /// dimensions differ or both are empty.
     pub transported_subspace_angle_deg: Option<f64>,
+    /// Congruence `A^T H A`, `A^T M A` against re-assembly in the shifted frame.
     pub congruence_rel_diff: HmJson,
 }
 
@@ -327,31 +386,53 @@ impl Report for TunnelReport {
 /// A pair of values in frames A (`from`) and B (`to`).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct FromTo<T> {
+    /// In frame A, where the scene is built.
     pub from: T,
+    /// In frame B, the rig's other frame.
     pub to: T,
 }
 
 /// `{rotation_rad, translation_m}` norms of a correction difference.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct CorrectionJson {
+    /// Norm of the rotational part of `Delta` (rad).
     pub rotation_rad: f64,
+    /// Norm of the translational part of `Delta` (m).
     pub translation_m: f64,
 }
 
 /// One family in both frames.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct FamilyComparison {
+    /// The family's JSON name.
     pub family: Family,
+    /// `l` (m) in frames A and B: the given length for `characteristic_length`
+    /// (the same in both), recomputed from each frame's `H` for
+    /// `block_scaling`; null for the other families.
     pub ell_m: [Option<f64>; 2],
+    /// The threshold applied: `--tau` for point displacement, the calibrated
+    /// default for the other families.
     pub threshold: f64,
+    /// Generalized eigenvalues, ascending, in each frame.
     pub eigenvalues: FromTo<[f64; 6]>,
+    /// Number of eigenvalues below `threshold` in each frame.
     pub degenerate_count: FromTo<usize>,
+    /// The binary decision (anything degenerate) differs between the frames.
     pub decision_changes: bool,
+    /// Per-axis footprint (`rot-x .. trans-z`) in each frame.
     pub footprint: FromTo<[bool; 6]>,
+    /// The two footprints differ.
     pub footprint_changes: bool,
+    /// Largest principal angle (deg) between A's degenerate subspace and B's
+    /// transported to A (`v = A v'`); null when their dimensions differ or both
+    /// are empty.
     pub subspace_angle_deg: Option<f64>,
+    /// `Delta = (P1 - A P2 A^-1) xi` for the update `xi` (given in frame A):
+    /// how differently the two frames' remapping projectors correct it.
     pub correction_difference: CorrectionJson,
+    /// `max_k |lambda_A,k - lambda_B,k| / max(|lambda_A,k|, 1e-12)`.
     pub max_eigenvalue_rel_change: f64,
+    /// Table label (`I6`, `l=2.85`, ...).
     #[serde(skip)]
     pub label: String,
 }
@@ -359,13 +440,23 @@ pub struct FamilyComparison {
 /// `audit simulate`.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct SimulateReport {
+    /// `tunnel`, `corridor` or `corner`.
     pub scene: &'static str,
+    /// Number of points after preprocessing.
     pub points: usize,
+    /// Range-noise standard deviation (m).
     pub noise_m: f64,
+    /// Seed of the scene's random numbers.
     pub seed: u64,
+    /// Threshold on the point-displacement eigenvalues (`--tau`).
     pub tau: f64,
+    /// Frame B: its pose in frame A (the rig's `--from -> --to` transform).
     pub transform: FrameJson,
+    /// One comparison per family: unnormalized, each characteristic length,
+    /// block scaling, Jacobi, the rig's adapted constant metric when it has
+    /// one, point displacement.
     pub families: Vec<FamilyComparison>,
+    /// `||d||` of `transform` (m), for the text header.
     #[serde(skip)]
     pub lever_arm_m: f64,
 }
@@ -446,12 +537,18 @@ impl Report for SimulateReport {
 /// A `tau` interval `lo < tau <= hi` (bounds null when infinite).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct IntervalJson {
+    /// No `tau` reproduces the counts (`lo >= hi`).
     pub empty: bool,
+    /// Exclusive lower end; null when `-inf`.
     pub lo: Option<f64>,
+    /// Inclusive upper end; null when `+inf`.
     pub hi: Option<f64>,
-    /// Present (possibly null) for a non-empty interval.
+    /// Width `log10(hi / lo)` in decades. Present for a non-empty interval,
+    /// null there when an end is not positive and finite; absent when empty.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub decades: Option<Option<f64>>,
+    /// `sqrt(lo * hi)`. Present for a non-empty interval, null there when an
+    /// end is not positive and finite; absent when empty.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub geometric_midpoint: Option<Option<f64>>,
 }
@@ -473,29 +570,46 @@ impl From<&Interval> for IntervalJson {
 /// Per scene intervals.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct PerScene {
+    /// Rectangular corridor (analytic count 1), over its seeds.
     pub corridor: IntervalJson,
+    /// Circular tunnel (analytic count 2), over its seeds.
     pub tunnel: IntervalJson,
+    /// Right-angle corner (analytic count 0), over its seeds.
     pub corner: IntervalJson,
 }
 
 /// One preprocessing configuration.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct ConfigJson {
+    /// Range-noise standard deviation (m).
     pub noise_m: f64,
+    /// Voxel edge (m).
     pub voxel_m: f64,
+    /// The `tau` that reproduce every instance's count in this configuration.
     pub interval: IntervalJson,
+    /// The largest number of scenes (0 to 3) whose counts one `tau`
+    /// reproduces together.
     pub scenes_reproduced: usize,
+    /// The interval of each scene alone.
     pub per_scene: PerScene,
 }
 
 /// One family's calibration.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct FamilyCalibration {
+    /// The family's JSON name.
     pub family: Family,
+    /// Label with the parameter (`I6`, `l=2.85`, ...).
     pub label: String,
+    /// The `tau` that reproduce every count in every configuration.
     pub intersection: IntervalJson,
+    /// When `intersection` is empty with both ends positive: by how many
+    /// decades the configurations' intervals miss each other,
+    /// `log10(lo / hi)`; null otherwise.
     pub gap_decades: Option<f64>,
+    /// One entry per configuration, noise level outer, voxel size inner.
     pub configurations: Vec<ConfigJson>,
+    /// The raw result, for the text tables.
     #[serde(skip)]
     pub result: FamilyResult,
 }
@@ -503,18 +617,26 @@ pub struct FamilyCalibration {
 /// Analytic counts of the three scenes.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct AnalyticCounts {
+    /// Rectangular corridor: translation along its axis (1).
     pub corridor: usize,
+    /// Circular tunnel: translation along and rotation about its axis (2).
     pub tunnel: usize,
+    /// Right-angle corner: nothing degenerate (0).
     pub corner: usize,
 }
 
 /// `audit calibrate-threshold`.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct ThresholdReport {
+    /// Range-noise standard deviations swept (m).
     pub noise_levels_m: Vec<f64>,
+    /// Voxel edges swept (m).
     pub voxel_sizes_m: Vec<f64>,
+    /// Seeds per configuration and scene.
     pub seeds: u64,
+    /// The degenerate counts each scene's geometry implies.
     pub analytic_counts: AnalyticCounts,
+    /// One calibration per metric configuration.
     pub families: Vec<FamilyCalibration>,
 }
 

@@ -3,8 +3,6 @@
 //! (schema_version 1, other programs read it: keep field names and types), and
 //! its layout for people.
 
-#![allow(missing_docs)] // the JSON fields are documented in the schema
-
 use super::SCHEMA_VERSION;
 use crate::analysis::metric::{self, RigAnalysis};
 use crate::analysis::Family;
@@ -19,64 +17,114 @@ use serde::Serialize;
 /// `sources[]`: one per edge used, in chain order.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct SourceJson {
+    /// The file the edge was read from, as the user named it (empty when the
+    /// edge came from no file).
     pub file: String,
+    /// 1-based line of the edge in that file; null when unknown.
     pub line: Option<usize>,
+    /// Id of the format that read it (`urdf`, `fast-lio`, ...), as
+    /// `--input-format` takes it.
     pub format: String,
 }
 
+/// `transform`: the composed `from -> to` transform, the pose of `to` in `from`
+/// (`p_from = R p_to + d`), in four equivalent forms.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct TransformJson {
+    /// `d` (m): the origin of `to` in `from` coordinates.
     pub translation_m: [f64; 3],
+    /// `R`, row-major (`rotation_matrix[i][j] = R_ij`).
     pub rotation_matrix: [[f64; 3]; 3],
+    /// `R` as a unit quaternion `[x, y, z, w]`, `w >= 0`.
     pub quaternion_xyzw: [f64; 4],
+    /// `R` as URDF fixed-axis `[roll, pitch, yaw]` (rad):
+    /// `R = Rz(yaw) Ry(pitch) Rx(roll)`.
     pub rpy_rad: [f64; 3],
 }
 
+/// `rotation`: angle and axis of `R`.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct RotationJson {
+    /// Rotation angle `phi` in `[0, pi]` (rad).
     pub angle_rad: f64,
+    /// The same angle in degrees, `[0, 180]`.
     pub angle_deg: f64,
+    /// Unit axis `e` (right-handed about `e` by `phi`); null when the angle is
+    /// below `ANGLE_ZERO_TOL` (no rotation).
     pub axis: Option<[f64; 3]>,
 }
 
+/// `screw`: the Chasles decomposition (conventions in [`crate::geometry::se3`]).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct ScrewJson {
+    /// `identity`, `pure_translation`, `zero_pitch` or `general`.
     pub kind: ScrewKind,
+    /// Screw translation `h = e . d` (m), the same for `T` and `T^-1`; null
+    /// without a rotation.
     pub translation_along_axis_m: Option<f64>,
+    /// Pitch `h / phi` (m/rad); null without a rotation.
     pub pitch_m_per_rad: Option<f64>,
+    /// The point of the screw axis closest to the origin of `from` (m, in
+    /// `from` coordinates); null without a rotation.
     pub axis_point_m: Option<[f64; 3]>,
 }
 
+/// `adjoint`: the singular values of `Ad(T)`, in closed form from `||d||`.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct AdjointJson {
-    /// Six, descending.
+    /// Six, descending: `s_max, s_max, 1, 1, s_min, s_min` with
+    /// `s_max = ||d||/2 + sqrt(1 + ||d||^2/4)` (`||d||` in metres) and
+    /// `s_min = 1/s_max`.
     pub singular_values: [f64; 6],
+    /// `Ad(T)` is orthogonal: `||d||` within `LENGTH_ZERO_TOL`.
     pub orthogonal: bool,
+    /// `||A^T A - I||_F / ||I||_F` (dimensionless, 0 when orthogonal).
     pub ata_minus_i_rel: f64,
 }
 
+/// `certificate[i]`: the certificate band at one characteristic length.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct CertificateJson {
+    /// Characteristic length `l` (m).
     pub ell_m: f64,
+    /// Effective lever arm `||d|| / l` (dimensionless).
     pub delta_eff: f64,
+    /// `[s_min^2, s_max^2]` at `delta_eff`: the factors by which the frame
+    /// change can multiply an eigenvalue.
     pub band: [f64; 2],
 }
 
+/// `adapted_metric`: the constant metric `M0` with `A^T M0 A = M0` for this
+/// rig, when one exists.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct AdaptedMetricJson {
+    /// `M0` exists (identity or zero-pitch screw); then the other fields are
+    /// numbers, otherwise null.
     pub exists: bool,
+    /// Why it exists or not, in words.
     pub reason: String,
+    /// `M0`, row-major 6x6 in twist order `[omega; t]`; null when none.
     pub matrix: Option<[[f64; 6]; 6]>,
+    /// `||A^T M0 A - M0||_F / ||M0||_F`, computed as a check (rounding, about 1e-15 for real rigs).
     pub invariance_residual: Option<f64>,
+    /// Frobenius norm of the lower-left 3x3 block of `M0` (the
+    /// rotation-translation coupling).
     pub offdiag_norm: Option<f64>,
+    /// `||M0 - I6||_F / ||I6||_F`: how far `M0` is from the unnormalized metric.
     pub rel_diff_identity: Option<f64>,
 }
 
+/// `detectors[i]`: one detector family's verdict on this rig.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct DetectorJson {
+    /// The family's JSON name (`unnormalized`, `characteristic_length`, ...).
     pub family: Family,
+    /// The family's metric rule is equivariant (`M(T . D) = A^T M(D) A` for
+    /// every `T`): only `point_displacement`.
     pub equivariant_rule: bool,
+    /// The family's eigenvalues are the same in both frames of this rig.
     pub invariant_on_rig: bool,
+    /// Why, in words.
     pub reason: String,
 }
 
@@ -84,8 +132,11 @@ pub struct DetectorJson {
 /// Present only when asked for.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct KappaCheckJson {
+    /// The detector's threshold `K` (`--kappa`).
     pub kappa: f64,
+    /// The eigenvalue `L` to test (`--lambda`), in the same units as `K`.
     pub lambda: f64,
+    /// `L / K`.
     pub ratio: f64,
     /// Per characteristic length, same order as `certificate`.
     pub certified: Vec<bool>,
@@ -94,18 +145,31 @@ pub struct KappaCheckJson {
 /// The rig report (`audit FILE... --from A --to B --format json`).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct RigReport {
+    /// Version of this JSON layout (1).
     pub schema_version: u32,
+    /// The frame the transform is expressed in (`--from`).
     pub from: String,
+    /// The frame whose pose it is (`--to`).
     pub to: String,
+    /// One entry per edge composed, in chain order from `from` to `to`.
     pub sources: Vec<SourceJson>,
+    /// The composed transform: pose of `to` in `from`.
     pub transform: TransformJson,
+    /// Lever arm `||d||` (m).
     pub lever_arm_m: f64,
+    /// Rotation angle and axis.
     pub rotation: RotationJson,
+    /// Screw decomposition.
     pub screw: ScrewJson,
+    /// Singular values of `Ad(T)`.
     pub adjoint: AdjointJson,
+    /// One band per characteristic length, in the order given (`--ell`).
     pub certificate: Vec<CertificateJson>,
+    /// The adapted constant metric, or why there is none.
     pub adapted_metric: AdaptedMetricJson,
+    /// One verdict per detector family, in the family table's order.
     pub detectors: Vec<DetectorJson>,
+    /// Only with `--kappa` and `--lambda` (absent from the JSON otherwise).
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub kappa_check: Option<KappaCheckJson>,
     /// The chain's edges for the text renderings (the JSON has `sources`).
@@ -132,6 +196,7 @@ fn arr3(v: &nalgebra::Vector3<f64>) -> [f64; 3] {
     [v.x, v.y, v.z]
 }
 
+/// The four forms of `t` the report prints.
 pub fn transform_json(t: &Transform) -> TransformJson {
     let r = t.rotation();
     TransformJson {
@@ -146,6 +211,7 @@ pub fn transform_json(t: &Transform) -> TransformJson {
     }
 }
 
+/// `sources[]` of a chain: one entry per edge, in chain order.
 pub fn sources_json(chain: &Chain) -> Vec<SourceJson> {
     chain
         .steps
@@ -194,6 +260,8 @@ pub fn rig_report(chain: &Chain, ells: &[f64], pitch_tol: f64) -> Result<RigRepo
     Ok(report_from_analysis(&an, chain))
 }
 
+/// Arrange an analysis of `chain.transform` (from [`metric::analyze`]) as the
+/// rig report; `kappa_check` is left empty.
 pub fn report_from_analysis(an: &RigAnalysis, chain: &Chain) -> RigReport {
     let s = &an.screw;
     let am = &an.adapted_metric;

@@ -6,8 +6,6 @@
 //! infinite pitch). Placeholder and duplicate rigs are listed only on request
 //! and never counted.
 
-#![allow(missing_docs)] // the JSON fields are documented in the schema
-
 use super::rig::{near_half_turn, small_rotation};
 use super::SCHEMA_VERSION;
 use crate::render::numbers::{fixed, metres_h};
@@ -15,38 +13,64 @@ use crate::render::{Document, Report, Table};
 use crate::tolerances::{NEAR_HALF_TURN_RAD, SMALL_ROTATION_DEG};
 use serde::Serialize;
 
-/// One survey row (DESIGN.md survey JSON).
+/// One survey row (`rigs[i]` of the survey JSON, README "JSON"): the rig file's
+/// metadata and its `[rig] from -> to` transform analysed.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct SurveyRigJson {
+    /// Rig id (`[rig] id`).
     pub id: String,
+    /// What was measured (`[rig] sensor`).
     pub sensor: String,
+    /// What it is mounted on (`[rig] platform`).
     pub platform: String,
+    /// Dataset or project (`[rig] dataset`).
     pub dataset: String,
+    /// Body (IMU) frame: the transform is the pose of `to` in `from`.
     pub from: String,
+    /// LiDAR frame.
     pub to: String,
+    /// Lever arm `||d||` (m).
     pub lever_arm_m: f64,
+    /// Rotation angle in `[0, 180]` (deg).
     pub angle_deg: f64,
+    /// Screw translation `h = e . d` (m); null without a rotation (identity or
+    /// pure translation).
     pub screw_translation_m: Option<f64>,
+    /// The screw kind is `zero_pitch` (`|h|` within the pitch tolerance).
     pub zero_pitch: bool,
+    /// Largest singular value of `Ad(T)` (lever arm in metres).
     pub sigma_max: f64,
+    /// Certificate band `[s_min^2, s_max^2]` at `l = 1 m`.
     pub band_l1: [f64; 2],
+    /// An adapted constant metric exists (identity or zero pitch).
     pub adapted_metric_exists: bool,
 }
 
+/// `summary` of the survey JSON, over the rigs counted (placeholders and
+/// duplicates excluded).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct SurveySummaryJson {
+    /// Number of rigs counted.
     pub count: usize,
+    /// Smallest lever arm (m); null when no rig is counted.
     pub lever_arm_min_m: f64,
+    /// Median lever arm (m; mean of the two middle ones for an even count);
+    /// null when no rig is counted.
     pub lever_arm_median_m: f64,
+    /// Largest lever arm (m); null when no rig is counted.
     pub lever_arm_max_m: f64,
+    /// Counted rigs whose screw kind is not `zero_pitch`.
     pub nonzero_pitch_count: usize,
 }
 
 /// The survey report.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct SurveyReport {
+    /// Version of this JSON layout (1).
     pub schema_version: u32,
+    /// One row per rig, in the order printed (sorted by id, or by `--sort`).
     pub rigs: Vec<SurveyRigJson>,
+    /// Statistics over the counted rigs.
     pub summary: SurveySummaryJson,
     /// Per row: placeholder, and the rig it duplicates (for the tables).
     #[serde(skip)]

@@ -1,5 +1,5 @@
 //! The detector commands through the binary: `tunnel` (the paper's example),
-//! `degeneracy` on point files (DESIGN.md JSON), `simulate` on a shipped rig,
+//! `degeneracy` on point files (README "JSON"), `simulate` on a shipped rig,
 //! `calibrate-threshold` on a reduced sweep.
 
 use crate::common::schema;

@@ -43,7 +43,7 @@ fn tunnel_example_exactly_as_in_the_paper() {
         [0.0, 0.0, 1.0, 0.0, 1.0, 0.0]
     );
     assert!((r.rotational_tuple_angle_deg.unwrap() - 45.0).abs() < 1e-6);
-    // Subspace footprints (DESIGN.md): rot-z + trans-z; rot-z + trans-y + trans-z.
+    // Subspace footprints (README, `audit tunnel`): rot-z + trans-z; rot-z + trans-y + trans-z.
     assert_eq!(
         r.on_axis.footprint,
         [false, false, true, false, false, true]

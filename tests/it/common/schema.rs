@@ -1,6 +1,6 @@
 //! A small structural checker for the JSON outputs, with the specs transcribed
-//! from DESIGN.md ("JSON report", survey JSON, "Degeneracy on the user's own
-//! points"). A spec is JSON: a type string ("string", "number", "integer",
+//! from the README's "JSON" section (rig report, survey JSON, degeneracy
+//! report) and the report types in `src/report/`. A spec is JSON: a type string ("string", "number", "integer",
 //! "boolean", "null", unions "number|null", enums "enum:a|b|c"), an object of
 //! field specs (every field required), or `{"array": SPEC, "len": N}` /
 //! `{"array": SPEC}`; `{"nullable": SPEC}` allows null.
@@ -73,7 +73,7 @@ fn arr(spec: Value, n: u64) -> Value {
     json!({"array": spec, "len": n})
 }
 
-/// DESIGN.md "JSON report".
+/// README "JSON": the rig report (`src/report/rig.rs`).
 pub fn rig_report_spec() -> Value {
     json!({
         "schema_version": "integer",
@@ -112,7 +112,7 @@ pub fn rig_report_spec() -> Value {
     })
 }
 
-/// DESIGN.md survey JSON.
+/// README "JSON": the survey JSON (`src/report/survey.rs`).
 pub fn survey_spec() -> Value {
     json!({
         "schema_version": "integer",
@@ -129,7 +129,7 @@ pub fn survey_spec() -> Value {
     })
 }
 
-/// DESIGN.md "Degeneracy on the user's own points".
+/// README "JSON": the degeneracy report (`src/report/detector.rs`).
 pub fn degeneracy_spec() -> Value {
     json!({
         "schema_version": "integer",
