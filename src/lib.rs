@@ -77,3 +77,12 @@ pub mod pipeline;
 pub mod render;
 pub mod report;
 pub mod tolerances;
+
+// The types most callers need, at the crate root.
+pub use analysis::{analyze, Family, RigAnalysis};
+pub use diagnostic::{Code, Diagnostic, Error, Location, Result, Severity};
+pub use formats::{load_file, Format, LoadOptions};
+pub use frames::{Chain, Edge, FrameGraph};
+pub use geometry::{Screw, ScrewKind, Transform};
+pub use render::{OutputFormat, Report};
+pub use report::{CheckReport, RigReport, SurveyReport};
