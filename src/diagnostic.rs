@@ -181,10 +181,20 @@ pub enum WarningCode {
     /// A value present in the file but ignored (e.g. a commented alternative, a
     /// key the tool does not use); the message says which and why.
     Ignored,
+    /// A URDF 1.0 `<origin quat_xyzw>`: ROS (urdfdom) ignores it, and so does
+    /// the pose reported; `--urdf-version 1.1` reads it.
+    QuatXyzwIgnored,
+    /// A joint position outside its URDF `<limit lower upper>`; used as given,
+    /// as robot_state_publisher does.
+    JointOutsideLimit,
+    /// A URDF that ROS (urdfdom) refuses for a reason that does not change a
+    /// pose (two root links, a revolute joint without `<limit>`, ...): read
+    /// anyway; the message gives urdfdom's reason.
+    RefusedByRos,
 }
 
 impl WarningCode {
-    pub const ALL: [WarningCode; 10] = [
+    pub const ALL: [WarningCode; 13] = [
         WarningCode::NonOrthonormalRotation,
         WarningCode::NonUnitQuaternion,
         WarningCode::MillimetresInMetreField,
@@ -195,6 +205,9 @@ impl WarningCode {
         WarningCode::AssumedConvention,
         WarningCode::NonUnitAxis,
         WarningCode::Ignored,
+        WarningCode::QuatXyzwIgnored,
+        WarningCode::JointOutsideLimit,
+        WarningCode::RefusedByRos,
     ];
     pub fn name(self) -> &'static str {
         match self {
@@ -208,6 +221,9 @@ impl WarningCode {
             WarningCode::AssumedConvention => "assumed-convention",
             WarningCode::NonUnitAxis => "non-unit-axis",
             WarningCode::Ignored => "ignored",
+            WarningCode::QuatXyzwIgnored => "quat-xyzw-ignored",
+            WarningCode::JointOutsideLimit => "joint-outside-limit",
+            WarningCode::RefusedByRos => "refused-by-ros",
         }
     }
 }

@@ -60,6 +60,10 @@ pub struct AuditArgs {
     /// Skip format detection (see the README's formats table)
     #[arg(long, value_name = "NAME")]
     pub input_format: Option<String>,
+    /// Read every URDF as this version (1.0 or 1.1) whatever its <robot version>
+    /// says: 1.1 applies quat_xyzw, which ROS ignores in a 1.0 file
+    #[arg(long, value_name = "X.Y")]
+    pub urdf_version: Option<formats::urdf::UrdfVersion>,
     /// Refuse input files larger than this many bytes
     #[arg(long, default_value_t = DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
     pub max_file_size: u64,
@@ -80,6 +84,7 @@ impl AuditArgs {
             invert: self.invert,
             format,
             max_file_size: self.max_file_size,
+            urdf_version: self.urdf_version,
             ..LoadOptions::default()
         })
     }
@@ -133,6 +138,12 @@ fn apply_renames(
                     *name = r.new.clone();
                     n += 1;
                 }
+            }
+        }
+        for f in &mut loaded.frames {
+            if f.name == r.old {
+                f.name = r.new.clone();
+                n += 1;
             }
         }
         if let Some(meta) = &mut loaded.rig {

@@ -161,6 +161,9 @@ pub struct LoadOptions {
     /// Where to look for the external `xacro` program: a `PATH`-style list;
     /// `None` uses the process's `PATH`.
     pub xacro_search_path: Option<std::ffi::OsString>,
+    /// `--urdf-version X.Y`: read every URDF as this version, whatever its
+    /// `<robot version>` says (`None`: as declared, 1.0 when absent).
+    pub urdf_version: Option<urdf::UrdfVersion>,
 }
 
 impl Default for LoadOptions {
@@ -172,6 +175,7 @@ impl Default for LoadOptions {
             format: None,
             max_file_size: DEFAULT_MAX_FILE_SIZE,
             xacro_search_path: None,
+            urdf_version: None,
         }
     }
 }
@@ -219,6 +223,8 @@ impl RigMeta {
 #[derive(Debug, Clone, Default)]
 pub struct Loaded {
     pub edges: Vec<Edge>,
+    /// Frames declared without an edge (URDF links no joint attaches).
+    pub frames: Vec<crate::frames::FrameDecl>,
     pub warnings: Vec<Warning>,
     pub rig: Option<RigMeta>,
 }
@@ -227,6 +233,7 @@ impl From<Loaded> for crate::frames::EdgeSet {
     fn from(l: Loaded) -> Self {
         crate::frames::EdgeSet {
             edges: l.edges,
+            frames: l.frames,
             warnings: l.warnings,
         }
     }

@@ -1,6 +1,8 @@
-//! From XML to links and raw joints: names, types, origins (`rpy` or URDF 1.1
-//! `quat_xyzw`), axes and mimic tags, each checked where it is written.
+//! From XML to links and raw joints: the URDF version, names, types, origins
+//! (`rpy`, or `quat_xyzw` from URDF 1.1), axes, limits and mimic tags, each
+//! checked where it is written.
 
+use super::version::UrdfVersion;
 use super::Links;
 use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
 use crate::formats::source::LineIndex;
@@ -27,6 +29,53 @@ pub(super) struct Mimic {
     pub offset: f64,
 }
 
+/// `<limit lower upper>` of a revolute or prismatic joint (urdfdom's defaults:
+/// 0 for a bound not written).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Limit {
+    pub lower: f64,
+    pub upper: f64,
+    /// Line of the `<limit>` element.
+    pub line: usize,
+}
+
+/// The version a file is read as: declared (`None` when absent) and used.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Version {
+    pub declared: Option<UrdfVersion>,
+    pub used: UrdfVersion,
+}
+
+impl Version {
+    fn declared_text(&self) -> String {
+        match self.declared {
+            Some(v) => format!("declares version {v}"),
+            None => "declares no version (1.0)".to_string(),
+        }
+    }
+}
+
+/// `<robot version>` read as urdfdom reads it (refused at the `<robot>` line
+/// when malformed or unsupported), then `--urdf-version` if given.
+pub(super) fn version(
+    idx: &LineIndex,
+    root: roxmltree::Node,
+    opts: &crate::formats::LoadOptions,
+) -> Result<Version> {
+    let declared = match root.attribute("version") {
+        None => None,
+        Some(s) => Some(UrdfVersion::parse(s).map_err(|m| {
+            err_at(
+                idx,
+                root,
+                format!("<robot version>: {m}; ROS (urdfdom) refuses this file"),
+            )
+        })?),
+    };
+    let used = opts.urdf_version.or(declared).unwrap_or(UrdfVersion::V1_0);
+    Ok(Version { declared, used })
+}
+
 /// A joint as written, before any value is applied.
 pub(super) struct JointRaw<'a> {
     pub name: String,
@@ -36,6 +85,7 @@ pub(super) struct JointRaw<'a> {
     pub child: String,
     pub origin: Transform,
     pub axis: [f64; 3],
+    pub limit: Option<Limit>,
     pub mimic: Option<Mimic>,
     pub loc: Location,
     pub node: roxmltree::Node<'a, 'a>,
@@ -106,6 +156,7 @@ pub(super) fn joints<'a>(
     idx: &LineIndex,
     root: roxmltree::Node<'a, 'a>,
     links: &Links,
+    version: Version,
     path: &Path,
     warnings: &mut Vec<Warning>,
 ) -> Result<Vec<JointRaw<'a>>> {
@@ -123,7 +174,7 @@ pub(super) fn joints<'a>(
                 ),
             ));
         }
-        let raw = joint(idx, j, links, path, warnings)?;
+        let raw = joint(idx, j, links, version, path, warnings)?;
         seen.insert(raw.name.clone(), joints.len());
         joints.push(raw);
     }
@@ -134,6 +185,7 @@ fn joint<'a>(
     idx: &LineIndex,
     j: roxmltree::Node<'a, 'a>,
     links: &Links,
+    version: Version,
     path: &Path,
     warnings: &mut Vec<Warning>,
 ) -> Result<JointRaw<'a>> {
@@ -192,7 +244,7 @@ fn joint<'a>(
     };
     let origin = match child_el("origin") {
         None => Transform::identity(),
-        Some(o) => origin(idx, o, name, &loc_of(o), warnings)?,
+        Some(o) => origin(idx, o, name, version, &loc_of(o), warnings)?,
     };
     let axis = match child_el("axis").and_then(|a| a.attribute("xyz").map(|s| (a, s))) {
         Some((a, s)) => numbers_attr::<3>(s, &format!("joint '{name}' <axis xyz>"))
@@ -203,6 +255,7 @@ fn joint<'a>(
         None => None,
         Some(m) => Some(mimic(idx, m, name)?),
     };
+    let limit = limit(idx, child_el("limit"), jtype, name, &loc_of(j), warnings)?;
     Ok(JointRaw {
         name: name.to_string(),
         jtype: JointType::from_name(jtype),
@@ -210,17 +263,20 @@ fn joint<'a>(
         child,
         origin,
         axis,
+        limit,
         mimic,
         loc: loc_of(j),
         node: j,
     })
 }
 
-/// `<origin xyz rpy>` or `<origin xyz quat_xyzw>` (both is an error).
+/// `<origin xyz rpy>` or, from URDF 1.1, `<origin xyz quat_xyzw>`; both is
+/// an error in every version.
 fn origin(
     idx: &LineIndex,
     o: roxmltree::Node,
     name: &str,
+    version: Version,
     loc: &Location,
     warnings: &mut Vec<Warning>,
 ) -> Result<Transform> {
@@ -229,12 +285,33 @@ fn origin(
             .map_err(|m| err_at(idx, o, m))?,
         None => [0.0; 3],
     };
+    let rpy = |r: Option<&str>| -> Result<Transform> {
+        let rpy = match r {
+            Some(s) => numbers_attr::<3>(s, &format!("joint '{name}' <origin rpy>"))
+                .map_err(|m| err_at(idx, o, m))?,
+            None => [0.0; 3],
+        };
+        Transform::from_rpy(rpy, xyz).map_err(|e| err_at(idx, o, e.message))
+    };
     match (o.attribute("rpy"), o.attribute("quat_xyzw")) {
         (Some(_), Some(_)) => Err(err_at(
             idx,
             o,
             format!("joint '{name}' <origin>: expected either rpy or quat_xyzw, found both"),
         )),
+        (None, Some(q)) if version.used < UrdfVersion::V1_1 => {
+            warnings.push(
+                Warning::new(
+                    WarningCode::QuatXyzwIgnored,
+                    format!(
+                        "joint '{name}' <origin quat_xyzw=\"{q}\">: ignored, as ROS ignores it: the file {} and quat_xyzw exists from URDF 1.1, so urdfdom uses the identity rotation; add version=\"1.1\" to <robot> (or pass --urdf-version 1.1) if the quaternion is meant",
+                        version.declared_text()
+                    ),
+                )
+                .at(loc),
+            );
+            rpy(None)
+        }
         (None, Some(q)) => {
             let q = numbers_attr::<4>(q, &format!("joint '{name}' <origin quat_xyzw>"))
                 .map_err(|m| err_at(idx, o, m))?;
@@ -247,24 +324,76 @@ fn origin(
                 )
             })?;
             locate_warnings(ws, loc, warnings);
-            warnings.push(
-                Warning::new(
-                    WarningCode::AssumedConvention,
-                    format!("joint '{name}': URDF 1.1 quat_xyzw read in x y z w order (urdf-rs and ROS parsers before URDF 1.1 ignore it and use the identity)"),
-                )
-                .at(loc),
-            );
+            if version.declared.unwrap_or(UrdfVersion::V1_0) < UrdfVersion::V1_1 {
+                warnings.push(
+                    Warning::new(
+                        WarningCode::AssumedConvention,
+                        format!(
+                            "joint '{name}' <origin quat_xyzw>: applied because of --urdf-version {}; the file {}, so ROS ignores it and runs with the identity rotation",
+                            version.used,
+                            version.declared_text()
+                        ),
+                    )
+                    .at(loc),
+                );
+            }
             Ok(t)
         }
-        (r, None) => {
-            let rpy = match r {
-                Some(s) => numbers_attr::<3>(s, &format!("joint '{name}' <origin rpy>"))
-                    .map_err(|m| err_at(idx, o, m))?,
-                None => [0.0; 3],
-            };
-            Transform::from_rpy(rpy, xyz).map_err(|e| err_at(idx, o, e.message))
-        }
+        (r, None) => rpy(r),
     }
+}
+
+/// `<limit lower upper>` of a revolute or prismatic joint: a bound not
+/// written is 0, as in urdfdom. What urdfdom refuses without a pose being in
+/// doubt (no `<limit>`, no `effort` or `velocity`) is a `refused-by-ros` warning.
+fn limit(
+    idx: &LineIndex,
+    l: Option<roxmltree::Node>,
+    jtype: &str,
+    name: &str,
+    loc: &Location,
+    warnings: &mut Vec<Warning>,
+) -> Result<Option<Limit>> {
+    if !matches!(jtype, "revolute" | "prismatic") {
+        return Ok(None);
+    }
+    let refused = |why: String| {
+        Warning::new(
+            WarningCode::RefusedByRos,
+            format!("{jtype} joint '{name}': {why}; ROS (urdfdom) refuses the file, the pose is read anyway"),
+        )
+        .at(loc)
+    };
+    let Some(l) = l else {
+        warnings.push(refused(
+            "no <limit> element (urdfdom requires one on revolute and prismatic joints)".into(),
+        ));
+        return Ok(None);
+    };
+    let missing: Vec<&str> = ["effort", "velocity"]
+        .into_iter()
+        .filter(|a| l.attribute(*a).is_none())
+        .collect();
+    if !missing.is_empty() {
+        warnings.push(refused(format!(
+            "<limit> without {}",
+            missing.join(" and ")
+        )));
+    }
+    let bound = |attr: &str| -> Result<f64> {
+        match l.attribute(attr) {
+            None => Ok(0.0),
+            Some(s) => numbers_attr::<1>(s, &format!("joint '{name}' <limit {attr}>"))
+                .map(|v| v[0])
+                .map_err(|m| err_at(idx, l, m)),
+        }
+    };
+    let (line, _) = xml::pos_of(idx, l);
+    Ok(Some(Limit {
+        lower: bound("lower")?,
+        upper: bound("upper")?,
+        line,
+    }))
 }
 
 fn mimic(idx: &LineIndex, m: roxmltree::Node, name: &str) -> Result<Mimic> {
