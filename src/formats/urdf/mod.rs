@@ -5,10 +5,10 @@
 //! fixed-axis roll-pitch-yaw, `R = Rz(yaw) Ry(pitch) Rx(roll)`, then the joint's
 //! motion. A missing `<origin>` is the identity; a missing `rpy` or `xyz` is zero.
 //!
-//! Versions, as ROS (urdfdom 5.1) reads them ([`version`]): `<robot version>` is
-//! 1.0 when absent, must be `x.y` and 1.0 or 1.1, else the file is refused at
+//! Versions, as ROS (urdfdom 6.0) reads them ([`version`]): `<robot version>` is
+//! 1.0 when absent, must be `x.y` and 1.0 to 1.2, else the file is refused at
 //! the `<robot>` line. URDF 1.1's `quat_xyzw` (x y z w order) is applied only
-//! in a 1.1 file (or with `--urdf-version 1.1`); in a 1.0 file ROS ignores it,
+//! from 1.1 (or with `--urdf-version 1.1`); in a 1.0 file ROS ignores it,
 //! so the pose reported ignores it too, with a `quat-xyzw-ignored` warning. An
 //! origin giving both `rpy` and `quat_xyzw` is refused in every version
 //! (urdfdom refuses it in 1.1 and silently keeps `rpy` in 1.0).
@@ -18,8 +18,9 @@
 //! says so and the connected links can still be audited).
 //!
 //! Other rules by which urdfdom refuses a file without its poses being in
-//! doubt (a revolute or prismatic joint without `<limit>`, a `<limit>` without
-//! `effort` or `velocity`) also give a `refused-by-ros` warning, not an error:
+//! doubt (a revolute or prismatic joint without `<limit>`; before 1.2 a
+//! `<limit>` without `effort` or `velocity`, from 1.2 one without `lower` or
+//! `upper`) also give a `refused-by-ros` warning, not an error:
 //! the audit reads poses. Differences from urdfdom are listed, with reasons,
 //! in docs/urdf-differences.md and checked by the conformance suite.
 //!

@@ -246,16 +246,34 @@ fn joint<'a>(
         None => Transform::identity(),
         Some(o) => origin(idx, o, name, version, &loc_of(o), warnings)?,
     };
-    let axis = match child_el("axis").and_then(|a| a.attribute("xyz").map(|s| (a, s))) {
-        Some((a, s)) => numbers_attr::<3>(s, &format!("joint '{name}' <axis xyz>"))
+    // As urdfdom: no <axis> is 1 0 0, an <axis> without xyz is 0 0 0 (refused
+    // on a movable joint: KDL would divide by its norm).
+    let axis = match child_el("axis").map(|a| (a, a.attribute("xyz"))) {
+        Some((a, Some(s))) => numbers_attr::<3>(s, &format!("joint '{name}' <axis xyz>"))
             .map_err(|m| err_at(idx, a, m))?,
+        Some((a, None)) if matches!(jtype, "revolute" | "continuous" | "prismatic") => {
+            return Err(err_at(
+                idx,
+                a,
+                format!("{jtype} joint '{name}': <axis> without xyz, which urdfdom reads as 0 0 0 (no motion; ROS would publish a non-finite pose): expected <axis xyz=\"x y z\"/>"),
+            ))
+        }
+        Some((_, None)) => [0.0; 3],
         None => [1.0, 0.0, 0.0],
     };
     let mimic = match child_el("mimic") {
         None => None,
         Some(m) => Some(mimic(idx, m, name)?),
     };
-    let limit = limit(idx, child_el("limit"), jtype, name, &loc_of(j), warnings)?;
+    let limit = limit(
+        idx,
+        child_el("limit"),
+        jtype,
+        name,
+        version,
+        &loc_of(j),
+        warnings,
+    )?;
     Ok(JointRaw {
         name: name.to_string(),
         jtype: JointType::from_name(jtype),
@@ -345,12 +363,14 @@ fn origin(
 
 /// `<limit lower upper>` of a revolute or prismatic joint: a bound not
 /// written is 0, as in urdfdom. What urdfdom refuses without a pose being in
-/// doubt (no `<limit>`, no `effort` or `velocity`) is a `refused-by-ros` warning.
+/// doubt (no `<limit>`; before URDF 1.2 no `effort` or `velocity`, from 1.2 no
+/// `lower` or `upper`) is a `refused-by-ros` warning.
 fn limit(
     idx: &LineIndex,
     l: Option<roxmltree::Node>,
     jtype: &str,
     name: &str,
+    version: Version,
     loc: &Location,
     warnings: &mut Vec<Warning>,
 ) -> Result<Option<Limit>> {
@@ -370,7 +390,12 @@ fn limit(
         ));
         return Ok(None);
     };
-    let missing: Vec<&str> = ["effort", "velocity"]
+    let required = if version.used >= UrdfVersion::V1_2 {
+        ["lower", "upper"]
+    } else {
+        ["effort", "velocity"]
+    };
+    let missing: Vec<&str> = required
         .into_iter()
         .filter(|a| l.attribute(*a).is_none())
         .collect();

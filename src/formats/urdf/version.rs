@@ -1,6 +1,7 @@
 //! The `version` attribute of `<robot>`, read exactly as urdfdom reads it
 //! (ROS's parser: `URDFVersion` in urdf_parser.h and the range check in
-//! model.cpp, urdfdom 5.1).
+//! model.cpp; urdfdom 6.0, measured with its `check_urdf` build by the
+//! conformance suite).
 //!
 //! Form: no attribute is 1.0. Otherwise the text is split at every `.`, a
 //! trailing empty piece dropped (urdfdom_headers' `split_string`), and exactly
@@ -8,12 +9,14 @@
 //! whitespace and sign, at least one digit, nothing after, not negative. So
 //! `"1.0"`, `"01.1"`, `" 1.0"`, `"+1.0"`, `"1.-0"` and even `"1.0."` are 1.0 or
 //! 1.1, while `"1"`, `"1.0.0"`, `"1."`, `".1"`, `"a.b"`, `"1.0 "` and `""` are
-//! refused. Range: versions 1.0 to 1.1 are read; anything else is refused, as
-//! urdfdom refuses it. `strtol` saturates at the `long` range and urdfdom keeps
+//! refused. Range: versions 1.0 to 1.2 are read (urdfdom 5.1 read up to 1.1,
+//! 6.0 up to 1.2); anything else is refused, as urdfdom refuses it. `strtol` saturates at the `long` range and urdfdom keeps
 //! the low 32 bits of the result; both are reproduced.
 //!
 //! Meaning: `quat_xyzw` on `<origin>` exists from 1.1; a 1.0 file's
-//! `quat_xyzw` is ignored by ROS (see [`super::read`]).
+//! `quat_xyzw` is ignored by ROS (see [`super::read`]). From 1.2 a revolute or
+//! prismatic `<limit>` needs `lower` and `upper` and no longer `effort` and
+//! `velocity`.
 
 use std::fmt;
 
@@ -29,14 +32,16 @@ impl UrdfVersion {
     pub const V1_0: UrdfVersion = UrdfVersion { major: 1, minor: 0 };
     /// URDF 1.1: adds `quat_xyzw` on `<origin>`.
     pub const V1_1: UrdfVersion = UrdfVersion { major: 1, minor: 1 };
+    /// URDF 1.2: `<limit>` rules change (see the module documentation).
+    pub const V1_2: UrdfVersion = UrdfVersion { major: 1, minor: 2 };
 
     /// Parse a version as urdfdom does, form and range: the error says what
     /// urdfdom objects to.
     pub fn parse(text: &str) -> Result<UrdfVersion, String> {
         let v = Self::parse_form(text)?;
-        if v < Self::V1_0 || v > Self::V1_1 {
+        if v < Self::V1_0 || v > Self::V1_2 {
             return Err(format!(
-                "URDF version {v} (written {text:?}): expected 1.0 or 1.1, the versions ROS (urdfdom) reads"
+                "URDF version {v} (written {text:?}): expected 1.0, 1.1 or 1.2, the versions ROS (urdfdom 6.0) reads"
             ));
         }
         Ok(v)
@@ -147,9 +152,12 @@ mod tests {
             assert!(e.contains(why), "{s}: {e}");
         }
         // Well formed, out of range.
-        for s in ["2.0", "0.9", "1.2"] {
-            assert!(UrdfVersion::parse(s).expect_err(s).contains("1.0 or 1.1"));
+        for s in ["2.0", "0.9", "1.3"] {
+            assert!(UrdfVersion::parse(s)
+                .expect_err(s)
+                .contains("1.0, 1.1 or 1.2"));
         }
+        assert_eq!(UrdfVersion::parse("1.2"), v(1, 2));
     }
 
     /// Consequences of strtol and split_string that the tests do not spell out.
