@@ -93,7 +93,8 @@ pub(super) struct JointRaw<'a> {
 
 /// `N` finite numbers separated by whitespace.
 fn numbers_attr<const N: usize>(s: &str, what: &str) -> std::result::Result<[f64; N], String> {
-    let parts: Vec<&str> = s.split_whitespace().collect();
+    // ASCII whitespace only: a no-break space is no separator for urdfdom.
+    let parts: Vec<&str> = s.split_ascii_whitespace().collect();
     if parts.len() != N {
         return Err(format!(
             "{what}: expected {N} numbers, found {} ({s:?})",
@@ -274,6 +275,7 @@ fn joint<'a>(
         &loc_of(j),
         warnings,
     )?;
+    number_spacing(j, name, jtype, &loc_of(j), warnings);
     Ok(JointRaw {
         name: name.to_string(),
         jtype: JointType::from_name(jtype),
@@ -395,6 +397,13 @@ fn limit(
     } else {
         ["effort", "velocity"]
     };
+    for attr in ["effort", "velocity"] {
+        // Not used, but a malformed number is refused, as urdfdom refuses it.
+        if let Some(s) = l.attribute(attr) {
+            numbers_attr::<1>(s, &format!("joint '{name}' <limit {attr}>"))
+                .map_err(|m| err_at(idx, l, m))?;
+        }
+    }
     let missing: Vec<&str> = required
         .into_iter()
         .filter(|a| l.attribute(*a).is_none())
@@ -419,6 +428,81 @@ fn limit(
         upper: bound("upper")?,
         line,
     }))
+}
+
+/// The numeric attributes urdfdom reads: (element, attribute, vector of
+/// numbers split at spaces, or one number).
+const NUMERIC_ATTRS: &[(&str, &str, bool)] = &[
+    ("origin", "xyz", true),
+    ("origin", "rpy", true),
+    ("origin", "quat_xyzw", true),
+    ("axis", "xyz", true),
+    ("limit", "lower", false),
+    ("limit", "upper", false),
+    ("limit", "effort", false),
+    ("limit", "velocity", false),
+    ("mimic", "multiplier", false),
+    ("mimic", "offset", false),
+];
+
+/// Whether urdfdom refuses a number's spacing: it splits vectors at spaces
+/// only and reads each piece (or a lone number) with `operator>>`, which skips
+/// leading whitespace but fails on anything after the number. So a tab or
+/// line break between numbers, or trailing whitespace after a lone number, is
+/// refused. XML parsers turn literal tabs and line breaks in attribute values
+/// into spaces; urdfdom's does not, so the raw text is checked.
+fn ros_refuses_spacing(raw: &str, vector: bool) -> bool {
+    const C_SPACE: [char; 6] = [' ', '\t', '\n', '\r', '\u{b}', '\u{c}'];
+    let bad = |piece: &str| piece.trim_start_matches(C_SPACE).contains(C_SPACE);
+    if vector {
+        raw.split(' ').any(bad)
+    } else {
+        bad(raw)
+    }
+}
+
+/// A `refused-by-ros` warning for numbers urdfdom cannot split (see
+/// [`ros_refuses_spacing`]); the tool reads them.
+fn number_spacing(
+    j: roxmltree::Node,
+    name: &str,
+    jtype: &str,
+    loc: &Location,
+    warnings: &mut Vec<Warning>,
+) {
+    let text = j.document().input_text();
+    let mut found = Vec::new();
+    for (tag, attr, vector) in NUMERIC_ATTRS {
+        // urdfdom reads no axis on fixed and floating joints.
+        if *tag == "axis" && matches!(jtype, "fixed" | "floating") {
+            continue;
+        }
+        let Some(a) = j
+            .children()
+            .find(|n| n.is_element() && n.tag_name().name() == *tag)
+            .and_then(|e| e.attributes().find(|a| a.name() == *attr))
+        else {
+            continue;
+        };
+        // The text as written; with entities, the decoded value.
+        let raw = text.get(a.range_value()).unwrap_or(a.value());
+        let raw = if raw.contains('&') { a.value() } else { raw };
+        if ros_refuses_spacing(raw, *vector) {
+            found.push(format!("<{tag} {attr}={raw:?}>"));
+        }
+    }
+    if !found.is_empty() {
+        warnings.push(
+            Warning::new(
+                WarningCode::RefusedByRos,
+                format!(
+                    "joint '{name}': {}: urdfdom separates numbers by spaces only and allows nothing after a number, so ROS refuses the file; read here with any whitespace as separator",
+                    found.join(", ")
+                ),
+            )
+            .at(loc),
+        );
+    }
 }
 
 fn mimic(idx: &LineIndex, m: roxmltree::Node, name: &str) -> Result<Mimic> {
