@@ -273,6 +273,33 @@ fn quat_xyzw_in_a_1_0_file_gives_ros_pose_and_one_warning() {
         "{err}"
     );
 
+    // A 1.1 file read as 1.0: ignored, and the warning says ROS applies it.
+    let (_d2, p11) = write(
+        "q11.urdf",
+        &QUAT_1_0.replace("<robot name=\"r\">", "<robot name=\"r\" version=\"1.1\">"),
+    );
+    let out = audit()
+        .arg(&p11)
+        .args([
+            "--from",
+            "a",
+            "--to",
+            "b",
+            "--format",
+            "json",
+            "--urdf-version",
+            "1.0",
+        ])
+        .output()
+        .expect("run");
+    assert_eq!(out.status.code(), Some(0));
+    assert!(rotation_10(&out.stdout).abs() < 1e-15, "identity rotation");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("warning[quat-xyzw-ignored]") && err.contains("ROS applies it"),
+        "{err}"
+    );
+
     for bad in ["1", "1.3", "1.1.0"] {
         audit()
             .arg(&p)
@@ -325,6 +352,16 @@ fn unattached_link_is_listed_as_its_own_root() {
         err.contains("warning[refused-by-ros]") && err.contains("'spare' (line 4)"),
         "{err}"
     );
+    // --rename reaches a link no joint attaches.
+    let out = audit()
+        .arg(&p)
+        .args(["--frames", "--rename", "spare=spare_link"])
+        .output()
+        .expect("run");
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .any(|l| l.starts_with("spare_link  [")));
     // Not connected: a frame error naming both trees.
     let out = audit()
         .arg(&p)

@@ -320,16 +320,19 @@ fn origin(
             format!("joint '{name}' <origin>: expected either rpy or quat_xyzw, found both"),
         )),
         (None, Some(q)) if version.used < UrdfVersion::V1_1 => {
-            warnings.push(
-                Warning::new(
-                    WarningCode::QuatXyzwIgnored,
-                    format!(
-                        "joint '{name}' <origin quat_xyzw=\"{q}\">: ignored, as ROS ignores it: the file {} and quat_xyzw exists from URDF 1.1, so urdfdom uses the identity rotation; add version=\"1.1\" to <robot> (or pass --urdf-version 1.1) if the quaternion is meant",
-                        version.declared_text()
-                    ),
+            let msg = if version.declared.unwrap_or(UrdfVersion::V1_0) < UrdfVersion::V1_1 {
+                format!(
+                    "joint '{name}' <origin quat_xyzw=\"{q}\">: ignored, as ROS ignores it: the file {} and quat_xyzw exists from URDF 1.1, so urdfdom uses the identity rotation; add version=\"1.1\" to <robot> (or pass --urdf-version 1.1) if the quaternion is meant",
+                    version.declared_text()
                 )
-                .at(loc),
-            );
+            } else {
+                format!(
+                    "joint '{name}' <origin quat_xyzw=\"{q}\">: ignored because of --urdf-version {}; the file {}, so ROS applies it",
+                    version.used,
+                    version.declared_text()
+                )
+            };
+            warnings.push(Warning::new(WarningCode::QuatXyzwIgnored, msg).at(loc));
             rpy(None)
         }
         (None, Some(q)) => {
