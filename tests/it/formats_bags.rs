@@ -14,15 +14,21 @@ use std::path::{Path, PathBuf};
 const DIR: &str = "tests/fixtures/bags";
 
 /// The three containers of one scenario: MCAP, ROS 1, rosbag2 sqlite3 folder,
-/// and the folder's .db3 file on its own.
+/// and the folder's .db3 file on its own (for `updates` also compressed ROS 1).
 fn containers(name: &str) -> Vec<PathBuf> {
     let d = Path::new(DIR);
-    vec![
+    let mut v = vec![
         d.join(format!("{name}.mcap")),
         d.join(format!("{name}.bag")),
         d.join(format!("{name}_db3")),
         d.join(format!("{name}_db3/{name}_db3.db3")),
-    ]
+    ];
+    if name == "updates" {
+        // ROS 1 chunks compressed with bz2 and lz4.
+        v.push(d.join("updates_bz2.bag"));
+        v.push(d.join("updates_lz4.bag"));
+    }
+    v
 }
 
 fn expected() -> Value {
@@ -260,7 +266,7 @@ fn truncated_bags_are_clear_errors() {
     );
     let e = load_err(&d.join("truncated.bag"));
     assert!(
-        e.contains("index_pos 5868: expected an index inside the 4195-byte file"),
+        e.contains("index_pos 5972: expected an index inside the 4327-byte file"),
         "{e}"
     );
     assert!(e.contains("rosbag reindex"), "{e}");
@@ -427,4 +433,45 @@ fn cli_bag_mixed_with_a_urdf_reports_the_conflict() {
         let (_, e) = stdout_ok(&[f, &urdf, "--frames"]);
         assert_eq!(e.matches("warning[duplicate-edge]").count(), 3, "{f}: {e}");
     }
+}
+
+#[test]
+fn mcap_chunks_without_wanted_topics_are_never_read() {
+    // Overwrite every chunk that holds no /tf_static message with garbage: the
+    // bag still reads, so those chunks were skipped through the index.
+    let src = Path::new(DIR).join("unrelated.mcap");
+    let mut data = std::fs::read(&src).expect("read");
+    let summary = mcap::Summary::read(&data)
+        .expect("summary")
+        .expect("has one");
+    let tf: Vec<u16> = summary
+        .channels
+        .values()
+        .filter(|c| c.topic == "/tf_static")
+        .map(|c| c.id)
+        .collect();
+    let mut wiped = 0;
+    for ci in &summary.chunk_indexes {
+        if ci.message_index_offsets.keys().any(|k| tf.contains(k)) {
+            continue;
+        }
+        let start = ci.compressed_data_offset().expect("offset") as usize;
+        data[start..start + ci.compressed_size as usize].fill(0xff);
+        wiped += 1;
+    }
+    assert!(
+        wiped >= 3,
+        "expected several /chatter-only chunks, found {wiped}"
+    );
+    let dir = tempfile::tempdir().expect("tmp");
+    let p = dir.path().join("wiped.mcap");
+    std::fs::write(&p, &data).expect("write");
+    assert_edges(&load(&p), &expected()["unrelated"], "wiped.mcap");
+    // ...and reading those chunks would have failed.
+    let opts = BagOptions {
+        static_topics: vec!["/tf_static".into(), "/chatter".into()],
+        ..BagOptions::default()
+    };
+    let e = bag::load_with(&p, &LoadOptions::default(), &opts).expect_err("garbage chunk");
+    assert!(e.message.contains("chunk at byte"), "{e}");
 }
