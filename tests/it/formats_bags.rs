@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 const DIR: &str = "tests/fixtures/bags";
 
 /// The three containers of one scenario: MCAP, ROS 1, rosbag2 sqlite3 folder,
-/// and the folder's .db3 file on its own (for `updates` also compressed ROS 1).
+/// and the folder's .db3 file on its own (for `updates` also the variants below).
 fn containers(name: &str) -> Vec<PathBuf> {
     let d = Path::new(DIR);
     let mut v = vec![
@@ -24,9 +24,12 @@ fn containers(name: &str) -> Vec<PathBuf> {
         d.join(format!("{name}_db3/{name}_db3.db3")),
     ];
     if name == "updates" {
-        // ROS 1 chunks compressed with bz2 and lz4.
+        // ROS 1 chunks compressed with bz2 and lz4; ROS 1 messages in MCAP; a
+        // rosbag2 folder with MCAP storage.
         v.push(d.join("updates_bz2.bag"));
         v.push(d.join("updates_lz4.bag"));
+        v.push(d.join("updates_ros1.mcap"));
+        v.push(d.join("updates_mcapdir"));
     }
     v
 }
