@@ -118,6 +118,11 @@ pub const MAX_BAG_RECORD_BYTES: usize = 1 << 30;
 /// one entry per split file and topic.
 pub const MAX_BAG_METADATA_BYTES: u64 = 16 * 1024 * 1024;
 
+/// A bag read that will go through at least this many bytes shows a progress
+/// line on stderr when stderr is a terminal (below it the read takes well
+/// under a second).
+pub const BAG_PROGRESS_MIN_BYTES: u64 = 64 * 1024 * 1024;
+
 // ---------------------------------------------------------------------------
 // Rig analysis and verdicts (`analysis`)
 // ---------------------------------------------------------------------------

@@ -133,8 +133,24 @@ fn indexed(
     if want.is_empty() {
         return Ok(out);
     }
-    let mut opts = IndexedReaderOptions::new().include_topics(want);
+    let mut opts = IndexedReaderOptions::new().include_topics(want.clone());
     opts.record_length_limit = Some(MAX_BAG_RECORD_BYTES);
+    let ids: BTreeSet<u16> = channels
+        .iter()
+        .filter(|(_, c)| want.contains(&c.topic))
+        .map(|(id, _)| *id)
+        .collect();
+    let total: u64 = s
+        .chunk_indexes
+        .iter()
+        .filter(|c| {
+            c.message_index_offsets.is_empty()
+                || c.message_index_offsets.keys().any(|k| ids.contains(k))
+        })
+        .map(|c| c.compressed_size)
+        .sum();
+    let mut progress = super::Progress::new(path, total);
+    let mut done = 0u64;
     let mut r = IndexedReader::new_with_options(s, opts).map_err(|e| mcap_err(path, "index", e))?;
     let mut buf = Vec::new();
     let mut chunk_at = 0u64;
@@ -151,6 +167,8 @@ fn indexed(
                     ))
                     .in_file(path));
                 }
+                done += length as u64;
+                progress.update(done);
                 r.insert_chunk_record_data(offset, &buf)
                     .map_err(|e| mcap_err(path, &format!("chunk at byte {offset}"), e))?;
             }
@@ -189,6 +207,7 @@ fn linear(
     let mut channels: HashMap<u16, ChannelInfo> = HashMap::new();
     let mut messages = Vec::new();
     let mut fed = 0u64;
+    let mut progress = super::Progress::new(path, size);
     while let Some(ev) = r.next_event() {
         let at = |e| {
             mcap_err(
@@ -201,6 +220,7 @@ fn linear(
             LinearReadEvent::ReadRequest(n) => {
                 let got = file.read(r.insert(n)).map_err(|e| Error::io(path, &e))?;
                 fed += got as u64;
+                progress.update(fed);
                 r.notify_read(got);
             }
             LinearReadEvent::Record { data, opcode } => {

@@ -44,7 +44,7 @@ use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
 use crate::formats::{check_metres, locate_warnings, urdf, Edge, LoadOptions, Loaded};
 use crate::frames::transforms_agree;
 use crate::geometry::se3::{QuatOrder, Transform};
-use crate::tolerances::{MAX_BAG_METADATA_BYTES, MAX_TRANSLATION_M};
+use crate::tolerances::{BAG_PROGRESS_MIN_BYTES, MAX_BAG_METADATA_BYTES, MAX_TRANSLATION_M};
 use decode::{Encoding, TfRecord};
 use std::collections::BTreeMap;
 use std::io::Read;
@@ -98,6 +98,51 @@ pub struct RawMessage {
 pub struct Contents {
     pub topics: Vec<String>,
     pub messages: Vec<RawMessage>,
+}
+
+/// A one-line progress indicator on stderr, shown only on a terminal and for
+/// reads of at least [`BAG_PROGRESS_MIN_BYTES`]; erased when dropped.
+pub struct Progress {
+    label: String,
+    total: u64,
+    on: bool,
+    last: Option<u64>,
+}
+
+impl Progress {
+    pub fn new(path: &Path, total: u64) -> Self {
+        use std::io::IsTerminal;
+        Progress {
+            label: path.display().to_string(),
+            total,
+            on: total >= BAG_PROGRESS_MIN_BYTES && std::io::stderr().is_terminal(),
+            last: None,
+        }
+    }
+
+    /// `done` of the `total` bytes have been read.
+    pub fn update(&mut self, done: u64) {
+        if !self.on {
+            return;
+        }
+        let pct = done.min(self.total) * 100 / self.total.max(1);
+        if self.last != Some(pct) {
+            self.last = Some(pct);
+            eprint!(
+                "\rreading {}: {pct:3}% of {} MiB",
+                self.label,
+                self.total >> 20
+            );
+        }
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        if self.last.is_some() {
+            eprint!("\r\x1b[K");
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -285,10 +285,17 @@ pub fn read(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
             .collect(),
         messages: Vec::new(),
     };
-    for (chunk_pos, ids) in chunks {
-        if ids.iter().any(|c| want.contains(c)) {
-            read_chunk(path, &mut src, chunk_pos, &conns, &want, &mut out.messages)?;
-        }
+    let todo: Vec<u64> = chunks
+        .into_iter()
+        .filter(|(_, ids)| ids.iter().any(|c| want.contains(c)))
+        .map(|(pos, _)| pos)
+        .collect();
+    // Chunks are about the same size: count progress in chunks, scaled to bytes.
+    let per_chunk = len / u64::from(chunk_count.max(1));
+    let mut progress = super::Progress::new(path, per_chunk * todo.len() as u64);
+    for (i, chunk_pos) in todo.into_iter().enumerate() {
+        progress.update(per_chunk * i as u64);
+        read_chunk(path, &mut src, chunk_pos, &conns, &want, &mut out.messages)?;
     }
     Ok(out)
 }
