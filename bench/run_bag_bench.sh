@@ -26,6 +26,8 @@ hyperfine --warmup 3 --runs 30 \
     "$audit $bag --frames" \
     "$audit $bag --from base_link --to lidar --format json"
 if command -v strace >/dev/null; then
-    strace -f -e trace=read,pread64 -o "$work/strace.txt" "$audit" "$bag" --frames >/dev/null
-    awk -F'= ' '/^[0-9]+ +(read|pread64)\(3,/ {n += $NF} END {printf "bytes read from file descriptor 3: %d\n", n}' "$work/strace.txt"
+    # -y prints the path behind each descriptor: sum what was read from the bag.
+    strace -f -y -e trace=read,pread64 -o "$work/strace.txt" "$audit" "$bag" --frames >/dev/null
+    grep -F "<$bag>" "$work/strace.txt" |
+        awk -F'= ' '{n += $NF; c++} END {printf "read from the bag: %d bytes in %d calls\n", n, c}'
 fi

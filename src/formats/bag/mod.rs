@@ -11,7 +11,9 @@
 //! Meaning: each `TransformStamped` is an edge `header.frame_id ->
 //! child_frame_id`, the child's pose in the parent (`p_parent = R p_child + d`,
 //! quaternion x y z w), as tf2 reads it. Leading `/` (ROS 1 `tf_prefix` style)
-//! is dropped from frame names.
+//! is dropped from frame names. A bag carries the whole tf tree: a transform
+//! with a translation beyond `MAX_TRANSLATION_M` (a geodetic `utm -> map`) is
+//! left out with an `ignored` warning instead of refusing the bag.
 //!
 //! Several messages: messages of a topic are taken in log-time order (ties in
 //! file order). For `/tf_static` the latest transform per child frame wins, as
@@ -412,22 +414,35 @@ fn transforms(msgs: &[Msg], mut each: impl FnMut(Seen) -> Result<()>) -> Result<
             let what = format!("{} transforms[{j}]", m.describe());
             let edge = edge(&r, &what, &m.raw.file, &mut warnings)
                 .map_err(|e| m.err(format!("transforms[{j}]: {}", e.message)))?;
-            each(Seen { edge, what })?;
+            if let Some(edge) = edge {
+                each(Seen { edge, what })?;
+            }
         }
     }
     Ok(warnings)
 }
 
-fn edge(r: &TfRecord, what: &str, file: &Path, warnings: &mut Vec<Warning>) -> Result<Edge> {
+/// The edge of one transform; `None` (with a warning) for a translation beyond
+/// [`MAX_TRANSLATION_M`]: a bag carries the whole tf tree, and a geodetic frame
+/// (`utm -> map`, millions of metres) is no sensor extrinsic; refusing it would
+/// refuse the bag.
+fn edge(
+    r: &TfRecord,
+    what: &str,
+    file: &Path,
+    warnings: &mut Vec<Warning>,
+) -> Result<Option<Edge>> {
     let parent = r.parent.trim_start_matches('/');
     let child = r.child.trim_start_matches('/');
     let loc = Location::file(file);
     let mut ws = Vec::new();
     let tf = Transform::from_quaternion(r.rotation, QuatOrder::Xyzw, r.translation, &mut ws)?;
     if let Some(x) = r.translation.iter().find(|x| x.abs() > MAX_TRANSLATION_M) {
-        return Err(Error::invalid(format!(
-            "{parent} -> {child}: translation component {x:e} m: expected at most {MAX_TRANSLATION_M:e} m in magnitude"
-        )));
+        warnings.push(Warning::new(
+            WarningCode::Ignored,
+            format!("{what} {parent} -> {child}: translation component {x:e} m, beyond {MAX_TRANSLATION_M:e} m: not a sensor extrinsic (a geodetic frame?), left out"),
+        ).at(&loc));
+        return Ok(None);
     }
     let ws: Vec<Warning> = ws
         .into_iter()
@@ -443,14 +458,14 @@ fn edge(r: &TfRecord, what: &str, file: &Path, warnings: &mut Vec<Warning>) -> R
         warnings,
     );
     locate_warnings(ws, &loc, warnings);
-    Ok(Edge::new(
+    Ok(Some(Edge::new(
         parent,
         child,
         tf,
         loc,
         FORMAT,
         format!("{what} {parent} -> {child}"),
-    ))
+    )))
 }
 
 /// How far apart two transforms are, for messages.
