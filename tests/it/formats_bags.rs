@@ -221,6 +221,7 @@ fn only_the_asked_topics_are_read() {
         static_topics: vec![],
         tf_topics: vec!["/tf_static".into()],
         description_topics: vec![],
+        parameter_topics: vec![],
     };
     for p in containers("updates") {
         let what = p.display().to_string();
@@ -477,4 +478,30 @@ fn mcap_chunks_without_wanted_topics_are_never_read() {
     };
     let e = bag::load_with(&p, &LoadOptions::default(), &opts).expect_err("garbage chunk");
     assert!(e.message.contains("chunk at byte"), "{e}");
+}
+
+#[test]
+fn robot_description_from_a_parameter_event() {
+    let x = expected();
+    for name in ["param_description.mcap", "param_description_db3"] {
+        let p = Path::new(DIR).join(name);
+        let l = load(&p);
+        assert_edges(&l, &x["description"], name);
+        let k = &edge(&l, "lidar", name).provenance.key;
+        assert!(
+            k.starts_with("/parameter_events message #1 at t=0.300000000 s ("),
+            "{k}"
+        );
+        assert!(k.contains("(parameter robot_description of node /robot_state_publisher): joint \"lidar_joint\" <origin>, description line 11"), "{k}");
+        // The decoy from another node, earlier, is named and not used.
+        assert_eq!(l.warnings.len(), 1, "{name}: {:?}", l.warnings);
+        assert_eq!(l.warnings[0].code, WarningCode::Ignored);
+        assert!(
+            l.warnings[0]
+                .message
+                .contains("node /other_node) differs from the latest"),
+            "{:?}",
+            l.warnings
+        );
+    }
 }

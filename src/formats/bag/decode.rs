@@ -133,6 +133,27 @@ impl<'a> Cursor<'a> {
         })
     }
 
+    fn u8(&mut self, what: &str) -> Result<u8, String> {
+        Ok(self.prim(1, what)?[0])
+    }
+
+    /// Skip a sequence of `elem`-byte primitives.
+    fn skip_seq(&mut self, elem: usize, what: &str) -> Result<(), String> {
+        let at = self.pos;
+        let n = self.u32(what)? as usize;
+        if n > self.left() / elem {
+            return Err(format!(
+                "byte {at}: {what} count {n}: expected at most {} in the {} bytes left",
+                self.left() / elem,
+                self.left()
+            ));
+        }
+        for _ in 0..n {
+            self.prim(elem, what)?;
+        }
+        Ok(())
+    }
+
     fn i32(&mut self, what: &str) -> Result<i32, String> {
         self.u32(what).map(|v| v as i32)
     }
@@ -235,6 +256,66 @@ pub fn tf_message(data: &[u8], enc: Encoding) -> Result<Vec<TfRecord>, String> {
     let mut out = Vec::with_capacity(n);
     for i in 0..n {
         out.push(transform(&mut c, enc).map_err(|e| format!("transforms[{i}]: {e}"))?);
+    }
+    c.finish()?;
+    Ok(out)
+}
+
+/// `rcl_interfaces/msg/ParameterValue` type of a string parameter.
+const PARAMETER_STRING: u8 = 4;
+
+/// One parameter of a `rcl_interfaces/msg/Parameter` list: its name and, for a
+/// string parameter, its value.
+fn parameter(c: &mut Cursor) -> Result<(String, Option<String>), String> {
+    let name = c.string("parameter name")?;
+    let kind = c.u8("value.type")?;
+    c.u8("value.bool_value")?;
+    c.prim(8, "value.integer_value")?;
+    c.f64("value.double_value")?;
+    let text = c.string("value.string_value")?;
+    c.skip_seq(1, "value.byte_array_value")?;
+    c.skip_seq(1, "value.bool_array_value")?;
+    c.skip_seq(8, "value.integer_array_value")?;
+    c.skip_seq(8, "value.double_array_value")?;
+    let at = c.pos;
+    let n = c.u32("value.string_array_value count")? as usize;
+    if n > c.left() / 4 {
+        return Err(format!(
+            "byte {at}: string_array_value count {n}: expected at most {}",
+            c.left() / 4
+        ));
+    }
+    for _ in 0..n {
+        c.string("value.string_array_value[]")?;
+    }
+    Ok((name, (kind == PARAMETER_STRING).then_some(text)))
+}
+
+/// The string parameters a ROS 2 `rcl_interfaces/msg/ParameterEvent` (CDR)
+/// sets (new or changed): `(node, name, value)`.
+pub fn parameter_event(data: &[u8]) -> Result<Vec<(String, String, String)>, String> {
+    let mut c = Cursor::new(data, Encoding::Cdr)?;
+    c.i32("stamp.sec")?;
+    c.u32("stamp.nanosec")?;
+    let node = c.string("node")?;
+    let mut out = Vec::new();
+    for list in ["new_parameters", "changed_parameters", "deleted_parameters"] {
+        let at = c.pos;
+        let n = c.u32(list)? as usize;
+        // A parameter takes at least 40 bytes (name, type, scalars, lengths).
+        if n > c.left() / 40 {
+            return Err(format!(
+                "byte {at}: {list} count {n}: expected at most {} in the {} bytes left",
+                c.left() / 40,
+                c.left()
+            ));
+        }
+        for i in 0..n {
+            let (name, value) = parameter(&mut c).map_err(|e| format!("{list}[{i}]: {e}"))?;
+            if let (Some(v), false) = (value, list == "deleted_parameters") {
+                out.push((node.clone(), name, v));
+            }
+        }
     }
     c.finish()?;
     Ok(out)

@@ -24,7 +24,9 @@
 //! one that moves is reported (`ignored`) and left out; a child already on
 //! `/tf_static` keeps its static transform.
 //!
-//! `/robot_description`: the latest message is parsed with
+//! `/robot_description`: the latest message, or the latest ROS 2
+//! `/parameter_events` message that sets the string parameter
+//! `robot_description` (as `robot_state_publisher` holds it), is parsed with
 //! [`crate::formats::urdf::parse`]. Its fixed joints are what
 //! `robot_state_publisher` puts on `/tf_static`, so a URDF edge whose child is
 //! also on `/tf_static` is dropped; when the two disagree the `/tf_static` one
@@ -66,6 +68,10 @@ pub struct BagOptions {
     /// Robot description topics (`std_msgs/String` with a URDF): default
     /// `/robot_description`.
     pub description_topics: Vec<String>,
+    /// ROS 2 parameter event topics (`rcl_interfaces/msg/ParameterEvent`),
+    /// searched for a string parameter `robot_description` (the way
+    /// `robot_state_publisher` holds it): default `/parameter_events`.
+    pub parameter_topics: Vec<String>,
 }
 
 impl Default for BagOptions {
@@ -74,6 +80,7 @@ impl Default for BagOptions {
             static_topics: vec!["/tf_static".into()],
             tf_topics: Vec::new(),
             description_topics: vec!["/robot_description".into()],
+            parameter_topics: vec!["/parameter_events".into()],
         }
     }
 }
@@ -207,6 +214,7 @@ pub fn load_with(path: &Path, opts: &LoadOptions, bag: &BagOptions) -> Result<Lo
         bag.static_topics.iter().any(|w| w == t)
             || bag.tf_topics.iter().any(|w| w == t)
             || bag.description_topics.iter().any(|w| w == t)
+            || bag.parameter_topics.iter().any(|w| w == t)
     };
     let contents = read_container(path, &wanted)?;
     let mut by_topic: BTreeMap<&str, Vec<&RawMessage>> = BTreeMap::new();
@@ -234,7 +242,8 @@ pub fn load_with(path: &Path, opts: &LoadOptions, bag: &BagOptions) -> Result<Lo
         &statics,
         &mut out.warnings,
     )?);
-    if let Some(desc) = description(&pick(&bag.description_topics), opts, &mut out.warnings)? {
+    let texts = description_texts(&pick(&bag.description_topics), &pick(&bag.parameter_topics))?;
+    if let Some(desc) = description(&texts, opts, &mut out.warnings)? {
         edges.extend(merge_description(desc, &statics, &mut out.warnings));
     }
     if edges.is_empty() {
@@ -305,6 +314,9 @@ const TF_TYPES: &[&str] = &[
     "tf/msg/tfMessage",
 ];
 const STRING_TYPES: &[&str] = &["std_msgs/msg/String", "std_msgs/String"];
+const PARAMETER_EVENT_TYPES: &[&str] = &["rcl_interfaces/msg/ParameterEvent"];
+/// The parameter that holds the URDF in ROS 2 (`robot_state_publisher`).
+const DESCRIPTION_PARAMETER: &str = "robot_description";
 
 fn read_container(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
     match container(path) {
@@ -555,34 +567,71 @@ fn constant_transforms(
     Ok(out)
 }
 
-/// `/robot_description`: the latest URDF, parsed, its edges pointing at the bag.
+/// A robot description found in the bag, and where.
+struct DescriptionText<'a> {
+    msg: Msg<'a>,
+    what: String,
+    text: String,
+}
+
+/// Every robot description the bag holds: `std_msgs/String` messages on the
+/// description topics and `robot_description` string parameters set in ROS 2
+/// parameter events, in log-time order.
+fn description_texts<'a>(
+    topics: &[Msg<'a>],
+    events: &[Msg<'a>],
+) -> Result<Vec<DescriptionText<'a>>> {
+    let mut out = Vec::new();
+    for m in topics {
+        m.check_type(STRING_TYPES)?;
+        let text = decode::string_message(&m.raw.data, m.raw.encoding)
+            .map_err(|e| m.err(format!("std_msgs/String: {e}")))?;
+        out.push(DescriptionText {
+            msg: *m,
+            what: m.describe(),
+            text,
+        });
+    }
+    for m in events {
+        m.check_type(PARAMETER_EVENT_TYPES)?;
+        if m.raw.encoding != Encoding::Cdr {
+            return Err(m.err("parameter events: expected CDR (ROS 2), found ROS 1 serialization"));
+        }
+        let params = decode::parameter_event(&m.raw.data)
+            .map_err(|e| m.err(format!("rcl_interfaces/msg/ParameterEvent: {e}")))?;
+        for (node, name, text) in params {
+            if name == DESCRIPTION_PARAMETER {
+                let what = format!("{} (parameter {name} of node {node})", m.describe());
+                out.push(DescriptionText {
+                    msg: *m,
+                    what,
+                    text,
+                });
+            }
+        }
+    }
+    out.sort_by_key(|d| d.msg.raw.time_ns);
+    Ok(out)
+}
+
+/// The latest robot description, parsed, its edges pointing at the bag.
 fn description(
-    msgs: &[Msg],
+    texts: &[DescriptionText],
     opts: &LoadOptions,
     warnings: &mut Vec<Warning>,
 ) -> Result<Option<Loaded>> {
-    let mut texts = Vec::new();
-    for m in msgs {
-        m.check_type(STRING_TYPES)?;
-        let t = decode::string_message(&m.raw.data, m.raw.encoding)
-            .map_err(|e| m.err(format!("std_msgs/String: {e}")))?;
-        texts.push((*m, t));
-    }
-    let Some((m, text)) = texts.last() else {
+    let Some(latest) = texts.last() else {
         return Ok(None);
     };
-    for (old, t) in &texts[..texts.len() - 1] {
-        if t != text {
+    let file = Location::file(&latest.msg.raw.file);
+    for old in &texts[..texts.len() - 1] {
+        if old.text != latest.text {
             warnings.push(
                 Warning::new(
                     WarningCode::Ignored,
-                    format!(
-                        "{} differs from the latest, {}: the latest is used",
-                        old.describe(),
-                        m.describe()
-                    ),
+                    format!("the robot description of {} differs from the latest, {}: the latest is used", old.what, latest.what),
                 )
-                .at(&Location::file(&m.raw.file)),
+                .at(&file),
             );
         }
     }
@@ -591,16 +640,15 @@ fn description(
         format: None,
         ..opts.clone()
     };
-    let mut loaded = urdf::parse(text, &m.raw.file, &urdf_opts).map_err(|e| {
+    let what = &latest.what;
+    let mut loaded = urdf::parse(&latest.text, &latest.msg.raw.file, &urdf_opts).map_err(|e| {
         let line = e
             .location
             .line
             .map(|l| format!(" (line {l} of the description)"))
             .unwrap_or_default();
-        m.err(format!("URDF: {}{line}", e.message))
+        Error::parse(format!("{what}: URDF: {}{line}", e.message)).in_file(&latest.msg.raw.file)
     })?;
-    let what = m.describe();
-    let file = Location::file(&m.raw.file);
     for e in &mut loaded.edges {
         let line = e
             .provenance
