@@ -203,6 +203,7 @@ fn is_calibration_file(p: &Path) -> bool {
     ]
     .iter()
     .any(|ext| name.ends_with(ext))
+        || crate::formats::bag::is_bag(p)
 }
 
 fn key_of(p: &Path) -> String {

@@ -505,3 +505,33 @@ fn robot_description_from_a_parameter_event() {
         );
     }
 }
+
+#[test]
+fn cli_check_walks_bags_and_takes_a_rosbag2_folder_as_one_input() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let d = Path::new(DIR);
+    std::fs::copy(d.join("updates.mcap"), dir.path().join("updates.mcap")).expect("copy");
+    std::fs::copy(d.join("updates.bag"), dir.path().join("updates.bag")).expect("copy");
+    let folder = dir.path().join("rec/updates_db3");
+    std::fs::create_dir_all(&folder).expect("mkdir");
+    for f in ["metadata.yaml", "updates_db3.db3"] {
+        std::fs::copy(d.join("updates_db3").join(f), folder.join(f)).expect("copy");
+    }
+    let out = audit()
+        .args([
+            "check",
+            dir.path().to_str().unwrap(),
+            "--pair",
+            "base_link:lidar",
+        ])
+        .output()
+        .expect("run");
+    let e = String::from_utf8_lossy(&out.stderr);
+    let o = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{o}\n{e}");
+    assert!(
+        format!("{o}{e}").contains("checked 3 files: 0 problems, 3 warnings"),
+        "{o}\n{e}"
+    );
+    assert!(!e.contains("metadata.yaml"), "{e}");
+}
