@@ -205,6 +205,37 @@ fn unrelated_topics_before_tf_static_are_skipped() {
 }
 
 #[test]
+fn tf_on_request_keeps_the_constant_transforms() {
+    let x = expected();
+    let opts = BagOptions {
+        tf_topics: vec!["/tf".into()],
+        ..BagOptions::default()
+    };
+    for p in containers("unrelated") {
+        let what = p.display().to_string();
+        // By default /tf is not read.
+        assert_eq!(load(&p).edges.len(), 2, "{what}");
+        let l = bag::load_with(&p, &LoadOptions::default(), &opts).expect("load");
+        assert_eq!(l.edges.len(), 3, "{what}: {:?}", l.edges);
+        let cam = edge(&l, "camera", &what);
+        assert_edge(cam, &x["unrelated_tf_constant"][0], &what);
+        let k = &cam.provenance.key;
+        assert!(k.starts_with("/tf message #0 at t=0.150000000 s ("), "{k}");
+        assert!(
+            k.ends_with("base_link -> camera (constant over 3 samples)"),
+            "{k}"
+        );
+        assert_eq!(l.warnings.len(), 1, "{what}: {:?}", l.warnings);
+        assert!(
+            l.warnings[0].message.contains("frame 'base_link' moves"),
+            "{:?}",
+            l.warnings
+        );
+        assert!(l.edges.iter().all(|e| e.child != "base_link"));
+    }
+}
+
+#[test]
 fn only_the_asked_topics_are_read() {
     // Without /tf_static there is only the description.
     let opts = BagOptions {
@@ -298,7 +329,7 @@ fn corrupt_messages_name_topic_message_and_offset() {
 fn a_bag_without_transforms_lists_its_topics() {
     for p in containers("no_tf") {
         let e = load_err(&p);
-        assert!(e.contains("expected transforms on /tf_static or a URDF on /robot_description, found no message on them (topics: /chatter)"), "{e}");
+        assert!(e.contains("expected transforms on /tf_static or a URDF on /robot_description, found no message on them (topics: /chatter, /tf)"), "{e}");
     }
 }
 

@@ -554,7 +554,10 @@ fn constant_transforms(
             warnings.push(
                 Warning::new(
                     WarningCode::Ignored,
-                    format!("frame '{child}' moves on {} ({n} samples from {}): not a static transform, left out", s.edge.provenance.key, s.what),
+                    format!(
+                        "frame '{child}' moves (parent '{}', {n} samples, the first {}): not a static transform, left out",
+                        s.edge.parent, s.what
+                    ),
                 )
                 .at(&s.edge.provenance.location),
             );
