@@ -340,6 +340,30 @@ mod tests {
     }
 
     #[test]
+    fn cdr_big_endian_and_alignment_after_the_header() {
+        // 00 00: big-endian. One transform: stamp, "a", "b", then the doubles
+        // aligned to 8 counted from byte 4.
+        let mut m = vec![0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 7, 0, 0, 0, 9];
+        m.extend([0, 0, 0, 2, b'a', 0, 0, 0, 0, 0, 0, 2, b'b', 0]);
+        m.resize(36, 0); // pad: byte 30 -> 36 (32 past the header)
+        for v in [1.5f64, -2.0, 0.25, 0.0, 0.0, 0.0, 1.0] {
+            m.extend(v.to_be_bytes());
+        }
+        let t = tf_message(&m, Encoding::Cdr).unwrap();
+        assert_eq!(t.len(), 1);
+        assert_eq!((t[0].parent.as_str(), t[0].child.as_str()), ("a", "b"));
+        assert_eq!(t[0].translation, [1.5, -2.0, 0.25]);
+        assert_eq!(t[0].rotation, [0.0, 0.0, 0.0, 1.0]);
+        assert_eq!(t[0].stamp_ns, 7_000_000_009);
+    }
+
+    #[test]
+    fn xcdr2_is_refused_by_name() {
+        let e = string_message(&[0, 7, 0, 0, 1, 0, 0, 0, 0], Encoding::Cdr).unwrap_err();
+        assert!(e.contains("XCDR2 is not supported"), "{e}");
+    }
+
+    #[test]
     fn ros1_string_has_no_nul() {
         let msg = [2, 0, 0, 0, b'h', b'i'];
         assert_eq!(string_message(&msg, Encoding::Ros1).unwrap(), "hi");
