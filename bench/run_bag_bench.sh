@@ -22,7 +22,7 @@ ls -l "$bag"
 cargo build --release --bin audit
 audit=target/release/audit
 "$audit" "$bag" --frames
-hyperfine --warmup 3 --runs 30 \
+hyperfine -N --warmup 3 --runs 30 \
     "$audit $bag --frames" \
     "$audit $bag --from base_link --to lidar --format json"
 if command -v strace >/dev/null; then
