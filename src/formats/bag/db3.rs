@@ -4,7 +4,11 @@
 //!
 //! The database is opened read-only and immutable (no journal, no lock files
 //! beside a bag that may sit on a read-only disk); only the rows of the wanted
-//! topics are fetched.
+//! topics are fetched. rosbag2 indexes `messages` by timestamp only, so the
+//! query scans the table's leaf pages: payloads larger than a page live in
+//! overflow pages that are not read (a 1 GB bag of 1 MiB messages reads
+//! ~1.4 MB), but a bag of small messages is read through (356 MB of 1 KiB
+//! messages: ~0.3 s).
 
 use super::decode::Encoding;
 use super::{Contents, RawMessage};
