@@ -250,11 +250,29 @@ pub fn read(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
             format!("index_pos {index_pos}: expected an index inside the {len}-byte file (a bag still recording or cut short; `rosbag reindex` rebuilds the index)"),
         ));
     }
+    // The index section runs to the end of the file: one read, then parsed in
+    // memory (a few dozen bytes per chunk).
+    let index_len = len - index_pos;
+    if index_len > MAX_BAG_RECORD_BYTES as u64 {
+        return Err(hdr.err(path, format!("index section of {index_len} bytes at index_pos {index_pos}: expected at most {MAX_BAG_RECORD_BYTES}")));
+    }
     src.pos = index_pos;
+    let index = src
+        .read_exact_at(index_len as usize)
+        .map_err(|e| Error::io(path, &e))?;
+    let mut isrc = SliceSource {
+        data: &index,
+        pos: 0,
+    };
     let mut conns: BTreeMap<u32, Conn> = BTreeMap::new();
     let mut chunks: Vec<(u64, Vec<u32>)> = Vec::new();
-    while src.pos < len {
-        let r = record(&mut src, "index section").map_err(perr)?;
+    while isrc.pos < isrc.len() {
+        let mut r = record(&mut isrc, "index section").map_err(|e| {
+            perr(format!(
+                "index section at byte {index_pos}: {e} (offsets within the section)"
+            ))
+        })?;
+        r.at += index_pos;
         match r.op() {
             Some(OP_CONNECTION) => {
                 let id = r.u32(path, "conn")?;
