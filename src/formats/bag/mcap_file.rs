@@ -18,7 +18,7 @@ use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOp
 use mcap::sans_io::summary_reader::{SummaryReadEvent, SummaryReader, SummaryReaderOptions};
 use std::collections::{BTreeSet, HashMap};
 use std::fs::File;
-use std::io::{Read, Seek, SeekFrom};
+use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
 /// The 8 bytes every MCAP file starts with.
@@ -38,8 +38,10 @@ struct ChannelInfo {
 
 /// Read the messages of the topics `wanted` accepts.
 pub fn read(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
-    let mut file = File::open(path).map_err(|e| Error::io(path, &e))?;
+    let file = File::open(path).map_err(|e| Error::io(path, &e))?;
     let size = file.metadata().map_err(|e| Error::io(path, &e))?.len();
+    // The summary reader asks for records a few bytes at a time: buffer them.
+    let mut file = BufReader::with_capacity(1 << 16, file);
     let mut head = [0u8; 8];
     if size < 8 || file.read_exact(&mut head).is_err() || &head != MAGIC {
         return Err(Error::parse(format!(
@@ -53,7 +55,7 @@ pub fn read(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
     }
 }
 
-fn summary(file: &mut File, size: u64) -> mcap::McapResult<Option<mcap::Summary>> {
+fn summary(file: &mut BufReader<File>, size: u64) -> mcap::McapResult<Option<mcap::Summary>> {
     let mut r =
         SummaryReader::new_with_options(SummaryReaderOptions::default().with_file_size(size));
     while let Some(ev) = r.next_event() {
@@ -115,7 +117,7 @@ fn raw(
 
 fn indexed(
     path: &Path,
-    file: &mut File,
+    file: &mut BufReader<File>,
     s: &mcap::Summary,
     wanted: &dyn Fn(&str) -> bool,
 ) -> Result<Contents> {
@@ -194,7 +196,7 @@ fn indexed(
 /// Stream the whole file: for MCAPs without a summary.
 fn linear(
     path: &Path,
-    file: &mut File,
+    file: &mut BufReader<File>,
     size: u64,
     wanted: &dyn Fn(&str) -> bool,
 ) -> Result<Contents> {
