@@ -109,6 +109,20 @@ pub const MAX_TRANSLATION_M: f64 = 1e6;
 /// with a large frame (tens of KiB in a debug build).
 pub const MAX_YAML_DEPTH: usize = 32;
 
+/// Largest record, chunk (compressed or not) or message a bag reader allocates
+/// (bytes). rosbag2 and `rosbag record` write chunks of 768 KiB to a few MiB;
+/// a length beyond this in a bag is corruption, refused before allocating.
+pub const MAX_BAG_RECORD_BYTES: usize = 1 << 30;
+
+/// Largest rosbag2 `metadata.yaml` read (bytes): a few KiB in practice, with
+/// one entry per split file and topic.
+pub const MAX_BAG_METADATA_BYTES: u64 = 16 * 1024 * 1024;
+
+/// A bag read that will go through at least this many bytes shows a progress
+/// line on stderr when stderr is a terminal (below it the read takes well
+/// under a second).
+pub const BAG_PROGRESS_MIN_BYTES: u64 = 64 * 1024 * 1024;
+
 // ---------------------------------------------------------------------------
 // Rig analysis and verdicts (`analysis`)
 // ---------------------------------------------------------------------------

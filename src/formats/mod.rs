@@ -15,6 +15,7 @@ use crate::tolerances::{DEFAULT_MAX_FILE_SIZE, MAX_TRANSLATION_M, METRE_FIELD_WA
 use std::collections::BTreeMap;
 use std::path::Path;
 
+pub mod bag;
 pub mod kitti_m2dgr;
 pub mod launch;
 pub mod ouster;
@@ -178,6 +179,10 @@ pub fn detect_format(path: &Path, text: &str) -> Result<Format> {
 
 /// Read one file: detect its format (or use `opts.format`), parse, validate.
 pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    // Bags are binary and large: read through their index, never whole.
+    if bag::is_bag(path) {
+        return bag::load(path, opts);
+    }
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, &e))?;
     if meta.is_dir() {
         return Err(Error::new(ErrorKind::Io, "is a directory: expected a file").in_file(path));

@@ -15,6 +15,7 @@ mod core_props;
 mod detector_core;
 mod detector_threshold;
 mod formats_bad_inputs;
+mod formats_bags;
 mod formats_no_panic;
 mod formats_rigs;
 mod formats_xacro;
