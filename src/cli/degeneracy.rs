@@ -5,10 +5,10 @@
 //! Also holds the small helpers the detector commands share (output format,
 //! `x,y,z` parsing, number formatting).
 
-use crate::degeneracy::points::{read_points, PointData};
+use crate::degeneracy::points::{accumulate_file, PointData};
 use crate::degeneracy::threshold::default_threshold;
 use crate::degeneracy::{analyse, reexpress, Analysis, Assembly, MetricRule, AXIS_NAMES};
-use crate::diagnostic::{Error, ErrorKind, Result};
+use crate::diagnostic::{Error, ErrorKind, Result, Warning};
 use crate::geometry::se3::Transform;
 use crate::tolerances::DEFAULT_TAU;
 use comfy_table::Table;
@@ -152,13 +152,25 @@ pub fn degeneracy_json(
     tau: f64,
     ells: &[f64],
 ) -> Result<Value> {
+    let (p, n) = reexpress(&data.points, &data.normals, frame);
+    let asm = Assembly::from_points(&p, &n, data.weights.as_deref())?;
+    degeneracy_json_for(&asm, &data.warnings, frame, tau, ells)
+}
+
+/// The report for an assembly already in the requested frame.
+pub fn degeneracy_json_for(
+    asm: &Assembly,
+    warnings: &[Warning],
+    frame: &Transform,
+    tau: f64,
+    ells: &[f64],
+) -> Result<Value> {
     if !(tau.is_finite() && tau > 0.0) {
         return Err(Error::usage(format!(
             "--tau: expected a positive number, found {tau}"
         )));
     }
-    let (p, n) = reexpress(&data.points, &data.normals, frame);
-    let asm = Assembly::from_points(&p, &n, data.weights.as_deref())?;
+    let asm = *asm;
     // Point displacement first: its error (collinear points) is the one to report.
     let pd = analyse(&asm, &MetricRule::PointDisplacement, tau)?;
     let mut families = Vec::new();
@@ -210,12 +222,12 @@ pub fn degeneracy_json(
     let d = frame.translation();
     Ok(json!({
         "schema_version": 1,
-        "points": data.points.len(),
+        "points": asm.count,
         "frame": {"translation_m": [d.x, d.y, d.z], "rpy_rad": frame.rpy()},
         "families": families,
         "degenerate_subspace": subspace,
         "footprint": pd.footprint(),
-        "warnings": data.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
+        "warnings": warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
     }))
 }
 
@@ -330,8 +342,10 @@ fn write_table(v: &Value, out: &mut dyn std::io::Write) -> Result<()> {
 pub fn run(args: &DegeneracyArgs, out: &mut dyn std::io::Write) -> Result<i32, Error> {
     let frame = frame_from_args(args.shift.as_deref(), args.rotate_rpy.as_deref())?;
     let ells = parse_ells(&args.ell)?;
-    let data = read_points(&args.points)?;
-    let v = degeneracy_json(&data, &frame, args.tau, &ells).map_err(|e| e.in_file(&args.points))?;
+    // Streamed: H and M without holding the points; the frame by congruence.
+    let acc = accumulate_file(&args.points, Some(&frame))?;
+    let v = degeneracy_json_for(&acc.assembly, &acc.warnings, &frame, args.tau, &ells)
+        .map_err(|e| e.in_file(&args.points))?;
     match args.format {
         OutputFormat::Json => {
             writeln!(

@@ -489,6 +489,11 @@ impl Accumulator {
         }
     }
 
+    /// Count points whose sums arrive through `add_block`.
+    pub(crate) fn add_count(&mut self, n: usize) {
+        self.count += n;
+    }
+
     /// Add a batch. `weights`, when given, has one entry per point. Mismatched
     /// lengths are an error. Large batches are split by block over threads.
     pub fn add(
@@ -650,7 +655,7 @@ fn assemble_blocks_parallel(body: &Batch, kernel: Kernel, threads: usize) -> Vec
         for i in 0..run.points.len() {
             let w = run.weights.map_or(1.0, |w| w[i]);
             acc.push_point(&run.points[i], &run.normals[i], w);
-            if (i + 1) % BLOCK == 0 {
+            if (i + 1).is_multiple_of(BLOCK) {
                 out.push(acc.take_block());
             }
         }
