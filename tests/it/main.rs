@@ -26,6 +26,7 @@ mod hostile_numbers;
 mod hostile_points;
 mod points_readers;
 mod points_regressions;
+mod points_streaming;
 mod readme;
 mod rig_toml;
 mod scene_simulate;
