@@ -110,6 +110,39 @@ impl Chunk {
         }
     }
 
+    /// Copy as many points as fit (all lengths equal); returns how many.
+    fn fill(&mut self, p: &[[f64; 3]], n: &[[f64; 3]], w: Option<&[f64]>) -> usize {
+        let start = self.len.min(CHUNK);
+        let k = (CHUNK - start).min(p.len()).min(n.len());
+        let [c0, c1, c2, c3, c4, c5, c6] = &mut self.cols;
+        let range = start..start + k;
+        for (j, (pi, ni)) in p[..k].iter().zip(n).enumerate() {
+            // Fetch the next chunk's points while this one is copied, so that
+            // memory keeps streaming while the kernel folds this chunk.
+            if j % 2 == 0 {
+                prefetch(p, j + CHUNK);
+                prefetch(n, j + CHUNK);
+            }
+            let i = start + j;
+            c0[i] = pi[0];
+            c1[i] = pi[1];
+            c2[i] = pi[2];
+            c3[i] = ni[0];
+            c4[i] = ni[1];
+            c5[i] = ni[2];
+        }
+        match w {
+            Some(w) => {
+                let w = &w[..k.min(w.len())];
+                c6[start..start + w.len()].copy_from_slice(w);
+                self.weighted |= w.iter().any(|&x| x != 1.0);
+            }
+            None => c6[range].fill(1.0),
+        }
+        self.len = start + k;
+        k
+    }
+
     fn is_full(&self) -> bool {
         self.len == CHUNK
     }
@@ -122,6 +155,22 @@ impl Chunk {
         self.len = 0;
         self.weighted = false;
     }
+}
+
+/// Ask for the cache line holding `s[i]` (nothing past the end).
+#[inline(always)]
+fn prefetch<T>(s: &[T], i: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(x) = s.get(i) {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        // SAFETY: a prefetch never faults, and the address is inside `s`.
+        #[allow(unused_unsafe)]
+        unsafe {
+            _mm_prefetch::<_MM_HINT_T0>((x as *const T).cast::<i8>())
+        };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (s, i);
 }
 
 #[inline(always)]
@@ -542,14 +591,36 @@ impl Accumulator {
         Ok(())
     }
 
-    /// Point by point, closing a block every [`BLOCK`] points.
+    /// Into the open block, a chunk at a time, closing a block every
+    /// [`BLOCK`] points.
     fn add_serial(&mut self, b: &Batch) {
-        for i in 0..b.points.len() {
-            let w = b.weights.map_or(1.0, |w| w[i]);
-            self.push_point(&b.points[i], &b.normals[i], w);
-            self.in_block += 1;
-            if self.in_block == BLOCK {
+        let len = b.points.len();
+        let mut i = 0;
+        while i < len {
+            let k = (BLOCK - self.in_block).min(len - i);
+            self.push_batch(&b.slice(i, i + k));
+            self.in_block += k;
+            i += k;
+            if self.in_block >= BLOCK {
                 self.end_block();
+            }
+        }
+    }
+
+    /// Into the open block, a chunk at a time (no block is closed).
+    fn push_batch(&mut self, b: &Batch) {
+        let mut i = 0;
+        while i < b.points.len() {
+            let k = self
+                .chunk
+                .fill(&b.points[i..], &b.normals[i..], b.weights.map(|w| &w[i..]));
+            i += k;
+            self.count += k;
+            if self.chunk.is_full() {
+                self.chunk.flush(self.kernel, &mut self.block);
+            }
+            if k == 0 {
+                break;
             }
         }
     }
@@ -651,15 +722,12 @@ fn assemble_blocks_parallel(body: &Batch, kernel: Kernel, threads: usize) -> Vec
         .collect();
     let run_blocks = |run: &Batch| -> Vec<Sums> {
         let mut acc = Accumulator::with_kernel(kernel).threads(1);
-        let mut out = Vec::with_capacity(run.points.len() / BLOCK);
-        for i in 0..run.points.len() {
-            let w = run.weights.map_or(1.0, |w| w[i]);
-            acc.push_point(&run.points[i], &run.normals[i], w);
-            if (i + 1).is_multiple_of(BLOCK) {
-                out.push(acc.take_block());
-            }
-        }
-        out
+        (0..run.points.len() / BLOCK)
+            .map(|b| {
+                acc.push_batch(&run.slice(b * BLOCK, (b + 1) * BLOCK));
+                acc.take_block()
+            })
+            .collect()
     };
     let Some((first, others)) = runs.split_first() else {
         return Vec::new();
