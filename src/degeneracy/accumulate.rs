@@ -607,6 +607,17 @@ impl Accumulator {
         }
     }
 
+    /// Points into the open block (no block is closed): the bulk path of the
+    /// streaming readers.
+    pub(crate) fn push_slices(&mut self, p: &[[f64; 3]], n: &[[f64; 3]], w: Option<&[f64]>) {
+        let m = p.len().min(n.len()).min(w.map_or(usize::MAX, <[f64]>::len));
+        self.push_batch(&Batch {
+            points: &p[..m],
+            normals: &n[..m],
+            weights: w.map(|w| &w[..m]),
+        });
+    }
+
     /// Into the open block, a chunk at a time (no block is closed).
     fn push_batch(&mut self, b: &Batch) {
         let mut i = 0;

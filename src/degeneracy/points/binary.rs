@@ -185,6 +185,7 @@ fn decode<const MODE: u8, R: Read, S: Sink>(
     ck: &mut Checker<S>,
 ) -> Result<()> {
     let rec = layout.rec.max(1);
+    let mut batch = Batch::new();
     let mut k = 0usize;
     while k < run.count {
         src.fill(rec)?;
@@ -194,20 +195,61 @@ fn decode<const MODE: u8, R: Read, S: Sink>(
         if n == 0 {
             return Err(run.truncated(rec, run.first + k));
         }
-        for (r, b) in data[..n * rec].chunks_exact(rec).enumerate() {
-            let mut v = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
-            for (role, slot) in layout.roles.iter().enumerate() {
-                if let Some((o, s)) = slot {
-                    v[role] = get::<MODE>(b, *o, *s, layout.little);
-                }
+        // Batches of at most BATCH records that end where blocks end.
+        let mut r = 0;
+        while r < n {
+            let m = (n - r).min(BATCH).min(ck.until_block_end());
+            batch.decode::<MODE>(&data[r * rec..(r + m) * rec], layout);
+            let (p, nn, w) = batch.slices(m);
+            if let Err((i, f)) = ck.batch(p, nn, w) {
+                let j = r + i;
+                return Err(f.error(run.locate(run.first + k + j, at + (j * rec) as u64), None));
             }
-            if let Err(f) = ck.record(&v) {
-                let i = run.first + k + r;
-                return Err(f.error(run.locate(i, at + (r * rec) as u64), None));
-            }
+            r += m;
         }
         src.consume(n * rec);
         k += n;
     }
     Ok(())
+}
+
+/// Records decoded per batch.
+const BATCH: usize = 256;
+
+/// One batch of decoded records.
+struct Batch {
+    p: Box<[[f64; 3]; BATCH]>,
+    n: Box<[[f64; 3]; BATCH]>,
+    w: Box<[f64; BATCH]>,
+}
+
+impl Batch {
+    fn new() -> Self {
+        Batch {
+            p: Box::new([[0.0; 3]; BATCH]),
+            n: Box::new([[0.0; 3]; BATCH]),
+            w: Box::new([1.0; BATCH]),
+        }
+    }
+
+    /// Decode the whole records in `bytes` (at most `BATCH`).
+    #[inline(always)]
+    fn decode<const MODE: u8>(&mut self, bytes: &[u8], layout: &Layout) {
+        let rec = layout.rec.max(1);
+        let r = &layout.roles;
+        let g = |b: &[u8], role: usize, default: f64| match r[role] {
+            Some((o, s)) => get::<MODE>(b, o, s, layout.little),
+            None => default,
+        };
+        for (i, b) in bytes.chunks_exact(rec).take(BATCH).enumerate() {
+            self.p[i] = [g(b, 0, 0.0), g(b, 1, 0.0), g(b, 2, 0.0)];
+            self.n[i] = [g(b, 3, 0.0), g(b, 4, 0.0), g(b, 5, 0.0)];
+            self.w[i] = g(b, 6, 1.0);
+        }
+    }
+
+    fn slices(&self, m: usize) -> (&[[f64; 3]], &[[f64; 3]], &[f64]) {
+        let m = m.min(BATCH);
+        (&self.p[..m], &self.n[..m], &self.w[..m])
+    }
 }

@@ -99,6 +99,48 @@ impl<'s, S: Sink> Checker<'s, S> {
         }
     }
 
+    /// Records left before the current block ends.
+    pub(crate) fn until_block_end(&self) -> usize {
+        BLOCK - self.records % BLOCK
+    }
+
+    /// A batch of records (`p`, `n`, `w` of equal lengths, not crossing a
+    /// block end): one branch-free test of the whole batch, then one bulk
+    /// hand-over; a batch with anything to skip, renormalise or refuse goes
+    /// record by record. On error, the index in the batch and the fault.
+    pub(crate) fn batch(
+        &mut self,
+        p: &[[f64; 3]],
+        n: &[[f64; 3]],
+        w: &[f64],
+    ) -> Result<(), (usize, Fault)> {
+        let m = p.len().min(n.len()).min(w.len());
+        let (p, n, w) = (&p[..m], &n[..m], &w[..m]);
+        let mut ok = true;
+        for ((pi, ni), wi) in p.iter().zip(n).zip(w) {
+            // NaN fails every comparison, so it clears `ok` too.
+            let n2 = ni[0] * ni[0] + ni[1] * ni[1] + ni[2] * ni[2];
+            ok &= (pi[0].abs() <= MAX_COORDINATE)
+                & (pi[1].abs() <= MAX_COORDINATE)
+                & (pi[2].abs() <= MAX_COORDINATE)
+                & ((n2 - 1.0).abs() <= NORMAL_UNIT_TOL)
+                & (*wi >= 0.0 && *wi <= f64::MAX);
+        }
+        if !ok {
+            for i in 0..m {
+                let v = [p[i][0], p[i][1], p[i][2], n[i][0], n[i][1], n[i][2], w[i]];
+                self.record(&v).map_err(|f| (i, f))?;
+            }
+            return Ok(());
+        }
+        self.sink.points(p, n, w);
+        self.records += m;
+        if self.records.is_multiple_of(BLOCK) {
+            self.sink.end_block();
+        }
+        Ok(())
+    }
+
     /// One record `x y z nx ny nz w`.
     #[inline(always)]
     pub(crate) fn record(&mut self, v: &[f64; 7]) -> Result<(), Fault> {

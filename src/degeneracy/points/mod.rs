@@ -107,6 +107,12 @@ pub(crate) trait Sink {
     /// (capped, untrusted) size hint.
     fn begin(&mut self, weighted: bool, hint: usize);
     fn point(&mut self, p: &[f64; 3], n: &[f64; 3], w: f64);
+    /// Valid points in bulk (weights 1 when the file has none).
+    fn points(&mut self, p: &[[f64; 3]], n: &[[f64; 3]], w: &[f64]) {
+        for ((p, n), w) in p.iter().zip(n).zip(w) {
+            self.point(p, n, *w);
+        }
+    }
     /// Every `BLOCK` records.
     fn end_block(&mut self);
 }
@@ -135,6 +141,13 @@ impl Sink for Collect {
             ws.push(w);
         }
     }
+    fn points(&mut self, p: &[[f64; 3]], n: &[[f64; 3]], w: &[f64]) {
+        self.points.extend_from_slice(p);
+        self.normals.extend_from_slice(n);
+        if let Some(ws) = self.weights.as_mut() {
+            ws.extend_from_slice(w);
+        }
+    }
     fn end_block(&mut self) {}
 }
 
@@ -143,6 +156,9 @@ impl Sink for Accumulator {
     #[inline(always)]
     fn point(&mut self, p: &[f64; 3], n: &[f64; 3], w: f64) {
         self.push_point(p, n, w);
+    }
+    fn points(&mut self, p: &[[f64; 3]], n: &[[f64; 3]], w: &[f64]) {
+        self.push_slices(p, n, Some(w));
     }
     fn end_block(&mut self) {
         Accumulator::end_block(self);

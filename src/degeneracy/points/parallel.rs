@@ -135,6 +135,9 @@ impl Sink for BlockSink {
     fn point(&mut self, p: &[f64; 3], n: &[f64; 3], w: f64) {
         self.acc.push_point(p, n, w);
     }
+    fn points(&mut self, p: &[[f64; 3]], n: &[[f64; 3]], w: &[f64]) {
+        self.acc.push_slices(p, n, Some(w));
+    }
     fn end_block(&mut self) {
         self.blocks.push(self.acc.take_block());
     }
