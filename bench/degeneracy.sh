@@ -10,6 +10,7 @@
 # summary table (bench/summary.py) there. Needs hyperfine, GNU time and
 # bench/.venv (numpy + scipy; bench/run_numpy.sh creates it). Single-threaded
 # BLAS for the peer; `audit` uses the cores it has (`taskset -c 0` rows: one).
+# BASELINE=/path/to/older/audit adds that binary to each run (before/after).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=${BENCH_DIR:-/tmp/audit-bench}
@@ -24,13 +25,22 @@ for n in "${sizes[@]}"; do
   f="$dir/c$n.ply"
   [ -f "$f" ] || target/release/examples/write_cloud "$f" "$n" ply-le
   runs=$(( n >= 10000000 ? 10 : 30 ))
+  extra=()
+  [ -n "${BASELINE:-}" ] && extra=(-n "baseline $n" "$BASELINE degeneracy $f")
   hyperfine -N --warmup 3 --runs "$runs" --export-json "$dir/time_$n.json" \
+    "${extra[@]}" \
     -n "audit $n" "$audit degeneracy $f" \
     -n "audit 1 core $n" "taskset -c 0 $audit degeneracy $f" \
     -n "numpy $n" "$py bench/degeneracy_numpy.py $f" > /dev/null
-  for who in audit numpy; do
+  whos=(audit numpy)
+  [ -n "${BASELINE:-}" ] && whos+=(baseline)
+  for who in "${whos[@]}"; do
     for _ in 1 2 3; do
-      if [ $who = audit ]; then cmd=("$audit" degeneracy "$f"); else cmd=("$py" bench/degeneracy_numpy.py "$f"); fi
+      case $who in
+        audit) cmd=("$audit" degeneracy "$f") ;;
+        baseline) cmd=("$BASELINE" degeneracy "$f") ;;
+        *) cmd=("$py" bench/degeneracy_numpy.py "$f") ;;
+      esac
       /usr/bin/time -f "%M" -o "$dir/rss.tmp" "${cmd[@]}" > /dev/null
       echo "$who $n $(cat "$dir/rss.tmp")" >> "$dir/rss.txt"
     done

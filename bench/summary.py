@@ -75,6 +75,10 @@ def main():
         ma = [k / 1024 for k in mem[("audit", n)]]
         mn = [k / 1024 for k in mem[("numpy", n)]]
         print(f"| {n:.0e} | {48*n/1e6:.1f} MB | {ms(a)} | {ms(a1)} | {ms(p)} | {p['median']/a['median']:.1f}x | {max(ma):.1f} | {max(mn):.0f} |")
+        if "baseline" in r:
+            b = r["baseline"]
+            mb = [k / 1024 for k in mem.get(("baseline", n), [0])]
+            print(f"| {n:.0e} | baseline binary | {ms(b)} | | | baseline / audit (medians) {b['median']/a['median']:.1f}x | {max(mb):.1f} | |")
         rows.append({"n": n,
                      "audit_t": [a["min"]*1e3, a["median"]*1e3, a["max"]*1e3],
                      "audit1_t": [a1["min"]*1e3, a1["median"]*1e3, a1["max"]*1e3],
