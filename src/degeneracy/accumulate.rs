@@ -745,17 +745,21 @@ fn assemble_blocks_parallel(body: &Batch, kernel: Kernel, threads: usize) -> Vec
     };
     let rb = &run_blocks;
     std::thread::scope(|s| {
-        let handles: Vec<_> = others.iter().map(|r| s.spawn(move || rb(r))).collect();
+        // A run whose thread cannot start (or that panics, a bug) is done here.
+        let handles: Vec<_> = others
+            .iter()
+            .map(|r| {
+                std::thread::Builder::new()
+                    .spawn_scoped(s, move || rb(r))
+                    .map_err(|_| r)
+            })
+            .collect();
         let mut all = rb(first);
-        for h in handles {
-            // A worker only panics if this code has a bug; redo its run here then.
-            match h.join() {
-                Ok(v) => all.extend(v),
-                Err(_) => all.clear(),
+        for (h, r) in handles.into_iter().zip(others) {
+            match h {
+                Ok(h) => all.extend(h.join().unwrap_or_else(|_| rb(r))),
+                Err(r) => all.extend(rb(r)),
             }
-        }
-        if all.len() != blocks {
-            all = runs.iter().flat_map(rb).collect();
         }
         all
     })

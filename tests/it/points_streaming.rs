@@ -514,3 +514,25 @@ fn degeneracy_peak_memory_stays_under_64_mib_on_1e7_points() {
         assert!(kib < 64 * 1024, "peak RSS {kib} KiB");
     }
 }
+
+#[cfg(unix)]
+#[test]
+fn degeneracy_reads_a_binary_file_from_a_pipe() {
+    // Not a regular file: no length to split by, read serially.
+    let (p, nn) = random_cloud(5, 3000);
+    let bytes = write_ply(&p, &nn, Encoding::BinaryLittleEndian);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.ply");
+    std::fs::write(&path, &bytes).unwrap();
+    let from_file = crate::common::audit()
+        .args(["degeneracy", path.to_str().unwrap(), "--format", "json"])
+        .output()
+        .unwrap();
+    let from_pipe = crate::common::audit()
+        .args(["degeneracy", "/dev/stdin", "--format", "json"])
+        .write_stdin(bytes)
+        .output()
+        .unwrap();
+    assert!(from_pipe.status.success(), "{from_pipe:?}");
+    assert_eq!(from_pipe.stdout, from_file.stdout);
+}

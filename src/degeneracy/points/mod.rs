@@ -165,8 +165,8 @@ impl Sink for Accumulator {
     }
 }
 
-/// Refuse files over [`MAX_POINT_FILE_SIZE`]; returns the size.
-fn check_size(path: &Path) -> Result<u64> {
+/// Refuse files over [`MAX_POINT_FILE_SIZE`]; returns the metadata.
+fn check_size(path: &Path) -> Result<std::fs::Metadata> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, &e))?;
     if meta.len() > MAX_POINT_FILE_SIZE {
         return Err(Error::limit(format!(
@@ -175,7 +175,7 @@ fn check_size(path: &Path) -> Result<u64> {
         ))
         .in_file(path));
     }
-    Ok(meta.len())
+    Ok(meta)
 }
 
 /// Read a point file, detecting the format from its content (`ply` magic, a PCD
@@ -210,12 +210,17 @@ pub fn read_from<R: Read>(r: R) -> Result<PointData> {
 /// the frame whose pose in the file's frame is `frame` (exactly, by congruence
 /// of the sums with `Ad(frame)`).
 pub fn accumulate_file(path: &Path, frame: Option<&Transform>) -> Result<Accumulated> {
-    let len = check_size(path)?;
+    let meta = check_size(path)?;
     let f = std::fs::File::open(path).map_err(|e| Error::io(path, &e))?;
     let mut acc = Accumulator::new();
     let mut src = Source::new(f);
-    let (format, stats) =
-        parallel::decode_file(path, len, &mut src, &mut acc).map_err(|e| e.in_file(path))?;
+    // A pipe or device has no length to split by and cannot be reopened.
+    let (format, stats) = if meta.is_file() {
+        parallel::decode_file(path, meta.len(), &mut src, &mut acc)
+    } else {
+        decode(&mut src, &mut acc)
+    }
+    .map_err(|e| e.in_file(path))?;
     Ok(finish(&acc, format, stats, frame))
 }
 

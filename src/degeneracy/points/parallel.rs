@@ -92,14 +92,18 @@ fn records(
     } else {
         std::thread::scope(|s| {
             let work = &work;
+            // A range whose thread cannot start (or that panics, a bug) is
+            // decoded here.
             let handles: Vec<_> = ranges[1..]
                 .iter()
-                .map(|r| s.spawn(move || work(r)))
+                .map(|r| std::thread::Builder::new().spawn_scoped(s, move || work(r)))
                 .collect();
             let mut out = vec![work(&ranges[0])];
             for (h, r) in handles.into_iter().zip(&ranges[1..]) {
-                // A panicking worker is a bug here; redo its range on this thread.
-                out.push(h.join().unwrap_or_else(|_| work(r)));
+                out.push(match h {
+                    Ok(h) => h.join().unwrap_or_else(|_| work(r)),
+                    Err(_) => work(r),
+                });
             }
             out
         })
