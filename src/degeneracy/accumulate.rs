@@ -496,8 +496,8 @@ impl Accumulator {
         self.kernel
     }
 
-    /// Add one point with its unit normal and weight (the hot path of the
-    /// streaming readers).
+    /// Add one point with its unit normal and weight (the readers'
+    /// record-by-record path; whole batches go through `push_slices`).
     #[inline(always)]
     pub(crate) fn push_point(&mut self, p: &[f64; 3], n: &[f64; 3], w: f64) {
         self.chunk.push(p, n, w);
