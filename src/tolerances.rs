@@ -205,7 +205,8 @@ pub const MAX_PCD_COUNT: usize = 1 << 16;
 pub const MAX_POINT_FILE_SIZE: u64 = 4 * 1024 * 1024 * 1024;
 
 /// Fewest points for which `degeneracy` assembly is split over threads (below
-/// it, starting a thread costs more than it saves: about 0.3 ms of assembly).
+/// it, starting a thread costs about as much as it saves: 2^18 points are
+/// about half a millisecond of assembly on one core).
 pub const ASSEMBLY_PARALLEL_MIN_POINTS: usize = 1 << 18;
 
 /// Read buffer of the streaming point-file readers (bytes).
