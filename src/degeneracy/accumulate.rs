@@ -444,7 +444,7 @@ mod avx2 {
 }
 
 /// Streaming accumulator of `H` and `M`: 31 running sums, no per-point storage
-/// beyond one [`CHUNK`] of points.
+/// beyond one chunk of 256 points.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Accumulator {
     /// Sums of the completed blocks, added in order.
