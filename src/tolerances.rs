@@ -217,3 +217,18 @@ pub const MAX_PCD_COUNT: usize = 1 << 16;
 
 /// Largest point file read (bytes).
 pub const MAX_POINT_FILE_SIZE: u64 = 4 * 1024 * 1024 * 1024;
+
+/// Fewest points for which `degeneracy` assembly is split over threads (below
+/// it, starting a thread costs about as much as it saves: 2^18 points are
+/// about half a millisecond of assembly on one core).
+pub const ASSEMBLY_PARALLEL_MIN_POINTS: usize = 1 << 18;
+
+/// Read buffer of the streaming point-file readers (bytes).
+pub const POINT_READ_BUFFER: usize = 1 << 16;
+
+/// Longest line of a point file's header or of a text point file (bytes): a
+/// binary file without line breaks is refused here instead of being buffered.
+pub const MAX_POINT_LINE_BYTES: usize = 1 << 20;
+
+/// Largest binary record of a point file (bytes; PCD descriptors use < 2 KiB).
+pub const MAX_POINT_RECORD_BYTES: usize = 1 << 20;

@@ -28,6 +28,7 @@ mod hostile_points;
 mod json_schemas;
 mod points_readers;
 mod points_regressions;
+mod points_streaming;
 mod readme;
 mod rig_toml;
 mod scene_simulate;
