@@ -53,7 +53,7 @@ pub enum Format {
 
 const ALL_FORMATS: &[(Format, &str)] = &[
     (Format::Urdf, "URDF robot description: each joint <origin> is the child link's pose in the parent link (R = Rz(yaw) Ry(pitch) Rx(roll)); movable joints at 0 unless --joint NAME=VALUE"),
-    (Format::Xacro, "xacro macro file: expanded with the `xacro` program when it is on PATH, otherwise refused with the command to run"),
+    (Format::Xacro, "xacro macro file: expanded by the built-in expander (--arg NAME=VALUE, --package-path DIR for $(find)), then read as URDF; edges point at the line in the xacro source"),
     (Format::LaunchXml, "ROS 1 / ROS 2 launch XML: static_transform_publisher nodes (x y z yaw pitch roll | x y z qx qy qz qw, or ROS 2 --flags): child pose in parent"),
     (Format::LaunchYaml, "ROS 2 launch YAML: static_transform_publisher nodes with literal args; child pose in parent"),
     (Format::LaunchPy, "ROS 2 Python launch: literal `arguments=[...]` of static_transform_publisher Nodes; anything not literal is refused"),
@@ -161,6 +161,13 @@ pub struct LoadOptions {
     /// Where to look for the external `xacro` program: a `PATH`-style list;
     /// `None` uses the process's `PATH`.
     pub xacro_search_path: Option<std::ffi::OsString>,
+    /// `--xacro external`: expand `.xacro` files with the external program
+    /// instead of the built-in expander.
+    pub xacro_external: bool,
+    /// `--arg NAME=VALUE`: xacro `$(arg NAME)` values (override `xacro:arg`).
+    pub xacro_args: BTreeMap<String, String>,
+    /// `--package-path DIR`: where `$(find pkg)` looks first.
+    pub package_paths: Vec<std::path::PathBuf>,
 }
 
 impl Default for LoadOptions {
@@ -172,6 +179,9 @@ impl Default for LoadOptions {
             format: None,
             max_file_size: DEFAULT_MAX_FILE_SIZE,
             xacro_search_path: None,
+            xacro_external: false,
+            xacro_args: BTreeMap::new(),
+            package_paths: Vec::new(),
         }
     }
 }

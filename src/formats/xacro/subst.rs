@@ -1,0 +1,144 @@
+//! `$(...)` substitution arguments and package lookup.
+//!
+//! `$(arg x)` (from `--arg x=VALUE`, else the `xacro:arg` default),
+//! `$(find pkg)`, `$(env X)`, `$(optenv X default words)`, `$(dirname)` (the
+//! directory of the file being read), `$(cwd)`. `$(eval ...)`, `$(anon ...)`
+//! and any other command are refused by name.
+//!
+//! `$(find pkg)` is the package's directory, searched in this order:
+//! `--package-path DIR` (a package directory, or a directory holding packages),
+//! `ROS_PACKAGE_PATH` (same crawl), `AMENT_PREFIX_PATH` (`PREFIX/share/pkg`),
+//! then upwards from the input file: each ancestor directory that is the
+//! package, or holds it a few levels down (a source checkout keeps its
+//! packages side by side). A package is a directory with a `package.xml`
+//! whose `<name>` is `pkg`.
+
+use crate::tolerances::{XACRO_PACKAGE_SEARCH_DEPTH, XACRO_PACKAGE_SEARCH_UP};
+use std::path::{Path, PathBuf};
+
+/// The `<name>` of the package in `dir`, if `dir/package.xml` exists.
+fn package_name(dir: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(dir.join("package.xml")).ok()?;
+    let start = text.find("<name>")? + "<name>".len();
+    let end = start + text[start..].find("</name>")?;
+    Some(text[start..end].trim().to_string())
+}
+
+/// `pkg` in `dir` or below it, at most `depth` levels down (a package's own
+/// subdirectories are not searched).
+fn crawl(dir: &Path, pkg: &str, depth: usize) -> Option<PathBuf> {
+    if let Some(name) = package_name(dir) {
+        return (name == pkg).then(|| dir.to_path_buf());
+    }
+    if depth == 0 {
+        return None;
+    }
+    let mut subdirs: Vec<PathBuf> = std::fs::read_dir(dir)
+        .ok()?
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_type().map(|t| t.is_dir()).unwrap_or(false))
+        .filter(|e| !e.file_name().to_string_lossy().starts_with('.'))
+        .map(|e| e.path())
+        .collect();
+    subdirs.sort();
+    // The directory named like the package first (the common layout).
+    if let Some(i) = subdirs
+        .iter()
+        .position(|d| d.file_name().is_some_and(|n| n == pkg))
+    {
+        let d = subdirs.remove(i);
+        subdirs.insert(0, d);
+    }
+    subdirs.iter().find_map(|d| crawl(d, pkg, depth - 1))
+}
+
+/// Where `$(find pkg)` points (absolute, as ROS gives it: the text is joined
+/// to paths in other files), or the places searched (for the error).
+pub fn find_package(pkg: &str, package_paths: &[PathBuf], input: &Path) -> Result<PathBuf, String> {
+    search(pkg, package_paths, input).map(|p| std::fs::canonicalize(&p).unwrap_or(p))
+}
+
+fn search(pkg: &str, package_paths: &[PathBuf], input: &Path) -> Result<PathBuf, String> {
+    let mut searched = Vec::new();
+    for d in package_paths {
+        if let Some(p) = crawl(d, pkg, XACRO_PACKAGE_SEARCH_DEPTH) {
+            return Ok(p);
+        }
+        searched.push(format!("--package-path {}", d.display()));
+    }
+    if let Some(rpp) = std::env::var_os("ROS_PACKAGE_PATH") {
+        for d in std::env::split_paths(&rpp) {
+            if let Some(p) = crawl(&d, pkg, XACRO_PACKAGE_SEARCH_DEPTH) {
+                return Ok(p);
+            }
+        }
+        searched.push("ROS_PACKAGE_PATH".into());
+    }
+    if let Some(app) = std::env::var_os("AMENT_PREFIX_PATH") {
+        for d in std::env::split_paths(&app) {
+            let share = d.join("share").join(pkg);
+            if share.is_dir() {
+                return Ok(share);
+            }
+        }
+        searched.push("AMENT_PREFIX_PATH (PREFIX/share/<pkg>)".into());
+    }
+    let start = std::fs::canonicalize(input)
+        .ok()
+        .and_then(|p| p.parent().map(Path::to_path_buf));
+    if let Some(start) = start {
+        for dir in start.ancestors().take(XACRO_PACKAGE_SEARCH_UP + 1) {
+            if let Some(p) = crawl(dir, pkg, XACRO_PACKAGE_SEARCH_DEPTH) {
+                return Ok(p);
+            }
+        }
+        searched.push(format!(
+            "the input's directory, {XACRO_PACKAGE_SEARCH_UP} levels up and {XACRO_PACKAGE_SEARCH_DEPTH} down"
+        ));
+    }
+    Err(format!(
+        "$(find {pkg}): no package.xml with <name>{pkg}</name> found (searched {}); pass --package-path DIR",
+        searched.join(", ")
+    ))
+}
+
+/// One parsed `$(command args...)`.
+pub enum Subst<'a> {
+    Arg(&'a str),
+    Find(&'a str),
+    Env(&'a str),
+    OptEnv(&'a str, String),
+    Dirname,
+    Cwd,
+}
+
+/// Parse the inside of `$(...)`.
+pub fn parse(inner: &str) -> Result<Subst<'_>, String> {
+    let words: Vec<&str> = inner.split(' ').filter(|w| !w.is_empty()).collect();
+    let one = |what: &str| -> Result<&str, String> {
+        match words.as_slice() {
+            [_, x] => Ok(*x),
+            _ => Err(format!(
+                "$({inner}): $({what} ...) takes exactly one argument"
+            )),
+        }
+    };
+    match words.first().copied() {
+        Some("arg") => one("arg").map(Subst::Arg),
+        Some("find") => one("find").map(Subst::Find),
+        Some("env") => one("env").map(Subst::Env),
+        Some("optenv") => match words.get(1) {
+            Some(name) => Ok(Subst::OptEnv(name, words[2..].join(" "))),
+            None => Err(format!("$({inner}): $(optenv VAR [default]) needs a variable name")),
+        },
+        Some("dirname") if words.len() == 1 => Ok(Subst::Dirname),
+        Some("cwd") if words.len() == 1 => Ok(Subst::Cwd),
+        Some("eval") => Err(format!(
+            "$({inner}): $(eval ...) is not supported by this expander; write the value out or use ${{...}}"
+        )),
+        Some(cmd) => Err(format!(
+            "$({inner}): unknown substitution command '{cmd}': expected one of arg, find, env, optenv, dirname, cwd"
+        )),
+        None => Err("$(): empty substitution".into()),
+    }
+}
