@@ -83,7 +83,7 @@ fn compare(c: &Case, got: &Loaded, want: &Loaded) -> f64 {
 #[test]
 fn native_expansion_equals_python_xacro_on_real_packages() {
     let all = cases();
-    assert!(all.len() >= 12, "only {} cases", all.len());
+    assert!(all.len() >= 19, "only {} cases", all.len());
     let mut total = 0;
     for c in &all {
         let got = native(c);
@@ -94,6 +94,38 @@ fn native_expansion_equals_python_xacro_on_real_packages() {
         total += got.edges.len();
     }
     assert!(total > 250, "{total} edges in all");
+}
+
+/// Every pair of LiDAR / IMU / laser frames (and each such frame against the
+/// root), composed through the frame graph, equals Python xacro's to 1e-12.
+#[test]
+fn lidar_and_imu_paths_equal_python_xacro() {
+    use extrinsic_audit::frames::FrameGraph;
+    let sensor = |f: &str| {
+        let f = f.to_ascii_lowercase();
+        ["lidar", "laser", "velodyne", "imu", "scan"]
+            .iter()
+            .any(|k| f.contains(k))
+    };
+    let mut pairs = 0;
+    for c in &cases() {
+        let (mut g, mut w) = (FrameGraph::new(), FrameGraph::new());
+        g.add(native(c)).expect("graph");
+        w.add(expected(c)).expect("graph");
+        let frames: Vec<String> = g.frames().into_iter().filter(|f| sensor(f)).collect();
+        let root = native(c).edges[0].parent.clone();
+        for (i, a) in frames.iter().enumerate() {
+            for b in std::iter::once(&root).chain(&frames[i + 1..]) {
+                let (Ok(x), Ok(y)) = (g.transform(b, a), w.transform(b, a)) else {
+                    continue;
+                };
+                let d = (x.transform.matrix4() - y.transform.matrix4()).abs().max();
+                assert!(d <= 1e-12, "{}: {b} -> {a}: {d:e}", c.name);
+                pairs += 1;
+            }
+        }
+    }
+    assert!(pairs >= 30, "{pairs} sensor pairs");
 }
 
 /// Every edge names the file and line of a `<joint>` in the xacro sources (the
