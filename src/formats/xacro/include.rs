@@ -81,22 +81,26 @@ impl Expander<'_> {
         normalize(&cur.parent().unwrap_or(Path::new("")).join(p))
     }
 
+    /// A regular file's text, at most `--max-file-size` bytes (a device or
+    /// FIFO named by an include would never end).
     fn read_text(&self, path: &Path, src: &Src, what: &str) -> Result<String> {
-        let meta = std::fs::metadata(path)
-            .map_err(|e| self.err(src, format!("{what} {}: {e}", path.display())))?;
-        if meta.len() > self.opts.max_file_size {
-            return Err(self.err(
-                src,
-                format!(
-                    "{what} {}: {} bytes, expected at most {} (the --max-file-size cap)",
-                    path.display(),
-                    meta.len(),
-                    self.opts.max_file_size
-                ),
-            ));
+        use std::io::Read;
+        let fail = |e: String| self.err(src, format!("{what} {}: {e}", path.display()));
+        let meta = std::fs::metadata(path).map_err(|e| fail(e.to_string()))?;
+        if !meta.is_file() {
+            return Err(fail("not a regular file".into()));
         }
-        std::fs::read_to_string(path)
-            .map_err(|e| self.err(src, format!("{what} {}: {e}", path.display())))
+        let cap = self.opts.max_file_size;
+        let mut text = String::new();
+        std::fs::File::open(path)
+            .and_then(|f| f.take(cap.saturating_add(1)).read_to_string(&mut text))
+            .map_err(|e| fail(e.to_string()))?;
+        if text.len() as u64 > cap {
+            return Err(fail(format!(
+                "more than {cap} bytes (the --max-file-size cap)"
+            )));
+        }
+        Ok(text)
     }
 
     pub fn include(

@@ -88,7 +88,7 @@ pub fn expand(text: &str, path: &Path, opts: &LoadOptions) -> Result<Expanded> {
         let doc = tree::parse(text, file)?;
         let mut ex = expand::Expander::new(opts, path);
         let root = ex.run(&doc)?;
-        let w = tree::write(&root, &ex.namespaces);
+        let w = tree::write(root, &ex.namespaces);
         Ok(Expanded {
             text: w.text,
             lines: w

@@ -18,7 +18,11 @@ use std::path::{Path, PathBuf};
 
 /// The `<name>` of the package in `dir`, if `dir/package.xml` exists.
 fn package_name(dir: &Path) -> Option<String> {
-    let text = std::fs::read_to_string(dir.join("package.xml")).ok()?;
+    let p = dir.join("package.xml");
+    if !std::fs::metadata(&p).ok()?.is_file() {
+        return None;
+    }
+    let text = std::fs::read_to_string(p).ok()?;
     let start = text.find("<name>")? + "<name>".len();
     let end = start + text[start..].find("</name>")?;
     Some(text[start..end].trim().to_string())

@@ -195,13 +195,12 @@ pub struct Written {
 
 /// Write the expanded tree: one element start per line, whitespace-only text
 /// dropped, comments dropped.
-pub fn write(root: &Elem, namespaces: &BTreeMap<String, String>) -> Written {
+pub fn write(mut root: Elem, namespaces: &BTreeMap<String, String>) -> Written {
     let mut w = Writer {
         out: String::from("<?xml version=\"1.0\"?>\n"),
         line: 2,
         lines: Vec::new(),
     };
-    let mut root = root.clone();
     for (p, uri) in namespaces {
         root.set_attr(&format!("xmlns:{p}"), uri.clone());
     }
