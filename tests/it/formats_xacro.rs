@@ -308,3 +308,83 @@ fn external_xacro_on_request() {
     assert!(l.edges[0].provenance.key.contains("expanded"));
     assert!((l.edges[0].transform.translation().z - 0.5).abs() < 1e-15);
 }
+
+/// Bad input never panics or hangs: deterministic mutations (a character
+/// deleted or inserted, a line duplicated or dropped) of real xacro files,
+/// each expanded with its includes. A stand-in for a fuzz run (the `xacro`
+/// fuzz target exists; cargo-fuzz is not installed on this machine).
+#[test]
+fn mutated_xacro_never_panics_or_hangs() {
+    use extrinsic_audit::formats::load_str;
+    use rand_core::{RngCore, SeedableRng};
+    let files = [
+        "own/lidar_rig/urdf/rig.urdf.xacro",
+        "realsense-ros/realsense2_description/urdf/_d435.urdf.xacro",
+        "unitree_ros/robots/go1_description/xacro/robot.xacro",
+        "velodyne_simulator/velodyne_description/urdf/VLP-16.urdf.xacro",
+    ];
+    const ALPHABET: &[u8] = b"${}()<>\"'/*$:= -_.x019\n";
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(15);
+    let (mut ok, mut refused) = (0, 0);
+    for i in 0..400 {
+        let path = Path::new(DIR).join(files[i % files.len()]);
+        let mut text = std::fs::read_to_string(&path).expect("read").into_bytes();
+        for _ in 0..1 + rng.next_u32() % 3 {
+            let at = rng.next_u32() as usize % text.len().max(1);
+            match rng.next_u32() % 4 {
+                0 => {
+                    text.remove(at);
+                }
+                1 => text.insert(at, ALPHABET[rng.next_u32() as usize % ALPHABET.len()]),
+                _ => {
+                    let start = text[..at]
+                        .iter()
+                        .rposition(|b| *b == b'\n')
+                        .map_or(0, |p| p + 1);
+                    let end = text[at..]
+                        .iter()
+                        .position(|b| *b == b'\n')
+                        .map_or(text.len(), |p| at + p + 1);
+                    let line: Vec<u8> = text[start..end].to_vec();
+                    if rng.next_u32() % 2 == 0 {
+                        text.splice(start..start, line);
+                    } else {
+                        text.drain(start..end);
+                    }
+                }
+            }
+        }
+        let text = String::from_utf8_lossy(&text).into_owned();
+        let t = std::time::Instant::now();
+        let opts = LoadOptions {
+            format: Some(Format::Xacro),
+            ..LoadOptions::default()
+        };
+        match load_str(&text, &path, &opts) {
+            Ok(l) => {
+                ok += 1;
+                for e in &l.edges {
+                    let m = e.transform.matrix4();
+                    assert!(
+                        m.iter().all(|x| x.is_finite()),
+                        "{}: non-finite edge",
+                        path.display()
+                    );
+                }
+            }
+            Err(e) => {
+                refused += 1;
+                assert!(!e.message.is_empty());
+            }
+        }
+        assert!(
+            t.elapsed().as_secs_f64() < 5.0,
+            "mutation {i}: {:?}",
+            t.elapsed()
+        );
+    }
+    assert!(
+        ok >= 30 && refused >= 100,
+        "{ok} expanded, {refused} refused"
+    );
+}
