@@ -38,6 +38,8 @@ pub struct Expander<'o> {
     here: Option<Src>,
     /// Things expanded as Python xacro does that are likely not meant.
     pub warnings: Vec<Warning>,
+    /// The working directory (canonical), to print paths below it relative.
+    pub cwd: Option<PathBuf>,
 }
 
 /// An error at an element, with the macro calls that led there (innermost
@@ -74,6 +76,7 @@ impl<'o> Expander<'o> {
             macro_stack: Vec::new(),
             here: None,
             warnings: Vec::new(),
+            cwd: std::env::current_dir().and_then(std::fs::canonicalize).ok(),
         }
     }
 
@@ -309,6 +312,7 @@ impl<'o> Expander<'o> {
                 .unwrap_or_else(|| tree::file_ref(&self.input)),
             line: 1,
             col: 1,
+            end_line: 1,
         }
     }
 

@@ -75,7 +75,12 @@ impl Expander<'_> {
     fn resolve_path(&self, spec: &str) -> PathBuf {
         let p = Path::new(spec);
         if p.is_absolute() {
-            return p.to_path_buf();
+            // Below the working directory: relative, so locations print short
+            // (the process does not change directory).
+            return match self.cwd.as_ref().and_then(|c| p.strip_prefix(c).ok()) {
+                Some(rel) if !rel.as_os_str().is_empty() => rel.to_path_buf(),
+                _ => p.to_path_buf(),
+            };
         }
         let cur = self.current_file();
         normalize(&cur.parent().unwrap_or(Path::new("")).join(p))

@@ -14,7 +14,9 @@
 //! Provenance: every output element keeps the file, line and column of the
 //! element it came from (a joint written inside a macro in an included file
 //! points there, not at the call), so each edge names the line of the xacro
-//! *source*; URDF errors found after expansion are placed the same way.
+//! *source*; URDF errors found after expansion are placed the same way. When
+//! the joint's `<origin>` was written elsewhere (a block passed to a macro,
+//! where calibrations usually are), the edge's key names that place too.
 //!
 //! `--xacro external` runs the `xacro` program instead ([`external`]).
 //!
@@ -64,6 +66,8 @@ pub fn advice(path: &Path) -> String {
 pub struct Expanded {
     pub text: String,
     lines: Vec<(usize, Location)>,
+    /// Joint output line -> where its `<origin>` was written.
+    origins: std::collections::HashMap<usize, Location>,
     /// Constructs expanded as Python xacro does that are likely not meant.
     pub warnings: Vec<Warning>,
 }
@@ -93,6 +97,11 @@ pub fn expand(text: &str, path: &Path, opts: &LoadOptions) -> Result<Expanded> {
             text: w.text,
             lines: w
                 .lines
+                .into_iter()
+                .map(|(l, s)| (l, s.location()))
+                .collect(),
+            origins: w
+                .origins
                 .into_iter()
                 .map(|(l, s)| (l, s.location()))
                 .collect(),
@@ -138,7 +147,11 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         e
     })?;
     for e in &mut loaded.edges {
+        let origin = e.provenance.location.line.and_then(|l| x.origins.get(&l));
         relocate(&mut e.provenance.location, &x, path);
+        if let Some(o) = origin {
+            e.provenance.key = format!("{} (its <origin> written at {o})", e.provenance.key);
+        }
         e.provenance.format = Format::Xacro.name();
     }
     for w in &mut loaded.warnings {

@@ -21,6 +21,8 @@ pub struct Src {
     pub file: Rc<PathBuf>,
     pub line: usize,
     pub col: usize,
+    /// Line of the element's end tag.
+    pub end_line: usize,
 }
 
 impl Src {
@@ -174,6 +176,7 @@ fn convert(
         }
     }
     let (line, col) = idx.pos(n.range().start);
+    let (end_line, _) = idx.pos(n.range().end);
     Elem {
         name,
         attrs,
@@ -182,6 +185,7 @@ fn convert(
             file: file.clone(),
             line,
             col,
+            end_line,
         },
     }
 }
@@ -191,6 +195,10 @@ fn convert(
 pub struct Written {
     pub text: String,
     pub lines: Vec<(usize, Src)>,
+    /// For each `<joint>` (by output line) whose `<origin>` was not written
+    /// inside it (a block passed to a macro, maybe from another file), where
+    /// the `<origin>` was written.
+    pub origins: Vec<(usize, Src)>,
 }
 
 /// Write the expanded tree: one element start per line, whitespace-only text
@@ -200,6 +208,7 @@ pub fn write(mut root: Elem, namespaces: &BTreeMap<String, String>) -> Written {
         out: String::from("<?xml version=\"1.0\"?>\n"),
         line: 2,
         lines: Vec::new(),
+        origins: Vec::new(),
     };
     for (p, uri) in namespaces {
         root.set_attr(&format!("xmlns:{p}"), uri.clone());
@@ -208,6 +217,7 @@ pub fn write(mut root: Elem, namespaces: &BTreeMap<String, String>) -> Written {
     Written {
         text: w.out,
         lines: w.lines,
+        origins: w.origins,
     }
 }
 
@@ -215,6 +225,7 @@ struct Writer {
     out: String,
     line: usize,
     lines: Vec<(usize, Src)>,
+    origins: Vec<(usize, Src)>,
 }
 
 impl Writer {
@@ -225,6 +236,15 @@ impl Writer {
 
     fn elem(&mut self, e: &Elem, depth: usize) {
         self.lines.push((self.line, e.src.clone()));
+        if e.name == "joint" {
+            if let Some(o) = e.child_elements().find(|c| c.name == "origin") {
+                let inside =
+                    o.src.file == e.src.file && (e.src.line..=e.src.end_line).contains(&o.src.line);
+                if !inside {
+                    self.origins.push((self.line, o.src.clone()));
+                }
+            }
+        }
         let mut head = format!("{}<{}", "  ".repeat(depth.min(64)), e.name);
         for (k, v) in &e.attrs {
             let _ = write!(head, " {k}=\"{}\"", escape(v, true));
