@@ -113,6 +113,14 @@ impl<'o> Expander<'o> {
         Ok(Value::str(&joined))
     }
 
+    /// [`Self::eval_text`] as text (Python's `str()` of it).
+    pub fn eval_str(&mut self, text: &str, syms: &Scope, src: &Src) -> Result<String> {
+        if !text.contains('$') {
+            return Ok(text.to_string());
+        }
+        Ok(self.eval_text(text, syms, src)?.to_py_str())
+    }
+
     /// One lexer token of xacro's text grammar, evaluated; and its length.
     fn next_piece(&mut self, s: &str, syms: &Scope, src: &Src) -> Result<(Value, usize)> {
         let b = s.as_bytes();
@@ -138,7 +146,7 @@ impl<'o> Expander<'o> {
                 let Some(end) = s.find(')') else {
                     return Err(self.err(src, format!("'$(' without a closing ')' in {s:?}")));
                 };
-                let inner = self.eval_text(&s[2..end], syms, src)?.to_py_str();
+                let inner = self.eval_str(&s[2..end], syms, src)?;
                 let v = self.substitute(&inner, src)?;
                 Ok((Value::str(&v), end + 1))
             }
@@ -153,7 +161,7 @@ impl<'o> Expander<'o> {
 
     /// `${inner}`: substitutions inside first, then the Python subset.
     fn expression(&mut self, inner: &str, syms: &Scope, src: &Src) -> Result<Value> {
-        let code = self.eval_text(inner, syms, src)?.to_py_str();
+        let code = self.eval_str(inner, syms, src)?;
         if let Some(bad) = code
             .split(|c: char| !(c.is_alphanumeric() || c == '_'))
             .find(|w| w.starts_with("__"))
@@ -258,7 +266,7 @@ impl<'o> Expander<'o> {
         };
         for (k, v) in &doc.root.attrs {
             if !k.starts_with("xacro:") {
-                let val = self.eval_text(v, &syms, &doc.root.src)?.to_py_str();
+                let val = self.eval_str(v, &syms, &doc.root.src)?;
                 root.attrs.push((k.clone(), val));
             }
         }
@@ -287,9 +295,11 @@ impl<'o> Expander<'o> {
         for n in nodes {
             match n {
                 Node::Elem(e) => self.element(e, syms, macros, out, attrs)?,
+                // Layout whitespace: the writer drops it anyway.
+                Node::Text(t) if !t.contains('$') && t.trim().is_empty() => {}
                 Node::Text(t) => {
                     let src = self.text_src();
-                    let v = self.eval_text(t, syms, &src)?.to_py_str();
+                    let v = self.eval_str(t, syms, &src)?;
                     self.budget.bytes(v.len(), &src, &self.macro_stack)?;
                     out.push(Node::Text(v));
                 }
@@ -347,7 +357,7 @@ impl<'o> Expander<'o> {
             }
             "element" => {
                 let name = self.req(e, "xacro:name")?;
-                let name = self.eval_text(name, syms, &e.src)?.to_py_str();
+                let name = self.eval_str(name, syms, &e.src)?;
                 if name.is_empty() {
                     return Err(self.err(&e.src, "xacro:element: empty name"));
                 }
@@ -359,8 +369,8 @@ impl<'o> Expander<'o> {
             "attribute" => {
                 let name = self.req(e, "name")?;
                 let value = self.req(e, "value")?;
-                let name = self.eval_text(name, syms, &e.src)?.to_py_str();
-                let value = self.eval_text(value, syms, &e.src)?.to_py_str();
+                let name = self.eval_str(name, syms, &e.src)?;
+                let value = self.eval_str(value, syms, &e.src)?;
                 if name.is_empty() {
                     return Err(self.err(&e.src, "xacro:attribute: empty name"));
                 }
@@ -372,7 +382,7 @@ impl<'o> Expander<'o> {
             }
             "call" => {
                 let name = self.req(e, "macro")?;
-                let name = self.eval_text(name, syms, &e.src)?.to_py_str();
+                let name = self.eval_str(name, syms, &e.src)?;
                 let mut call = e.clone();
                 call.name = format!("xacro:{name}");
                 call.attrs.retain(|(k, _)| k != "macro");
@@ -445,7 +455,7 @@ impl<'o> Expander<'o> {
             if k.starts_with("xacro:") {
                 continue;
             }
-            let val = self.eval_text(v, syms, &e.src)?.to_py_str();
+            let val = self.eval_str(v, syms, &e.src)?;
             self.budget
                 .bytes(k.len() + val.len() + 4, &e.src, &self.macro_stack)?;
             attrs.push((k.clone(), val));
@@ -498,7 +508,7 @@ impl<'o> Expander<'o> {
         let name = self.req(e, "name")?;
         let default = self.req(e, "default")?;
         if !self.args.contains_key(name) {
-            let v = self.eval_text(default, syms, &e.src)?.to_py_str();
+            let v = self.eval_str(default, syms, &e.src)?;
             self.args.insert(name.to_string(), v);
         }
         Ok(())

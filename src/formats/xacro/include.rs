@@ -116,7 +116,7 @@ impl Expander<'_> {
         out: &mut Vec<Node>,
     ) -> Result<()> {
         let spec = self.req(e, "filename")?;
-        let spec = self.eval_text(spec, syms, &e.src)?.to_py_str();
+        let spec = self.eval_str(spec, syms, &e.src)?;
         let optional = match e.attr("optional") {
             Some(o) => {
                 let v = self.eval_text(o, syms, &e.src)?;
@@ -132,7 +132,7 @@ impl Expander<'_> {
         }
         let (ns_syms, ns_macros) = match e.attr("ns") {
             Some(ns) => {
-                let ns = self.eval_text(ns, syms, &e.src)?.to_py_str();
+                let ns = self.eval_str(ns, syms, &e.src)?;
                 let s = Table::child(syms, true);
                 let m = MacroTable::root();
                 syms.set(&ns, Slot::Val(Value::Ns(s.clone())));
@@ -173,7 +173,7 @@ impl Expander<'_> {
 
     pub fn property(&mut self, e: &Elem, syms: &Scope) -> Result<()> {
         let name = self.req(e, "name")?;
-        let name = self.eval_text(name, syms, &e.src)?.to_py_str();
+        let name = self.eval_str(name, syms, &e.src)?;
         if !is_identifier(&name) {
             return Err(self.err(
                 &e.src,
