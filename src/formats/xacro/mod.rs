@@ -9,7 +9,7 @@
 //! with defaults and `*`/`**` block parameters, `xacro:insert_block`,
 //! `xacro:if`/`unless`, `xacro:element`/`attribute`, `xacro:call`,
 //! `xacro.load_yaml`. Anything outside that is an error naming the file,
-//! line and construct; expansion is bounded ([`limits`]).
+//! line and construct; expansion is bounded (`limits`, values in `crate::tolerances`).
 //!
 //! Provenance: every output element keeps the file, line and column of the
 //! element it came from (a joint written inside a macro in an included file
@@ -20,13 +20,15 @@
 //!
 //! `--xacro external` runs the `xacro` program instead ([`external`]).
 //!
-//! Known differences from Python xacro: ints are 64-bit (beyond is an error);
-//! `load_yaml` numbers that are whole become ints (`1.0` reads as `1`: the
-//! same number in an attribute); YAML unit tags (`!degrees 90`) are
-//! converted before the YAML is read, the scalar ending at a line end, comment
-//! or flow separator;
-//! wildcard includes, `$(eval)`, `xacro:message` are refused; comments are
-//! not copied to the output.
+//! Known differences from Python xacro 2.1.1 (the reference of the tests):
+//! ints are 64-bit (beyond is an error); a complex intermediate (a negative
+//! number to a fractional power) is an error; `load_yaml` numbers that are
+//! whole become ints (`1.0` reads as `1`: the same number in an attribute);
+//! `$(dirname)` gives the current file's directory (xacro 2.1.1 refuses it
+//! for lack of context); wildcard includes, `$(eval)`, `xacro:message` and
+//! Python outside the subset of [`expr`] are refused; comments are not copied.
+//! YAML unit tags (`!degrees 90`) are converted before the YAML is read, the
+//! scalar ending at a line end, comment or flow separator.
 
 mod expand;
 pub mod expr;
