@@ -388,3 +388,38 @@ fn mutated_xacro_never_panics_or_hangs() {
         "{ok} expanded, {refused} refused"
     );
 }
+
+/// The CLI flags: `--arg NAME=VALUE` reaches `$(arg)`, `--xacro external`
+/// without the program is a clear exit-2 refusal.
+#[test]
+fn cli_arg_and_xacro_mode() {
+    let rig = format!("{DIR}/own/lidar_rig/urdf/rig.urdf.xacro");
+    let out = crate::common::audit()
+        .args([
+            &rig,
+            "--arg",
+            "prefix=r1_",
+            "--arg",
+            "with_camera=false",
+            "--frames",
+        ])
+        .output()
+        .expect("run");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("r1_camera_placeholder"), "{stdout}");
+    assert!(!stdout.contains("camera_link"), "{stdout}");
+    let out = crate::common::audit()
+        .env("PATH", "")
+        .args([&rig, "--xacro", "external", "--frames"])
+        .output()
+        .expect("run");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("--xacro external"), "{stderr}");
+}
