@@ -59,10 +59,25 @@ fn crawl(dir: &Path, pkg: &str, depth: usize) -> Option<PathBuf> {
 /// Where `$(find pkg)` points (absolute, as ROS gives it: the text is joined
 /// to paths in other files), or the places searched (for the error).
 pub fn find_package(pkg: &str, package_paths: &[PathBuf], input: &Path) -> Result<PathBuf, String> {
-    search(pkg, package_paths, input).map(|p| std::fs::canonicalize(&p).unwrap_or(p))
+    let env = Env {
+        ros_package_path: std::env::var_os("ROS_PACKAGE_PATH"),
+        ament_prefix_path: std::env::var_os("AMENT_PREFIX_PATH"),
+    };
+    search(pkg, package_paths, &env, input).map(|p| std::fs::canonicalize(&p).unwrap_or(p))
 }
 
-fn search(pkg: &str, package_paths: &[PathBuf], input: &Path) -> Result<PathBuf, String> {
+/// The environment variables the search reads (a parameter, for the tests).
+struct Env {
+    ros_package_path: Option<std::ffi::OsString>,
+    ament_prefix_path: Option<std::ffi::OsString>,
+}
+
+fn search(
+    pkg: &str,
+    package_paths: &[PathBuf],
+    env: &Env,
+    input: &Path,
+) -> Result<PathBuf, String> {
     let mut searched = Vec::new();
     for d in package_paths {
         if let Some(p) = crawl(d, pkg, XACRO_PACKAGE_SEARCH_DEPTH) {
@@ -70,16 +85,16 @@ fn search(pkg: &str, package_paths: &[PathBuf], input: &Path) -> Result<PathBuf,
         }
         searched.push(format!("--package-path {}", d.display()));
     }
-    if let Some(rpp) = std::env::var_os("ROS_PACKAGE_PATH") {
-        for d in std::env::split_paths(&rpp) {
+    if let Some(rpp) = &env.ros_package_path {
+        for d in std::env::split_paths(rpp) {
             if let Some(p) = crawl(&d, pkg, XACRO_PACKAGE_SEARCH_DEPTH) {
                 return Ok(p);
             }
         }
         searched.push("ROS_PACKAGE_PATH".into());
     }
-    if let Some(app) = std::env::var_os("AMENT_PREFIX_PATH") {
-        for d in std::env::split_paths(&app) {
+    if let Some(app) = &env.ament_prefix_path {
+        for d in std::env::split_paths(app) {
             let share = d.join("share").join(pkg);
             if share.is_dir() {
                 return Ok(share);
@@ -87,9 +102,14 @@ fn search(pkg: &str, package_paths: &[PathBuf], input: &Path) -> Result<PathBuf,
         }
         searched.push("AMENT_PREFIX_PATH (PREFIX/share/<pkg>)".into());
     }
-    let start = std::fs::canonicalize(input)
-        .ok()
-        .and_then(|p| p.parent().map(Path::to_path_buf));
+    let start = input.parent().and_then(|d| {
+        let d = if d.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            d
+        };
+        std::fs::canonicalize(d).ok()
+    });
     if let Some(start) = start {
         for dir in start.ancestors().take(XACRO_PACKAGE_SEARCH_UP + 1) {
             if let Some(p) = crawl(dir, pkg, XACRO_PACKAGE_SEARCH_DEPTH) {
@@ -144,5 +164,71 @@ pub fn parse(inner: &str) -> Result<Subst<'_>, String> {
             "$({inner}): unknown substitution command '{cmd}': expected one of arg, find, env, optenv, dirname, cwd"
         )),
         None => Err("$(): empty substitution".into()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn package(dir: &Path, name: &str) -> PathBuf {
+        std::fs::create_dir_all(dir).expect("mkdir");
+        std::fs::write(
+            dir.join("package.xml"),
+            format!("<package format=\"3\">\n  <name> {name} </name>\n</package>\n"),
+        )
+        .expect("write");
+        dir.to_path_buf()
+    }
+
+    /// The search order: --package-path, ROS_PACKAGE_PATH, AMENT_PREFIX_PATH,
+    /// then upwards from the input; the <name> decides, not the directory name.
+    #[test]
+    fn find_searches_in_order() {
+        let t = tempfile::tempdir().expect("tempdir");
+        let root = t.path();
+        let ws = root.join("ws/src/repo");
+        let by_name = package(&ws.join("some_dir"), "robot_description");
+        let input = package(&ws.join("robot_bringup"), "robot_bringup").join("urdf/r.xacro");
+        std::fs::create_dir_all(input.parent().expect("dir")).expect("mkdir");
+        let none = Env {
+            ros_package_path: None,
+            ament_prefix_path: None,
+        };
+        // Upwards from the input: the sibling directory, found by its <name>.
+        assert_eq!(
+            search("robot_description", &[], &none, &input),
+            Ok(by_name.clone())
+        );
+        // A ROS_PACKAGE_PATH entry wins over the upward search.
+        let other = package(&root.join("other/robot_description"), "robot_description");
+        let rpp = Env {
+            ros_package_path: Some(root.join("other").into_os_string()),
+            ament_prefix_path: None,
+        };
+        assert_eq!(
+            search("robot_description", &[], &rpp, &input),
+            Ok(other.clone())
+        );
+        // AMENT_PREFIX_PATH: PREFIX/share/<pkg>.
+        let share = root.join("install/share/robot_description");
+        std::fs::create_dir_all(&share).expect("mkdir");
+        let ament = Env {
+            ros_package_path: None,
+            ament_prefix_path: Some(root.join("install").into_os_string()),
+        };
+        assert_eq!(search("robot_description", &[], &ament, &input), Ok(share));
+        // --package-path first of all.
+        assert_eq!(
+            search("robot_description", std::slice::from_ref(&ws), &rpp, &input),
+            Ok(by_name)
+        );
+        // Not found: the message names what was searched.
+        let e = search("missing_pkg", &[ws], &rpp, &input).expect_err("missing");
+        assert!(
+            e.contains("$(find missing_pkg)") && e.contains("ROS_PACKAGE_PATH"),
+            "{e}"
+        );
+        assert!(e.contains("--package-path"), "{e}");
     }
 }
