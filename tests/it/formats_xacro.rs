@@ -423,3 +423,18 @@ fn cli_arg_and_xacro_mode() {
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("--xacro external"), "{stderr}");
 }
+
+/// The macro bomb of the catalogue (2^21 links) is refused at the element cap,
+/// quickly, naming the limit.
+#[test]
+fn macro_bomb_is_refused_quickly() {
+    let t = std::time::Instant::now();
+    let e = load_file(
+        Path::new("tests/bad_inputs/83-xacro-bomb.urdf.xacro"),
+        &LoadOptions::default(),
+    )
+    .expect_err("bomb");
+    assert!(e.message.contains("elements: a macro bomb?"), "{e}");
+    let secs = t.elapsed().as_secs_f64();
+    assert!(secs < 20.0, "took {secs} s");
+}
