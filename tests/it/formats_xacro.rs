@@ -438,3 +438,28 @@ fn macro_bomb_is_refused_quickly() {
     let secs = t.elapsed().as_secs_f64();
     assert!(secs < 20.0, "took {secs} s");
 }
+
+/// Old-style xacro elements without the prefix (`<property>`, `<include>`)
+/// are copied as Python xacro 2 copies them, each with a warning.
+#[test]
+fn unprefixed_xacro_elements_are_warned_about() {
+    let text = r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <property name="h" value="0.5"/>
+  <link name="a"/><link name="b"/>
+  <joint name="j" type="fixed"><parent link="a"/><child link="b"/><origin xyz="0 0 1"/></joint>
+</robot>
+"#;
+    let opts = LoadOptions {
+        format: Some(Format::Xacro),
+        ..LoadOptions::default()
+    };
+    let l = extrinsic_audit::formats::load_str(text, Path::new("old.urdf.xacro"), &opts)
+        .expect("expands");
+    let w: Vec<_> = l
+        .warnings
+        .iter()
+        .filter(|w| w.message.contains("without the `xacro:` prefix"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", l.warnings);
+    assert_eq!(w[0].location.line, Some(2));
+}

@@ -438,6 +438,27 @@ impl<'o> Expander<'o> {
         out: &mut Vec<Node>,
     ) -> Result<()> {
         self.budget.element(&e.src, &self.macro_stack)?;
+        const XACRO_TAGS: &[&str] = &[
+            "property",
+            "macro",
+            "include",
+            "arg",
+            "insert_block",
+            "if",
+            "unless",
+        ];
+        if XACRO_TAGS.contains(&e.name.as_str()) {
+            self.warnings.push(
+                Warning::new(
+                    WarningCode::Ignored,
+                    format!(
+                        "<{0}> without the `xacro:` prefix: copied as is, not processed (as Python xacro 2 does; ROS 1 xacro before 1.12 processed it); write <xacro:{0}>",
+                        e.name
+                    ),
+                )
+                .at(&e.src.location()),
+            );
+        }
         if let Some(MacroEntry::Macro(_)) = macros.get(&e.name) {
             self.warnings.push(
                 Warning::new(
