@@ -30,12 +30,14 @@
 //! YAML unit tags (`!degrees 90`) are converted before the YAML is read, the
 //! scalar ending at a line end, comment or flow separator.
 
+mod builtins;
 mod expand;
 pub mod expr;
 pub mod external;
 mod include;
 mod limits;
 mod macros;
+mod ops;
 mod scope;
 pub mod subst;
 mod tree;
