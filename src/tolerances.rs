@@ -123,6 +123,40 @@ pub const MAX_BAG_METADATA_BYTES: u64 = 16 * 1024 * 1024;
 /// under a second).
 pub const BAG_PROGRESS_MIN_BYTES: u64 = 64 * 1024 * 1024;
 
+/// Most elements one xacro expansion may produce. The largest description in
+/// the fixtures (a UR arm with ros2_control) expands to about 400 elements
+/// and a full mobile manipulator to a few thousand; beyond 200 000 it is a
+/// macro bomb (each doubling macro level doubles the count).
+pub const XACRO_MAX_ELEMENTS: usize = 200_000;
+
+/// Most bytes of text (attributes and text) one xacro expansion may produce,
+/// and the longest string an expression may build (`'a' * 10**9`).
+pub const XACRO_MAX_OUTPUT_BYTES: usize = 32 * 1024 * 1024;
+
+/// Deepest nesting of macro calls. Python xacro stops at Python's recursion
+/// limit (1000 frames, a few dozen frames per call); real files nest fewer
+/// than 10 levels.
+pub const XACRO_MAX_MACRO_DEPTH: usize = 100;
+
+/// Deepest nesting of `xacro:include` (a file including itself stops here).
+pub const XACRO_MAX_INCLUDE_DEPTH: usize = 32;
+
+/// Wall time (s) after which an expansion is stopped; real descriptions
+/// expand in milliseconds.
+pub const XACRO_MAX_SECONDS: f64 = 10.0;
+
+/// Deepest nesting of one `${...}` expression (parentheses, unary operators):
+/// the parser recurses per level.
+pub const XACRO_MAX_EXPR_DEPTH: usize = 100;
+
+/// `$(find pkg)`: directory levels searched below each package-path entry
+/// (a colcon workspace keeps packages at `src/<repo>/<pkg>`).
+pub const XACRO_PACKAGE_SEARCH_DEPTH: usize = 3;
+
+/// `$(find pkg)` without a package path: ancestor directories of the input
+/// searched (each with [`XACRO_PACKAGE_SEARCH_DEPTH`] levels below it).
+pub const XACRO_PACKAGE_SEARCH_UP: usize = 3;
+
 // ---------------------------------------------------------------------------
 // Rig analysis and verdicts (`analysis`)
 // ---------------------------------------------------------------------------

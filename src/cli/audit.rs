@@ -1,7 +1,7 @@
 //! `audit FILE... --from A --to B`: the rig report.
 
 use super::{emit, parse_joint, parse_nonneg, parse_positive, print_warnings};
-use clap::Args;
+use clap::{Args, ValueEnum};
 use extrinsic_audit::diagnostic::{Code, Error, Result};
 use extrinsic_audit::formats::{Format, LoadOptions};
 use extrinsic_audit::pipeline::{self, Rename, RigOptions};
@@ -62,6 +62,36 @@ pub struct AuditArgs {
     /// Output format
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
     pub format: OutputFormat,
+    /// xacro `$(arg NAME)` value, overriding the file's xacro:arg default; repeatable
+    #[arg(long = "arg", value_parser = parse_xacro_arg, value_name = "NAME=VALUE")]
+    pub xacro_args: Vec<(String, String)>,
+    /// Where xacro `$(find pkg)` looks first: a package directory or a directory
+    /// holding packages; repeatable
+    #[arg(long = "package-path", value_name = "DIR")]
+    pub package_paths: Vec<PathBuf>,
+    /// How .xacro files are expanded: `native` (built in) or `external` (the
+    /// `xacro` program on PATH)
+    #[arg(long = "xacro", value_enum, default_value_t = XacroMode::Native)]
+    pub xacro_mode: XacroMode,
+}
+
+/// `--xacro native|external`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum XacroMode {
+    Native,
+    External,
+}
+
+/// `--arg NAME=VALUE` (the value is text, as `xacro NAME:=VALUE` takes it).
+fn parse_xacro_arg(s: &str) -> std::result::Result<(String, String), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected NAME=VALUE, found `{s}`"))?;
+    let name = name.trim().trim_end_matches(':');
+    if name.is_empty() {
+        return Err(format!("expected NAME=VALUE, found `{s}`"));
+    }
+    Ok((name.to_string(), value.to_string()))
 }
 
 impl AuditArgs {
@@ -78,6 +108,9 @@ impl AuditArgs {
             format,
             max_file_size: self.max_file_size,
             urdf_version: self.urdf_version,
+            xacro_args: self.xacro_args.iter().cloned().collect(),
+            package_paths: self.package_paths.clone(),
+            xacro_external: self.xacro_mode == XacroMode::External,
             ..LoadOptions::default()
         })
     }

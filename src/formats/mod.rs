@@ -51,6 +51,13 @@ pub struct LoadOptions {
     /// `--urdf-version X.Y`: read every URDF as this version, whatever its
     /// `<robot version>` says (`None`: as declared, 1.0 when absent).
     pub urdf_version: Option<urdf::UrdfVersion>,
+    /// `--xacro external`: expand `.xacro` files with the external program
+    /// instead of the built-in expander.
+    pub xacro_external: bool,
+    /// `--arg NAME=VALUE`: xacro `$(arg NAME)` values (override `xacro:arg`).
+    pub xacro_args: BTreeMap<String, String>,
+    /// `--package-path DIR`: where `$(find pkg)` looks first.
+    pub package_paths: Vec<std::path::PathBuf>,
 }
 
 impl Default for LoadOptions {
@@ -63,6 +70,9 @@ impl Default for LoadOptions {
             max_file_size: DEFAULT_MAX_FILE_SIZE,
             xacro_search_path: None,
             urdf_version: None,
+            xacro_external: false,
+            xacro_args: BTreeMap::new(),
+            package_paths: Vec::new(),
         }
     }
 }
