@@ -100,6 +100,27 @@ fn quat_angle_deg(a: [f64; 4], b: [f64; 4]) -> f64 {
     (2.0 * c.acos()).to_degrees()
 }
 
+/// Whether `path` holds an `audit check` baseline (a `.json` file whose top
+/// level is an object with `schema_version` and `files`): a directory walk
+/// skips it, so that a baseline kept beside the calibrations is not read as one.
+pub fn is_baseline_file(path: &Path) -> bool {
+    if !path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    {
+        return false;
+    }
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return false;
+    };
+    match serde_json::from_str::<serde_json::Value>(&text) {
+        Ok(serde_json::Value::Object(m)) => {
+            m.contains_key("schema_version") && m.contains_key("files")
+        }
+        _ => false,
+    }
+}
+
 /// Read a baseline written by `audit check --write-baseline`.
 pub fn read(path: &Path) -> Result<Baseline> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;

@@ -147,6 +147,11 @@ codes! {
     NewEdge = "new-edge", Error;
     /// An edge in the baseline is no longer in the file.
     MissingEdge = "missing-edge", Error;
+    /// A file in the baseline is gone (`--write-baseline --prune` accepts it).
+    RemovedFile = "removed-file", Error;
+    /// A frame pair checked in the baseline is no longer checked in the file
+    /// (a rig that changed its declared pair: the message names both).
+    PairChanged = "pair-changed", Error;
     /// A transform moved beyond the drift tolerances since the baseline.
     Drift = "drift", Error;
     /// A verdict (screw kind, zero pitch, adapted metric) changed since the
@@ -288,10 +293,14 @@ impl Diagnostic {
 
 impl fmt::Display for Diagnostic {
     /// Errors: `file:line:col: message`; warnings: `warning[code]: file:line:col:
-    /// message` (the place omitted when unknown).
+    /// message`; a warning's code at severity error: `error[code]: ...` (the
+    /// place omitted when unknown).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.severity == Severity::Warning {
             write!(f, "warning[{}]: ", self.code)?;
+        } else if self.code.default_severity() == Severity::Warning {
+            // A warning's code raised to an error (beyond rounding, or a policy).
+            write!(f, "error[{}]: ", self.code)?;
         }
         if self.location.is_empty() {
             write!(f, "{}", self.message)

@@ -53,10 +53,16 @@ pub struct CheckArgs {
     /// Set a movable joint's position (rad or m); repeatable
     #[arg(long = "joint", value_parser = parse_joint, value_name = "NAME=VALUE")]
     pub joints: Vec<(String, f64)>,
-    /// Accept this named warning (e.g. non-orthonormal-rotation for published
-    /// numbers rounded to a few digits): reported, but not a problem; repeatable
-    #[arg(long = "allow", value_name = "WARNING", value_parser = parse_warning_code)]
+    /// Accept findings of this code: reported as warnings, never a problem;
+    /// repeatable (the policy table: docs/check.md)
+    #[arg(long = "allow", value_name = "CODE", value_parser = parse_code)]
     pub allow: Vec<Code>,
+    /// Refuse findings of this code: reported as errors (a problem); repeatable
+    #[arg(long = "deny", value_name = "CODE", value_parser = parse_code)]
+    pub deny: Vec<Code>,
+    /// Every warning is a problem (exit 1)
+    #[arg(long)]
+    pub deny_warnings: bool,
     /// Refuse (as a problem) calibration files larger than this
     #[arg(long, default_value_t = DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
     pub max_file_size: u64,
@@ -65,11 +71,12 @@ pub struct CheckArgs {
     pub format: OutputFormat,
 }
 
-fn parse_warning_code(s: &str) -> std::result::Result<Code, String> {
-    Code::warnings().find(|c| c.name() == s).ok_or_else(|| {
+fn parse_code(s: &str) -> std::result::Result<Code, String> {
+    Code::from_name(s).ok_or_else(|| {
         format!(
-            "expected a warning name ({}), found `{s}`",
-            Code::warnings()
+            "expected a diagnostic code ({}), found `{s}`",
+            Code::ALL
+                .iter()
                 .map(|c| c.name())
                 .collect::<Vec<_>>()
                 .join(", ")
@@ -103,6 +110,8 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
             ..LoadOptions::default()
         },
         allow: args.allow.clone(),
+        deny: args.deny.clone(),
+        deny_warnings: args.deny_warnings,
     })?;
     emit(&report, args.format, out)?;
     Ok(report.exit_code())

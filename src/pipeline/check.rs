@@ -39,20 +39,39 @@ pub struct CheckOptions {
     pub pitch_tol: f64,
     /// How files are read (joint values, size cap).
     pub load: LoadOptions,
-    /// Warnings accepted: reported, but not a problem.
+    /// Codes accepted: reported at severity warning, never a problem.
     pub allow: Vec<Code>,
+    /// Codes refused: reported at severity error.
+    pub deny: Vec<Code>,
+    /// Every warning is a problem (`--deny-warnings`).
+    pub deny_warnings: bool,
 }
+
+impl CheckOptions {
+    /// The severity policy (docs/check.md): `--allow CODE` makes a warning,
+    /// `--deny CODE` and `--deny-warnings` make an error; otherwise the
+    /// diagnostic's own severity (a reader's warning raised to an error beyond
+    /// rounding), and a unit mistake is always an error in a check.
+    pub fn severity(&self, d: &Diagnostic) -> Severity {
+        if self.allow.contains(&d.code) {
+            Severity::Warning
+        } else if self.deny.contains(&d.code)
+            || (self.deny_warnings && d.severity == Severity::Warning)
+            || CHECK_ERRORS.contains(&d.code)
+        {
+            Severity::Error
+        } else {
+            d.severity
+        }
+    }
+}
+
+/// Reader warnings that are errors in a check whatever their size: a unit
+/// mistake is never rounding.
+pub const CHECK_ERRORS: &[Code] = &[Code::MillimetresInMetreField];
 
 fn key_of(p: &Path) -> String {
     p.to_string_lossy().replace('\\', "/")
-}
-
-/// Warnings that are findings in a check (the input is suspicious, not just noted).
-fn warning_is_problem(code: Code) -> bool {
-    matches!(
-        code,
-        Code::NonOrthonormalRotation | Code::NonUnitQuaternion | Code::MillimetresInMetreField
-    )
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {
@@ -88,12 +107,7 @@ impl Checker<'_> {
     }
 
     fn warning(&mut self, file: &str, w: &Warning) {
-        let sev = if warning_is_problem(w.code) && !self.opts.allow.contains(&w.code) {
-            Severity::Error
-        } else {
-            Severity::Warning
-        };
-        let mut d = w.clone().with_severity(sev);
+        let mut d = w.clone();
         // The finding names the checked file; the line is the warning's own.
         d.location = Location {
             file: Some(PathBuf::from(file)),
@@ -246,6 +260,7 @@ pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
         ![&opts.baseline, &opts.write_baseline]
             .iter()
             .any(|b| b.as_deref().is_some_and(|b| same_file(f, b)))
+            && !baseline::is_baseline_file(f)
     });
     if files.is_empty() {
         return Err(Error::usage(
@@ -292,6 +307,9 @@ pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
         })?;
         text.push('\n');
         write_atomic(path, text.as_bytes())?;
+    }
+    for f in &mut ck.findings {
+        f.severity = opts.severity(f);
     }
     Ok(CheckReport::new(files.len(), ck.findings))
 }

@@ -4,6 +4,7 @@
 //! `points_*` and `scene_*` the degeneracy wing), helpers in `common`.
 
 mod calibrations;
+mod check_gate;
 mod cli_audit;
 mod cli_detector;
 mod cli_survey_check;
