@@ -163,6 +163,12 @@ pub const DEFAULT_MAX_TRANSLATION_DRIFT: f64 = 1e-3;
 /// Default drift tolerance on a rotation (deg): the angle of `R_base^T R_now`.
 pub const DEFAULT_MAX_ROTATION_DRIFT_DEG: f64 = 0.05;
 
+/// Deepest directory level `audit check` walks below a checked directory. A
+/// calibration tree is shallow (a ROS workspace nests ~6 levels); a directory
+/// deeper than this is a `limit` finding (an error), never skipped silently.
+/// Symlink loops are caught by the walk's visited set, not by this limit.
+pub const MAX_WALK_DEPTH: usize = 64;
+
 // ---------------------------------------------------------------------------
 // Degeneracy detector (`degeneracy`)
 // ---------------------------------------------------------------------------

@@ -32,6 +32,15 @@ pub struct CheckArgs {
     /// Write the current state as a baseline (atomically: temporary file, then rename)
     #[arg(long, value_name = "FILE")]
     pub write_baseline: Option<PathBuf>,
+    /// With --write-baseline: drop the entries of files not checked this run
+    /// (accepts removed files); without it only the checked files' entries change
+    #[arg(long, requires = "write_baseline")]
+    pub prune: bool,
+    /// Skip files and directories matching this glob (`*`, `**`, `?`; without
+    /// `/` matched against names, with `/` against the path below the checked
+    /// directory); repeatable
+    #[arg(long = "exclude", value_name = "GLOB")]
+    pub exclude: Vec<String>,
     /// Also check this frame pair wherever both frames exist (FROM:TO); repeatable
     #[arg(long = "pair", value_parser = parse_pair, value_name = "FROM:TO")]
     pub pairs: Vec<(String, String)>,
@@ -96,6 +105,8 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
         paths: args.paths.clone(),
         baseline: args.baseline.clone(),
         write_baseline: args.write_baseline.clone(),
+        prune: args.prune,
+        exclude: args.exclude.clone(),
         pairs: args.pairs.clone(),
         max_lever_arm: args.max_lever_arm,
         require_zero_pitch: args.require_zero_pitch,

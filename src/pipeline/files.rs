@@ -51,7 +51,8 @@ fn walk(dir: &Path, accept: fn(&Path) -> bool, out: &mut Vec<PathBuf>, depth: us
 /// the old file complete; a failed write removes the temporary and leaves the
 /// old file. A process killed mid-write may leave its own temporary (nothing
 /// runs after SIGKILL); a later run with the same pid overwrites it.
-/// A symlink at `path` is replaced by the file, not followed.
+/// A symlink at `path` is replaced by the file, not followed. An existing
+/// regular file's permissions are carried over to the new one.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -65,6 +66,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let res = (|| -> std::io::Result<()> {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
+        // An existing file keeps its mode (a 0600 baseline stays 0600).
+        if let Some(m) = std::fs::metadata(path).ok().filter(|m| m.is_file()) {
+            f.set_permissions(m.permissions())?;
+        }
         f.sync_all()?;
         drop(f);
         std::fs::rename(&tmp, path)?;

@@ -7,8 +7,9 @@ mod check;
 pub mod detector;
 pub mod files;
 mod survey;
+pub mod walk;
 
-pub use check::{check, CheckOptions};
+pub use check::{check, CheckOptions, Robot};
 pub use files::{expand_paths, write_atomic};
 pub use survey::{survey, SortColumn, SurveyOptions};
 

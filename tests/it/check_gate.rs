@@ -181,3 +181,408 @@ fn shipped_baseline_is_current() {
         }
     }
 }
+
+/// Run `audit ARGS` in `cwd`: (exit code, stdout, stderr).
+pub fn run_in(cwd: &Path, args: &[&str]) -> (i32, String, String) {
+    let out = crate::common::audit()
+        .current_dir(cwd)
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn baseline_keys(p: &Path) -> Vec<String> {
+    let b: Value = serde_json::from_slice(&std::fs::read(p).unwrap()).unwrap();
+    b["files"].as_object().unwrap().keys().cloned().collect()
+}
+
+fn codes_of(out: &str) -> Vec<String> {
+    let j: Value = serde_json::from_str(out).unwrap();
+    findings(&j).into_iter().map(|(c, _)| c).collect()
+}
+
+/// A tree `cal/` with two rigs, and its baseline `cal/baseline.json`.
+fn tree() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = dir.path().join("cal");
+    std::fs::create_dir(&cal).unwrap();
+    write(&cal, "a.yaml", &fast_lio(AVIA_T, scaled(1.0)));
+    write(&cal, "b.yaml", &fast_lio([0.1, 0.0, 0.0], scaled(1.0)));
+    let (code, out, err) = run_in(
+        dir.path(),
+        &["check", "cal/", "--write-baseline", "cal/baseline.json"],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    (dir, cal)
+}
+
+#[test]
+fn baseline_keys_are_normalised_relative_paths() {
+    let (dir, cal) = tree();
+    assert_eq!(
+        baseline_keys(&cal.join("baseline.json")),
+        ["a.yaml", "b.yaml"]
+    );
+    let abs = format!("{}/", cal.display());
+    // The same files however they are named: no new-file, exit 0.
+    for (cwd, args) in [
+        (
+            dir.path(),
+            vec!["./cal//", "--baseline", "cal/baseline.json"],
+        ),
+        (
+            dir.path(),
+            vec!["cal/./", "--baseline", "./cal/baseline.json"],
+        ),
+        (
+            dir.path(),
+            vec![&abs[..], "--baseline", "cal/baseline.json"],
+        ),
+        (cal.as_path(), vec![".", "--baseline", "baseline.json"]),
+        (
+            cal.as_path(),
+            vec!["a.yaml", "b.yaml", "--baseline", "../cal/baseline.json"],
+        ),
+    ] {
+        let mut a = vec!["check"];
+        a.extend(args.iter().copied());
+        a.extend(["--format", "json"]);
+        let (code, out, err) = run_in(cwd, &a);
+        assert_eq!(code, 0, "{a:?}: {out}{err}");
+        assert_eq!(codes_of(&out), Vec::<String>::new(), "{a:?}");
+    }
+    // A baseline elsewhere: keys relative to its directory.
+    let (code, _, err) = run_in(dir.path(), &["check", "cal", "--write-baseline", "ci.json"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        baseline_keys(&dir.path().join("ci.json")),
+        ["cal/a.yaml", "cal/b.yaml"]
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn symlinks_inside_the_root_are_resolved() {
+    let (dir, cal) = tree();
+    // A link to a file of the root is that file (one key); a directory linked
+    // from outside the root is keyed where it is found.
+    std::os::unix::fs::symlink("a.yaml", cal.join("alias.yaml")).unwrap();
+    let outside = dir.path().join("outside");
+    std::fs::create_dir(&outside).unwrap();
+    write(&outside, "c.yaml", &fast_lio([0.2, 0.0, 0.0], scaled(1.0)));
+    std::os::unix::fs::symlink(&outside, cal.join("sub")).unwrap();
+    let (code, out, err) = run_in(
+        dir.path(),
+        &["check", "cal", "--write-baseline", "cal/baseline.json"],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("checked 3 files"), "{out}");
+    assert_eq!(
+        baseline_keys(&cal.join("baseline.json")),
+        ["a.yaml", "b.yaml", "sub/c.yaml"]
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn non_utf8_file_names_get_their_own_keys() {
+    use std::os::unix::ffi::OsStrExt;
+    let dir = tempfile::tempdir().unwrap();
+    let name = |b: &[u8]| dir.path().join(std::ffi::OsStr::from_bytes(b));
+    let (ff, fe) = (name(b"r\xff.yaml"), name(b"r\xfe.yaml"));
+    std::fs::write(&ff, fast_lio(AVIA_T, scaled(1.0))).unwrap();
+    std::fs::write(&fe, fast_lio(AVIA_T, scaled(1.0))).unwrap();
+    std::fs::write(name(b"100%.yaml"), fast_lio(AVIA_T, scaled(1.0))).unwrap();
+    let base = dir.path().join("baseline.json");
+    let (code, _, err) = run_cli(&["check", s(dir.path()), "--write-baseline", s(&base)]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        baseline_keys(&base),
+        ["100%25.yaml", "r%FE.yaml", "r%FF.yaml"]
+    );
+    // Drift in one of the two: found, on that file only.
+    std::fs::write(&ff, fast_lio([0.05, 0.02326, -0.0284], scaled(1.0))).unwrap();
+    let (code, j, _) = check_json(&[s(dir.path()), "--baseline", s(&base)]);
+    assert_eq!(code, 1);
+    let f = j["findings"].as_array().unwrap();
+    let drift: Vec<&Value> = f.iter().filter(|f| f["code"] == "drift").collect();
+    assert_eq!(
+        drift.len(),
+        1,
+        "the edge (a FAST-LIO file declares no pair): {j}"
+    );
+    assert!(f
+        .iter()
+        .all(|f| f["file"].as_str().unwrap().ends_with("r\u{fffd}.yaml")));
+    assert!(codes_of(&j.to_string()).iter().all(|c| c == "drift"), "{j}");
+}
+
+#[test]
+fn a_removed_file_is_a_finding_until_pruned() {
+    let (dir, cal) = tree();
+    std::fs::remove_file(cal.join("b.yaml")).unwrap();
+    let (code, out, _) = run_in(
+        dir.path(),
+        &[
+            "check",
+            "cal",
+            "--baseline",
+            "cal/baseline.json",
+            "--format",
+            "json",
+        ],
+    );
+    assert_eq!(code, 1, "{out}");
+    assert_eq!(codes_of(&out), ["removed-file"]);
+    let j: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["findings"][0]["file"], "cal/b.yaml");
+    // Checking a subset: the other file exists, so it is not "removed".
+    write(&cal, "b.yaml", &fast_lio([0.1, 0.0, 0.0], scaled(1.0)));
+    let (code, out, _) = run_in(
+        dir.path(),
+        &["check", "cal/a.yaml", "--baseline", "cal/baseline.json"],
+    );
+    assert_eq!(code, 0, "{out}");
+    std::fs::remove_file(cal.join("b.yaml")).unwrap();
+    // Accepted with --prune, which says what it removed.
+    let (code, out, _) = run_in(
+        dir.path(),
+        &[
+            "check",
+            "cal",
+            "--write-baseline",
+            "cal/baseline.json",
+            "--prune",
+        ],
+    );
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("0 added, 1 removed, 0 updated, 1 unchanged"),
+        "{out}"
+    );
+    assert!(out.contains("removed: b.yaml"), "{out}");
+    let (code, _, _) = run_in(
+        dir.path(),
+        &["check", "cal", "--baseline", "cal/baseline.json"],
+    );
+    assert_eq!(code, 0);
+}
+
+/// FAST-LIO's Avia rig file declaring `imu -> to`, with an extra edge
+/// `lidar -> os` written from line 34.
+fn rig(to: &str) -> String {
+    let avia = std::fs::read_to_string("calibrations/fastlio-avia.toml").unwrap();
+    let text = avia.replace("to = \"lidar\"", &format!("to = \"{to}\""));
+    format!(
+        "{text}\n[[transform]]\nparent = \"lidar\"\nchild = \"os\"\nunit = \"m\"\ntranslation = [0.0, 0.0, 0.03]\nrotation_matrix = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\nsource_key = \"x\"\n"
+    )
+}
+
+#[test]
+fn a_changed_frame_pair_names_both_pairs() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = write(dir.path(), "rig.toml", &rig("lidar"));
+    let base = dir.path().join("baseline.json");
+    let (code, _, err) = run_cli(&["check", s(&r), "--write-baseline", s(&base)]);
+    assert_eq!(code, 0, "{err}");
+    write(dir.path(), "rig.toml", &rig("os"));
+    let (code, j, _) = check_json(&[s(&r), "--baseline", s(&base)]);
+    assert_eq!(code, 1);
+    let f = &j["findings"][0];
+    assert_eq!(f["code"], "pair-changed", "{j}");
+    let m = f["message"].as_str().unwrap();
+    assert!(
+        m.contains("imu -> lidar (baseline)") && m.contains("imu -> os (now)"),
+        "{m}"
+    );
+    let text = rig("os");
+    let at = |l: &str| 1 + text.lines().position(|x| x == l).unwrap();
+    let line = f["line"].as_u64().unwrap() as usize;
+    assert!(
+        (at("parent = \"lidar\"") - 1..=at("source_key = \"x\"")).contains(&line),
+        "the new pair's last edge (its [[transform]]): {j}"
+    );
+}
+
+#[test]
+fn malformed_baseline_entries_are_refused_naming_the_entry() {
+    let (dir, cal) = tree();
+    let base = cal.join("baseline.json");
+    let text = std::fs::read_to_string(&base).unwrap();
+    let mut good: Value = serde_json::from_str(&text).unwrap();
+    type Edit = Box<dyn Fn(&mut Value)>;
+    let cases: Vec<(Edit, &str)> = vec![
+        (
+            Box::new(|b| b["files"]["a.yaml"]["edges"][0]["quaternion_xyzw"] = serde_json::json!([0, 0, 0, 0])),
+            "files[\"a.yaml\"].edges[0] (imu -> lidar): expected a unit quaternion_xyzw, found norm 0e0",
+        ),
+        (
+            Box::new(|b| {
+                b["files"]["b.yaml"]["edges"][0]
+                    .as_object_mut()
+                    .unwrap()
+                    .remove("translation_m");
+            }),
+            "files[\"b.yaml\"]: missing field `translation_m`",
+        ),
+        (
+            Box::new(|b| b["schema_version"] = serde_json::json!(7)),
+            "expected baseline schema_version 1, found 7",
+        ),
+        (
+            Box::new(|b| b["files"]["a.yaml"]["edges"][0]["translation_m"][0] = serde_json::json!("x")),
+            "files[\"a.yaml\"]: invalid type: string \"x\", expected f64",
+        ),
+    ];
+    for (edit, expect) in cases {
+        let mut b = good.clone();
+        edit(&mut b);
+        std::fs::write(&base, serde_json::to_string(&b).unwrap()).unwrap();
+        let (code, out, err) = run_in(
+            dir.path(),
+            &["check", "cal", "--baseline", "cal/baseline.json"],
+        );
+        assert_eq!(code, 2, "{expect}: {out}{err}");
+        assert!(err.contains(expect), "{expect}: {err}");
+    }
+    // A number beyond f64 cannot be stored either.
+    let huge = text.replacen("0.04165", "1e999", 1);
+    std::fs::write(&base, huge).unwrap();
+    let (code, _, err) = run_in(
+        dir.path(),
+        &["check", "cal", "--baseline", "cal/baseline.json"],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("baseline.json:"), "{err}");
+    good["schema_version"] = serde_json::json!(1);
+}
+
+/// Every file under `dir` with its bytes (a refused write must leave them).
+fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        let m = std::fs::symlink_metadata(&p).unwrap();
+        if m.is_file() {
+            out.push((p.clone(), std::fs::read(&p).unwrap()));
+        } else if m.is_dir() {
+            out.extend(snapshot(&p));
+        } else {
+            out.push((p, Vec::new()));
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn write_baseline_refuses_inputs_and_non_regular_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("d");
+    std::fs::create_dir(&d).unwrap();
+    let urdf = std::fs::read_to_string("calibrations/anymal-d.urdf").unwrap();
+    let robot = write(&d, "robot.urdf", &urdf);
+    write(&d, "notes.json", "{\"not\": \"a baseline\"}");
+    std::fs::create_dir(d.join("subdir")).unwrap();
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("subdir", d.join("to_dir.json")).unwrap();
+        std::os::unix::fs::symlink("robot.urdf", d.join("to_robot.json")).unwrap();
+        let fifo = d.join("fifo.json");
+        let ok = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(ok.is_ok_and(|s| s.success()), "mkfifo");
+    }
+    let before = snapshot(dir.path());
+    let mut targets = vec![
+        ("d/robot.urdf", "one of the checked calibration files"),
+        ("d/subdir", "found a directory"),
+        ("d/notes.json", "exists and is not a baseline"),
+        ("d/nodir/b.json", "expected an existing directory"),
+    ];
+    if cfg!(unix) {
+        targets.extend([
+            ("d/to_dir.json", "found a symlink to a directory"),
+            ("d/to_robot.json", "one of the checked calibration files"),
+            ("d/fifo.json", "not a regular file"),
+            ("/dev/null", "not a regular file"),
+        ]);
+    }
+    for (t, why) in targets {
+        for input in ["d/robot.urdf", "d"] {
+            let (code, out, err) = run_in(
+                dir.path(),
+                &["check", input, "--exclude", "*.json", "--write-baseline", t],
+            );
+            assert_eq!(code, 2, "{input} -> {t}: {out}{err}");
+            assert!(
+                err.contains("refused, nothing written") && err.contains(why),
+                "{t}: {err}"
+            );
+            assert_eq!(snapshot(dir.path()), before, "{t}: nothing touched");
+        }
+    }
+    assert_eq!(std::fs::read_to_string(&robot).unwrap(), urdf);
+}
+
+#[cfg(unix)]
+#[test]
+fn write_baseline_keeps_the_mode_and_updates_only_checked_entries() {
+    use std::os::unix::fs::PermissionsExt;
+    let (dir, cal) = tree();
+    let base = cal.join("baseline.json");
+    std::fs::set_permissions(&base, std::fs::Permissions::from_mode(0o600)).unwrap();
+    // b.yaml recalibrated; a new file c.yaml; only b.yaml and c.yaml checked.
+    write(&cal, "b.yaml", &fast_lio([0.2, 0.0, 0.0], scaled(1.0)));
+    write(&cal, "c.yaml", &fast_lio([0.3, 0.0, 0.0], scaled(1.0)));
+    let (code, out, err) = run_in(
+        dir.path(),
+        &[
+            "check",
+            "cal/b.yaml",
+            "cal/c.yaml",
+            "--write-baseline",
+            "cal/baseline.json",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        out.contains("1 added, 0 removed, 1 updated, 0 unchanged"),
+        "{out}"
+    );
+    assert!(
+        out.contains("added: c.yaml") && out.contains("updated: b.yaml"),
+        "{out}"
+    );
+    assert_eq!(
+        baseline_keys(&base),
+        ["a.yaml", "b.yaml", "c.yaml"],
+        "a.yaml kept"
+    );
+    let mode = std::fs::metadata(&base).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o600);
+    // In the JSON report too.
+    let (_, out, _) = run_in(
+        dir.path(),
+        &[
+            "check",
+            "cal/c.yaml",
+            "--write-baseline",
+            "cal/baseline.json",
+            "--prune",
+            "--format",
+            "json",
+        ],
+    );
+    let j: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        j["baseline_written"]["removed"],
+        serde_json::json!(["a.yaml", "b.yaml"])
+    );
+    assert_eq!(j["baseline_written"]["unchanged"], 1);
+    assert_eq!(baseline_keys(&base), ["c.yaml"]);
+}
