@@ -76,12 +76,12 @@ pub enum Severity {
 }
 
 macro_rules! codes {
-    ($( $(#[$doc:meta])* $variant:ident = $name:literal, $sev:ident; )*) => {
+    ($( $(#[doc = $doc:literal])* $variant:ident = $name:literal, $sev:ident; )*) => {
         /// Every diagnostic code, with its stable kebab-case name and default
         /// severity. The table in docs/ARCHITECTURE.md lists them.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
         pub enum Code {
-            $( $(#[$doc])* $variant, )*
+            $( $(#[doc = $doc])* $variant, )*
         }
 
         impl Code {
@@ -91,6 +91,12 @@ macro_rules! codes {
             /// The stable name (`non-unit-quaternion`, ...).
             pub fn name(self) -> &'static str {
                 match self { $(Code::$variant => $name,)* }
+            }
+
+            /// What the code means: its doc comment in this table, as lines
+            /// (SARIF rule descriptions).
+            pub fn doc_lines(self) -> &'static [&'static str] {
+                match self { $(Code::$variant => &[$($doc),*],)* }
             }
 
             /// The severity a diagnostic of this code has unless a policy
@@ -167,6 +173,15 @@ impl Code {
     /// The code named `name` (as printed by [`Code::name`]).
     pub fn from_name(name: &str) -> Option<Code> {
         Code::ALL.iter().copied().find(|c| c.name() == name)
+    }
+
+    /// What the code means, in one line (its doc comment).
+    pub fn description(self) -> String {
+        self.doc_lines()
+            .iter()
+            .map(|l| l.trim())
+            .collect::<Vec<_>>()
+            .join(" ")
     }
 
     /// The warning codes a reader can raise (what `--allow` accepts).

@@ -100,6 +100,15 @@ impl CheckReport {
 impl Report for CheckReport {
     fn document(&self) -> Document {
         let mut doc = Document::new();
+        let verdict = if self.problems == 0 {
+            "audit check: passed"
+        } else {
+            "audit check: FAILED"
+        };
+        doc.push(Block::Headline {
+            text: verdict.to_string(),
+            good: self.problems == 0,
+        });
         doc.push(Block::Diagnostics(self.findings.clone()));
         doc.text(self.summary_line());
         if let Some(b) = &self.baseline_written {

@@ -586,3 +586,159 @@ fn write_baseline_keeps_the_mode_and_updates_only_checked_entries() {
     assert_eq!(j["baseline_written"]["unchanged"], 1);
     assert_eq!(baseline_keys(&base), ["c.yaml"]);
 }
+
+/// `tree()` with a.yaml moved by 2 mm along x: (dir, cal).
+fn drifted_tree() -> (tempfile::TempDir, PathBuf) {
+    let (dir, cal) = tree();
+    write(
+        &cal,
+        "a.yaml",
+        &fast_lio([0.04365, 0.02326, -0.0284], scaled(1.0)),
+    );
+    (dir, cal)
+}
+
+#[test]
+fn drift_findings_carry_the_edge_line_and_old_new_values() {
+    let (dir, _cal) = drifted_tree();
+    let args = ["check", "cal", "--baseline", "cal/baseline.json"];
+    let (code, out, _) = run_in(dir.path(), &[&args[..], &["--format", "json"]].concat());
+    assert_eq!(code, 1);
+    let j: Value = serde_json::from_str(&out).unwrap();
+    let f = &j["findings"][0];
+    assert_eq!(f["code"], "drift");
+    assert_eq!(f["file"], "cal/a.yaml");
+    // `extrinsic_T:` is on line 2, column 3 of the FAST-LIO file.
+    assert_eq!(
+        (f["line"].as_u64(), f["column"].as_u64()),
+        (Some(2), Some(3)),
+        "{f}"
+    );
+    let m = f["message"].as_str().unwrap();
+    for part in [
+        "edge imu -> lidar drifted since the baseline beyond the translation tolerance",
+        "translation [41.650, 23.260, -28.400] mm -> [43.650, 23.260, -28.400] mm",
+        "moved 2.000 mm (tolerance 1.000 mm)",
+        "rotation moved 0.0000 deg (tolerance 0.05 deg)",
+    ] {
+        assert!(m.contains(part), "{part}: {m}");
+    }
+    // GitHub annotation on that line.
+    let (_, out, _) = run_in(dir.path(), &[&args[..], &["--format", "github"]].concat());
+    assert!(
+        out.contains("::error file=cal/a.yaml,line=2,col=3,title=drift::edge imu -> lidar drifted"),
+        "{out}"
+    );
+    // A rotation of 0.1 deg about z: beyond the rotation tolerance only.
+    let (c, sn) = (0.1f64.to_radians().cos(), 0.1f64.to_radians().sin());
+    let rot = [[c, -sn, 0.0], [sn, c, 0.0], [0.0, 0.0, 1.0]];
+    write(&dir.path().join("cal"), "a.yaml", &fast_lio(AVIA_T, rot));
+    let (_, out, _) = run_in(dir.path(), &[&args[..], &["--format", "json"]].concat());
+    let j: Value = serde_json::from_str(&out).unwrap();
+    let m = j["findings"][0]["message"].as_str().unwrap();
+    assert!(
+        m.contains("beyond the rotation tolerance") && m.contains("rotation moved 0.1000 deg"),
+        "{m}"
+    );
+}
+
+#[test]
+fn sarif_output_is_valid_sarif_2_1_0() {
+    let (dir, cal) = drifted_tree();
+    write(&cal, "c.yaml", &fast_lio(AVIA_T, scaled(1.0001)));
+    std::fs::remove_file(cal.join("b.yaml")).unwrap();
+    let (code, out, err) = run_in(
+        dir.path(),
+        &[
+            "check",
+            "cal",
+            "--baseline",
+            "cal/baseline.json",
+            "--format",
+            "sarif",
+        ],
+    );
+    assert_eq!(code, 1, "{err}");
+    let log: Value = serde_json::from_str(&out).unwrap();
+    let path = format!(
+        "{}/docs/schemas/external/sarif-2.1.0-rtm.5.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let schema: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let v = jsonschema::validator_for(&schema).unwrap();
+    let errors: Vec<String> = v
+        .iter_errors(&log)
+        .map(|e| format!("{e} at {}", e.instance_path))
+        .collect();
+    assert!(errors.is_empty(), "{errors:#?}\n{out}");
+    // The schema refuses a wrong log (the validator is live).
+    let mut bad = log.clone();
+    bad["runs"][0]["results"][0]["level"] = Value::from("fatal");
+    assert!(!v.is_valid(&bad));
+    let results = log["runs"][0]["results"].as_array().unwrap();
+    let by = |rule: &str| {
+        results
+            .iter()
+            .find(|r| r["ruleId"] == rule)
+            .unwrap_or_else(|| panic!("{rule}: {out}"))
+    };
+    let drift = by("drift");
+    assert_eq!(drift["level"], "error");
+    let loc = &drift["locations"][0]["physicalLocation"];
+    assert_eq!(loc["artifactLocation"]["uri"], "cal/a.yaml");
+    assert_eq!(loc["region"]["startLine"], 2);
+    assert_eq!(by("non-orthonormal-rotation")["level"], "warning");
+    assert_eq!(
+        by("removed-file")["locations"][0]["physicalLocation"]["artifactLocation"]["uri"],
+        "cal/b.yaml"
+    );
+    let rules = log["runs"][0]["tool"]["driver"]["rules"]
+        .as_array()
+        .unwrap();
+    let removed = rules.iter().find(|r| r["id"] == "removed-file").unwrap();
+    assert!(
+        removed["shortDescription"]["text"]
+            .as_str()
+            .unwrap()
+            .contains("no longer exists")
+            || removed["shortDescription"]["text"]
+                .as_str()
+                .unwrap()
+                .contains("is gone")
+    );
+}
+
+#[test]
+fn markdown_is_a_job_summary() {
+    let (dir, _cal) = drifted_tree();
+    let (code, out, _) = run_in(
+        dir.path(),
+        &[
+            "check",
+            "cal",
+            "--baseline",
+            "cal/baseline.json",
+            "--format",
+            "markdown",
+        ],
+    );
+    assert_eq!(code, 1);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], "**audit check: FAILED**");
+    assert!(
+        lines.contains(&"| severity | code | where | message |"),
+        "{out}"
+    );
+    assert!(
+        out.contains("| **error** | `drift` | `cal/a.yaml:2:3` | edge imu -> lidar drifted"),
+        "{out}"
+    );
+    assert!(
+        out.trim_end()
+            .ends_with("checked 2 files: 1 problem, 0 warnings"),
+        "{out}"
+    );
+    let (code, out, _) = run_in(dir.path(), &["check", "cal/b.yaml", "--format", "markdown"]);
+    assert_eq!(code, 0);
+    assert!(out.starts_with("**audit check: passed**\n"), "{out}");
+}
