@@ -7,6 +7,7 @@
 //! A file that exists but does not parse is a finding; an unreadable file or
 //! baseline is an error (exit 2).
 
+use super::manifest;
 use super::walk::{walk, Found};
 use super::{apply_renames, write_atomic, Rename};
 use crate::baseline::{
@@ -113,6 +114,16 @@ pub struct Robot {
     pub pairs: Vec<(String, String)>,
 }
 
+/// A robot's graph as its files load: the declared pairs (with the index of
+/// the declaring file's state), how many frames each rename changed, how many
+/// files loaded.
+struct RobotGraph {
+    graph: FrameGraph,
+    declared: Vec<(String, String, usize)>,
+    renamed: Vec<usize>,
+    states: usize,
+}
+
 /// One checked file's state: its record and where its values are written.
 struct FileState {
     found: Found,
@@ -149,15 +160,14 @@ impl Checker<'_> {
         self.findings.push(Diagnostic::new(code, message).at(&at));
     }
 
-    /// Load one file of a robot into `graph`; its state when it loaded.
+    /// Load one file of a robot into its graph; its state when it loaded.
     fn load_into(
         &mut self,
         robot: &Robot,
         f: &Found,
-        graph: &mut FrameGraph,
-        declared: &mut Vec<(String, String, usize)>,
-        index: usize,
+        acc: &mut RobotGraph,
     ) -> Result<Option<FileState>> {
+        let index = acc.states;
         let mut loaded = match formats::load_file(&f.path, &self.opts.load) {
             Ok(l) => l,
             Err(e) if e.code == Code::Io => return Err(e),
@@ -166,13 +176,19 @@ impl Checker<'_> {
                 return Ok(None);
             }
         };
-        apply_renames(&robot.renames, &f.path, &mut loaded);
+        for (n, hits) in
+            acc.renamed
+                .iter_mut()
+                .zip(apply_renames(&robot.renames, &f.path, &mut loaded))
+        {
+            *n += hits;
+        }
         if let Some(m) = loaded
             .rig
             .as_ref()
             .filter(|m| !m.from.is_empty() && !m.to.is_empty())
         {
-            declared.push((m.from.clone(), m.to.clone(), index));
+            acc.declared.push((m.from.clone(), m.to.clone(), index));
         }
         let mut locations = Locations::new();
         for e in &loaded.edges {
@@ -196,7 +212,7 @@ impl Checker<'_> {
         // file, a cycle, two parents) is a finding naming both places; the
         // file's other edges still load.
         for e in loaded.edges {
-            if let Err(err) = graph.add_edge(e) {
+            if let Err(err) = acc.graph.add_edge(e) {
                 self.error(&f.path, &err);
             }
         }
@@ -209,15 +225,33 @@ impl Checker<'_> {
 
     /// Check one robot: its files into one graph, then its pairs.
     fn check_robot(&mut self, robot: &Robot) -> Result<Vec<FileState>> {
-        let mut graph = FrameGraph::new();
+        let mut acc = RobotGraph {
+            graph: FrameGraph::new(),
+            declared: Vec::new(),
+            renamed: vec![0; robot.renames.len()],
+            states: 0,
+        };
         let mut states: Vec<FileState> = Vec::new();
-        let mut declared = Vec::new();
         for f in &robot.files {
-            let index = states.len();
-            if let Some(st) = self.load_into(robot, f, &mut graph, &mut declared, index)? {
+            if let Some(st) = self.load_into(robot, f, &mut acc)? {
                 states.push(st);
+                acc.states += 1;
             }
         }
+        if let Some(i) = acc.renamed.iter().position(|&n| n == 0) {
+            let r = &robot.renames[i];
+            return Err(Error::usage(format!(
+                "audit.toml: robot {:?}: rename {} -> {}: expected a frame `{}` in {}, found none",
+                robot.name.as_deref().unwrap_or(""),
+                r.old,
+                r.new,
+                r.old,
+                r.file.as_deref().unwrap_or("its files")
+            )));
+        }
+        let RobotGraph {
+            graph, declared, ..
+        } = acc;
         let Some(first) = states.first() else {
             return Ok(states);
         };
@@ -327,6 +361,41 @@ impl Checker<'_> {
         };
         Some((pair, at))
     }
+}
+
+/// Group the files into robots: each checked directory's `audit.toml`
+/// robots (their files loaded together), then every other file on its own.
+/// The manifests themselves are not calibration files.
+fn robots(opts: &CheckOptions, files: &mut Vec<Found>) -> Result<Vec<Robot>> {
+    files.retain(|f| f.path.file_name().is_none_or(|n| n != manifest::MANIFEST));
+    let mut out = Vec::new();
+    let mut grouped: Vec<PathBuf> = Vec::new();
+    for dir in opts.paths.iter().filter(|p| p.is_dir()) {
+        for r in manifest::read(dir)? {
+            for f in &r.files {
+                grouped.extend(f.path.canonicalize().ok());
+                if !files.iter().any(|x| same_file(&x.path, &f.path)) {
+                    files.push(f.clone());
+                }
+            }
+            out.push(Robot {
+                name: Some(r.name),
+                files: r.files,
+                renames: r.renames,
+                pairs: r.pairs,
+            });
+        }
+    }
+    for f in files.iter() {
+        let canon = f.path.canonicalize().ok();
+        if !canon.is_some_and(|c| grouped.contains(&c)) {
+            out.push(Robot {
+                files: vec![f.clone()],
+                ..Robot::default()
+            });
+        }
+    }
+    Ok(out)
 }
 
 /// The directory a baseline file's keys are relative to.
@@ -498,14 +567,7 @@ pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
             "no calibration files found under the given paths",
         ));
     }
-    let robots: Vec<Robot> = walked
-        .files
-        .iter()
-        .map(|f| Robot {
-            files: vec![f.clone()],
-            ..Robot::default()
-        })
-        .collect();
+    let robots = robots(opts, &mut walked.files)?;
     let mut ck = Checker {
         opts,
         findings: std::mem::take(&mut walked.findings),

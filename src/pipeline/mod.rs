@@ -6,6 +6,7 @@
 mod check;
 pub mod detector;
 pub mod files;
+pub mod manifest;
 mod survey;
 pub mod walk;
 

@@ -742,3 +742,131 @@ fn markdown_is_a_job_summary() {
     assert_eq!(code, 0);
     assert!(out.starts_with("**audit check: passed**\n"), "{out}");
 }
+
+/// A tf_static dump with the edges `(parent, child, [x, y, z])`, identity
+/// rotations; edge `k` is written from line `2 + 6 k` (its `- header:`).
+fn tf_edges(edges: &[(&str, &str, [f64; 3])]) -> String {
+    let mut s = String::from("transforms:\n");
+    for (p, c, t) in edges {
+        s.push_str(&format!(
+            "- header:\n    frame_id: {p}\n  child_frame_id: {c}\n  transform:\n    translation: {{x: {}, y: {}, z: {}}}\n    rotation: {{x: 0.0, y: 0.0, z: 0.0, w: 1.0}}\n",
+            t[0], t[1], t[2]
+        ));
+    }
+    s
+}
+
+#[test]
+fn a_manifest_loads_each_robots_files_together() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "a.yaml", &tf_edges(&[("imu", "lidar", [0.1, 0.0, 0.0])]));
+    write(d, "b.yaml", &tf_edges(&[("imu", "lidar", [0.2, 0.0, 0.0])]));
+    write(
+        d,
+        "c.yaml",
+        &tf_edges(&[
+            ("lidar", "base", [0.0, 0.0, 0.1]),
+            ("base", "imu", [0.0, 0.0, -0.1]),
+        ]),
+    );
+    write(
+        d,
+        "mount.yaml",
+        &tf_edges(&[("base", "imu_link", [0.0, 0.0, 0.5])]),
+    );
+    // Without a manifest each file is its own robot: no conflict.
+    let (code, j, _) = check_json(&[s(d)]);
+    assert_eq!(code, 0, "{j}");
+    assert_eq!(j["files_checked"], 4);
+
+    // The same edge with other values in two files of one robot.
+    let m = write(
+        d,
+        "audit.toml",
+        "[[robot]]\nname = \"r1\"\nfiles = [\"a.yaml\", \"b.yaml\"]\n",
+    );
+    let (code, j, _) = check_json(&[s(d)]);
+    assert_eq!(code, 1, "{j}");
+    assert_eq!(
+        j["files_checked"], 4,
+        "audit.toml is not a calibration file"
+    );
+    let f = &j["findings"][0];
+    assert_eq!(
+        (f["code"].as_str(), f["file"].as_str()),
+        (
+            Some("frames"),
+            Some(&*format!("{}", d.join("b.yaml").display()))
+        )
+    );
+    let msg = f["message"].as_str().unwrap();
+    let (a, b) = (d.join("a.yaml"), d.join("b.yaml"));
+    assert!(msg.contains("given twice with different values"), "{msg}");
+    assert!(
+        msg.contains(&format!("{}:2:3", a.display()))
+            && msg.contains(&format!("{}:2:3", b.display())),
+        "{msg}"
+    );
+
+    // A cycle across two files.
+    std::fs::write(
+        &m,
+        "[[robot]]\nname = \"r2\"\nfiles = [\"a.yaml\", \"c.yaml\"]\n",
+    )
+    .unwrap();
+    let (code, j, _) = check_json(&[s(d)]);
+    assert_eq!(code, 1);
+    assert!(
+        j["findings"][0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("cycle"),
+        "{j}"
+    );
+
+    // Renames and pairs: base -> lidar composed across two files (0.1, 0, 0.5).
+    std::fs::write(
+        &m,
+        "[[robot]]\nname = \"r3\"\nfiles = [\"mount.yaml\", \"a.yaml\"]\nrenames = [{ file = \"a.yaml\", old = \"imu\", new = \"imu_link\" }]\npairs = [\"base:lidar\"]\n",
+    )
+    .unwrap();
+    let (code, j, _) = check_json(&[s(d), "--max-lever-arm", "0.5"]);
+    assert_eq!(code, 1, "{j}");
+    let lever: Vec<&Value> = j["findings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|f| f["code"] == "lever-arm")
+        .collect();
+    assert_eq!(lever.len(), 1, "{j}");
+    // sqrt(0.1^2 + 0.5^2) = 0.509902
+    assert!(
+        lever[0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("lever arm 0.509902 m"),
+        "{j}"
+    );
+    // The pair is baselined (in the robot's first file) and compared.
+    let base = d.join("base.json");
+    let (code, _, err) = run_cli(&["check", s(d), "--write-baseline", s(&base)]);
+    assert_eq!(code, 0, "{err}");
+    let b: Value = serde_json::from_slice(&std::fs::read(&base).unwrap()).unwrap();
+    assert_eq!(b["files"]["mount.yaml"]["pairs"][0]["parent"], "base");
+    assert_eq!(b["files"]["mount.yaml"]["pairs"][0]["child"], "lidar");
+
+    // Mistakes in the manifest: exit 2 naming the manifest.
+    for (text, expect) in [
+        ("[[robot]]\nname = \"x\"\nfiles = [\"nope.yaml\"]\n", "expected the file \"nope.yaml\""),
+        ("[[robot]]\nname = \"x\"\nfiles = [\"a.yaml\"]\nrenames = [{ old = \"gps\", new = \"g\" }]\n", "expected a frame `gps`"),
+        ("[[robot]]\nname = \"x\"\nfiles = [\"a.yaml\"]\npairs = [\"nocolon\"]\n", "expected a pair FROM:TO"),
+        ("[[robot]]\nname = \"x\"\nfiles = [\"a.yaml\", \"./a.yaml\"]\n", "listed twice"),
+        ("[[robot]]\nname = \"x\"\nfile = [\"a.yaml\"]\n", "unknown field `file`"),
+    ] {
+        std::fs::write(&m, text).unwrap();
+        let (code, out, err) = run_cli(&["check", s(d)]);
+        assert_eq!(code, 2, "{text}: {out}");
+        assert!(err.contains(expect) && err.contains("audit.toml"), "{text}: {err}");
+    }
+}
