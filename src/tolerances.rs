@@ -169,6 +169,11 @@ pub const DEFAULT_MAX_ROTATION_DRIFT_DEG: f64 = 0.05;
 /// Symlink loops are caught by the walk's visited set, not by this limit.
 pub const MAX_WALK_DEPTH: usize = 64;
 
+/// File names a directory walk never reads as calibrations: the manifest and
+/// build files of every ROS package (`package.xml` has a `.xml` name,
+/// `CMakeLists.txt` a `.txt` one).
+pub const DEFAULT_WALK_EXCLUDES: &[&str] = &["package.xml", "CMakeLists.txt"];
+
 // ---------------------------------------------------------------------------
 // Degeneracy detector (`degeneracy`)
 // ---------------------------------------------------------------------------

@@ -4,15 +4,19 @@
 //! `MAX_WALK_DEPTH` is a `limit` finding).
 //!
 //! A calibration file: a name ending in one of the format registry's `walk`
-//! extensions (`formats::registry`, [`is_calibration_file`]), not hidden (no
-//! leading `.`). Globs: `*` any characters but `/`, `**` any characters, `?`
+//! extensions (`formats::registry`, [`is_calibration_file`]: `.urdf`,
+//! `.xacro`, `.xml`, `.launch`, `.launch.py`, `.yaml`, `.yml`, `.toml`,
+//! `.json`, `.txt`), not hidden (no leading `.`), not named in
+//! `DEFAULT_WALK_EXCLUDES` (`package.xml`, `CMakeLists.txt`), not an `audit
+//! check` baseline or manifest. A FIFO, device or dangling symlink is reported
+//! (`ignored`) and never opened. Globs: `*` any characters but `/`, `**` any characters, `?`
 //! one character but `/`; a glob without `/` is matched against each file and
 //! directory name, one with `/` against the path relative to the checked
 //! directory (`/`-separated). An excluded directory is not entered.
 
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result};
 use crate::formats::is_calibration_file;
-use crate::tolerances::MAX_WALK_DEPTH;
+use crate::tolerances::{DEFAULT_WALK_EXCLUDES, MAX_WALK_DEPTH};
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
@@ -72,6 +76,7 @@ fn excluded(excludes: &[String], rel: &Path) -> bool {
 
 struct Walker<'a> {
     excludes: &'a [String],
+    accept: fn(&Path) -> bool,
     root: PathBuf,
     visited: HashSet<PathBuf>,
     out: Walked,
@@ -119,7 +124,7 @@ impl Walker<'_> {
             let meta = std::fs::metadata(&path);
             if meta.as_ref().is_ok_and(|m| m.is_dir()) {
                 self.dir(&path, depth + 1)?;
-            } else if !is_calibration_file(&path) {
+            } else if !(self.accept)(&path) || is_default_excluded(&path) {
                 continue;
             } else if !meta.as_ref().is_ok_and(|m| m.is_file()) {
                 // A FIFO or device would block or never end; a dangling link
@@ -142,9 +147,25 @@ impl Walker<'_> {
     }
 }
 
+/// A name in `DEFAULT_WALK_EXCLUDES` (files of a ROS package that are never
+/// calibrations).
+fn is_default_excluded(path: &Path) -> bool {
+    path.file_name()
+        .is_some_and(|n| DEFAULT_WALK_EXCLUDES.iter().any(|x| n == *x))
+}
+
 /// Expand the given paths: a directory into its calibration files (walked as
 /// the module doc says), a file as given.
 pub fn walk(paths: &[PathBuf], excludes: &[String]) -> Result<Walked> {
+    walk_with(paths, excludes, is_calibration_file)
+}
+
+/// [`walk`] taking the files `accept` takes instead of calibration files.
+pub fn walk_with(
+    paths: &[PathBuf],
+    excludes: &[String],
+    accept: fn(&Path) -> bool,
+) -> Result<Walked> {
     let mut out = Walked::default();
     for p in paths {
         let meta = std::fs::metadata(p).map_err(|e| Error::io(p, &e))?;
@@ -157,6 +178,7 @@ pub fn walk(paths: &[PathBuf], excludes: &[String]) -> Result<Walked> {
         }
         let mut w = Walker {
             excludes,
+            accept,
             root: p.clone(),
             visited: HashSet::new(),
             out: Walked::default(),

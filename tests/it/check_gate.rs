@@ -870,3 +870,139 @@ fn a_manifest_loads_each_robots_files_together() {
         assert!(err.contains(expect) && err.contains("audit.toml"), "{text}: {err}");
     }
 }
+
+/// A mirror image: a rotation matrix with det -1 (refused as `invalid`).
+const MIRROR: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]];
+
+#[test]
+fn the_walk_has_no_silent_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path().join("cal");
+    // A mirror-image rotation 20 levels down (the old walk stopped at 17).
+    let mut deep = root.clone();
+    for i in 0..20 {
+        deep.push(format!("d{i}"));
+    }
+    std::fs::create_dir_all(&deep).unwrap();
+    write(&deep, "m.yaml", &fast_lio(AVIA_T, MIRROR));
+    let (code, j, _) = check_json(&[s(&root)]);
+    assert_eq!(code, 1, "{j}");
+    assert_eq!(findings(&j), [("invalid".into(), "error".into())]);
+    // Beyond MAX_WALK_DEPTH (64): a `limit` finding naming the directory.
+    for i in 20..70 {
+        deep.push(format!("d{i}"));
+    }
+    std::fs::create_dir_all(&deep).unwrap();
+    write(&deep, "m.yaml", &fast_lio(AVIA_T, MIRROR));
+    let (code, j, _) = check_json(&[s(&root)]);
+    assert_eq!(code, 1);
+    let f: Vec<&Value> = j["findings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|f| f["code"] == "limit")
+        .collect();
+    assert_eq!(f.len(), 1, "{j}");
+    assert!(
+        f[0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("expected at most 64"),
+        "{j}"
+    );
+    assert!(f[0]["file"].as_str().unwrap().ends_with("/d64"), "{j}");
+}
+
+#[cfg(unix)]
+#[test]
+fn symlinked_directories_are_followed_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path().join("cal");
+    let other = dir.path().join("other");
+    std::fs::create_dir_all(root.join("sub")).unwrap();
+    std::fs::create_dir_all(&other).unwrap();
+    write(&root, "a.yaml", &fast_lio(AVIA_T, scaled(1.0)));
+    // A mirror image behind a symlinked directory: found.
+    write(&other, "m.yaml", &fast_lio(AVIA_T, MIRROR));
+    std::os::unix::fs::symlink(&other, root.join("linked")).unwrap();
+    // Loops: a link to the root and one to a sibling.
+    std::os::unix::fs::symlink("..", root.join("sub/up")).unwrap();
+    std::os::unix::fs::symlink("../linked", root.join("sub/again")).unwrap();
+    let (code, j, _) = check_json(&[s(&root)]);
+    assert_eq!(code, 1, "{j}");
+    assert_eq!(j["files_checked"], 2, "each file once: {j}");
+    let f = findings(&j);
+    assert!(f.contains(&("invalid".into(), "error".into())), "{f:?}");
+    let notes = f.iter().filter(|(c, _)| c == "ignored").count();
+    assert_eq!(notes, 2, "the loop and the second link are reported: {j}");
+    // A FIFO named like a calibration file is reported, never opened.
+    let fifo = root.join("pipe.yaml");
+    assert!(std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let (code, j, _) = check_json(&[s(&root), "--exclude", "linked", "--exclude", "again"]);
+    assert_eq!(code, 0, "{j}");
+    assert!(j.to_string().contains("not a regular file"), "{j}");
+}
+
+#[test]
+fn exclude_globs_and_the_default_file_set() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    std::fs::create_dir_all(root.join("config/old")).unwrap();
+    write(root, "a.yaml", &fast_lio(AVIA_T, scaled(1.0)));
+    write(
+        &root.join("config"),
+        "b.yaml",
+        &fast_lio(AVIA_T, scaled(1.0)),
+    );
+    write(
+        &root.join("config/old"),
+        "c.yaml",
+        &fast_lio(AVIA_T, MIRROR),
+    );
+    // Never calibrations in a ROS package: skipped by default.
+    write(
+        root,
+        "package.xml",
+        "<package format=\"3\"><name>x</name></package>",
+    );
+    write(
+        root,
+        "CMakeLists.txt",
+        "cmake_minimum_required(VERSION 3.8)\n",
+    );
+    write(root, "notes.md", "not a calibration file");
+    let count = |extra: &[&str]| {
+        let mut a = vec![s(root)];
+        a.extend_from_slice(extra);
+        let (code, j, _) = check_json(&a);
+        (code, j["files_checked"].as_u64().unwrap_or(0))
+    };
+    assert_eq!(count(&[]), (1, 3));
+    assert_eq!(count(&["--exclude", "old"]), (0, 2));
+    assert_eq!(count(&["--exclude", "config/old/*"]), (0, 2));
+    assert_eq!(count(&["--exclude", "config/**"]), (0, 1));
+    // Nothing left: a usage error, not a green run.
+    assert_eq!(count(&["--exclude", "*.yaml"]), (2, 0));
+    // docs/check.md lists the registry's walk extensions.
+    let mut exts: Vec<&str> = extrinsic_audit::formats::FORMATS
+        .iter()
+        .flat_map(|f| f.walk.iter().copied())
+        .collect();
+    exts.sort();
+    exts.dedup();
+    let doc = std::fs::read_to_string("docs/check.md").unwrap();
+    let line = doc
+        .lines()
+        .find(|l| l.starts_with("Walk extensions:"))
+        .expect("a `Walk extensions:` line");
+    let listed: Vec<&str> = line
+        .trim_start_matches("Walk extensions:")
+        .split(',')
+        .map(|x| x.trim().trim_matches('`'))
+        .collect();
+    assert_eq!(listed, exts, "docs/check.md is out of date");
+}
