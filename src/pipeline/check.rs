@@ -114,6 +114,28 @@ pub struct Robot {
     pub pairs: Vec<(String, String)>,
 }
 
+/// A launch file (`.launch`, `.launch.py`, `.launch.xml`, `.launch.yaml`)
+/// that names neither `static_transform_publisher` nor `Extrinsic_Tlb` holds
+/// no calibration: most launch files of a ROS package start nodes.
+fn launch_without_transforms(f: &Found, max_size: u64) -> bool {
+    let name = f
+        .path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    let launch = name.ends_with(".launch")
+        || [".launch.py", ".launch.xml", ".launch.yaml", ".launch.yml"]
+            .iter()
+            .any(|x| name.ends_with(x));
+    if !launch || std::fs::metadata(&f.path).map_or(true, |m| m.len() > max_size) {
+        return false;
+    }
+    std::fs::read(&f.path).is_ok_and(|b| {
+        let t = String::from_utf8_lossy(&b);
+        !t.contains("static_transform_publisher") && !t.contains("Extrinsic_Tlb")
+    })
+}
+
 /// A robot's graph as its files load: the declared pairs (with the index of
 /// the declaring file's state), how many frames each rename changed, how many
 /// files loaded.
@@ -168,6 +190,16 @@ impl Checker<'_> {
         acc: &mut RobotGraph,
     ) -> Result<Option<FileState>> {
         let index = acc.states;
+        if launch_without_transforms(f, self.opts.load.max_file_size) {
+            self.findings.push(
+                Diagnostic::new(
+                    Code::Ignored,
+                    "launch file without static_transform_publisher or Extrinsic_Tlb: no calibration in it, not read",
+                )
+                .at(&Location::file(&f.path)),
+            );
+            return Ok(None);
+        }
         let mut loaded = match formats::load_file(&f.path, &self.opts.load) {
             Ok(l) => l,
             Err(e) if e.code == Code::Io => return Err(e),
@@ -563,9 +595,18 @@ pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
     };
     let base = opts.baseline.as_deref().map(baseline::read).transpose()?;
     if walked.files.is_empty() {
-        return Err(Error::usage(
-            "no calibration files found under the given paths",
-        ));
+        // Only baselines or manifests given (a commit that changes only the
+        // baseline): nothing to check, nothing wrong.
+        let only_skipped = opts.paths.iter().all(|p| {
+            p.is_file()
+                && (baseline::is_baseline_file(p)
+                    || p.file_name().is_some_and(|n| n == manifest::MANIFEST))
+        });
+        if !only_skipped || opts.write_baseline.is_some() {
+            return Err(Error::usage(
+                "no calibration files found under the given paths",
+            ));
+        }
     }
     let robots = robots(opts, &mut walked.files)?;
     let mut ck = Checker {

@@ -5,6 +5,7 @@
 
 mod calibrations;
 mod check_gate;
+mod check_hooks;
 mod cli_audit;
 mod cli_detector;
 mod cli_survey_check;
