@@ -15,12 +15,16 @@ use std::path::PathBuf;
 
 #[derive(Debug, Args, Clone)]
 #[command(
-    long_about = "Checks calibration files in CI: every file parses; rotations are orthonormal; \
-quaternions are unit; units are plausible (no millimetres in a metre field); the frames each \
-rig declares, and every --pair, exist and connect. With --baseline: no transform drifted by more \
-than the tolerances, none appeared or disappeared, and no verdict (screw kind, zero pitch, \
-adapted metric) changed.\n\nExit codes: 0 clean, 1 problems found, 2 usage error or unreadable input.",
-    after_long_help = "Examples:\n  audit check calibrations/\n  audit check calibrations/ --write-baseline calibrations/baseline.json\n  audit check calibrations/ --baseline calibrations/baseline.json --format github\n  audit check robot.urdf --pair base_link:lidar --max-lever-arm 0.5 --require-zero-pitch\n  audit check calibrations/ --allow non-orthonormal-rotation"
+    long_about = "Checks calibration files in CI: every file parses; rotations are orthonormal and \
+quaternions unit (rounding of published digits is a warning, beyond it an error); units are \
+plausible (no millimetres in a metre field); the frames each rig declares, and every --pair, \
+exist and connect. Files of one robot are loaded together where an audit.toml in the checked \
+directory groups them. With --baseline: no transform drifted by more than the tolerances, no \
+file or edge appeared or disappeared, no checked pair changed, and no verdict (screw kind, zero \
+pitch, adapted metric) changed. The severity table, the baseline and the walk: docs/check.md.\n\n\
+Exit codes: 0 clean (warnings allowed), 1 problems found, 2 usage error, unreadable input, \
+malformed baseline or refused --write-baseline.",
+    after_long_help = "Examples:\n  audit check calibrations/\n  audit check calibrations/ --write-baseline calibrations/baseline.json\n  audit check calibrations/ --write-baseline calibrations/baseline.json --prune\n  audit check calibrations/ --baseline calibrations/baseline.json --format sarif > check.sarif\n  audit check calibrations/ --baseline calibrations/baseline.json --format github\n  audit check robot.urdf --pair base_link:lidar --max-lever-arm 0.5 --require-zero-pitch\n  audit check calibrations/ --deny-warnings --exclude 'old/**'"
 )]
 pub struct CheckArgs {
     /// Calibration files or directories of them

@@ -593,6 +593,14 @@ pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
         Some(p) => write_target(p, &walked.files, &given)?,
         None => None,
     };
+    if let Some(b) = opts.baseline.as_deref().filter(|b| !b.exists()) {
+        return Err(Error::usage(format!(
+            "--baseline {}: no such file; write one first with `audit check PATHS --write-baseline {}` and commit it",
+            b.display(),
+            b.display()
+        ))
+        .in_file(b));
+    }
     let base = opts.baseline.as_deref().map(baseline::read).transpose()?;
     if walked.files.is_empty() {
         // Only baselines or manifests given (a commit that changes only the

@@ -1006,3 +1006,20 @@ fn exclude_globs_and_the_default_file_set() {
         .collect();
     assert_eq!(listed, exts, "docs/check.md is out of date");
 }
+
+#[test]
+fn a_missing_baseline_says_how_to_write_one() {
+    let (dir, _cal) = tree();
+    let (code, _, err) = run_in(dir.path(), &["check", "cal", "--baseline", "cal/none.json"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("write one first with `audit check PATHS --write-baseline cal/none.json`"),
+        "{err}"
+    );
+    // --help says where the policy is.
+    let (_, out, _) = run_cli(&["check", "--help"]);
+    assert!(
+        out.contains("docs/check.md") && out.contains("--deny-warnings"),
+        "{out}"
+    );
+}
