@@ -1,11 +1,15 @@
-//! `audit check`: every file parses; rotations are orthonormal, quaternions
-//! unit, units plausible (the readers' warnings for these are findings); the
-//! frames each rig declares, and every `--pair`, exist and connect; optional
-//! lever-arm and zero-pitch rules; against a baseline, drift and verdicts
-//! (`crate::baseline`).
+//! `audit check`: the files found (`walk`) are grouped into robots (each
+//! directory's `audit.toml`, else one file each, `manifest`); each robot's
+//! files load into one frame graph; every file parses; rotations are
+//! orthonormal, quaternions unit, units plausible (the readers' warnings, at
+//! the severity of the policy in docs/check.md); the frames each rig
+//! declares, every `--pair` and the manifest's pairs exist and connect;
+//! optional lever-arm and zero-pitch rules; against a baseline, drift, pairs,
+//! removed files and verdicts (`crate::baseline`).
 //!
-//! A file that exists but does not parse is a finding; an unreadable file or
-//! baseline is an error (exit 2).
+//! A file that exists but does not parse is a finding; an unreadable file, a
+//! malformed baseline or a refused `--write-baseline` target is an error
+//! (exit 2), raised before anything is written.
 
 use super::manifest;
 use super::walk::{walk, Found};
