@@ -76,12 +76,12 @@ pub enum Severity {
 }
 
 macro_rules! codes {
-    ($( $(#[$doc:meta])* $variant:ident = $name:literal, $sev:ident; )*) => {
+    ($( $(#[doc = $doc:literal])* $variant:ident = $name:literal, $sev:ident; )*) => {
         /// Every diagnostic code, with its stable kebab-case name and default
         /// severity. The table in docs/ARCHITECTURE.md lists them.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
         pub enum Code {
-            $( $(#[$doc])* $variant, )*
+            $( $(#[doc = $doc])* $variant, )*
         }
 
         impl Code {
@@ -91,6 +91,12 @@ macro_rules! codes {
             /// The stable name (`non-unit-quaternion`, ...).
             pub fn name(self) -> &'static str {
                 match self { $(Code::$variant => $name,)* }
+            }
+
+            /// What the code means: its doc comment in this table, as lines
+            /// (SARIF rule descriptions).
+            pub fn doc_lines(self) -> &'static [&'static str] {
+                match self { $(Code::$variant => &[$($doc),*],)* }
             }
 
             /// The severity a diagnostic of this code has unless a policy
@@ -157,6 +163,11 @@ codes! {
     NewEdge = "new-edge", Error;
     /// An edge in the baseline is no longer in the file.
     MissingEdge = "missing-edge", Error;
+    /// A file in the baseline is gone (`--write-baseline --prune` accepts it).
+    RemovedFile = "removed-file", Error;
+    /// A frame pair checked in the baseline is no longer checked in the file
+    /// (a rig that changed its declared pair: the message names both).
+    PairChanged = "pair-changed", Error;
     /// A transform moved beyond the drift tolerances since the baseline.
     Drift = "drift", Error;
     /// A verdict (screw kind, zero pitch, adapted metric) changed since the
@@ -172,6 +183,15 @@ impl Code {
     /// The code named `name` (as printed by [`Code::name`]).
     pub fn from_name(name: &str) -> Option<Code> {
         Code::ALL.iter().copied().find(|c| c.name() == name)
+    }
+
+    /// What the code means, in one line (its doc comment).
+    pub fn description(self) -> String {
+        self.doc_lines()
+            .iter()
+            .map(|l| l.trim())
+            .collect::<Vec<_>>()
+            .join(" ")
     }
 
     /// The warning codes a reader can raise (what `--allow` accepts).
@@ -298,10 +318,14 @@ impl Diagnostic {
 
 impl fmt::Display for Diagnostic {
     /// Errors: `file:line:col: message`; warnings: `warning[code]: file:line:col:
-    /// message` (the place omitted when unknown).
+    /// message`; a warning's code at severity error: `error[code]: ...` (the
+    /// place omitted when unknown).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.severity == Severity::Warning {
             write!(f, "warning[{}]: ", self.code)?;
+        } else if self.code.default_severity() == Severity::Warning {
+            // A warning's code raised to an error (beyond rounding, or a policy).
+            write!(f, "error[{}]: ", self.code)?;
         }
         if self.location.is_empty() {
             write!(f, "{}", self.message)

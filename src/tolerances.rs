@@ -27,6 +27,21 @@ pub const ORTHONORMAL_ERROR_TOL: f64 = 1e-2;
 /// `non-unit-quaternion` warning (seven printed digits stay below it).
 pub const QUATERNION_WARN_TOL: f64 = 1e-6;
 
+/// `||R^T R - I||_F` up to which a non-orthonormal rotation is rounding of
+/// published digits: a `non-orthonormal-rotation` *warning* (projected, the gate
+/// passes). Beyond it, up to [`ORTHONORMAL_ERROR_TOL`], the diagnostic has
+/// severity `error` (`audit check` fails; `--allow` accepts it). 5e-3 is the
+/// matrix analogue of a quaternion off by 1e-3: `R` scaled by `1 + 1.4e-3`
+/// (`||R^T R - I||_F = sqrt(3) ((1 + e)^2 - 1)`), or every entry rounded to three
+/// decimals. The shipped calibrations reach 1.3e-4 (GEODE's four-digit matrices).
+pub const ORTHONORMAL_ROUNDING_TOL: f64 = 5e-3;
+
+/// `| ||q|| - 1 |` up to which a non-unit quaternion is rounding: a
+/// `non-unit-quaternion` *warning* (normalised, the gate passes); beyond it the
+/// diagnostic has severity `error`. A quaternion printed with three digits
+/// (norm 1.001) is a warning; one of norm 1.01 is an error.
+pub const QUATERNION_ROUNDING_TOL: f64 = 2e-3;
+
 /// Quaternion norm below which there is no rotation to recover: an error.
 pub const QUATERNION_MIN_NORM: f64 = 1e-6;
 
@@ -195,6 +210,17 @@ pub const DEFAULT_MAX_TRANSLATION_DRIFT: f64 = 1e-3;
 
 /// Default drift tolerance on a rotation (deg): the angle of `R_base^T R_now`.
 pub const DEFAULT_MAX_ROTATION_DRIFT_DEG: f64 = 0.05;
+
+/// Deepest directory level `audit check` walks below a checked directory. A
+/// calibration tree is shallow (a ROS workspace nests ~6 levels); a directory
+/// deeper than this is a `limit` finding (an error), never skipped silently.
+/// Symlink loops are caught by the walk's visited set, not by this limit.
+pub const MAX_WALK_DEPTH: usize = 64;
+
+/// File names a directory walk never reads as calibrations: the manifest and
+/// build files of every ROS package (`package.xml` has a `.xml` name,
+/// `CMakeLists.txt` a `.txt` one).
+pub const DEFAULT_WALK_EXCLUDES: &[&str] = &["package.xml", "CMakeLists.txt"];
 
 // ---------------------------------------------------------------------------
 // Degeneracy detector (`degeneracy`)

@@ -15,12 +15,16 @@ use std::path::PathBuf;
 
 #[derive(Debug, Args, Clone)]
 #[command(
-    long_about = "Checks calibration files in CI: every file parses; rotations are orthonormal; \
-quaternions are unit; units are plausible (no millimetres in a metre field); the frames each \
-rig declares, and every --pair, exist and connect. With --baseline: no transform drifted by more \
-than the tolerances, none appeared or disappeared, and no verdict (screw kind, zero pitch, \
-adapted metric) changed.\n\nExit codes: 0 clean, 1 problems found, 2 usage error or unreadable input.",
-    after_long_help = "Examples:\n  audit check calibrations/\n  audit check calibrations/ --write-baseline calibrations/baseline.json\n  audit check calibrations/ --baseline calibrations/baseline.json --format github\n  audit check robot.urdf --pair base_link:lidar --max-lever-arm 0.5 --require-zero-pitch\n  audit check calibrations/ --allow non-orthonormal-rotation"
+    long_about = "Checks calibration files in CI: every file parses; rotations are orthonormal and \
+quaternions unit (rounding of published digits is a warning, beyond it an error); units are \
+plausible (no millimetres in a metre field); the frames each rig declares, and every --pair, \
+exist and connect. Files of one robot are loaded together where an audit.toml in the checked \
+directory groups them. With --baseline: no transform drifted by more than the tolerances, no \
+file or edge appeared or disappeared, no checked pair changed, and no verdict (screw kind, zero \
+pitch, adapted metric) changed. The severity table, the baseline and the walk: docs/check.md.\n\n\
+Exit codes: 0 clean (warnings allowed), 1 problems found, 2 usage error, unreadable input, \
+malformed baseline or refused --write-baseline.",
+    after_long_help = "Examples:\n  audit check calibrations/\n  audit check calibrations/ --write-baseline calibrations/baseline.json\n  audit check calibrations/ --write-baseline calibrations/baseline.json --prune\n  audit check calibrations/ --baseline calibrations/baseline.json --format sarif > check.sarif\n  audit check calibrations/ --baseline calibrations/baseline.json --format github\n  audit check robot.urdf --pair base_link:lidar --max-lever-arm 0.5 --require-zero-pitch\n  audit check calibrations/ --deny-warnings --exclude 'old/**'"
 )]
 pub struct CheckArgs {
     /// Calibration files or directories of them
@@ -32,6 +36,15 @@ pub struct CheckArgs {
     /// Write the current state as a baseline (atomically: temporary file, then rename)
     #[arg(long, value_name = "FILE")]
     pub write_baseline: Option<PathBuf>,
+    /// With --write-baseline: drop the entries of files not checked this run
+    /// (accepts removed files); without it only the checked files' entries change
+    #[arg(long, requires = "write_baseline")]
+    pub prune: bool,
+    /// Skip files and directories matching this glob (`*`, `**`, `?`; without
+    /// `/` matched against names, with `/` against the path below the checked
+    /// directory); repeatable
+    #[arg(long = "exclude", value_name = "GLOB")]
+    pub exclude: Vec<String>,
     /// Also check this frame pair wherever both frames exist (FROM:TO); repeatable
     #[arg(long = "pair", value_parser = parse_pair, value_name = "FROM:TO")]
     pub pairs: Vec<(String, String)>,
@@ -53,10 +66,16 @@ pub struct CheckArgs {
     /// Set a movable joint's position (rad or m); repeatable
     #[arg(long = "joint", value_parser = parse_joint, value_name = "NAME=VALUE")]
     pub joints: Vec<(String, f64)>,
-    /// Accept this named warning (e.g. non-orthonormal-rotation for published
-    /// numbers rounded to a few digits): reported, but not a problem; repeatable
-    #[arg(long = "allow", value_name = "WARNING", value_parser = parse_warning_code)]
+    /// Accept findings of this code: reported as warnings, never a problem;
+    /// repeatable (the policy table: docs/check.md)
+    #[arg(long = "allow", value_name = "CODE", value_parser = parse_code)]
     pub allow: Vec<Code>,
+    /// Refuse findings of this code: reported as errors (a problem); repeatable
+    #[arg(long = "deny", value_name = "CODE", value_parser = parse_code)]
+    pub deny: Vec<Code>,
+    /// Every warning is a problem (exit 1)
+    #[arg(long)]
+    pub deny_warnings: bool,
     /// Refuse (as a problem) calibration files larger than this
     #[arg(long, default_value_t = DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
     pub max_file_size: u64,
@@ -65,11 +84,12 @@ pub struct CheckArgs {
     pub format: OutputFormat,
 }
 
-fn parse_warning_code(s: &str) -> std::result::Result<Code, String> {
-    Code::warnings().find(|c| c.name() == s).ok_or_else(|| {
+fn parse_code(s: &str) -> std::result::Result<Code, String> {
+    Code::from_name(s).ok_or_else(|| {
         format!(
-            "expected a warning name ({}), found `{s}`",
-            Code::warnings()
+            "expected a diagnostic code ({}), found `{s}`",
+            Code::ALL
+                .iter()
                 .map(|c| c.name())
                 .collect::<Vec<_>>()
                 .join(", ")
@@ -89,6 +109,8 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
         paths: args.paths.clone(),
         baseline: args.baseline.clone(),
         write_baseline: args.write_baseline.clone(),
+        prune: args.prune,
+        exclude: args.exclude.clone(),
         pairs: args.pairs.clone(),
         max_lever_arm: args.max_lever_arm,
         require_zero_pitch: args.require_zero_pitch,
@@ -103,6 +125,8 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
             ..LoadOptions::default()
         },
         allow: args.allow.clone(),
+        deny: args.deny.clone(),
+        deny_warnings: args.deny_warnings,
     })?;
     emit(&report, args.format, out)?;
     Ok(report.exit_code())

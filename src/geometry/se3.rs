@@ -29,8 +29,8 @@
 use crate::diagnostic::{Error, Result, Warning, WarningCode};
 use crate::tolerances::{
     ANGLE_ZERO_TOL, AXIS_MIN_NORM, BOTTOM_ROW_TOL, HALF_TURN_SIN_TOL, LENGTH_ZERO_TOL,
-    ORTHONORMAL_ERROR_TOL, ORTHONORMAL_EXACT_TOL, ORTHONORMAL_WARN_TOL, QUATERNION_MIN_NORM,
-    QUATERNION_WARN_TOL,
+    ORTHONORMAL_ERROR_TOL, ORTHONORMAL_EXACT_TOL, ORTHONORMAL_ROUNDING_TOL, ORTHONORMAL_WARN_TOL,
+    QUATERNION_MIN_NORM, QUATERNION_ROUNDING_TOL, QUATERNION_WARN_TOL,
 };
 use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3};
 
@@ -215,13 +215,19 @@ impl Transform {
             )));
         }
         if (norm - 1.0).abs() > QUATERNION_WARN_TOL {
-            warnings.push(Warning::new(
-                WarningCode::NonUnitQuaternion,
-                format!(
-                    "quaternion {} has norm {norm:.9}, expected 1; normalised",
-                    fmt_quat(q, order)
-                ),
-            ));
+            warnings.push(
+                Warning::new(
+                    WarningCode::NonUnitQuaternion,
+                    format!(
+                        "quaternion {} has norm {norm:.9}, expected 1; normalised",
+                        fmt_quat(q, order)
+                    ),
+                )
+                .with_severity(rounding_severity(
+                    (norm - 1.0).abs(),
+                    QUATERNION_ROUNDING_TOL,
+                )),
+            );
         }
         let (x, y, z, w) = (xs / ns, ys / ns, zs / ns, ws / ns);
         let r = Matrix3::new(
@@ -552,6 +558,16 @@ fn short_num(x: f64) -> String {
     }
 }
 
+/// Rounding of published digits (at most `tol`) is a warning; beyond, an error
+/// (the severity policy in docs/check.md).
+fn rounding_severity(off: f64, tol: f64) -> crate::diagnostic::Severity {
+    if off > tol {
+        crate::diagnostic::Severity::Error
+    } else {
+        crate::diagnostic::Severity::Warning
+    }
+}
+
 /// Check and, if needed, project a 3x3 matrix to SO(3).
 fn checked_rotation(m: &Matrix3<f64>, warnings: &mut Vec<Warning>) -> Result<Matrix3<f64>> {
     let err = (m.transpose() * m - Matrix3::identity()).norm();
@@ -570,12 +586,15 @@ fn checked_rotation(m: &Matrix3<f64>, warnings: &mut Vec<Warning>) -> Result<Mat
         return Ok(*m);
     }
     if err > ORTHONORMAL_WARN_TOL {
-        warnings.push(Warning::new(
-            WarningCode::NonOrthonormalRotation,
-            format!(
-                "rotation matrix is orthonormal only to ||R^T R - I||_F = {err:.3e} (det {det:.9}); projected to the nearest rotation"
-            ),
-        ));
+        warnings.push(
+            Warning::new(
+                WarningCode::NonOrthonormalRotation,
+                format!(
+                    "rotation matrix is orthonormal only to ||R^T R - I||_F = {err:.3e} (det {det:.9}); projected to the nearest rotation"
+                ),
+            )
+            .with_severity(rounding_severity(err, ORTHONORMAL_ROUNDING_TOL)),
+        );
     }
     let svd = m.svd(true, true);
     let (u, vt) = match (svd.u, svd.v_t) {

@@ -1,18 +1,28 @@
-//! `audit check`: every file parses; rotations are orthonormal, quaternions
-//! unit, units plausible (the readers' warnings for these are findings); the
-//! frames each rig declares, and every `--pair`, exist and connect; optional
-//! lever-arm and zero-pitch rules; against a baseline, drift and verdicts
-//! (`crate::baseline`).
+//! `audit check`: the files found (`walk`) are grouped into robots (each
+//! directory's `audit.toml`, else one file each, `manifest`); each robot's
+//! files load into one frame graph; every file parses; rotations are
+//! orthonormal, quaternions unit, units plausible (the readers' warnings, at
+//! the severity of the policy in docs/check.md); the frames each rig
+//! declares, every `--pair` and the manifest's pairs exist and connect;
+//! optional lever-arm and zero-pitch rules; against a baseline, drift, pairs,
+//! removed files and verdicts (`crate::baseline`).
 //!
-//! A file that exists but does not parse is a finding; an unreadable file or
-//! baseline is an error (exit 2).
+//! A file that exists but does not parse is a finding; an unreadable file, a
+//! malformed baseline or a refused `--write-baseline` target is an error
+//! (exit 2), raised before anything is written.
 
-use super::{expand_paths, write_atomic};
-use crate::baseline::{self, Baseline, BaselineFile, BaselinePair, BaselineTransform, Tolerances};
+use super::manifest;
+use super::walk::{walk, Found};
+use super::{apply_renames, write_atomic, Rename};
+use crate::baseline::{
+    self, Baseline, BaselineFile, BaselinePair, BaselineTransform, CheckedFile, Locations,
+    Tolerances,
+};
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result, Severity, Warning};
-use crate::formats::{self, is_calibration_file, LoadOptions};
+use crate::formats::{self, LoadOptions};
 use crate::frames::FrameGraph;
 use crate::geometry::ScrewKind;
+use crate::report::check::BaselineChanges;
 use crate::report::rig::rig_report;
 use crate::report::CheckReport;
 use std::collections::BTreeMap;
@@ -25,8 +35,13 @@ pub struct CheckOptions {
     pub paths: Vec<PathBuf>,
     /// Compare against this baseline.
     pub baseline: Option<PathBuf>,
-    /// Write the current state as a baseline.
+    /// Write the current state as a baseline: the checked files' entries
+    /// added or updated, the others kept unless `prune`.
     pub write_baseline: Option<PathBuf>,
+    /// With `write_baseline`: drop the entries of files not checked this run.
+    pub prune: bool,
+    /// Globs of files and directories the walk skips (`--exclude`).
+    pub exclude: Vec<String>,
     /// Also check these frame pairs wherever both frames exist.
     pub pairs: Vec<(String, String)>,
     /// A finding when a checked pair's lever arm exceeds this (m).
@@ -39,21 +54,36 @@ pub struct CheckOptions {
     pub pitch_tol: f64,
     /// How files are read (joint values, size cap).
     pub load: LoadOptions,
-    /// Warnings accepted: reported, but not a problem.
+    /// Codes accepted: reported at severity warning, never a problem.
     pub allow: Vec<Code>,
+    /// Codes refused: reported at severity error.
+    pub deny: Vec<Code>,
+    /// Every warning is a problem (`--deny-warnings`).
+    pub deny_warnings: bool,
 }
 
-fn key_of(p: &Path) -> String {
-    p.to_string_lossy().replace('\\', "/")
+impl CheckOptions {
+    /// The severity policy (docs/check.md): `--allow CODE` makes a warning,
+    /// `--deny CODE` and `--deny-warnings` make an error; otherwise the
+    /// diagnostic's own severity (a reader's warning raised to an error beyond
+    /// rounding), and a unit mistake is always an error in a check.
+    pub fn severity(&self, d: &Diagnostic) -> Severity {
+        if self.allow.contains(&d.code) {
+            Severity::Warning
+        } else if self.deny.contains(&d.code)
+            || (self.deny_warnings && d.severity == Severity::Warning)
+            || CHECK_ERRORS.contains(&d.code)
+        {
+            Severity::Error
+        } else {
+            d.severity
+        }
+    }
 }
 
-/// Warnings that are findings in a check (the input is suspicious, not just noted).
-fn warning_is_problem(code: Code) -> bool {
-    matches!(
-        code,
-        Code::NonOrthonormalRotation | Code::NonUnitQuaternion | Code::MillimetresInMetreField
-    )
-}
+/// Reader warnings that are errors in a check whatever their size: a unit
+/// mistake is never rounding.
+pub const CHECK_ERRORS: &[Code] = &[Code::MillimetresInMetreField];
 
 fn same_file(a: &Path, b: &Path) -> bool {
     match (a.canonicalize(), b.canonicalize()) {
@@ -63,11 +93,11 @@ fn same_file(a: &Path, b: &Path) -> bool {
 }
 
 /// The checked files for a message: all of them up to 5, then a count.
-fn checked_list(files: &[PathBuf]) -> String {
+fn checked_list(files: &[Found]) -> String {
     let mut v: Vec<String> = files
         .iter()
         .take(5)
-        .map(|f| f.display().to_string())
+        .map(|f| f.path.display().to_string())
         .collect();
     if files.len() > 5 {
         v.push(format!("and {} more", files.len() - 5));
@@ -75,107 +105,235 @@ fn checked_list(files: &[PathBuf]) -> String {
     v.join(", ")
 }
 
+/// Files loaded into one frame graph (a robot of the manifest, or one file).
+#[derive(Debug, Clone, Default)]
+pub struct Robot {
+    /// The manifest's name (`None`: a file on its own).
+    pub name: Option<String>,
+    /// Its files, in load order.
+    pub files: Vec<Found>,
+    /// Frames renamed as the files are loaded.
+    pub renames: Vec<Rename>,
+    /// Frame pairs to check besides the rig files' declared ones.
+    pub pairs: Vec<(String, String)>,
+}
+
+/// A launch file (`.launch`, `.launch.py`, `.launch.xml`, `.launch.yaml`)
+/// that names neither `static_transform_publisher` nor `Extrinsic_Tlb` holds
+/// no calibration: most launch files of a ROS package start nodes.
+fn launch_without_transforms(f: &Found, max_size: u64) -> bool {
+    let name = f
+        .path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    let launch = name.ends_with(".launch")
+        || [".launch.py", ".launch.xml", ".launch.yaml", ".launch.yml"]
+            .iter()
+            .any(|x| name.ends_with(x));
+    if !launch || std::fs::metadata(&f.path).map_or(true, |m| m.len() > max_size) {
+        return false;
+    }
+    std::fs::read(&f.path).is_ok_and(|b| {
+        let t = String::from_utf8_lossy(&b);
+        !t.contains("static_transform_publisher") && !t.contains("Extrinsic_Tlb")
+    })
+}
+
+/// A robot's graph as its files load: the declared pairs (with the index of
+/// the declaring file's state), how many frames each rename changed, how many
+/// files loaded.
+struct RobotGraph {
+    graph: FrameGraph,
+    declared: Vec<(String, String, usize)>,
+    renamed: Vec<usize>,
+    states: usize,
+}
+
+/// One checked file's state: its record and where its values are written.
+struct FileState {
+    found: Found,
+    record: BaselineFile,
+    locations: Locations,
+}
+
 struct Checker<'a> {
     opts: &'a CheckOptions,
     findings: Vec<Diagnostic>,
+    pairs_found: Vec<bool>,
+}
+
+fn loc_of(l: &Location) -> Location {
+    Location {
+        file: None,
+        line: l.line,
+        column: l.column,
+    }
 }
 
 impl Checker<'_> {
     /// A reader's error as a finding on `file`.
-    fn error(&mut self, file: &str, e: &Error) {
+    fn error(&mut self, file: &Path, e: &Error) {
         self.findings
             .push(e.clone().with_severity(Severity::Error).in_file(file));
     }
 
-    fn warning(&mut self, file: &str, w: &Warning) {
-        let sev = if warning_is_problem(w.code) && !self.opts.allow.contains(&w.code) {
-            Severity::Error
-        } else {
-            Severity::Warning
-        };
-        let mut d = w.clone().with_severity(sev);
-        // The finding names the checked file; the line is the warning's own.
-        d.location = Location {
-            file: Some(PathBuf::from(file)),
-            line: w.location.line,
-            column: None,
-        };
-        self.findings.push(d);
+    fn warning(&mut self, file: &Path, w: &Warning) {
+        self.findings.push(w.clone().in_file(file));
     }
 
-    fn push(&mut self, code: Code, file: &str, line: Option<usize>, message: String) {
-        let mut d = Diagnostic::new(code, message);
-        if !file.is_empty() {
-            d.location = Location {
-                file: Some(PathBuf::from(file)),
-                line,
-                column: None,
-            };
-        }
-        self.findings.push(d);
+    fn push(&mut self, code: Code, at: Location, message: String) {
+        self.findings.push(Diagnostic::new(code, message).at(&at));
     }
 
-    /// Check one file; returns its baseline record when it loaded.
-    fn check_file(
+    /// Load one file of a robot into its graph; its state when it loaded.
+    fn load_into(
         &mut self,
-        path: &Path,
-        pairs_found: &mut [bool],
-    ) -> Result<Option<BaselineFile>> {
-        let file = key_of(path);
-        let loaded = match formats::load_file(path, &self.opts.load) {
+        robot: &Robot,
+        f: &Found,
+        acc: &mut RobotGraph,
+    ) -> Result<Option<FileState>> {
+        let index = acc.states;
+        if launch_without_transforms(f, self.opts.load.max_file_size) {
+            self.findings.push(
+                Diagnostic::new(
+                    Code::Ignored,
+                    "launch file without static_transform_publisher or Extrinsic_Tlb: no calibration in it, not read",
+                )
+                .at(&Location::file(&f.path)),
+            );
+            return Ok(None);
+        }
+        let mut loaded = match formats::load_file(&f.path, &self.opts.load) {
             Ok(l) => l,
             Err(e) if e.code == Code::Io => return Err(e),
             Err(e) => {
-                self.error(&file, &e);
+                self.error(&f.path, &e);
                 return Ok(None);
             }
         };
-        let rig_pair = loaded
+        for (n, hits) in
+            acc.renamed
+                .iter_mut()
+                .zip(apply_renames(&robot.renames, &f.path, &mut loaded))
+        {
+            *n += hits;
+        }
+        if let Some(m) = loaded
             .rig
             .as_ref()
             .filter(|m| !m.from.is_empty() && !m.to.is_empty())
-            .map(|m| (m.from.clone(), m.to.clone(), true));
-        let mut graph = FrameGraph::new();
-        if let Err(e) = graph.add(loaded) {
-            self.error(&file, &e);
-            return Ok(None);
+        {
+            acc.declared.push((m.from.clone(), m.to.clone(), index));
         }
-        for w in graph.warnings().to_vec() {
-            self.warning(&file, &w);
+        let mut locations = Locations::new();
+        for e in &loaded.edges {
+            locations.insert(
+                (e.parent.clone(), e.child.clone()),
+                loc_of(&e.provenance.location),
+            );
         }
-        let frames = graph.frames();
-        let mut record = BaselineFile {
-            edges: graph
-                .edges()
+        let record = BaselineFile {
+            edges: loaded
+                .edges
                 .iter()
                 .map(BaselineTransform::of_edge)
                 .collect(),
             pairs: Vec::new(),
         };
-        let mut pairs: Vec<(String, String, bool)> = rig_pair.into_iter().collect();
-        for (i, (a, b)) in self.opts.pairs.iter().enumerate() {
-            if frames.contains(a) && frames.contains(b) {
-                pairs_found[i] = true;
-                pairs.push((a.clone(), b.clone(), false));
+        for w in &loaded.warnings {
+            self.warning(&f.path, w);
+        }
+        // Edge by edge: a conflict (the same edge with other values in another
+        // file, a cycle, two parents) is a finding naming both places; the
+        // file's other edges still load.
+        for e in loaded.edges {
+            if let Err(err) = acc.graph.add_edge(e) {
+                self.error(&f.path, &err);
             }
         }
-        for (from, to, declared) in pairs {
-            if let Some(p) = self.check_pair(&graph, &file, &from, &to, declared) {
-                record.pairs.push(p);
-            }
-        }
-        Ok(Some(record))
+        Ok(Some(FileState {
+            found: f.clone(),
+            record,
+            locations,
+        }))
     }
 
-    /// The rules on one frame pair; its baseline record when it composes.
+    /// Check one robot: its files into one graph, then its pairs.
+    fn check_robot(&mut self, robot: &Robot) -> Result<Vec<FileState>> {
+        let mut acc = RobotGraph {
+            graph: FrameGraph::new(),
+            declared: Vec::new(),
+            renamed: vec![0; robot.renames.len()],
+            states: 0,
+        };
+        let mut states: Vec<FileState> = Vec::new();
+        for f in &robot.files {
+            if let Some(st) = self.load_into(robot, f, &mut acc)? {
+                states.push(st);
+                acc.states += 1;
+            }
+        }
+        if let Some(i) = acc.renamed.iter().position(|&n| n == 0) {
+            let r = &robot.renames[i];
+            return Err(Error::usage(format!(
+                "audit.toml: robot {:?}: rename {} -> {}: expected a frame `{}` in {}, found none",
+                robot.name.as_deref().unwrap_or(""),
+                r.old,
+                r.new,
+                r.old,
+                r.file.as_deref().unwrap_or("its files")
+            )));
+        }
+        let RobotGraph {
+            graph, declared, ..
+        } = acc;
+        let Some(first) = states.first() else {
+            return Ok(states);
+        };
+        let first_path = first.found.path.clone();
+        for w in graph.warnings().to_vec() {
+            let file = w
+                .location
+                .file
+                .clone()
+                .unwrap_or_else(|| first_path.clone());
+            self.warning(&file, &w);
+        }
+        let frames = graph.frames();
+        let mut pairs: Vec<(String, String, bool, usize)> = declared
+            .into_iter()
+            .map(|(a, b, i)| (a, b, true, i))
+            .collect();
+        for (a, b) in &robot.pairs {
+            pairs.push((a.clone(), b.clone(), false, 0));
+        }
+        for (i, (a, b)) in self.opts.pairs.iter().enumerate() {
+            if frames.contains(a) && frames.contains(b) {
+                self.pairs_found[i] = true;
+                pairs.push((a.clone(), b.clone(), false, 0));
+            }
+        }
+        for (from, to, declared, i) in pairs {
+            let st = &mut states[i];
+            if let Some((p, at)) = self.check_pair(&graph, &st.found.path, &from, &to, declared) {
+                st.locations.insert((from.clone(), to.clone()), at);
+                st.record.pairs.push(p);
+            }
+        }
+        Ok(states)
+    }
+
+    /// The rules on one frame pair; its baseline record (and the line of its
+    /// last edge) when it composes.
     fn check_pair(
         &mut self,
         graph: &FrameGraph,
-        file: &str,
+        file: &Path,
         from: &str,
         to: &str,
         declared: bool,
-    ) -> Option<BaselinePair> {
+    ) -> Option<(BaselinePair, Location)> {
         let chain = match graph.transform(from, to) {
             Ok(c) => c,
             Err(mut e) => {
@@ -196,15 +354,17 @@ impl Checker<'_> {
                 return None;
             }
         };
-        let line = chain
+        let at = chain
             .steps
             .last()
-            .and_then(|s| s.edge.provenance.location.line);
+            .map(|s| loc_of(&s.edge.provenance.location))
+            .unwrap_or_default();
+        let mut here = at.clone();
+        here.file = Some(file.to_path_buf());
         if let Some(max) = self.opts.max_lever_arm.filter(|m| rep.lever_arm_m > *m) {
             self.push(
                 Code::LeverArm,
-                file,
-                line,
+                here.clone(),
                 format!(
                     "{from} -> {to}: lever arm {:.6} m exceeds --max-lever-arm {max} m",
                     rep.lever_arm_m
@@ -220,78 +380,289 @@ impl Checker<'_> {
                 .unwrap_or_else(|| "a pure translation (infinite pitch)".into());
             self.push(
                 Code::NonzeroPitch,
-                file,
-                line,
+                here,
                 format!(
                     "{from} -> {to}: expected zero screw pitch (|h| <= {:e} m), found {h}",
                     self.opts.pitch_tol
                 ),
             );
         }
-        Some(BaselinePair {
+        let pair = BaselinePair {
             transform: BaselineTransform::new(from, to, &chain.transform),
             lever_arm_m: rep.lever_arm_m,
             screw_kind: rep.screw.kind.name().to_string(),
             zero_pitch: rep.screw.kind == ScrewKind::ZeroPitch,
             adapted_metric_exists: rep.adapted_metric.exists,
-        })
+            declared,
+        };
+        Some((pair, at))
     }
 }
 
-/// Run the check; writes the baseline when asked.
-pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
-    let base = opts.baseline.as_deref().map(baseline::read).transpose()?;
-    let mut files = expand_paths(&opts.paths, is_calibration_file)?;
-    files.retain(|f| {
-        ![&opts.baseline, &opts.write_baseline]
-            .iter()
-            .any(|b| b.as_deref().is_some_and(|b| same_file(f, b)))
-    });
-    if files.is_empty() {
-        return Err(Error::usage(
-            "no calibration files found under the given paths",
-        ));
-    }
-    let mut ck = Checker {
-        opts,
-        findings: Vec::new(),
-    };
-    let mut pairs_found = vec![false; opts.pairs.len()];
-    let mut current = Baseline {
-        schema_version: 1,
-        files: BTreeMap::new(),
-    };
-    for f in &files {
-        if let Some(rec) = ck.check_file(f, &mut pairs_found)? {
-            current.files.insert(key_of(f), rec);
+/// Group the files into robots: each checked directory's `audit.toml`
+/// robots (their files loaded together), then every other file on its own.
+/// The manifests themselves are not calibration files.
+fn robots(opts: &CheckOptions, files: &mut Vec<Found>) -> Result<Vec<Robot>> {
+    files.retain(|f| f.path.file_name().is_none_or(|n| n != manifest::MANIFEST));
+    let mut out = Vec::new();
+    let mut grouped: Vec<PathBuf> = Vec::new();
+    for dir in opts.paths.iter().filter(|p| p.is_dir()) {
+        for r in manifest::read(dir)? {
+            for f in &r.files {
+                grouped.extend(f.path.canonicalize().ok());
+                if !files.iter().any(|x| same_file(&x.path, &f.path)) {
+                    files.push(f.clone());
+                }
+            }
+            out.push(Robot {
+                name: Some(r.name),
+                files: r.files,
+                renames: r.renames,
+                pairs: r.pairs,
+            });
         }
     }
-    for (i, found) in pairs_found.iter().enumerate() {
+    for f in files.iter() {
+        let canon = f.path.canonicalize().ok();
+        if !canon.is_some_and(|c| grouped.contains(&c)) {
+            out.push(Robot {
+                files: vec![f.clone()],
+                ..Robot::default()
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The directory a baseline file's keys are relative to.
+fn dir_of(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+fn refused(path: &Path, why: String) -> Error {
+    Error::usage(format!("--write-baseline: refused, nothing written: {why}")).in_file(path)
+}
+
+/// Refuse a `--write-baseline` target that is a checked input or exists and is
+/// not a regular file holding a baseline; the existing baseline when there is
+/// one. Runs before anything is written.
+fn write_target(path: &Path, files: &[Found], given: &[PathBuf]) -> Result<Option<Baseline>> {
+    let link = match std::fs::symlink_metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            let dir = dir_of(path);
+            if !std::fs::metadata(&dir).is_ok_and(|m| m.is_dir()) {
+                return Err(refused(
+                    path,
+                    format!(
+                        "expected an existing directory {}, found none",
+                        dir.display()
+                    ),
+                ));
+            }
+            return Ok(None);
+        }
+        Err(e) => return Err(Error::io(path, &e)),
+    };
+    let meta = std::fs::metadata(path).map_err(|e| {
+        refused(
+            path,
+            format!("a symlink that leads nowhere ({e}): expected a regular file"),
+        )
+    })?;
+    if !meta.is_file() {
+        let what = if meta.is_dir() {
+            "a directory"
+        } else {
+            "not a regular file (a device, FIFO or socket)"
+        };
+        let via = if link.file_type().is_symlink() {
+            "a symlink to "
+        } else {
+            ""
+        };
+        return Err(refused(
+            path,
+            format!("expected a regular file, found {via}{what}"),
+        ));
+    }
+    if files.iter().any(|f| same_file(&f.path, path)) || given.iter().any(|g| same_file(g, path)) {
+        return Err(refused(
+            path,
+            "it is one of the checked calibration files: expected a separate baseline file".into(),
+        ));
+    }
+    baseline::read(path).map(Some).map_err(|e| {
+        refused(
+            path,
+            format!("it exists and is not a baseline ({})", e.message),
+        )
+    })
+}
+
+/// The checked files keyed for a baseline kept in `dir`.
+fn keyed<'a>(states: &'a [FileState], dir: &Path) -> Result<BTreeMap<String, CheckedFile<'a>>> {
+    let mut out = BTreeMap::new();
+    for st in states {
+        let key = baseline::key_for(&st.found.path, &st.found.root, dir)?;
+        out.insert(
+            key,
+            CheckedFile {
+                path: &st.found.path,
+                record: &st.record,
+                locations: &st.locations,
+            },
+        );
+    }
+    Ok(out)
+}
+
+/// Merge the checked files into `old` (or replace it with `prune`); what
+/// changed.
+fn merge(
+    old: Option<Baseline>,
+    now: &BTreeMap<String, CheckedFile>,
+    prune: bool,
+    path: &Path,
+) -> (Baseline, BaselineChanges) {
+    let old = old.unwrap_or(Baseline {
+        schema_version: 1,
+        files: BTreeMap::new(),
+    });
+    let mut ch = BaselineChanges {
+        path: path.to_string_lossy().replace('\\', "/"),
+        ..BaselineChanges::default()
+    };
+    let mut files = if prune {
+        BTreeMap::new()
+    } else {
+        old.files.clone()
+    };
+    for (k, f) in now {
+        match old.files.get(k) {
+            None => ch.added.push(k.clone()),
+            Some(r) if r != f.record => ch.updated.push(k.clone()),
+            Some(_) => ch.unchanged += 1,
+        }
+        files.insert(k.clone(), f.record.clone());
+    }
+    if prune {
+        ch.removed = old
+            .files
+            .keys()
+            .filter(|k| !now.contains_key(*k))
+            .cloned()
+            .collect();
+    }
+    (
+        Baseline {
+            schema_version: 1,
+            files,
+        },
+        ch,
+    )
+}
+
+fn write_baseline(path: &Path, b: &Baseline) -> Result<()> {
+    // Never write an empty or partial baseline: a serialisation error is an
+    // error, not "".
+    let mut text = serde_json::to_string_pretty(b).map_err(|e| {
+        Error::new(Code::Io, format!("cannot serialise the baseline: {e}")).in_file(path)
+    })?;
+    text.push('\n');
+    write_atomic(path, text.as_bytes())
+}
+
+/// Run the check; writes the baseline when asked (after refusing a target
+/// that is an input or not a regular baseline file, before reading anything).
+pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
+    let mut walked = walk(&opts.paths, &opts.exclude)?;
+    walked.files.retain(|f| {
+        !opts
+            .baseline
+            .as_deref()
+            .is_some_and(|b| same_file(&f.path, b))
+            && !baseline::is_baseline_file(&f.path)
+    });
+    let given: Vec<PathBuf> = opts
+        .paths
+        .iter()
+        .filter(|p| !baseline::is_baseline_file(p))
+        .cloned()
+        .collect();
+    let old = match &opts.write_baseline {
+        Some(p) => write_target(p, &walked.files, &given)?,
+        None => None,
+    };
+    if let Some(b) = opts.baseline.as_deref().filter(|b| !b.exists()) {
+        return Err(Error::usage(format!(
+            "--baseline {}: no such file; write one first with `audit check PATHS --write-baseline {}` and commit it",
+            b.display(),
+            b.display()
+        ))
+        .in_file(b));
+    }
+    let base = opts.baseline.as_deref().map(baseline::read).transpose()?;
+    if walked.files.is_empty() {
+        // Only baselines or manifests given (a commit that changes only the
+        // baseline): nothing to check, nothing wrong.
+        let only_skipped = opts.paths.iter().all(|p| {
+            p.is_file()
+                && (baseline::is_baseline_file(p)
+                    || p.file_name().is_some_and(|n| n == manifest::MANIFEST))
+        });
+        if !only_skipped || opts.write_baseline.is_some() {
+            return Err(Error::usage(
+                "no calibration files found under the given paths",
+            ));
+        }
+    }
+    let robots = robots(opts, &mut walked.files)?;
+    let mut ck = Checker {
+        opts,
+        findings: std::mem::take(&mut walked.findings),
+        pairs_found: vec![false; opts.pairs.len()],
+    };
+    let mut states = Vec::new();
+    for r in &robots {
+        states.extend(ck.check_robot(r)?);
+    }
+    for (i, found) in ck.pairs_found.clone().iter().enumerate() {
         if !found {
             let (a, b) = &opts.pairs[i];
             ck.push(
                 Code::Frame,
-                "",
-                None,
+                Location::default(),
                 format!(
                     "--pair {a}:{b}: no checked file has both frames (checked: {})",
-                    checked_list(&files)
+                    checked_list(&walked.files)
                 ),
             );
         }
     }
-    if let Some(base) = &base {
-        ck.findings
-            .extend(baseline::compare(&current, base, opts.drift));
+    if let (Some(base), Some(path)) = (&base, &opts.baseline) {
+        let dir = dir_of(path);
+        ck.findings.extend(baseline::compare(
+            &keyed(&states, &dir)?,
+            base,
+            &dir,
+            opts.drift,
+        ));
     }
+    let mut changes = None;
     if let Some(path) = &opts.write_baseline {
-        // Never write an empty or partial baseline: a serialisation error is
-        // an error, not "".
-        let mut text = serde_json::to_string_pretty(&current).map_err(|e| {
-            Error::new(Code::Io, format!("cannot serialise the baseline: {e}")).in_file(path)
-        })?;
-        text.push('\n');
-        write_atomic(path, text.as_bytes())?;
+        let now = keyed(&states, &dir_of(path))?;
+        let (new, ch) = merge(old, &now, opts.prune, path);
+        write_baseline(path, &new)?;
+        changes = Some(ch);
     }
-    Ok(CheckReport::new(files.len(), ck.findings))
+    for f in &mut ck.findings {
+        f.severity = opts.severity(f);
+    }
+    let mut report = CheckReport::new(walked.files.len(), ck.findings);
+    report.baseline_written = changes;
+    Ok(report)
 }

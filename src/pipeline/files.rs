@@ -5,47 +5,15 @@ use crate::diagnostic::{Code, Error, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Deepest directory level walked below a given directory (a calibration tree
-/// is shallow; a symlink loop must not hang the walk).
-const MAX_WALK_DEPTH: usize = 16;
-
-/// Expand directories (recursively, sorted) into the files `accept` takes;
-/// plain files are taken as given.
+/// Expand directories (recursively, sorted; symlinked directories followed
+/// once) into the files `accept` takes; plain files are taken as given. A
+/// directory beyond `MAX_WALK_DEPTH` is an error, never skipped silently.
 pub fn expand_paths(paths: &[PathBuf], accept: fn(&Path) -> bool) -> Result<Vec<PathBuf>> {
-    let mut out = Vec::new();
-    for p in paths {
-        let meta = std::fs::metadata(p).map_err(|e| Error::io(p, &e))?;
-        if meta.is_dir() {
-            let mut found = Vec::new();
-            walk(p, accept, &mut found, 0)?;
-            found.sort();
-            out.extend(found);
-        } else {
-            out.push(p.clone());
-        }
+    let walked = super::walk::walk_with(paths, &[], accept)?;
+    if let Some(limit) = walked.findings.into_iter().find(|d| d.code == Code::Limit) {
+        return Err(limit);
     }
-    Ok(out)
-}
-
-fn walk(dir: &Path, accept: fn(&Path) -> bool, out: &mut Vec<PathBuf>, depth: usize) -> Result<()> {
-    if depth > MAX_WALK_DEPTH {
-        return Ok(());
-    }
-    let rd = std::fs::read_dir(dir).map_err(|e| Error::io(dir, &e))?;
-    for entry in rd {
-        let entry = entry.map_err(|e| Error::io(dir, &e))?;
-        let path = entry.path();
-        let ft = entry.file_type().map_err(|e| Error::io(&path, &e))?;
-        // A rosbag2 folder (metadata.yaml + its files) is one input.
-        if ft.is_dir() && accept(&path) && crate::formats::bag::is_bag(&path) {
-            out.push(path);
-        } else if ft.is_dir() {
-            walk(&path, accept, out, depth + 1)?;
-        } else if accept(&path) {
-            out.push(path);
-        }
-    }
-    Ok(())
+    Ok(walked.files.into_iter().map(|f| f.path).collect())
 }
 
 /// Write a file atomically: a temporary file `.NAME.tmp.PID` in the same
@@ -54,7 +22,8 @@ fn walk(dir: &Path, accept: fn(&Path) -> bool, out: &mut Vec<PathBuf>, depth: us
 /// the old file complete; a failed write removes the temporary and leaves the
 /// old file. A process killed mid-write may leave its own temporary (nothing
 /// runs after SIGKILL); a later run with the same pid overwrites it.
-/// A symlink at `path` is replaced by the file, not followed.
+/// A symlink at `path` is replaced by the file, not followed. An existing
+/// regular file's permissions are carried over to the new one.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -68,6 +37,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let res = (|| -> std::io::Result<()> {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
+        // An existing file keeps its mode (a 0600 baseline stays 0600).
+        if let Some(m) = std::fs::metadata(path).ok().filter(|m| m.is_file()) {
+            f.set_permissions(m.permissions())?;
+        }
         f.sync_all()?;
         drop(f);
         std::fs::rename(&tmp, path)?;

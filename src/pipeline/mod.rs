@@ -6,9 +6,11 @@
 mod check;
 pub mod detector;
 pub mod files;
+pub mod manifest;
 mod survey;
+pub mod walk;
 
-pub use check::{check, CheckOptions};
+pub use check::{check, CheckOptions, Robot};
 pub use files::{expand_paths, write_atomic};
 pub use survey::{survey, SortColumn, SurveyOptions};
 

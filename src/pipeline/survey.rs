@@ -45,8 +45,11 @@ pub struct SurveyOptions {
     pub sort: Option<SortColumn>,
 }
 
+/// A `.toml` file other than a check manifest (`audit.toml`).
 fn is_rig_file(p: &Path) -> bool {
     p.extension().is_some_and(|e| e == "toml")
+        && p.file_name()
+            .is_some_and(|n| n != super::manifest::MANIFEST)
 }
 
 /// Load and analyse one rig file; its warnings go to `warnings`.

@@ -2,7 +2,7 @@
 //! blank line before every paragraph so that none is read as a table row.
 
 use super::document::{Block, Document, Table};
-use super::text::diagnostic_line;
+use crate::diagnostic::{Diagnostic, Severity};
 
 /// Render a document as markdown.
 pub fn render(doc: &Document) -> String {
@@ -27,12 +27,11 @@ pub fn render(doc: &Document) -> String {
             }
             Block::Table(t) if !t.data_only => s.push_str(&table(t)),
             Block::Table(_) => {}
-            Block::Diagnostics(ds) => {
+            Block::Diagnostics(ds) if !ds.is_empty() => {
                 paragraph_break(&mut s);
-                for d in ds {
-                    s.push_str(&format!("- `{}`\n", diagnostic_line(d).replace('`', "'")));
-                }
+                s.push_str(&diagnostics_table(ds));
             }
+            Block::Diagnostics(_) => {}
         }
     }
     s
@@ -75,4 +74,29 @@ pub fn table(t: &Table) -> String {
         ));
     }
     s
+}
+
+/// Diagnostics as a table (a job summary): severity, code, place, message.
+fn diagnostics_table(ds: &[Diagnostic]) -> String {
+    let rows = ds
+        .iter()
+        .map(|d| {
+            let sev = match d.severity {
+                Severity::Error => "**error**",
+                Severity::Warning => "warning",
+            };
+            let place = if d.location.is_empty() {
+                String::new()
+            } else {
+                format!("`{}`", d.location.to_string().replace('`', "'"))
+            };
+            vec![
+                sev.to_string(),
+                format!("`{}`", d.code),
+                place,
+                d.message.clone(),
+            ]
+        })
+        .collect();
+    table(&Table::new(&["severity", "code", "where", "message"], rows))
 }

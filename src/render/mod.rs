@@ -11,6 +11,7 @@ mod document;
 mod github;
 mod markdown;
 pub mod numbers;
+mod sarif;
 mod style;
 mod text;
 
@@ -35,6 +36,8 @@ pub enum OutputFormat {
     Github,
     /// The data tables as CSV.
     Csv,
+    /// SARIF 2.1.0 for GitHub code scanning (the diagnostics only).
+    Sarif,
 }
 
 /// A typed report: serialised for JSON, laid out as a document for the rest.
@@ -60,5 +63,6 @@ pub fn render<R: Report>(report: &R, format: OutputFormat, style: Style) -> Resu
         OutputFormat::Markdown => markdown::render(&report.document()),
         OutputFormat::Github => github::render(&report.document()),
         OutputFormat::Csv => csv::render(&report.document()),
+        OutputFormat::Sarif => sarif::render(&report.document()),
     })
 }

@@ -19,6 +19,48 @@ pub struct CheckReport {
     pub warnings: usize,
     /// Every finding, in the order found.
     pub findings: Vec<Diagnostic>,
+    /// What `--write-baseline` changed (`null` when no baseline was written).
+    pub baseline_written: Option<BaselineChanges>,
+}
+
+/// What `--write-baseline` changed, by baseline key.
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct BaselineChanges {
+    /// The baseline written.
+    pub path: String,
+    /// Entries of files new to the baseline.
+    pub added: Vec<String>,
+    /// Entries dropped (`--prune`: files not checked this run).
+    pub removed: Vec<String>,
+    /// Entries whose record changed.
+    pub updated: Vec<String>,
+    /// Entries checked and unchanged.
+    pub unchanged: usize,
+}
+
+impl BaselineChanges {
+    /// `wrote baseline P: A added, R removed, U updated, N unchanged`, then one
+    /// line per changed entry.
+    pub fn lines(&self) -> String {
+        let mut s = format!(
+            "wrote baseline {}: {} added, {} removed, {} updated, {} unchanged",
+            self.path,
+            self.added.len(),
+            self.removed.len(),
+            self.updated.len(),
+            self.unchanged
+        );
+        for (what, keys) in [
+            ("added", &self.added),
+            ("removed", &self.removed),
+            ("updated", &self.updated),
+        ] {
+            for k in keys {
+                s.push_str(&format!("\n  {what}: {k}"));
+            }
+        }
+        s
+    }
 }
 
 impl CheckReport {
@@ -34,6 +76,7 @@ impl CheckReport {
             problems,
             warnings: findings.len() - problems,
             findings,
+            baseline_written: None,
         }
     }
 
@@ -57,8 +100,20 @@ impl CheckReport {
 impl Report for CheckReport {
     fn document(&self) -> Document {
         let mut doc = Document::new();
+        let verdict = if self.problems == 0 {
+            "audit check: passed"
+        } else {
+            "audit check: FAILED"
+        };
+        doc.push(Block::Headline {
+            text: verdict.to_string(),
+            good: self.problems == 0,
+        });
         doc.push(Block::Diagnostics(self.findings.clone()));
         doc.text(self.summary_line());
+        if let Some(b) = &self.baseline_written {
+            doc.text(b.lines());
+        }
         doc
     }
 }

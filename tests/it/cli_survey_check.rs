@@ -145,12 +145,13 @@ fn calibrations_readme_table_is_current() {
 
 #[test]
 fn check_shipped_calibrations() {
-    // Four published rotations are printed with 4 to 6 digits: flagged.
+    // Four published rotations are printed with 4 to 6 digits: rounding, a
+    // warning that does not fail the gate (docs/check.md).
     let (code, out, err) = run(&["check", "calibrations/"]);
-    assert_eq!(code, 1, "{out}{err}");
+    assert_eq!(code, 0, "{out}{err}");
     let flagged: Vec<&str> = out
         .lines()
-        .filter(|l| l.contains("error[non-orthonormal-rotation]"))
+        .filter(|l| l.contains("warning[non-orthonormal-rotation]"))
         .map(|l| l.split(':').next().unwrap())
         .collect();
     assert_eq!(
@@ -166,19 +167,19 @@ fn check_shipped_calibrations() {
         out.contains("||R^T R - I||_F = 1.272e-4"),
         "GEODE alpha's 4-digit rotation: {out}"
     );
-    assert!(out.contains("checked 42 files: 4 problems"), "{out}");
-    // Accepted by name: still reported, no longer a problem.
-    let (code, out, _) = run(&[
-        "check",
-        "calibrations/",
-        "--allow",
-        "non-orthonormal-rotation",
-    ]);
-    assert_eq!(code, 0, "{out}");
     assert!(
         out.contains("checked 42 files: 0 problems, 4 warnings"),
         "{out}"
     );
+    // Refused by name: a problem.
+    let (code, out, _) = run(&[
+        "check",
+        "calibrations/",
+        "--deny",
+        "non-orthonormal-rotation",
+    ]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("checked 42 files: 4 problems"), "{out}");
     let (code, _, _) = run(&["check", "calibrations/", "--allow", "no-such-warning"]);
     assert_eq!(code, 2);
 }
@@ -213,7 +214,8 @@ fn check_exit_codes_findings_and_baseline() {
     assert_eq!(code, 0, "{out}{err}");
     let b: Value = serde_json::from_str(&std::fs::read_to_string(&base).unwrap()).unwrap();
     assert_eq!(b["schema_version"], 1);
-    let rec = &b["files"][good.to_str().unwrap()];
+    // Keyed relative to the baseline's directory.
+    let rec = &b["files"]["rig.yaml"];
     assert!((num(&rec["edges"][0]["translation_m"][0]) - 0.04165).abs() < 1e-15);
     assert_eq!(rec["pairs"][0]["screw_kind"], "pure_translation");
 
@@ -237,7 +239,7 @@ fn check_exit_codes_findings_and_baseline() {
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("::error file="), "{out}");
     assert!(out.contains("title=drift::"), "{out}");
-    assert!(out.contains("moved 0.002000 m"), "{out}");
+    assert!(out.contains("moved 2.000 mm (tolerance 1.000 mm)"), "{out}");
     // 2 mm is within a 5 mm tolerance.
     let (code, _, _) = against_baseline(&["--max-translation-drift", "0.005"]);
     assert_eq!(code, 0);

@@ -4,6 +4,8 @@
 //! `points_*` and `scene_*` the degeneracy wing), helpers in `common`.
 
 mod calibrations;
+mod check_gate;
+mod check_hooks;
 mod cli_audit;
 mod cli_detector;
 mod cli_survey_check;

@@ -1,0 +1,201 @@
+//! The directory walk of `audit check`: which files are calibration files,
+//! directories followed through symlinks once (a loop is reported, not
+//! followed), `--exclude GLOB`, and no silent limit (a directory deeper than
+//! `MAX_WALK_DEPTH` is a `limit` finding).
+//!
+//! A calibration file: a name ending in one of the format registry's `walk`
+//! extensions (`formats::registry`, [`is_calibration_file`]: `.urdf`,
+//! `.xacro`, `.xml`, `.launch`, `.launch.py`, `.yaml`, `.yml`, `.toml`,
+//! `.json`, `.txt`), not hidden (no leading `.`), not named in
+//! `DEFAULT_WALK_EXCLUDES` (`package.xml`, `CMakeLists.txt`), not an `audit
+//! check` baseline or manifest. A FIFO, device or dangling symlink is reported
+//! (`ignored`) and never opened. Globs: `*` any characters but `/`, `**` any characters, `?`
+//! one character but `/`; a glob without `/` is matched against each file and
+//! directory name, one with `/` against the path relative to the checked
+//! directory (`/`-separated). An excluded directory is not entered.
+
+use crate::diagnostic::{Code, Diagnostic, Error, Location, Result};
+use crate::formats::is_calibration_file;
+use crate::tolerances::{DEFAULT_WALK_EXCLUDES, MAX_WALK_DEPTH};
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+/// One file found: its path (as found, under `root`) and the checked path it
+/// was found under (the file itself when it was given).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Found {
+    /// The file.
+    pub path: PathBuf,
+    /// The path given on the command line it was found under.
+    pub root: PathBuf,
+}
+
+/// What the walk found, and what it has to say (loops, limits).
+#[derive(Debug, Clone, Default)]
+pub struct Walked {
+    /// Every calibration file, each once, sorted per given path.
+    pub files: Vec<Found>,
+    /// `ignored` warnings (a symlink loop or a directory reached twice) and
+    /// `limit` errors (a directory beyond the depth limit).
+    pub findings: Vec<Diagnostic>,
+}
+
+/// Whether `text` matches `glob` (see the module doc).
+pub fn glob_match(glob: &str, text: &str) -> bool {
+    fn m(g: &[u8], t: &[u8]) -> bool {
+        match g.first() {
+            None => t.is_empty(),
+            Some(b'*') if g.get(1) == Some(&b'*') => {
+                let rest = g[2..].strip_prefix(b"/").unwrap_or(&g[2..]);
+                (0..=t.len()).any(|i| m(rest, &t[i..]) || m(&g[2..], &t[i..]))
+            }
+            Some(b'*') => (0..=t.len())
+                .take_while(|&i| i == 0 || t[i - 1] != b'/')
+                .any(|i| m(&g[1..], &t[i..])),
+            Some(b'?') => t.first().is_some_and(|&c| c != b'/') && m(&g[1..], &t[1..]),
+            Some(&c) => t.first() == Some(&c) && m(&g[1..], &t[1..]),
+        }
+    }
+    m(glob.as_bytes(), text.as_bytes())
+}
+
+fn excluded(excludes: &[String], rel: &Path) -> bool {
+    let rel_s = rel.to_string_lossy().replace('\\', "/");
+    let name = rel
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    excludes.iter().any(|g| {
+        if g.contains('/') {
+            glob_match(g.trim_start_matches("./"), &rel_s)
+        } else {
+            glob_match(g, &name)
+        }
+    })
+}
+
+struct Walker<'a> {
+    excludes: &'a [String],
+    accept: fn(&Path) -> bool,
+    root: PathBuf,
+    visited: HashSet<PathBuf>,
+    out: Walked,
+}
+
+impl Walker<'_> {
+    fn dir(&mut self, dir: &Path, depth: usize) -> Result<()> {
+        if depth > MAX_WALK_DEPTH {
+            self.out.findings.push(
+                Diagnostic::new(
+                    Code::Limit,
+                    format!(
+                        "directory is {depth} levels below the checked path: expected at most {MAX_WALK_DEPTH} (MAX_WALK_DEPTH); its files were not checked"
+                    ),
+                )
+                .at(&Location::file(dir)),
+            );
+            return Ok(());
+        }
+        let canon = dir.canonicalize().map_err(|e| Error::io(dir, &e))?;
+        if !self.visited.insert(canon.clone()) {
+            self.out.findings.push(
+                Diagnostic::new(
+                    Code::Ignored,
+                    format!(
+                        "directory leads to {}, already walked (a symlink loop or a second link): not walked again",
+                        canon.display()
+                    ),
+                )
+                .at(&Location::file(dir)),
+            );
+            return Ok(());
+        }
+        let mut entries = Vec::new();
+        for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, &e))? {
+            entries.push(entry.map_err(|e| Error::io(dir, &e))?.path());
+        }
+        entries.sort();
+        for path in entries {
+            let rel = path.strip_prefix(&self.root).unwrap_or(&path).to_path_buf();
+            if excluded(self.excludes, &rel) {
+                continue;
+            }
+            // Follows symlinks: a link to a directory is walked (once).
+            let meta = std::fs::metadata(&path);
+            let is_dir = meta.as_ref().is_ok_and(|m| m.is_dir());
+            if is_dir && (self.accept)(&path) && crate::formats::bag::is_bag(&path) {
+                // A rosbag2 folder (metadata.yaml + its files) is one input.
+                self.out.files.push(Found {
+                    path,
+                    root: self.root.clone(),
+                });
+            } else if is_dir {
+                self.dir(&path, depth + 1)?;
+            } else if !(self.accept)(&path) || is_default_excluded(&path) {
+                continue;
+            } else if !meta.as_ref().is_ok_and(|m| m.is_file()) {
+                // A FIFO or device would block or never end; a dangling link
+                // has nothing to read.
+                self.out.findings.push(
+                    Diagnostic::new(
+                        Code::Ignored,
+                        "not a regular file (a FIFO, device, socket or dangling symlink): not read",
+                    )
+                    .at(&Location::file(&path)),
+                );
+            } else {
+                self.out.files.push(Found {
+                    path,
+                    root: self.root.clone(),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A name in `DEFAULT_WALK_EXCLUDES` (files of a ROS package that are never
+/// calibrations).
+fn is_default_excluded(path: &Path) -> bool {
+    path.file_name()
+        .is_some_and(|n| DEFAULT_WALK_EXCLUDES.iter().any(|x| n == *x))
+}
+
+/// Expand the given paths: a directory into its calibration files (walked as
+/// the module doc says), a file as given.
+pub fn walk(paths: &[PathBuf], excludes: &[String]) -> Result<Walked> {
+    walk_with(paths, excludes, is_calibration_file)
+}
+
+/// [`walk`] taking the files `accept` takes instead of calibration files.
+pub fn walk_with(
+    paths: &[PathBuf],
+    excludes: &[String],
+    accept: fn(&Path) -> bool,
+) -> Result<Walked> {
+    let mut out = Walked::default();
+    for p in paths {
+        let meta = std::fs::metadata(p).map_err(|e| Error::io(p, &e))?;
+        if !meta.is_dir() {
+            out.files.push(Found {
+                path: p.clone(),
+                root: p.clone(),
+            });
+            continue;
+        }
+        let mut w = Walker {
+            excludes,
+            accept,
+            root: p.clone(),
+            visited: HashSet::new(),
+            out: Walked::default(),
+        };
+        w.dir(p, 0)?;
+        out.files.extend(w.out.files);
+        out.findings.extend(w.out.findings);
+    }
+    let mut seen = HashSet::new();
+    out.files
+        .retain(|f| seen.insert(f.path.canonicalize().unwrap_or_else(|_| f.path.clone())));
+    Ok(out)
+}
