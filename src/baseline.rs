@@ -102,7 +102,11 @@ fn quat_angle_deg(a: [f64; 4], b: [f64; 4]) -> f64 {
 
 /// Read a baseline written by `audit check --write-baseline`.
 pub fn read(path: &Path) -> Result<Baseline> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+    let text = crate::input::read_text(
+        path,
+        crate::tolerances::MAX_BASELINE_FILE_SIZE,
+        "the baseline size cap",
+    )?;
     let b: Baseline = serde_json::from_str(&text).map_err(|e| {
         Error::new(
             Code::Io,

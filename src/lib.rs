@@ -73,6 +73,7 @@ pub mod diagnostic;
 pub mod formats;
 pub mod frames;
 pub mod geometry;
+pub mod input;
 pub mod pipeline;
 pub mod render;
 pub mod report;

@@ -109,6 +109,18 @@ pub const MAX_TRANSLATION_M: f64 = 1e6;
 /// with a large frame (tens of KiB in a debug build).
 pub const MAX_YAML_DEPTH: usize = 32;
 
+/// Largest baseline file read by `audit check --baseline` (bytes): a baseline
+/// holds one short record per edge, so 64 MiB is millions of edges.
+pub const MAX_BASELINE_FILE_SIZE: u64 = 64 * 1024 * 1024;
+
+/// Longest value (characters) a message quotes from a file before it is
+/// shortened (the head and the tail kept, with the count of what was cut).
+pub const MAX_QUOTED_CHARS: usize = 120;
+
+/// Longest message (characters) any diagnostic carries: a backstop for
+/// messages that quote several values.
+pub const MAX_MESSAGE_CHARS: usize = 2000;
+
 // ---------------------------------------------------------------------------
 // Rig analysis and verdicts (`analysis`)
 // ---------------------------------------------------------------------------

@@ -66,16 +66,9 @@ pub struct PointData {
 /// Read a point file, detecting the format from its content (`ply` magic, a PCD
 /// header) and otherwise reading CSV.
 pub fn read_points(path: &Path) -> Result<PointData> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, &e))?;
-    if meta.len() > MAX_POINT_FILE_SIZE {
-        return Err(Error::limit(format!(
-            "point file is {} bytes, more than the limit of {MAX_POINT_FILE_SIZE}",
-            meta.len()
-        ))
-        .in_file(path));
-    }
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
-    parse_points(&bytes).map_err(|e| e.in_file(path))
+    // Regular files only, reads bounded (issue 12: src/input.rs).
+    let bytes = crate::input::read_bytes(path, MAX_POINT_FILE_SIZE, "the point-file size cap")?;
+    parse_points(crate::input::strip_bom_bytes(&bytes)).map_err(|e| e.in_file(path))
 }
 
 /// Parse a point file held in memory.

@@ -9,7 +9,7 @@
 //! and `os_sensor -> os_imu`, ...), each stated in its parser's module doc and
 //! listed in the README's "Input formats" section.
 
-use crate::diagnostic::{Error, ErrorKind, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
 pub use crate::frames::{Edge, JointState, JointType, Provenance};
 use crate::tolerances::{DEFAULT_MAX_FILE_SIZE, MAX_TRANSLATION_M, METRE_FIELD_WARN_M};
 use std::collections::BTreeMap;
@@ -172,39 +172,14 @@ pub fn detect_format(path: &Path, text: &str) -> Result<Format> {
 
 /// Read one file: detect its format (or use `opts.format`), parse, validate.
 pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, &e))?;
-    if meta.is_dir() {
-        return Err(Error::new(ErrorKind::Io, "is a directory: expected a file").in_file(path));
-    }
-    if meta.len() > opts.max_file_size {
-        return Err(Error::limit(format!(
-            "file is {} bytes: expected at most {} bytes (the --max-file-size cap)",
-            meta.len(),
-            opts.max_file_size
-        ))
-        .in_file(path));
-    }
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
-    let text = match String::from_utf8(bytes) {
-        Ok(t) => t,
-        Err(e) => {
-            let off = e.utf8_error().valid_up_to();
-            let valid = std::str::from_utf8(&e.as_bytes()[..off]).unwrap_or("");
-            let (line, col) = line_col(valid, off);
-            return Err(Error::parse(format!(
-                "expected UTF-8 text, found byte 0x{:02x} (binary file?)",
-                e.as_bytes().get(off).copied().unwrap_or(0)
-            ))
-            .in_file(path)
-            .at_line(line, Some(col)));
-        }
-    };
+    let text = crate::input::read_text(path, opts.max_file_size, "the --max-file-size cap")?;
     load_str(&text, path, opts)
 }
 
 /// Parse `text` as if read from `path` (the path names the file in provenance
 /// and selects the format by extension).
 pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    let text = &*crate::input::normalize(text);
     if text.trim().is_empty() {
         return Err(Error::parse(
             "file is empty: expected a URDF, launch file, calibration YAML/JSON or text",
