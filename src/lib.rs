@@ -77,6 +77,7 @@ pub mod input;
 pub mod pipeline;
 pub mod render;
 pub mod report;
+pub mod sanitize;
 pub mod tolerances;
 
 // The types most callers need, at the crate root.

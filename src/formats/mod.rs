@@ -176,6 +176,28 @@ pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     load_str(&text, path, opts)
 }
 
+/// A NUL or a line break in a frame or joint name is an error at the edge's
+/// place: no ROS name holds one, and a line break would let a name start a
+/// line of a report or a CI log.
+fn check_names(e: &Edge) -> Result<()> {
+    let joint = e.joint.as_ref().map(|j| ("joint", j.name.as_str()));
+    let names = [("frame", e.parent.as_str()), ("frame", e.child.as_str())];
+    for (what, name) in names.into_iter().chain(joint) {
+        let bad = name
+            .chars()
+            .find(|&c| matches!(c, '\0' | '\n' | '\r' | '\u{85}' | '\u{2028}' | '\u{2029}'));
+        if let Some(c) = bad {
+            let found = if c == '\0' { "a NUL" } else { "a line break" };
+            return Err(Error::parse(format!(
+                "{what} name \"{}\" contains {found}: expected a name without control characters",
+                crate::sanitize::quote(name)
+            ))
+            .at(&e.provenance.location));
+        }
+    }
+    Ok(())
+}
+
 /// Parse `text` as if read from `path` (the path names the file in provenance
 /// and selects the format by extension).
 pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
@@ -199,6 +221,7 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         .in_file(path));
     }
     for e in &loaded.edges {
+        check_names(e).map_err(|err| err.in_file(path))?;
         let d = e.transform.translation();
         if let Some(x) = d.iter().find(|x| x.is_nan() || x.abs() > MAX_TRANSLATION_M) {
             return Err(Error::invalid(format!(

@@ -21,6 +21,7 @@ mod formats_xacro;
 mod graph_basic;
 mod graph_urdf_corpus;
 mod hostile_atomic;
+mod hostile_encodings;
 mod hostile_input;
 mod hostile_limits;
 mod hostile_numbers;
