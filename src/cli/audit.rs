@@ -1,11 +1,12 @@
 //! `audit FILE... --from A --to B`: the rig report.
 
-use super::{emit, parse_joint, parse_nonneg, parse_positive, print_warnings};
+use super::{emit, parse_joint, parse_nonneg, parse_positive, print_warnings, write_output};
 use clap::Args;
-use extrinsic_audit::diagnostic::{Code, Error, Result};
+use extrinsic_audit::diagnostic::Result;
 use extrinsic_audit::formats::{Format, LoadOptions};
 use extrinsic_audit::pipeline::{self, Rename, RigOptions};
 use extrinsic_audit::render::OutputFormat;
+use extrinsic_audit::sanitize;
 use extrinsic_audit::tolerances::{DEFAULT_ELLS, DEFAULT_MAX_FILE_SIZE};
 use std::io::Write;
 use std::path::PathBuf;
@@ -104,8 +105,10 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     print_warnings(loaded.graph.warnings());
     loaded.check_joint_names(args.joints.iter().map(|(n, _)| n.as_str()))?;
     if args.frames {
-        writeln!(out, "{}", loaded.graph.tree())
-            .map_err(|e| Error::new(Code::Io, format!("cannot write output: {e}")))?;
+        // Names cannot hold a line break (refused when loaded); the rest of
+        // what could act on a terminal or a CI log is escaped.
+        let tree = sanitize::block(&loaded.graph.tree());
+        write_output(out, &format!("{tree}\n"))?;
         return Ok(0);
     }
     let (from, to) = loaded.frame_pair(args.from.as_deref(), args.to.as_deref())?;

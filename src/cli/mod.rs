@@ -13,6 +13,7 @@ mod survey;
 use clap::{Parser, Subcommand};
 use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
 use extrinsic_audit::render::{self, OutputFormat, Report, Style};
+use extrinsic_audit::sanitize;
 use std::io::Write;
 use std::process::ExitCode;
 
@@ -98,7 +99,8 @@ pub fn main() -> ExitCode {
         Ok(code) => code,
         Err(e) => {
             let _ = out.flush();
-            eprintln!("{}: {e}", Style::stderr().error("error"));
+            let msg = sanitize::line(&e.to_string());
+            to_stderr(&format!("{}: {msg}", Style::stderr().error("error")));
             e.exit_code()
         }
     };
@@ -132,18 +134,34 @@ pub fn emit<R: Report>(report: &R, format: OutputFormat, out: &mut dyn Write) ->
         Style::plain()
     };
     let text = render::render(report, format, style)?;
-    out.write_all(text.as_bytes())
-        .map_err(|e| Error::new(Code::Io, format!("cannot write output: {e}")))
+    write_output(out, &text)
 }
 
-/// Print warnings to stderr, one per line, with their names.
+/// Write `text` to standard output. A closed pipe (`audit ... | head -1`) ends
+/// the process quietly with status 0, as `head` asked for no more.
+pub fn write_output(out: &mut dyn Write, text: &str) -> Result<()> {
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(e) => Err(Error::new(Code::Io, format!("cannot write output: {e}"))),
+    }
+}
+
+/// One line to standard error; a closed standard error is ignored (the
+/// process must not panic, as `eprintln!` does).
+fn to_stderr(line: &str) {
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
+}
+
+/// Print warnings to stderr, one per line, with their names (escaped: a
+/// warning quotes names from files).
 pub fn print_warnings(warnings: &[Warning]) {
     let st = Style::stderr();
     for w in warnings {
-        let text = w.to_string();
+        let text = sanitize::line(&w.to_string());
         match text.split_once(": ") {
-            Some((head, rest)) => eprintln!("{}: {rest}", st.bad(head)),
-            None => eprintln!("{}", st.bad(&text)),
+            Some((head, rest)) => to_stderr(&format!("{}: {rest}", st.bad(head))),
+            None => to_stderr(&st.bad(&text)),
         }
     }
 }

@@ -6,6 +6,7 @@
 mod calibrations;
 mod cli_audit;
 mod cli_detector;
+mod cli_pipes;
 mod cli_survey_check;
 mod common;
 mod core_alloc;
