@@ -44,6 +44,10 @@ pub struct AuditArgs {
     /// `fast_lio.yaml:imu=imu_link` to attach a FAST-LIO extrinsic to a URDF); repeatable
     #[arg(long = "rename", value_parser = parse_rename, value_name = "[FILE:]OLD=NEW")]
     pub renames: Vec<Rename>,
+    /// Set a launch-file arg (`$(arg NAME)`, `if="$(arg NAME)"`), overriding
+    /// the file's default; repeatable
+    #[arg(long = "arg", value_parser = parse_launch_arg, value_name = "NAME=VALUE")]
+    pub launch_args: Vec<(String, String)>,
     /// Read only this key of a YAML/JSON file (e.g. T_imu_lidar)
     #[arg(long, value_name = "NAME")]
     pub key: Option<String>,
@@ -74,8 +78,17 @@ impl AuditArgs {
             invert: self.invert,
             format,
             max_file_size: self.max_file_size,
+            launch_args: self.launch_args.iter().cloned().collect(),
             ..LoadOptions::default()
         })
+    }
+}
+
+/// `--arg NAME=VALUE`.
+pub fn parse_launch_arg(s: &str) -> std::result::Result<(String, String), String> {
+    match s.split_once('=') {
+        Some((n, v)) if !n.trim().is_empty() => Ok((n.trim().to_string(), v.to_string())),
+        _ => Err(format!("expected NAME=VALUE, found `{s}`")),
     }
 }
 

@@ -19,7 +19,10 @@
 //! Where the transforms are found:
 //! - launch XML (ROS 1 `<node pkg="tf|tf2_ros" type="static_transform_publisher"
 //!   args="...">`, ROS 2 `exec="static_transform_publisher"`), anywhere in the
-//!   tree (`<group>` included); `$(arg ...)` and other substitutions are refused;
+//!   tree (`<group>` included); `$(arg x)` / `$(var x)` resolved from the
+//!   file's `<arg>` declarations and `--arg x=VALUE`, `if` / `unless` on the
+//!   node and its groups evaluated (a node switched off is skipped with an
+//!   `ignored` warning), other substitutions refused (see `launch_subst`);
 //! - ROS 2 launch YAML (`node: {pkg, exec, args}`), `args` a string or a list;
 //! - ROS 2 Python launch files: the literal `arguments=[...]` list of a
 //!   `Node(...)` whose executable is `static_transform_publisher`; an element
@@ -36,7 +39,9 @@
 //! `assumed-convention` warning says so and `--invert` flips it.
 
 use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::formats::launch_subst::LaunchArgs;
 use crate::formats::registry::{FormatSpec, Sniff};
+use crate::formats::source::LineIndex;
 use crate::formats::yaml::{self, Node, Value};
 use crate::formats::{
     check_metres, line_col, locate_warnings, parse_number, Edge, LoadOptions, Loaded,
@@ -288,11 +293,15 @@ fn xml_doc(text: &str) -> Result<roxmltree::Document<'_>> {
     crate::formats::xml::parse(text)
 }
 
-/// ROS 1 / ROS 2 launch XML.
+/// ROS 1 / ROS 2 launch XML: every `static_transform_publisher` node that
+/// runs (see [`launch_subst`] for `$(arg ...)` and `if` / `unless`).
 pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    let _ = opts;
     let doc = xml_doc(text)?;
+    let idx = LineIndex::new(text);
+    let args = LaunchArgs::new(&doc, &opts.launch_args);
     let mut out = Loaded::default();
+    // The first node switched off, for the error when none runs.
+    let mut skipped: Option<(usize, String)> = None;
     for n in doc
         .descendants()
         .filter(|n| n.is_element() && n.tag_name().name() == "node")
@@ -304,12 +313,29 @@ pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<L
         if exe != "static_transform_publisher" {
             continue;
         }
-        let p = doc.text_pos_at(n.range().start);
-        let loc = Location::at(path, p.row as usize, Some(p.col as usize));
-        let args = n.attribute("args").ok_or_else(|| {
+        let (row, col) = crate::formats::xml::pos_of(&idx, n);
+        let loc = Location::at(path, row, Some(col));
+        if let Some(why) = args.switched_off(n, &loc)? {
+            if skipped.is_none() {
+                skipped = Some((row, why.clone()));
+            }
+            out.warnings.push(
+                Warning::new(
+                    WarningCode::Ignored,
+                    format!("static_transform_publisher <node> not started ({why}): its transform is not read"),
+                )
+                .at(&loc),
+            );
+            continue;
+        }
+        let raw = n.attribute("args").ok_or_else(|| {
             Error::parse("static_transform_publisher <node> without args=\"...\": expected the transform in args").at(&loc)
         })?;
-        let toks: Vec<String> = args.split_whitespace().map(String::from).collect();
+        let toks: Vec<String> = args
+            .resolve(raw, &loc)?
+            .split_whitespace()
+            .map(String::from)
+            .collect();
         let name = n.attribute("name").unwrap_or("");
         let ctx = if name.is_empty() {
             "<node> ".to_string()
@@ -327,6 +353,12 @@ pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<L
     if out.edges.is_empty() && text.contains("Extrinsic_Tlb") {
         return parse_lio_livox(text, path, opts);
     }
+    if let (true, Some((line, why))) = (out.edges.is_empty(), skipped) {
+        return Err(Error::parse(format!(
+            "every static_transform_publisher <node> is switched off (the first by {why}): expected at least one that runs; set the arg it depends on with --arg NAME=VALUE"
+        ))
+        .at_line(line, None));
+    }
     Ok(out)
 }
 
@@ -343,8 +375,8 @@ pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
         if param != want {
             continue;
         }
-        let p = doc.text_pos_at(n.range().start);
-        let loc = Location::at(path, p.row as usize, Some(p.col as usize));
+        let (row, col) = crate::formats::xml::pos_of(&LineIndex::new(text), n);
+        let loc = Location::at(path, row, Some(col));
         let body: String = n.text().unwrap_or("").to_string();
         let cleaned = body.replace(['[', ']', ','], " ");
         let mut v = Vec::new();

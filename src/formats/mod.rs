@@ -17,6 +17,7 @@ use std::path::Path;
 
 pub mod kitti_m2dgr;
 pub mod launch;
+pub mod launch_subst;
 pub mod ouster;
 pub mod registry;
 pub mod rig_toml;
@@ -45,6 +46,9 @@ pub struct LoadOptions {
     pub format: Option<Format>,
     /// Refuse files larger than this (bytes).
     pub max_file_size: u64,
+    /// `--arg NAME=VALUE`: launch-file args (`$(arg NAME)`), overriding the
+    /// defaults the file declares.
+    pub launch_args: BTreeMap<String, String>,
     /// Where to look for the external `xacro` program: a `PATH`-style list;
     /// `None` uses the process's `PATH`.
     pub xacro_search_path: Option<std::ffi::OsString>,
@@ -58,6 +62,7 @@ impl Default for LoadOptions {
             invert: false,
             format: None,
             max_file_size: DEFAULT_MAX_FILE_SIZE,
+            launch_args: BTreeMap::new(),
             xacro_search_path: None,
         }
     }
