@@ -139,6 +139,16 @@ codes! {
     /// A value present in the file but ignored (e.g. a commented alternative, a
     /// key the tool does not use); the message says which and why.
     Ignored = "ignored", Warning;
+    /// A URDF 1.0 `<origin quat_xyzw>`: ROS (urdfdom) ignores it, and so does
+    /// the pose reported; `--urdf-version 1.1` reads it.
+    QuatXyzwIgnored = "quat-xyzw-ignored", Warning;
+    /// A joint position outside its URDF `<limit lower upper>`; used as given,
+    /// as robot_state_publisher does.
+    JointOutsideLimit = "joint-outside-limit", Warning;
+    /// A URDF that ROS (urdfdom) refuses for a reason that does not change a
+    /// pose (two root links, a revolute joint without `<limit>`, ...): read
+    /// anyway; the message gives urdfdom's reason.
+    RefusedByRos = "refused-by-ros", Warning;
 
     // Findings of `audit check` (errors unless a policy says otherwise).
     /// A file in the checked paths is not in the baseline.

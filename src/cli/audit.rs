@@ -57,6 +57,10 @@ pub struct AuditArgs {
     /// Skip format detection (see the README's formats table)
     #[arg(long, value_name = "NAME")]
     pub input_format: Option<String>,
+    /// Read every URDF as this version (1.0, 1.1 or 1.2) whatever its <robot version>
+    /// says: 1.1 applies quat_xyzw, which ROS ignores in a 1.0 file
+    #[arg(long, value_name = "X.Y")]
+    pub urdf_version: Option<extrinsic_audit::formats::urdf::UrdfVersion>,
     /// Refuse input files larger than this many bytes
     #[arg(long, default_value_t = DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
     pub max_file_size: u64,
@@ -79,6 +83,7 @@ impl AuditArgs {
             format,
             max_file_size: self.max_file_size,
             launch_args: self.launch_args.iter().cloned().collect(),
+            urdf_version: self.urdf_version,
             ..LoadOptions::default()
         })
     }

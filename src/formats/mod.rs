@@ -23,7 +23,6 @@ pub mod registry;
 pub mod rig_toml;
 pub mod source;
 // TODO(issue 10): urdf/mod.rs links to its private `read` and `joints`.
-#[allow(rustdoc::private_intra_doc_links)]
 pub mod urdf;
 pub mod xacro;
 pub mod xml;
@@ -52,6 +51,9 @@ pub struct LoadOptions {
     /// Where to look for the external `xacro` program: a `PATH`-style list;
     /// `None` uses the process's `PATH`.
     pub xacro_search_path: Option<std::ffi::OsString>,
+    /// `--urdf-version X.Y`: read every URDF as this version, whatever its
+    /// `<robot version>` says (`None`: as declared, 1.0 when absent).
+    pub urdf_version: Option<urdf::UrdfVersion>,
 }
 
 impl Default for LoadOptions {
@@ -64,6 +66,7 @@ impl Default for LoadOptions {
             max_file_size: DEFAULT_MAX_FILE_SIZE,
             launch_args: BTreeMap::new(),
             xacro_search_path: None,
+            urdf_version: None,
         }
     }
 }
@@ -124,6 +127,8 @@ pub struct Loaded {
     /// The edges the file yields (each the pose of its child in its parent),
     /// in file order, with provenance.
     pub edges: Vec<Edge>,
+    /// Frames declared without an edge (URDF links no joint attaches).
+    pub frames: Vec<crate::frames::FrameDecl>,
     /// Named warnings raised while reading (suspicious but usable input).
     pub warnings: Vec<Warning>,
     /// The rig metadata, for TOML rig files (`None` for every other format).
@@ -134,6 +139,7 @@ impl From<Loaded> for crate::frames::EdgeSet {
     fn from(l: Loaded) -> Self {
         crate::frames::EdgeSet {
             edges: l.edges,
+            frames: l.frames,
             warnings: l.warnings,
         }
     }

@@ -240,6 +240,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         edges,
         warnings,
         rig: Some(meta),
+        ..Loaded::default()
     })
 }
 

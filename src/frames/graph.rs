@@ -12,6 +12,10 @@
 //! - a child that already has another parent: error naming both edges;
 //! - an edge whose child is an ancestor of its parent: a cycle, error listing it.
 //!
+//! A frame can also be declared without an edge ([`FrameGraph::add_frame`], a
+//! URDF link no joint attaches): it is a root of its own, listed by
+//! [`FrameGraph::tree`] with a note, and connected to nothing.
+//!
 //! [`FrameGraph::transform`] walks from both frames up to their common ancestor
 //! (O(depth) with parent pointers), composes `T_from_to = T_lca_from^-1 T_lca_to`
 //! and returns the edges used in order from `from` to `to`, edges walked upwards
@@ -19,7 +23,7 @@
 //! `joint-at-default` warning in [`Chain::warnings`]; floating and planar joints
 //! that were not set make the path an error.
 
-use crate::diagnostic::{Error, Result, Warning, WarningCode};
+use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
 use crate::frames::Edge;
 use crate::geometry::se3::Transform;
 use crate::tolerances::{
@@ -31,16 +35,29 @@ use std::collections::HashMap;
 /// (`inverted`, child -> parent).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChainStep {
+    /// The edge as stored (pose of its child in its parent).
     pub edge: Edge,
+    /// Walked upwards, child -> parent: its transform enters inverted.
     pub inverted: bool,
 }
 
-/// What one source yields for the graph: edges and the warnings raised while
-/// reading them.
+/// A frame a source declares, with or without edges (a URDF `<link>`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameDecl {
+    /// The frame's name.
+    pub name: String,
+    /// Where it is declared.
+    pub location: Location,
+}
+
+/// What one source yields for the graph: edges, declared frames and the
+/// warnings raised while reading them.
 #[derive(Debug, Clone, Default)]
 pub struct EdgeSet {
     /// Edges, in the order they were read.
     pub edges: Vec<Edge>,
+    /// Frames declared by the source, edges or not.
+    pub frames: Vec<FrameDecl>,
     /// Named warnings about them.
     pub warnings: Vec<Warning>,
 }
@@ -48,14 +65,20 @@ pub struct EdgeSet {
 /// `T_from_to` and the edges used, in order from `from` to `to`.
 #[derive(Debug, Clone)]
 pub struct Chain {
+    /// The frame the transform is expressed in.
     pub from: String,
+    /// The frame whose pose it is.
     pub to: String,
+    /// `T_from_to`: the pose of `to` in `from`, `p_from = R p_to + d`.
     pub transform: Transform,
+    /// The edges composed, in order from `from` to `to`.
     pub steps: Vec<ChainStep>,
     /// Warnings raised by the path (joints at default position, ...).
     pub warnings: Vec<Warning>,
 }
 
+/// The frame graph: a forest of frames joined by edges with provenance (see
+/// the module documentation for what adding an edge checks).
 #[derive(Debug, Clone, Default)]
 pub struct FrameGraph {
     edges: Vec<Edge>,
@@ -69,6 +92,8 @@ pub struct FrameGraph {
     children: Vec<Vec<usize>>,
     /// For each frame, the index of its parent frame.
     parent_frame: Vec<Option<usize>>,
+    /// For each frame, where a source declared it (first declaration), if any.
+    declared: Vec<Option<Location>>,
     /// Union-find over frames (one set per tree), for an O(α(n)) cycle check:
     /// walking ancestors on every edge is quadratic on adversarial inputs.
     uf: Vec<usize>,
@@ -98,6 +123,7 @@ pub fn transforms_agree(a: &Transform, b: &Transform) -> bool {
 }
 
 impl FrameGraph {
+    /// An empty graph.
     pub fn new() -> Self {
         Self::default()
     }
@@ -110,6 +136,9 @@ impl FrameGraph {
         next.warnings.extend(set.warnings);
         for e in set.edges {
             next.add_edge(e)?;
+        }
+        for f in set.frames {
+            next.add_frame(&f.name, f.location)?;
         }
         *self = next;
         Ok(())
@@ -124,9 +153,24 @@ impl FrameGraph {
         self.parent.push(None);
         self.parent_frame.push(None);
         self.children.push(Vec::new());
+        self.declared.push(None);
         self.uf.push(i);
         self.index.insert(name.to_string(), i);
         i
+    }
+
+    /// Declare a frame, with no edge: known to the graph (listed, a root of its
+    /// own until an edge attaches it). Declaring a known frame again keeps the
+    /// first declaration.
+    pub fn add_frame(&mut self, name: &str, location: Location) -> Result<()> {
+        if name.is_empty() {
+            return Err(Error::frame("expected a non-empty frame name, found \"\"").at(&location));
+        }
+        let i = self.frame_id(name);
+        if self.declared[i].is_none() {
+            self.declared[i] = Some(location);
+        }
+        Ok(())
     }
 
     /// Representative of a frame's tree (path halving, iterative).
@@ -268,10 +312,12 @@ impl FrameGraph {
         )
     }
 
+    /// Every edge, in the order added.
     pub fn edges(&self) -> &[Edge] {
         &self.edges
     }
 
+    /// The warnings of every source added (and of agreeing duplicate edges).
     pub fn warnings(&self) -> &[Warning] {
         &self.warnings
     }
@@ -504,15 +550,23 @@ impl FrameGraph {
     }
 
     /// The frame tree as text, one frame a line, children indented under their
-    /// parent (like `check_urdf`), each with the place its edge came from.
+    /// parent (like `check_urdf`), each with the place its edge came from; a
+    /// frame declared without any edge is a root with a note saying so.
     /// Levels deeper than [`TREE_MAX_INDENT`] are written `[depth N]` instead of
     /// being indented further, so the text stays linear in the number of frames.
     pub fn tree(&self) -> String {
         let mut out = String::new();
         for root in self.roots() {
             out.push_str(&root);
-            out.push('\n');
             let ri = self.index[&root];
+            if self.children[ri].is_empty() {
+                // Declared without an edge: say so rather than list it bare.
+                match &self.declared[ri] {
+                    Some(loc) => out.push_str(&format!("  [{loc}, no edge attaches it]")),
+                    None => out.push_str("  [no edge attaches it]"),
+                }
+            }
+            out.push('\n');
             // Explicit stack (deep chains must not exhaust the call stack):
             // (edge, depth, last child of its parent).
             let mut stack: Vec<(usize, usize, bool)> = Vec::new();

@@ -58,6 +58,12 @@ fn apply_renames(renames: &[Rename], path: &Path, loaded: &mut formats::Loaded) 
                     }
                 }
             }
+            for f in &mut loaded.frames {
+                if f.name == r.old {
+                    f.name = r.new.clone();
+                    n += 1;
+                }
+            }
             if let Some(meta) = &mut loaded.rig {
                 for name in [&mut meta.from, &mut meta.to] {
                     if *name == r.old {

@@ -188,19 +188,50 @@ fn urdf_joints_mimic_and_axes() {
     assert!(c.warnings.is_empty(), "{:?}", c.warnings);
 }
 
+/// urdfdom 5.1 (urdf_schema_quaternion_test.cpp): `quat_xyzw` is applied from
+/// URDF 1.1; in a 1.0 file (declared or by default) ROS ignores it.
 #[test]
-fn urdf_quat_xyzw_is_read_not_dropped() {
+fn urdf_quat_xyzw_follows_the_version() {
     let body = "<link name=\"a\"/><link name=\"b\"/>\n<joint name=\"j\" type=\"fixed\"><origin xyz=\"0 0 0.1\" quat_xyzw=\"0 0 0.7071067811865476 0.7071067811865476\"/><parent link=\"a\"/><child link=\"b\"/></joint>\n";
-    let g = urdf(body, &LoadOptions::default()).expect("load");
-    let r = g.transform("a", "b").expect("chain").transform;
+    let load = |version: &str, opts: &LoadOptions| {
+        let text = format!("<robot name=\"r\"{version}>\n{body}</robot>\n");
+        let mut g = FrameGraph::new();
+        g.add(load_str(&text, Path::new("t.urdf"), opts).expect("load"))
+            .expect("add");
+        let r = g.transform("a", "b").expect("chain").transform;
+        (r, g.warnings().to_vec())
+    };
+    let codes =
+        |ws: &[extrinsic_audit::diagnostic::Warning]| ws.iter().map(|w| w.code).collect::<Vec<_>>();
+    // 1.0, by default or declared: the identity, with a warning naming the cause.
+    for v in ["", " version=\"1.0\""] {
+        let (r, ws) = load(v, &LoadOptions::default());
+        assert!((r.rotation()[(0, 0)] - 1.0).abs() < 1e-15, "{v}: identity");
+        assert!((r.translation().z - 0.1).abs() < 1e-15);
+        assert_eq!(codes(&ws), vec![WarningCode::QuatXyzwIgnored], "{v}");
+        assert!(
+            ws[0].message.contains("version=\"1.1\""),
+            "{}",
+            ws[0].message
+        );
+    }
+    // 1.1: a 90 deg yaw, nothing to warn about.
+    let (r, ws) = load(" version=\"1.1\"", &LoadOptions::default());
+    assert!((r.rotation()[(1, 0)] - 1.0).abs() < 1e-12, "a 90 deg yaw");
+    assert!(ws.is_empty(), "{ws:?}");
+    // --urdf-version 1.1 on a 1.0 file: applied, and the warning says ROS differs.
+    let opts = LoadOptions {
+        urdf_version: Some(extrinsic_audit::formats::urdf::UrdfVersion::V1_1),
+        ..LoadOptions::default()
+    };
+    let (r, ws) = load("", &opts);
+    assert!((r.rotation()[(1, 0)] - 1.0).abs() < 1e-12, "a 90 deg yaw");
+    assert_eq!(codes(&ws), vec![WarningCode::AssumedConvention]);
     assert!(
-        (r.rotation()[(1, 0)] - 1.0).abs() < 1e-12,
-        "a 90 deg yaw, not the identity"
+        ws[0].message.contains("ROS ignores it"),
+        "{}",
+        ws[0].message
     );
-    assert!(g
-        .warnings()
-        .iter()
-        .any(|w| w.code == WarningCode::AssumedConvention && w.message.contains("quat_xyzw")));
 }
 
 #[test]

@@ -36,3 +36,4 @@ mod readme;
 mod rig_toml;
 mod scene_simulate;
 mod scene_tunnel;
+mod urdf_conformance;

@@ -92,3 +92,17 @@ fn example_tunnel_is_current() {
         );
     }
 }
+
+/// docs/ARCHITECTURE.md lists every diagnostic code by its name.
+#[test]
+fn every_diagnostic_code_is_documented() {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/ARCHITECTURE.md"))
+        .expect("docs/ARCHITECTURE.md");
+    for c in extrinsic_audit::Code::ALL {
+        assert!(
+            doc.contains(&format!("`{}`", c.name())),
+            "{} is not in docs/ARCHITECTURE.md",
+            c.name()
+        );
+    }
+}

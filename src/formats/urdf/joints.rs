@@ -1,7 +1,8 @@
 //! Joint values and edges: `--joint NAME=VALUE`, else the mimic master's value
 //! (`multiplier * master + offset`), else 0 with `defaulted` set; the motion
 //! (rotation about or translation along the unit axis) composed after the
-//! origin.
+//! origin. A value outside `<limit>` is kept, as robot_state_publisher keeps it
+//! (pytransform3d clamps), with a `joint-outside-limit` warning.
 
 use super::read::JointRaw;
 use crate::diagnostic::{Error, Result, Warning, WarningCode};
@@ -32,14 +33,8 @@ pub(super) fn edges(
         };
         match j.jtype {
             None => {
-                if set.is_some() {
-                    warnings.push(
-                        Warning::new(
-                            WarningCode::Ignored,
-                            format!("--joint {}: a fixed joint has no position; ignored", j.name),
-                        )
-                        .at(&j.loc),
-                    );
+                if let Some(v) = set {
+                    return Err(fixed_joint_set(j, v, joints));
                 }
                 edges.push(edge(j.origin, key));
             }
@@ -55,6 +50,10 @@ pub(super) fn edges(
             }
             Some(jt) => {
                 let (value, defaulted) = joint_value(j, set, &by_name, opts)?;
+                if !defaulted {
+                    // A default (0) is already reported on the path as joint-at-default.
+                    check_limit(j, jt, value, set.is_some(), warnings);
+                }
                 let motion = motion(idx, j, jt, value, warnings)?;
                 let mut e = edge(
                     j.origin.compose(&motion),
@@ -71,6 +70,54 @@ pub(super) fn edges(
         }
     }
     Ok(edges)
+}
+
+/// `--joint NAME=VALUE` on a fixed joint: one error, with the movable joints.
+fn fixed_joint_set(j: &JointRaw, v: f64, joints: &[JointRaw]) -> Error {
+    let movable: Vec<&str> = joints
+        .iter()
+        .filter(|k| k.jtype.is_some_and(|t| t.has_one_value()))
+        .map(|k| k.name.as_str())
+        .collect();
+    Error::usage(format!(
+        "--joint {}={v}: joint '{}' is fixed and has no position to set; expected a revolute, continuous or prismatic joint ({})",
+        j.name,
+        j.name,
+        if movable.is_empty() {
+            "this file has none".to_string()
+        } else {
+            format!("this file has: {}", movable.join(", "))
+        }
+    ))
+    .at(&j.loc)
+}
+
+/// A position outside `<limit lower upper>` is used as given (as
+/// robot_state_publisher does), with a warning naming the limit.
+fn check_limit(j: &JointRaw, jt: JointType, value: f64, set: bool, warnings: &mut Vec<Warning>) {
+    let Some(l) = j.limit else { return };
+    if value >= l.lower && value <= l.upper {
+        return;
+    }
+    let unit = if jt == JointType::Prismatic {
+        "m"
+    } else {
+        "rad"
+    };
+    let how = match (set, &j.mimic) {
+        (false, Some(m)) => format!("from <mimic joint=\"{}\">", m.master),
+        _ => "set by --joint".to_string(),
+    };
+    warnings.push(
+        Warning::new(
+            WarningCode::JointOutsideLimit,
+            format!(
+                "{jt} joint '{}': position {value} {unit} ({how}) is outside <limit lower=\"{}\" upper=\"{}\"> (line {}); used as given, as robot_state_publisher does (it does not clamp)",
+                j.name, l.lower, l.upper, l.line
+            ),
+        )
+        .at(&j.loc),
+    );
 }
 
 /// Floating and planar joints: only 0 (the joint at its origin) is accepted.

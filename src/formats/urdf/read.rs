@@ -1,6 +1,8 @@
-//! From XML to links and raw joints: names, types, origins (`rpy` or URDF 1.1
-//! `quat_xyzw`), axes and mimic tags, each checked where it is written.
+//! From XML to links and raw joints: the URDF version, names, types, origins
+//! (`rpy`, or `quat_xyzw` from URDF 1.1), axes, limits and mimic tags, each
+//! checked where it is written.
 
+use super::version::UrdfVersion;
 use super::Links;
 use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
 use crate::formats::source::LineIndex;
@@ -27,6 +29,53 @@ pub(super) struct Mimic {
     pub offset: f64,
 }
 
+/// `<limit lower upper>` of a revolute or prismatic joint (urdfdom's defaults:
+/// 0 for a bound not written).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Limit {
+    pub lower: f64,
+    pub upper: f64,
+    /// Line of the `<limit>` element.
+    pub line: usize,
+}
+
+/// The version a file is read as: declared (`None` when absent) and used.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Version {
+    pub declared: Option<UrdfVersion>,
+    pub used: UrdfVersion,
+}
+
+impl Version {
+    fn declared_text(&self) -> String {
+        match self.declared {
+            Some(v) => format!("declares version {v}"),
+            None => "declares no version (1.0)".to_string(),
+        }
+    }
+}
+
+/// `<robot version>` read as urdfdom reads it (refused at the `<robot>` line
+/// when malformed or unsupported), then `--urdf-version` if given.
+pub(super) fn version(
+    idx: &LineIndex,
+    root: roxmltree::Node,
+    opts: &crate::formats::LoadOptions,
+) -> Result<Version> {
+    let declared = match root.attribute("version") {
+        None => None,
+        Some(s) => Some(UrdfVersion::parse(s).map_err(|m| {
+            err_at(
+                idx,
+                root,
+                format!("<robot version>: {m}; ROS (urdfdom) refuses this file"),
+            )
+        })?),
+    };
+    let used = opts.urdf_version.or(declared).unwrap_or(UrdfVersion::V1_0);
+    Ok(Version { declared, used })
+}
+
 /// A joint as written, before any value is applied.
 pub(super) struct JointRaw<'a> {
     pub name: String,
@@ -36,6 +85,7 @@ pub(super) struct JointRaw<'a> {
     pub child: String,
     pub origin: Transform,
     pub axis: [f64; 3],
+    pub limit: Option<Limit>,
     pub mimic: Option<Mimic>,
     pub loc: Location,
     pub node: roxmltree::Node<'a, 'a>,
@@ -43,7 +93,8 @@ pub(super) struct JointRaw<'a> {
 
 /// `N` finite numbers separated by whitespace.
 fn numbers_attr<const N: usize>(s: &str, what: &str) -> std::result::Result<[f64; N], String> {
-    let parts: Vec<&str> = s.split_whitespace().collect();
+    // ASCII whitespace only: a no-break space is no separator for urdfdom.
+    let parts: Vec<&str> = s.split_ascii_whitespace().collect();
     if parts.len() != N {
         return Err(format!(
             "{what}: expected {N} numbers, found {} ({s:?})",
@@ -106,6 +157,7 @@ pub(super) fn joints<'a>(
     idx: &LineIndex,
     root: roxmltree::Node<'a, 'a>,
     links: &Links,
+    version: Version,
     path: &Path,
     warnings: &mut Vec<Warning>,
 ) -> Result<Vec<JointRaw<'a>>> {
@@ -123,7 +175,7 @@ pub(super) fn joints<'a>(
                 ),
             ));
         }
-        let raw = joint(idx, j, links, path, warnings)?;
+        let raw = joint(idx, j, links, version, path, warnings)?;
         seen.insert(raw.name.clone(), joints.len());
         joints.push(raw);
     }
@@ -134,6 +186,7 @@ fn joint<'a>(
     idx: &LineIndex,
     j: roxmltree::Node<'a, 'a>,
     links: &Links,
+    version: Version,
     path: &Path,
     warnings: &mut Vec<Warning>,
 ) -> Result<JointRaw<'a>> {
@@ -192,17 +245,37 @@ fn joint<'a>(
     };
     let origin = match child_el("origin") {
         None => Transform::identity(),
-        Some(o) => origin(idx, o, name, &loc_of(o), warnings)?,
+        Some(o) => origin(idx, o, name, version, &loc_of(o), warnings)?,
     };
-    let axis = match child_el("axis").and_then(|a| a.attribute("xyz").map(|s| (a, s))) {
-        Some((a, s)) => numbers_attr::<3>(s, &format!("joint '{name}' <axis xyz>"))
+    // As urdfdom: no <axis> is 1 0 0, an <axis> without xyz is 0 0 0 (refused
+    // on a movable joint: KDL would divide by its norm).
+    let axis = match child_el("axis").map(|a| (a, a.attribute("xyz"))) {
+        Some((a, Some(s))) => numbers_attr::<3>(s, &format!("joint '{name}' <axis xyz>"))
             .map_err(|m| err_at(idx, a, m))?,
+        Some((a, None)) if matches!(jtype, "revolute" | "continuous" | "prismatic") => {
+            return Err(err_at(
+                idx,
+                a,
+                format!("{jtype} joint '{name}': <axis> without xyz, which urdfdom reads as 0 0 0 (no motion; ROS would publish a non-finite pose): expected <axis xyz=\"x y z\"/>"),
+            ))
+        }
+        Some((_, None)) => [0.0; 3],
         None => [1.0, 0.0, 0.0],
     };
     let mimic = match child_el("mimic") {
         None => None,
         Some(m) => Some(mimic(idx, m, name)?),
     };
+    let limit = limit(
+        idx,
+        child_el("limit"),
+        jtype,
+        name,
+        version,
+        &loc_of(j),
+        warnings,
+    )?;
+    number_spacing(j, name, jtype, &loc_of(j), warnings);
     Ok(JointRaw {
         name: name.to_string(),
         jtype: JointType::from_name(jtype),
@@ -210,17 +283,20 @@ fn joint<'a>(
         child,
         origin,
         axis,
+        limit,
         mimic,
         loc: loc_of(j),
         node: j,
     })
 }
 
-/// `<origin xyz rpy>` or `<origin xyz quat_xyzw>` (both is an error).
+/// `<origin xyz rpy>` or, from URDF 1.1, `<origin xyz quat_xyzw>`; both is
+/// an error in every version.
 fn origin(
     idx: &LineIndex,
     o: roxmltree::Node,
     name: &str,
+    version: Version,
     loc: &Location,
     warnings: &mut Vec<Warning>,
 ) -> Result<Transform> {
@@ -229,12 +305,36 @@ fn origin(
             .map_err(|m| err_at(idx, o, m))?,
         None => [0.0; 3],
     };
+    let rpy = |r: Option<&str>| -> Result<Transform> {
+        let rpy = match r {
+            Some(s) => numbers_attr::<3>(s, &format!("joint '{name}' <origin rpy>"))
+                .map_err(|m| err_at(idx, o, m))?,
+            None => [0.0; 3],
+        };
+        Transform::from_rpy(rpy, xyz).map_err(|e| err_at(idx, o, e.message))
+    };
     match (o.attribute("rpy"), o.attribute("quat_xyzw")) {
         (Some(_), Some(_)) => Err(err_at(
             idx,
             o,
             format!("joint '{name}' <origin>: expected either rpy or quat_xyzw, found both"),
         )),
+        (None, Some(q)) if version.used < UrdfVersion::V1_1 => {
+            let msg = if version.declared.unwrap_or(UrdfVersion::V1_0) < UrdfVersion::V1_1 {
+                format!(
+                    "joint '{name}' <origin quat_xyzw=\"{q}\">: ignored, as ROS ignores it: the file {} and quat_xyzw exists from URDF 1.1, so urdfdom uses the identity rotation; add version=\"1.1\" to <robot> (or pass --urdf-version 1.1) if the quaternion is meant",
+                    version.declared_text()
+                )
+            } else {
+                format!(
+                    "joint '{name}' <origin quat_xyzw=\"{q}\">: ignored because of --urdf-version {}; the file {}, so ROS applies it",
+                    version.used,
+                    version.declared_text()
+                )
+            };
+            warnings.push(Warning::new(WarningCode::QuatXyzwIgnored, msg).at(loc));
+            rpy(None)
+        }
         (None, Some(q)) => {
             let q = numbers_attr::<4>(q, &format!("joint '{name}' <origin quat_xyzw>"))
                 .map_err(|m| err_at(idx, o, m))?;
@@ -247,23 +347,164 @@ fn origin(
                 )
             })?;
             locate_warnings(ws, loc, warnings);
-            warnings.push(
-                Warning::new(
-                    WarningCode::AssumedConvention,
-                    format!("joint '{name}': URDF 1.1 quat_xyzw read in x y z w order (urdf-rs and ROS parsers before URDF 1.1 ignore it and use the identity)"),
-                )
-                .at(loc),
-            );
+            if version.declared.unwrap_or(UrdfVersion::V1_0) < UrdfVersion::V1_1 {
+                warnings.push(
+                    Warning::new(
+                        WarningCode::AssumedConvention,
+                        format!(
+                            "joint '{name}' <origin quat_xyzw>: applied because of --urdf-version {}; the file {}, so ROS ignores it and runs with the identity rotation",
+                            version.used,
+                            version.declared_text()
+                        ),
+                    )
+                    .at(loc),
+                );
+            }
             Ok(t)
         }
-        (r, None) => {
-            let rpy = match r {
-                Some(s) => numbers_attr::<3>(s, &format!("joint '{name}' <origin rpy>"))
-                    .map_err(|m| err_at(idx, o, m))?,
-                None => [0.0; 3],
-            };
-            Transform::from_rpy(rpy, xyz).map_err(|e| err_at(idx, o, e.message))
+        (r, None) => rpy(r),
+    }
+}
+
+/// `<limit lower upper>` of a revolute or prismatic joint: a bound not
+/// written is 0, as in urdfdom. What urdfdom refuses without a pose being in
+/// doubt (no `<limit>`; before URDF 1.2 no `effort` or `velocity`, from 1.2 no
+/// `lower` or `upper`) is a `refused-by-ros` warning.
+fn limit(
+    idx: &LineIndex,
+    l: Option<roxmltree::Node>,
+    jtype: &str,
+    name: &str,
+    version: Version,
+    loc: &Location,
+    warnings: &mut Vec<Warning>,
+) -> Result<Option<Limit>> {
+    if !matches!(jtype, "revolute" | "prismatic") {
+        return Ok(None);
+    }
+    let refused = |why: String| {
+        Warning::new(
+            WarningCode::RefusedByRos,
+            format!("{jtype} joint '{name}': {why}; ROS (urdfdom) refuses the file, the pose is read anyway"),
+        )
+        .at(loc)
+    };
+    let Some(l) = l else {
+        warnings.push(refused(
+            "no <limit> element (urdfdom requires one on revolute and prismatic joints)".into(),
+        ));
+        return Ok(None);
+    };
+    let required = if version.used >= UrdfVersion::V1_2 {
+        ["lower", "upper"]
+    } else {
+        ["effort", "velocity"]
+    };
+    for attr in ["effort", "velocity"] {
+        // Not used, but a malformed number is refused, as urdfdom refuses it.
+        if let Some(s) = l.attribute(attr) {
+            numbers_attr::<1>(s, &format!("joint '{name}' <limit {attr}>"))
+                .map_err(|m| err_at(idx, l, m))?;
         }
+    }
+    let missing: Vec<&str> = required
+        .into_iter()
+        .filter(|a| l.attribute(*a).is_none())
+        .collect();
+    if !missing.is_empty() {
+        warnings.push(refused(format!(
+            "<limit> without {}",
+            missing.join(" and ")
+        )));
+    }
+    let bound = |attr: &str| -> Result<f64> {
+        match l.attribute(attr) {
+            None => Ok(0.0),
+            Some(s) => numbers_attr::<1>(s, &format!("joint '{name}' <limit {attr}>"))
+                .map(|v| v[0])
+                .map_err(|m| err_at(idx, l, m)),
+        }
+    };
+    let (line, _) = xml::pos_of(idx, l);
+    Ok(Some(Limit {
+        lower: bound("lower")?,
+        upper: bound("upper")?,
+        line,
+    }))
+}
+
+/// The numeric attributes urdfdom reads: (element, attribute, vector of
+/// numbers split at spaces, or one number).
+const NUMERIC_ATTRS: &[(&str, &str, bool)] = &[
+    ("origin", "xyz", true),
+    ("origin", "rpy", true),
+    ("origin", "quat_xyzw", true),
+    ("axis", "xyz", true),
+    ("limit", "lower", false),
+    ("limit", "upper", false),
+    ("limit", "effort", false),
+    ("limit", "velocity", false),
+    ("mimic", "multiplier", false),
+    ("mimic", "offset", false),
+];
+
+/// Whether urdfdom refuses a number's spacing: it splits vectors at spaces
+/// only and reads each piece (or a lone number) with `operator>>`, which skips
+/// leading whitespace but fails on anything after the number. So a tab or
+/// line break between numbers, or trailing whitespace after a lone number, is
+/// refused. XML parsers turn literal tabs and line breaks in attribute values
+/// into spaces; urdfdom's does not, so the raw text is checked.
+fn ros_refuses_spacing(raw: &str, vector: bool) -> bool {
+    const C_SPACE: [char; 6] = [' ', '\t', '\n', '\r', '\u{b}', '\u{c}'];
+    let bad = |piece: &str| piece.trim_start_matches(C_SPACE).contains(C_SPACE);
+    if vector {
+        raw.split(' ').any(bad)
+    } else {
+        bad(raw)
+    }
+}
+
+/// A `refused-by-ros` warning for numbers urdfdom cannot split (see
+/// [`ros_refuses_spacing`]); the tool reads them.
+fn number_spacing(
+    j: roxmltree::Node,
+    name: &str,
+    jtype: &str,
+    loc: &Location,
+    warnings: &mut Vec<Warning>,
+) {
+    let text = j.document().input_text();
+    let mut found = Vec::new();
+    for (tag, attr, vector) in NUMERIC_ATTRS {
+        // urdfdom reads no axis on fixed and floating joints.
+        if *tag == "axis" && matches!(jtype, "fixed" | "floating") {
+            continue;
+        }
+        let Some(a) = j
+            .children()
+            .find(|n| n.is_element() && n.tag_name().name() == *tag)
+            .and_then(|e| e.attributes().find(|a| a.name() == *attr))
+        else {
+            continue;
+        };
+        // The text as written; with entities, the decoded value.
+        let raw = text.get(a.range_value()).unwrap_or(a.value());
+        let raw = if raw.contains('&') { a.value() } else { raw };
+        if ros_refuses_spacing(raw, *vector) {
+            found.push(format!("<{tag} {attr}={raw:?}>"));
+        }
+    }
+    if !found.is_empty() {
+        warnings.push(
+            Warning::new(
+                WarningCode::RefusedByRos,
+                format!(
+                    "joint '{name}': {}: urdfdom separates numbers by spaces only and allows nothing after a number, so ROS refuses the file; read here with any whitespace as separator",
+                    found.join(", ")
+                ),
+            )
+            .at(loc),
+        );
     }
 }
 
