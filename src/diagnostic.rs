@@ -127,6 +127,9 @@ codes! {
     NonUnitQuaternion = "non-unit-quaternion", Warning;
     /// A translation that looks like millimetres in a field documented as metres.
     MillimetresInMetreField = "millimetres-in-metre-field", Warning;
+    /// A `--joint` value on a revolute or continuous joint that looks like
+    /// degrees (`|value| > 2 pi`) in a field taken as radians.
+    DegreesInRadianField = "degrees-in-radian-field", Warning;
     /// A movable joint (revolute, continuous, prismatic) on a path, taken at its
     /// default position because the user did not set it.
     JointAtDefault = "joint-at-default", Warning;

@@ -1,6 +1,9 @@
 //! `audit FILE... --from A --to B`: the rig report.
 
-use super::{emit, parse_joint, parse_nonneg, parse_positive, print_warnings, write_output};
+use super::{
+    emit, parse_ell, parse_joint, parse_kappa, parse_lambda, parse_nonneg, print_warnings,
+    write_output,
+};
 use clap::Args;
 use extrinsic_audit::diagnostic::Result;
 use extrinsic_audit::formats::{Format, LoadOptions};
@@ -26,13 +29,13 @@ pub struct AuditArgs {
     #[arg(long)]
     pub frames: bool,
     /// Characteristic lengths (m) for the certificate bands
-    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_positive, value_name = "M,...")]
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
     pub ell: Vec<f64>,
     /// Detector threshold kappa: with --lambda, does the band certify that lambda cannot cross kappa?
-    #[arg(long, requires = "lambda", value_parser = parse_positive)]
+    #[arg(long, requires = "lambda", value_parser = parse_kappa, allow_hyphen_values = true)]
     pub kappa: Option<f64>,
     /// Detector eigenvalue lambda (see --kappa)
-    #[arg(long, requires = "kappa", value_parser = parse_nonneg)]
+    #[arg(long, requires = "kappa", value_parser = parse_lambda, allow_hyphen_values = true)]
     pub lambda: Option<f64>,
     /// Zero-pitch tolerance on |h| (m); the raw h is always printed beside the verdict
     #[arg(long, default_value_t = extrinsic_audit::tolerances::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]

@@ -14,6 +14,9 @@ use clap::{Parser, Subcommand};
 use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
 use extrinsic_audit::render::{self, OutputFormat, Report, Style};
 use extrinsic_audit::sanitize;
+use extrinsic_audit::tolerances::{
+    ELL_RANGE_M, KAPPA_RANGE, MAX_JOINT_VALUE, MAX_SIM_NOISE_M, SIM_VOXEL_RANGE_M,
+};
 use std::io::Write;
 use std::process::ExitCode;
 
@@ -175,12 +178,61 @@ pub fn parse_joint(s: &str) -> std::result::Result<(String, f64), String> {
         .trim()
         .parse()
         .map_err(|_| format!("joint `{name}`: expected a number, found `{value}`"))?;
-    if !v.is_finite() {
+    if !(v.is_finite() && v.abs() <= MAX_JOINT_VALUE) {
         return Err(format!(
-            "joint `{name}`: expected a finite number, found `{value}`"
+            "joint `{name}`: expected a finite number of at most {MAX_JOINT_VALUE:e} in magnitude (rad or m), found `{value}`"
         ));
     }
     Ok((name.trim().to_string(), v))
+}
+
+/// A finite number in `[lo, hi]` (the option's name is added by clap).
+fn parse_in(s: &str, lo: f64, hi: f64, unit: &str) -> std::result::Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("expected a number, found `{s}`"))?;
+    if !(v.is_finite() && (lo..=hi).contains(&v)) {
+        let (lo, hi) = (short(lo), short(hi));
+        return Err(format!(
+            "expected a finite number from {lo} to {hi}{unit}, found `{s}`"
+        ));
+    }
+    Ok(v)
+}
+
+/// A bound as people write it: `0.02`, `1e-100`.
+fn short(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e4).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// `--ell`: a characteristic length in [`ELL_RANGE_M`].
+pub fn parse_ell(s: &str) -> std::result::Result<f64, String> {
+    parse_in(s, ELL_RANGE_M.0, ELL_RANGE_M.1, " m")
+}
+
+/// `--kappa`: a detector threshold in [`KAPPA_RANGE`].
+pub fn parse_kappa(s: &str) -> std::result::Result<f64, String> {
+    parse_in(s, KAPPA_RANGE.0, KAPPA_RANGE.1, "")
+}
+
+/// `--lambda`: an eigenvalue, 0 to the top of [`KAPPA_RANGE`].
+pub fn parse_lambda(s: &str) -> std::result::Result<f64, String> {
+    parse_in(s, 0.0, KAPPA_RANGE.1, "")
+}
+
+/// `--noise` of `simulate`: 0 to [`MAX_SIM_NOISE_M`].
+pub fn parse_noise(s: &str) -> std::result::Result<f64, String> {
+    parse_in(s, 0.0, MAX_SIM_NOISE_M, " m")
+}
+
+/// `--voxel` of `simulate`: in [`SIM_VOXEL_RANGE_M`].
+pub fn parse_voxel(s: &str) -> std::result::Result<f64, String> {
+    parse_in(s, SIM_VOXEL_RANGE_M.0, SIM_VOXEL_RANGE_M.1, " m")
 }
 
 /// A positive, finite length for `--ell`, `--max-lever-arm`, ...

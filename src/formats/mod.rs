@@ -187,6 +187,34 @@ pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     load_str(&text, path, opts)
 }
 
+/// A `--joint` value above 2 pi on a revolute or continuous joint of these
+/// edges looks like degrees: a `degrees-in-radian-field` warning.
+fn warn_degrees(edges: &[Edge], opts: &LoadOptions, warnings: &mut Vec<Warning>) {
+    use crate::tolerances::DEGREES_LIKE_RAD;
+    for e in edges {
+        let Some(j) = &e.joint else { continue };
+        let Some(&v) = opts.joints.get(&j.name) else {
+            continue;
+        };
+        if matches!(j.joint_type, JointType::Revolute | JointType::Continuous)
+            && v.abs() > DEGREES_LIKE_RAD
+        {
+            warnings.push(
+                Warning::new(
+                    WarningCode::DegreesInRadianField,
+                    format!(
+                        "--joint {}={v}: {} joint positions are radians, and |{v}| > 2 pi looks like degrees ({v} deg = {:.6} rad)",
+                        crate::sanitize::quote(&j.name),
+                        j.joint_type,
+                        v.to_radians()
+                    ),
+                )
+                .at(&e.provenance.location),
+            );
+        }
+    }
+}
+
 /// A NUL or a line break in a frame or joint name is an error at the edge's
 /// place: no ROS name holds one, and a line break would let a name start a
 /// line of a report or a CI log.
@@ -243,6 +271,7 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             .in_file(path));
         }
     }
+    warn_degrees(&loaded.edges, opts, &mut loaded.warnings);
     if opts.invert {
         loaded.edges = loaded.edges.into_iter().map(Edge::inverted).collect();
     }

@@ -27,6 +27,7 @@ mod hostile_encodings;
 mod hostile_input;
 mod hostile_limits;
 mod hostile_numbers;
+mod hostile_options;
 mod hostile_output;
 mod hostile_points;
 mod json_schemas;
