@@ -10,6 +10,7 @@
 //! returns one or the other; a `Result`'s error always has severity `error` and
 //! maps to exit code 2 (usage or input error). Findings of `audit check` exit 1.
 
+use crate::tolerances::MAX_MESSAGE_CHARS;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -224,12 +225,14 @@ pub type ErrorKind = Code;
 
 impl Diagnostic {
     /// A diagnostic of `code` with its default severity and no location.
+    /// The message is bounded: past [`MAX_MESSAGE_CHARS`] its middle is cut,
+    /// with the count of what was cut (a message may quote a file's values).
     pub fn new(code: Code, message: impl Into<String>) -> Self {
         Diagnostic {
             code,
             severity: code.default_severity(),
             location: Location::default(),
-            message: message.into(),
+            message: bounded(message.into()),
             help: None,
         }
     }
@@ -264,7 +267,7 @@ impl Diagnostic {
     }
     /// The same diagnostic with help text.
     pub fn with_help(mut self, help: impl Into<String>) -> Self {
-        self.help = Some(help.into());
+        self.help = Some(bounded(help.into()));
         self
     }
     /// Attach a file, keeping a line that is already known.
@@ -340,6 +343,14 @@ impl serde::Serialize for Diagnostic {
             m.serialize_entry("help", h)?;
         }
         m.end()
+    }
+}
+
+/// `s` shortened to [`MAX_MESSAGE_CHARS`] ([`crate::sanitize::shorten`]).
+fn bounded(s: String) -> String {
+    match crate::sanitize::shorten(&s, MAX_MESSAGE_CHARS) {
+        std::borrow::Cow::Borrowed(_) => s,
+        std::borrow::Cow::Owned(o) => o,
     }
 }
 

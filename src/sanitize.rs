@@ -100,6 +100,9 @@ pub fn line(text: &str) -> String {
 /// `s` cut to at most `max` characters plus a note: the head and the tail
 /// kept, the middle replaced by `...[N characters cut]...`.
 pub fn shorten(s: &str, max: usize) -> Cow<'_, str> {
+    if s.len() <= max {
+        return Cow::Borrowed(s);
+    }
     let n = s.chars().count();
     if n <= max {
         return Cow::Borrowed(s);
@@ -110,6 +113,12 @@ pub fn shorten(s: &str, max: usize) -> Cow<'_, str> {
     let h: String = s.chars().take(head).collect();
     let t: String = s.chars().skip(n - tail).collect();
     Cow::Owned(format!("{h}...[{cut} characters cut]...{t}"))
+}
+
+/// A value from a file shortened to [`MAX_QUOTED_CHARS`], for a message that
+/// quotes it with `{:?}` (which escapes control characters itself).
+pub fn clip(s: &str) -> Cow<'_, str> {
+    shorten(s, MAX_QUOTED_CHARS)
 }
 
 /// A value from a file as a message quotes it: shortened to

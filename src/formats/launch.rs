@@ -47,6 +47,7 @@ use crate::formats::{
     check_metres, line_col, locate_warnings, parse_number, Edge, LoadOptions, Loaded,
 };
 use crate::geometry::se3::{QuatOrder, Transform};
+use crate::sanitize::clip;
 use std::path::Path;
 
 const FLAGS: &[&str] = &[
@@ -85,7 +86,8 @@ fn number_arg(tok: &str, idx: usize, warnings: &mut Vec<Warning>, loc: &Location
         }
     }
     Err(Error::parse(format!(
-        "static_transform_publisher argument {idx}: expected a number, found {tok:?}"
+        "static_transform_publisher argument {idx}: expected a number, found {:?}",
+        clip(tok)
     ))
     .at(loc))
 }
@@ -133,8 +135,9 @@ pub fn parse_stp_args(
             };
             if !FLAGS.contains(&flag) {
                 return Err(Error::parse(format!(
-                    "static_transform_publisher: expected one of {}, found {t:?}",
-                    FLAGS.join(" ")
+                    "static_transform_publisher: expected one of {}, found {:?}",
+                    FLAGS.join(" "),
+                    clip(t)
                 ))
                 .at(loc));
             }
@@ -163,7 +166,8 @@ pub fn parse_stp_args(
                 None => Ok(def),
                 Some(v) => number_arg(v, 0, ws, loc).map_err(|_| {
                     Error::parse(format!(
-                        "static_transform_publisher {f}: expected a number, found {v:?}"
+                        "static_transform_publisher {f}: expected a number, found {:?}",
+                        clip(v)
                     ))
                     .at(loc)
                 }),
@@ -239,7 +243,7 @@ pub fn parse_stp_args(
                 return Err(Error::parse(format!(
                     "static_transform_publisher argument {}: expected a number, found {:?}",
                     n + 1,
-                    toks[n]
+                    clip(toks[n])
                 ))
                 .at(loc))
             }
@@ -259,7 +263,7 @@ pub fn parse_stp_args(
             _ => {
                 return Err(Error::parse(format!(
                     "static_transform_publisher: expected `parent child [period_ms]` after the {nnum} numbers, found {:?}",
-                    rest.join(" ")
+                    clip(&rest.join(" "))
                 ))
                 .at(loc))
             }
@@ -383,7 +387,9 @@ pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
         for t in cleaned.split_whitespace() {
             v.push(parse_number(t).ok_or_else(|| {
                 Error::parse(format!(
-                    "<rosparam param=\"{param}\">: expected 16 numbers, found {t:?}"
+                    "<rosparam param=\"{}\">: expected 16 numbers, found {:?}",
+                    clip(param),
+                    clip(t)
                 ))
                 .at(&loc)
             })?);

@@ -26,6 +26,7 @@ mod hostile_atomic;
 mod hostile_encodings;
 mod hostile_input;
 mod hostile_limits;
+mod hostile_messages;
 mod hostile_numbers;
 mod hostile_options;
 mod hostile_output;
