@@ -39,7 +39,7 @@ pub fn open_regular(path: &Path) -> Result<File> {
     Err(Error::new(
         Code::Io,
         format!(
-            "not a regular file ({}): expected a regular file",
+            "not a regular file ({}): expected a regular file (to read a pipe, pass `-` and redirect it to standard input)",
             kind_of(&ft)
         ),
     )
@@ -147,10 +147,10 @@ pub fn decode(bytes: Vec<u8>) -> Result<String> {
 pub fn normalize(text: &str) -> Cow<'_, str> {
     let t = strip_bom(text);
     let b = t.as_bytes();
-    let lone_cr = b
-        .iter()
-        .enumerate()
-        .any(|(i, &c)| c == b'\r' && b.get(i + 1) != Some(&b'\n'));
+    let lone_cr = b.contains(&b'\r')
+        && b.iter()
+            .enumerate()
+            .any(|(i, &c)| c == b'\r' && b.get(i + 1) != Some(&b'\n'));
     if !lone_cr {
         return Cow::Borrowed(t);
     }
