@@ -23,7 +23,9 @@
 //!   file's `<arg>` declarations and `--arg x=VALUE`, `if` / `unless` on the
 //!   node and its groups evaluated (a node switched off is skipped with an
 //!   `ignored` warning), other substitutions refused (see `launch_subst`);
-//! - ROS 2 launch YAML (`node: {pkg, exec, args}`), `args` a string or a list;
+//! - ROS 2 launch YAML (`node: {pkg, exec, args}`), `args` a string or a list,
+//!   with `arg:` declarations, `$(var x)` and `if:` / `unless:` on the node
+//!   and its groups decided as for launch XML;
 //! - ROS 2 Python launch files: the literal `arguments=[...]` list of a
 //!   `Node(...)` whose executable is `static_transform_publisher`; an element
 //!   that is not a string or number literal (a variable, `LaunchConfiguration`,
@@ -39,7 +41,7 @@
 //! `assumed-convention` warning says so and `--invert` flips it.
 
 use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
-use crate::formats::launch_subst::LaunchArgs;
+use crate::formats::launch_subst::{ArgDecl, Condition, LaunchArgs};
 use crate::formats::registry::{FormatSpec, Sniff};
 use crate::formats::source::LineIndex;
 use crate::formats::yaml::{self, Node, Value};
@@ -435,7 +437,11 @@ pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
     Ok(out)
 }
 
-fn find_nodes<'a>(n: &'a Node, out: &mut Vec<&'a Node>) {
+/// A static_transform_publisher node of launch YAML with the `if` / `unless`
+/// conditions on it and on the mappings enclosing it.
+type YamlNode<'a> = (&'a Node, Vec<Condition>);
+
+fn find_nodes<'a>(n: &'a Node, conds: &mut Vec<Condition>, out: &mut Vec<YamlNode<'a>>) {
     match &n.value {
         Value::Map(m) => {
             let exe = n
@@ -443,34 +449,90 @@ fn find_nodes<'a>(n: &'a Node, out: &mut Vec<&'a Node>) {
                 .or_else(|| n.get("executable"))
                 .or_else(|| n.get("type"))
                 .and_then(|v| v.as_str());
-            if exe.as_deref() == Some("static_transform_publisher") {
-                out.push(n);
-                return;
+            let is_node = exe.as_deref() == Some("static_transform_publisher");
+            let before = conds.len();
+            for attr in ["if", "unless"] {
+                if let Some(raw) = n.get(attr).and_then(|v| v.as_str()) {
+                    let place = if is_node {
+                        ""
+                    } else {
+                        " on its enclosing group"
+                    };
+                    conds.push(Condition {
+                        attr,
+                        raw,
+                        place: place.to_string(),
+                    });
+                }
             }
-            for (_, v) in m {
-                find_nodes(v, out);
+            if is_node {
+                // The node's own conditions first.
+                let mut own = conds[before..].to_vec();
+                own.extend_from_slice(&conds[..before]);
+                out.push((n, own));
+            } else {
+                for (_, v) in m {
+                    find_nodes(v, conds, out);
+                }
             }
+            conds.truncate(before);
         }
         Value::Seq(s) => {
             for v in s {
-                find_nodes(v, out);
+                find_nodes(v, conds, out);
             }
         }
         _ => {}
     }
 }
 
+/// The `arg:` and `let:` declarations of a launch YAML document.
+fn yaml_args(n: &Node, out: &mut Vec<ArgDecl>) {
+    for (k, v) in n.entries() {
+        let key = k.as_str().unwrap_or_default();
+        if key == "arg" || key == "let" {
+            if let Some(name) = v.get("name").and_then(|x| x.as_str()) {
+                out.push(ArgDecl {
+                    name,
+                    value: v.get("value").and_then(|x| x.as_str()),
+                    default: v.get("default").and_then(|x| x.as_str()),
+                });
+            }
+        }
+        yaml_args(v, out);
+    }
+    if let Value::Seq(s) = &n.value {
+        for v in s {
+            yaml_args(v, out);
+        }
+    }
+}
+
 /// ROS 2 launch YAML.
 pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    let _ = opts;
     let docs = yaml::parse_documents(text)?;
     let mut nodes = Vec::new();
+    let mut decls = Vec::new();
     for d in &docs {
-        find_nodes(d, &mut nodes);
+        find_nodes(d, &mut Vec::new(), &mut nodes);
+        yaml_args(d, &mut decls);
     }
+    let largs = LaunchArgs::from_decls(decls, &opts.launch_args);
     let mut out = Loaded::default();
-    for n in nodes {
+    let mut skipped: Option<(usize, String)> = None;
+    for (n, conds) in nodes {
         let loc = Location::at(path, n.line.max(1), Some(n.column.max(1)));
+        if let Some(why) = largs.first_off(&conds, &loc)? {
+            skipped.get_or_insert((n.line.max(1), why.clone()));
+            out.warnings.push(
+                Warning::new(
+                    WarningCode::Ignored,
+                    format!("static_transform_publisher node not started ({why}): its transform is not read"),
+                )
+                .at(&loc),
+            );
+            continue;
+        }
         let args = n
             .get("args")
             .or_else(|| n.get("arguments"))
@@ -481,17 +543,22 @@ pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<
                 .at(&loc)
             })?;
         let toks: Vec<String> = match &args.value {
-            Value::Str(s) => s.split_whitespace().map(String::from).collect(),
+            Value::Str(s) => largs
+                .resolve(s, &loc)?
+                .split_whitespace()
+                .map(String::from)
+                .collect(),
             Value::Seq(items) => {
                 let mut v = Vec::new();
                 for it in items {
-                    v.push(it.as_str().ok_or_else(|| {
+                    let t = it.as_str().ok_or_else(|| {
                         Error::parse(format!(
                             "static_transform_publisher args: expected strings or numbers, found {}",
                             it.kind()
                         ))
                         .at(&loc)
-                    })?);
+                    })?;
+                    v.push(largs.resolve(&t, &loc)?);
                 }
                 v
             }
@@ -510,6 +577,12 @@ pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<
             "node ",
             &mut out.warnings,
         )?);
+    }
+    if let (true, Some((line, why))) = (out.edges.is_empty(), skipped) {
+        return Err(Error::parse(format!(
+            "every static_transform_publisher node is switched off (the first by {why}): expected at least one that runs; set the arg it depends on with --arg NAME=VALUE"
+        ))
+        .at_line(line, None));
     }
     Ok(out)
 }

@@ -4,12 +4,15 @@
 //!
 //! - `<arg name="x" default="v"/>` declares `x` with a default that
 //!   `--arg x=...` overrides; `<arg name="x" value="v"/>` (and ROS 2
-//!   `<let name="x" value="v"/>`) fixes it. Args are file-wide.
+//!   `<let name="x" value="v"/>`) fixes it; launch YAML's
+//!   `arg: {name, default}` / `let: {name, value}` the same. Args are
+//!   file-wide.
 //! - `$(arg x)` (ROS 1) and `$(var x)` (ROS 2) are replaced by that value; a
 //!   default may itself use `$(arg y)`. Any other substitution (`$(find ...)`,
 //!   `$(eval ...)`, `$(env ...)`) is left for the caller to refuse.
 //! - `if="..."` / `unless="..."` on a node or on any enclosing element
-//!   (`<group>`, `<include>`): the value, once substituted, must be `true`,
+//!   (`<group>`, `<include>`; in launch YAML an `if:` / `unless:` key on the
+//!   node or an enclosing mapping): the value, once substituted, must be `true`,
 //!   `false`, `1` or `0` (any case, as roslaunch reads them); a node whose
 //!   condition is off is not started.
 //!
@@ -23,6 +26,29 @@ use std::collections::BTreeMap;
 /// Nesting of `$(arg ...)` inside arg defaults followed before giving up (a
 /// default that names itself would loop).
 const MAX_ARG_DEPTH: usize = 16;
+
+/// One `<arg>` / `<let>` (or launch YAML `arg:`) declaration.
+#[derive(Debug, Clone)]
+pub struct ArgDecl {
+    /// The arg's name.
+    pub name: String,
+    /// `value=`: fixed.
+    pub value: Option<String>,
+    /// `default=`: overridden by `--arg`.
+    pub default: Option<String>,
+}
+
+/// One `if` / `unless` condition on a node or an enclosing group.
+#[derive(Debug, Clone)]
+pub struct Condition {
+    /// `if` or `unless`.
+    pub attr: &'static str,
+    /// The value as written.
+    pub raw: String,
+    /// Where it sits, for the message: empty on the node itself, else
+    /// ` on its enclosing ...`.
+    pub place: String,
+}
 
 /// How an arg is declared in the file.
 #[derive(Debug, Clone)]
@@ -44,21 +70,33 @@ pub struct LaunchArgs<'a> {
 impl<'a> LaunchArgs<'a> {
     /// Collect the `<arg>` and `<let>` declarations of `doc`.
     pub fn new(doc: &roxmltree::Document, given: &'a BTreeMap<String, String>) -> Self {
+        let decls = doc
+            .descendants()
+            .filter(|n| n.is_element() && matches!(n.tag_name().name(), "arg" | "let"))
+            .filter_map(|n| {
+                let name = n.attribute("name")?;
+                Some(ArgDecl {
+                    name: name.to_string(),
+                    value: n.attribute("value").map(String::from),
+                    default: n.attribute("default").map(String::from),
+                })
+            });
+        Self::from_decls(decls, given)
+    }
+
+    /// Args from their declarations (the first declaration of a name counts).
+    pub fn from_decls(
+        decls: impl IntoIterator<Item = ArgDecl>,
+        given: &'a BTreeMap<String, String>,
+    ) -> Self {
         let mut declared = BTreeMap::new();
-        for n in doc.descendants().filter(|n| n.is_element()) {
-            let tag = n.tag_name().name();
-            if tag != "arg" && tag != "let" {
-                continue;
-            }
-            let Some(name) = n.attribute("name") else {
-                continue;
-            };
-            let d = match (n.attribute("value"), n.attribute("default")) {
-                (Some(v), _) => Decl::Value(v.to_string()),
-                (None, Some(d)) => Decl::Default(d.to_string()),
+        for d in decls {
+            let decl = match (d.value, d.default) {
+                (Some(v), _) => Decl::Value(v),
+                (None, Some(x)) => Decl::Default(x),
                 (None, None) => Decl::Free,
             };
-            declared.entry(name.to_string()).or_insert(d);
+            declared.entry(d.name).or_insert(decl);
         }
         LaunchArgs { declared, given }
     }
@@ -125,19 +163,32 @@ impl<'a> LaunchArgs<'a> {
     /// Why `node` is not started, when an `if` / `unless` on it or on an
     /// enclosing element is off; `None` when it runs.
     pub fn switched_off(&self, node: roxmltree::Node, loc: &Location) -> Result<Option<String>> {
+        let mut conds = Vec::new();
         for n in node.ancestors().filter(|n| n.is_element()) {
-            for (attr, runs_when) in [("if", true), ("unless", false)] {
-                let Some(raw) = n.attribute(attr) else {
-                    continue;
-                };
-                if self.truth(raw, attr, loc)? != runs_when {
-                    let on = if n == node {
-                        String::new()
-                    } else {
-                        format!(" on its enclosing <{}>", n.tag_name().name())
-                    };
-                    return Ok(Some(format!("{attr}=\"{}\"{on}", quote(raw))));
+            let place = if n == node {
+                String::new()
+            } else {
+                format!(" on its enclosing <{}>", n.tag_name().name())
+            };
+            for attr in ["if", "unless"] {
+                if let Some(raw) = n.attribute(attr) {
+                    conds.push(Condition {
+                        attr,
+                        raw: raw.to_string(),
+                        place: place.clone(),
+                    });
                 }
+            }
+        }
+        self.first_off(&conds, loc)
+    }
+
+    /// The first condition that is off, described; `None` when all hold.
+    pub fn first_off(&self, conds: &[Condition], loc: &Location) -> Result<Option<String>> {
+        for c in conds {
+            let runs_when = c.attr == "if";
+            if self.truth(&c.raw, c.attr, loc)? != runs_when {
+                return Ok(Some(format!("{}=\"{}\"{}", c.attr, quote(&c.raw), c.place)));
             }
         }
         Ok(None)

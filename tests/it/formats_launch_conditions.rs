@@ -144,3 +144,38 @@ fn a_default_that_names_itself_is_refused() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("nest more than"), "{err}");
 }
+
+#[test]
+fn launch_yaml_conditions_and_args_are_decided_the_same_way() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("tf.launch.yaml");
+    let text = r#"launch:
+- arg: {name: z, default: "0.5"}
+- arg: {name: on, default: "true"}
+- group:
+    if: "$(var on)"
+    children:
+    - node: {pkg: tf2_ros, exec: static_transform_publisher, args: "0 0 $(var z) 0 0 0 base lidar"}
+- group:
+    unless: "true"
+    children:
+    - node: {pkg: tf2_ros, exec: static_transform_publisher, args: "0 0 9 0 0 0 base lidar"}
+- node: {pkg: tf2_ros, exec: static_transform_publisher, if: "false", args: "0 0 8 0 0 0 base lidar"}
+"#;
+    std::fs::write(&p, text).unwrap();
+    let (code, z, err) = z_of(&p, &[]);
+    assert_eq!((code, z), (0, Some(0.5)), "{err}");
+    assert!(
+        err.contains("not started (unless=\"true\" on its enclosing group)"),
+        "{err}"
+    );
+    assert!(err.contains("not started (if=\"false\")"), "{err}");
+    let (code, z, err) = z_of(&p, &["--arg", "z=0.25"]);
+    assert_eq!((code, z), (0, Some(0.25)), "{err}");
+    let (code, _, err) = z_of(&p, &["--arg", "on=0"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("switched off (the first by if=\"$(var on)\" on its enclosing group)"),
+        "{err}"
+    );
+}
