@@ -27,7 +27,14 @@ pub fn is_stdin(path: &Path) -> bool {
 /// Open `path` for reading without blocking and refuse anything but a regular
 /// file ("not a regular file", naming its kind).
 pub fn open_regular(path: &Path) -> Result<File> {
-    let f = open_nonblocking(path).map_err(|e| Error::io(path, &e))?;
+    let f = match open_nonblocking(path) {
+        Ok(f) => f,
+        // A socket cannot be opened at all: say what it is (stat does not block).
+        Err(e) => match std::fs::metadata(path) {
+            Ok(m) if !m.is_file() && !m.is_dir() => return Err(not_regular(path, &m.file_type())),
+            _ => return Err(Error::io(path, &e)),
+        },
+    };
     let meta = f.metadata().map_err(|e| Error::io(path, &e))?;
     let ft = meta.file_type();
     if ft.is_file() {
@@ -36,14 +43,18 @@ pub fn open_regular(path: &Path) -> Result<File> {
     if ft.is_dir() {
         return Err(Error::new(Code::Io, "is a directory: expected a file").in_file(path));
     }
-    Err(Error::new(
+    Err(not_regular(path, &ft))
+}
+
+fn not_regular(path: &Path, ft: &std::fs::FileType) -> Error {
+    Error::new(
         Code::Io,
         format!(
             "not a regular file ({}): expected a regular file (to read a pipe, pass `-` and redirect it to standard input)",
-            kind_of(&ft)
+            kind_of(ft)
         ),
     )
-    .in_file(path))
+    .in_file(path)
 }
 
 #[cfg(unix)]

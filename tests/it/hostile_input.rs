@@ -69,6 +69,16 @@ fn check_refuses_a_fifo_and_a_device_link_in_a_directory() {
 }
 
 #[test]
+fn audit_refuses_a_socket() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("s.yaml");
+    let _l = std::os::unix::net::UnixListener::bind(&p).unwrap();
+    let o = run_audit(&[s(&p)], 1);
+    refused(&o, "s.yaml");
+    assert!(o.stderr.contains("a socket"), "{}", o.stderr);
+}
+
+#[test]
 fn survey_refuses_a_fifo_in_a_directory() {
     let d = tempfile::tempdir().unwrap();
     mkfifo(d.path(), "rig.toml");
