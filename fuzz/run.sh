@@ -10,7 +10,7 @@ set -uo pipefail
 cd "$(dirname "$0")"
 secs=${1:-600}; shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(urdf launch yaml tf_static json rig_toml points graph)
+[ ${#targets[@]} -eq 0 ] && targets=(urdf launch yaml tf_static json rig_toml points graph xacro)
 jobs=${JOBS:-2}
 sanitizer=${SANITIZER:-address}
 export RUSTC_BOOTSTRAP=1

@@ -108,6 +108,45 @@ pub fn read_capped(r: impl Read, cap: u64, path: &Path, what: &str) -> Result<Ve
     Ok(buf)
 }
 
+/// A reader that fails (rather than stopping short) once more than `cap`
+/// bytes come through: for streams read without holding them.
+pub struct Capped<R> {
+    inner: R,
+    left: u64,
+    cap: u64,
+}
+
+impl<R: Read> Capped<R> {
+    /// At most `cap` bytes of `inner`.
+    pub fn new(inner: R, cap: u64) -> Self {
+        Capped {
+            inner,
+            left: cap,
+            cap,
+        }
+    }
+}
+
+impl<R: Read> Read for Capped<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        let want = buf
+            .len()
+            .min(usize::try_from(self.left).unwrap_or(usize::MAX).max(1));
+        let n = self.inner.read(&mut buf[..want])?;
+        if n as u64 > self.left {
+            return Err(std::io::Error::other(format!(
+                "input is more than {} bytes: expected at most that",
+                self.cap
+            )));
+        }
+        self.left -= n as u64;
+        Ok(n)
+    }
+}
+
 /// The bytes of a regular file (or of standard input for `-`), at most `cap`.
 pub fn read_bytes(path: &Path, cap: u64, what: &str) -> Result<Vec<u8>> {
     if is_stdin(path) {

@@ -139,6 +139,54 @@ pub const MAX_QUOTED_CHARS: usize = 120;
 /// messages that quote several values.
 pub const MAX_MESSAGE_CHARS: usize = 2000;
 
+/// Largest record, chunk (compressed or not) or message a bag reader allocates
+/// (bytes). rosbag2 and `rosbag record` write chunks of 768 KiB to a few MiB;
+/// a length beyond this in a bag is corruption, refused before allocating.
+pub const MAX_BAG_RECORD_BYTES: usize = 1 << 30;
+
+/// Largest rosbag2 `metadata.yaml` read (bytes): a few KiB in practice, with
+/// one entry per split file and topic.
+pub const MAX_BAG_METADATA_BYTES: u64 = 16 * 1024 * 1024;
+
+/// A bag read that will go through at least this many bytes shows a progress
+/// line on stderr when stderr is a terminal (below it the read takes well
+/// under a second).
+pub const BAG_PROGRESS_MIN_BYTES: u64 = 64 * 1024 * 1024;
+
+/// Most elements one xacro expansion may produce. The largest description in
+/// the fixtures (a UR arm with ros2_control) expands to about 400 elements
+/// and a full mobile manipulator to a few thousand; beyond 200 000 it is a
+/// macro bomb (each doubling macro level doubles the count).
+pub const XACRO_MAX_ELEMENTS: usize = 200_000;
+
+/// Most bytes of text (attributes and text) one xacro expansion may produce,
+/// and the longest string an expression may build (`'a' * 10**9`).
+pub const XACRO_MAX_OUTPUT_BYTES: usize = 32 * 1024 * 1024;
+
+/// Deepest nesting of macro calls. Python xacro stops at Python's recursion
+/// limit (1000 frames, a few dozen frames per call); real files nest fewer
+/// than 10 levels.
+pub const XACRO_MAX_MACRO_DEPTH: usize = 100;
+
+/// Deepest nesting of `xacro:include` (a file including itself stops here).
+pub const XACRO_MAX_INCLUDE_DEPTH: usize = 32;
+
+/// Wall time (s) after which an expansion is stopped; real descriptions
+/// expand in milliseconds.
+pub const XACRO_MAX_SECONDS: f64 = 10.0;
+
+/// Deepest nesting of one `${...}` expression (parentheses, unary operators):
+/// the parser recurses per level.
+pub const XACRO_MAX_EXPR_DEPTH: usize = 100;
+
+/// `$(find pkg)`: directory levels searched below each package-path entry
+/// (a colcon workspace keeps packages at `src/<repo>/<pkg>`).
+pub const XACRO_PACKAGE_SEARCH_DEPTH: usize = 3;
+
+/// `$(find pkg)` without a package path: ancestor directories of the input
+/// searched (each with [`XACRO_PACKAGE_SEARCH_DEPTH`] levels below it).
+pub const XACRO_PACKAGE_SEARCH_UP: usize = 3;
+
 // ---------------------------------------------------------------------------
 // Rig analysis and verdicts (`analysis`)
 // ---------------------------------------------------------------------------
@@ -241,3 +289,18 @@ pub const MAX_PCD_COUNT: usize = 1 << 16;
 
 /// Largest point file read (bytes).
 pub const MAX_POINT_FILE_SIZE: u64 = 4 * 1024 * 1024 * 1024;
+
+/// Fewest points for which `degeneracy` assembly is split over threads (below
+/// it, starting a thread costs about as much as it saves: 2^18 points are
+/// about half a millisecond of assembly on one core).
+pub const ASSEMBLY_PARALLEL_MIN_POINTS: usize = 1 << 18;
+
+/// Read buffer of the streaming point-file readers (bytes).
+pub const POINT_READ_BUFFER: usize = 1 << 16;
+
+/// Longest line of a point file's header or of a text point file (bytes): a
+/// binary file without line breaks is refused here instead of being buffered.
+pub const MAX_POINT_LINE_BYTES: usize = 1 << 20;
+
+/// Largest binary record of a point file (bytes; PCD descriptors use < 2 KiB).
+pub const MAX_POINT_RECORD_BYTES: usize = 1 << 20;

@@ -4,7 +4,7 @@ use super::{
     emit, parse_ell, parse_joint, parse_kappa, parse_lambda, parse_nonneg, print_warnings,
     write_output,
 };
-use clap::Args;
+use clap::{Args, ValueEnum};
 use extrinsic_audit::diagnostic::Result;
 use extrinsic_audit::formats::{Format, LoadOptions};
 use extrinsic_audit::pipeline::{self, Rename, RigOptions};
@@ -47,10 +47,6 @@ pub struct AuditArgs {
     /// `fast_lio.yaml:imu=imu_link` to attach a FAST-LIO extrinsic to a URDF); repeatable
     #[arg(long = "rename", value_parser = parse_rename, value_name = "[FILE:]OLD=NEW")]
     pub renames: Vec<Rename>,
-    /// Set a launch-file arg (`$(arg NAME)`, `if="$(arg NAME)"`), overriding
-    /// the file's default; repeatable
-    #[arg(long = "arg", value_parser = parse_launch_arg, value_name = "NAME=VALUE")]
-    pub launch_args: Vec<(String, String)>,
     /// Read only this key of a YAML/JSON file (e.g. T_imu_lidar)
     #[arg(long, value_name = "NAME")]
     pub key: Option<String>,
@@ -70,6 +66,37 @@ pub struct AuditArgs {
     /// Output format
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
     pub format: OutputFormat,
+    /// xacro and launch-file `$(arg NAME)` value (also `if="$(arg NAME)"` in a
+    /// launch file), overriding the file's default; repeatable
+    #[arg(long = "arg", value_parser = parse_xacro_arg, value_name = "NAME=VALUE")]
+    pub xacro_args: Vec<(String, String)>,
+    /// Where xacro `$(find pkg)` looks first: a package directory or a directory
+    /// holding packages; repeatable
+    #[arg(long = "package-path", value_name = "DIR")]
+    pub package_paths: Vec<PathBuf>,
+    /// How .xacro files are expanded: `native` (built in) or `external` (the
+    /// `xacro` program on PATH)
+    #[arg(long = "xacro", value_enum, default_value_t = XacroMode::Native)]
+    pub xacro_mode: XacroMode,
+}
+
+/// `--xacro native|external`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum XacroMode {
+    Native,
+    External,
+}
+
+/// `--arg NAME=VALUE` (the value is text, as `xacro NAME:=VALUE` takes it).
+fn parse_xacro_arg(s: &str) -> std::result::Result<(String, String), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected NAME=VALUE, found `{s}`"))?;
+    let name = name.trim().trim_end_matches(':');
+    if name.is_empty() {
+        return Err(format!("expected NAME=VALUE, found `{s}`"));
+    }
+    Ok((name.to_string(), value.to_string()))
 }
 
 impl AuditArgs {
@@ -85,18 +112,12 @@ impl AuditArgs {
             invert: self.invert,
             format,
             max_file_size: self.max_file_size,
-            launch_args: self.launch_args.iter().cloned().collect(),
             urdf_version: self.urdf_version,
+            xacro_args: self.xacro_args.iter().cloned().collect(),
+            package_paths: self.package_paths.clone(),
+            xacro_external: self.xacro_mode == XacroMode::External,
             ..LoadOptions::default()
         })
-    }
-}
-
-/// `--arg NAME=VALUE`.
-pub fn parse_launch_arg(s: &str) -> std::result::Result<(String, String), String> {
-    match s.split_once('=') {
-        Some((n, v)) if !n.trim().is_empty() => Ok((n.trim().to_string(), v.to_string())),
-        _ => Err(format!("expected NAME=VALUE, found `{s}`")),
     }
 }
 

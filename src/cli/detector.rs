@@ -3,7 +3,7 @@
 //! `extrinsic_audit::pipeline::detector`.
 
 use super::{emit, parse_noise, parse_positive, parse_voxel};
-use extrinsic_audit::degeneracy::points::read_points;
+use extrinsic_audit::degeneracy::points::accumulate_file;
 use extrinsic_audit::degeneracy::scene::{SceneKind, TUNNEL_RADIUS};
 use extrinsic_audit::degeneracy::threshold::{Calibration, SEEDS};
 use extrinsic_audit::degeneracy::MetricRule;
@@ -286,9 +286,16 @@ fn frame_from_args(shift: Option<&str>, rpy: Option<&str>) -> Result<Transform> 
 pub fn degeneracy(args: &DegeneracyArgs, out: &mut dyn Write) -> Result<i32> {
     let frame = frame_from_args(args.shift.as_deref(), args.rotate_rpy.as_deref())?;
     let ells = parse_ells(&args.ell)?;
-    let data = read_points(&args.points)?;
-    let report =
-        det::degeneracy(&data, &frame, args.tau, &ells).map_err(|e| e.in_file(&args.points))?;
+    if !(args.tau.is_finite() && args.tau > 0.0) {
+        return Err(Error::usage(format!(
+            "--tau: expected a positive number, found {}",
+            args.tau
+        )));
+    }
+    // Streamed: H and M without holding the points; the frame by congruence.
+    let acc = accumulate_file(&args.points, Some(&frame))?;
+    let report = det::degeneracy_of(&acc.assembly, &acc.warnings, &frame, args.tau, &ells)
+        .map_err(|e| e.in_file(&args.points))?;
     emit(&report, args.format, out)?;
     Ok(0)
 }

@@ -22,11 +22,9 @@
 
 #![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
 
-#[allow(missing_docs)] // TODO(issue 10): document accumulate.rs, then drop this
 mod accumulate;
 mod analysis;
 mod eigen;
-#[allow(missing_docs)] // TODO(issue 10): document points.rs, then drop this
 pub mod points;
 mod rules;
 pub mod scene;

@@ -304,7 +304,7 @@ fn xml_doc(text: &str) -> Result<roxmltree::Document<'_>> {
 pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let doc = xml_doc(text)?;
     let idx = LineIndex::new(text);
-    let args = LaunchArgs::new(&doc, &opts.launch_args);
+    let args = LaunchArgs::new(&doc, &opts.xacro_args);
     let mut out = Loaded::default();
     // The first node switched off, for the error when none runs.
     let mut skipped: Option<(usize, String)> = None;
@@ -517,7 +517,7 @@ pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<
         find_nodes(d, &mut Vec::new(), &mut nodes);
         yaml_args(d, &mut decls);
     }
-    let largs = LaunchArgs::from_decls(decls, &opts.launch_args);
+    let largs = LaunchArgs::from_decls(decls, &opts.xacro_args);
     let mut out = Loaded::default();
     let mut skipped: Option<(usize, String)> = None;
     for (n, conds) in nodes {

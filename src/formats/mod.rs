@@ -15,6 +15,7 @@ use crate::tolerances::{DEFAULT_MAX_FILE_SIZE, MAX_TRANSLATION_M, METRE_FIELD_WA
 use std::collections::BTreeMap;
 use std::path::Path;
 
+pub mod bag;
 pub mod kitti_m2dgr;
 pub mod launch;
 pub mod launch_subst;
@@ -45,15 +46,21 @@ pub struct LoadOptions {
     pub format: Option<Format>,
     /// Refuse files larger than this (bytes).
     pub max_file_size: u64,
-    /// `--arg NAME=VALUE`: launch-file args (`$(arg NAME)`), overriding the
-    /// defaults the file declares.
-    pub launch_args: BTreeMap<String, String>,
     /// Where to look for the external `xacro` program: a `PATH`-style list;
     /// `None` uses the process's `PATH`.
     pub xacro_search_path: Option<std::ffi::OsString>,
     /// `--urdf-version X.Y`: read every URDF as this version, whatever its
     /// `<robot version>` says (`None`: as declared, 1.0 when absent).
     pub urdf_version: Option<urdf::UrdfVersion>,
+    /// `--xacro external`: expand `.xacro` files with the external program
+    /// instead of the built-in expander.
+    pub xacro_external: bool,
+    /// `--arg NAME=VALUE`: xacro `$(arg NAME)` values (override `xacro:arg`),
+    /// and launch-file args (`$(arg NAME)`, `$(var NAME)`, conditions),
+    /// overriding the defaults the file declares.
+    pub xacro_args: BTreeMap<String, String>,
+    /// `--package-path DIR`: where `$(find pkg)` looks first.
+    pub package_paths: Vec<std::path::PathBuf>,
 }
 
 impl Default for LoadOptions {
@@ -64,9 +71,11 @@ impl Default for LoadOptions {
             invert: false,
             format: None,
             max_file_size: DEFAULT_MAX_FILE_SIZE,
-            launch_args: BTreeMap::new(),
             xacro_search_path: None,
             urdf_version: None,
+            xacro_external: false,
+            xacro_args: BTreeMap::new(),
+            package_paths: Vec::new(),
         }
     }
 }
@@ -183,6 +192,15 @@ pub fn detect_format(path: &Path, text: &str) -> Result<Format> {
 
 /// Read one file: detect its format (or use `opts.format`), parse, validate.
 pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    // A FIFO or a device is refused before anything opens it (bag detection
+    // reads magic bytes); a bag folder is a directory.
+    if !path.is_dir() && !crate::input::is_stdin(path) {
+        drop(crate::input::open_regular(path)?);
+    }
+    // Bags are binary and large: read through their index, never whole.
+    if bag::is_bag(path) {
+        return bag::load(path, opts);
+    }
     let text = crate::input::read_text(path, opts.max_file_size, "the --max-file-size cap")?;
     load_str(&text, path, opts)
 }

@@ -226,15 +226,16 @@ fn unknown_xml(text: &str) -> Error {
     }
 }
 
-/// Whether a directory walk reads this file (any format's walk extensions; no
-/// hidden files).
+/// Whether a directory walk reads this file (any format's walk extensions, or
+/// a bag; no hidden files).
 pub fn is_calibration_file(path: &Path) -> bool {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().to_lowercase())
         .unwrap_or_default();
     !name.starts_with('.')
-        && FORMATS
-            .iter()
-            .any(|f| f.walk.iter().any(|ext| name.ends_with(ext)))
+        && (super::bag::is_bag(path)
+            || FORMATS
+                .iter()
+                .any(|f| f.walk.iter().any(|ext| name.ends_with(ext))))
 }

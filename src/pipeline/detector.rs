@@ -39,7 +39,9 @@ fn frame_json(t: &Transform) -> FrameJson {
     }
 }
 
-/// Every family on points with normals, re-expressed in `frame`.
+/// Every family on points with normals, re-expressed in `frame` (the points
+/// are copied; `audit degeneracy` streams a file instead, see
+/// [`degeneracy_of`]).
 pub fn degeneracy(
     data: &PointData,
     frame: &Transform,
@@ -49,6 +51,21 @@ pub fn degeneracy(
     check_tau(tau)?;
     let (p, n) = reexpress(&data.points, &data.normals, frame);
     let asm = Assembly::from_points(&p, &n, data.weights.as_deref())?;
+    degeneracy_of(&asm, &data.warnings, frame, tau, ells)
+}
+
+/// Every family on an assembly already expressed in `frame` (e.g.
+/// `degeneracy::points::accumulate_file`, which applies the frame change to
+/// the sums by congruence).
+pub fn degeneracy_of(
+    asm: &Assembly,
+    warnings: &[crate::diagnostic::Warning],
+    frame: &Transform,
+    tau: f64,
+    ells: &[f64],
+) -> Result<DegeneracyReport> {
+    check_tau(tau)?;
+    let asm = *asm;
     // Point displacement first: its error (collinear points) is the one to report.
     let pd = analyse(&asm, &MetricRule::PointDisplacement, tau)?;
     let mut families = Vec::new();
@@ -87,12 +104,12 @@ pub fn degeneracy(
         .collect();
     Ok(DegeneracyReport {
         schema_version: crate::report::SCHEMA_VERSION,
-        points: data.points.len(),
+        points: asm.count,
         frame: frame_json(frame),
         families,
         degenerate_subspace,
         footprint: pd.footprint(),
-        warnings: DegeneracyReport::warning_lines(&data.warnings),
+        warnings: DegeneracyReport::warning_lines(warnings),
     })
 }
 

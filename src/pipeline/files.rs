@@ -36,7 +36,10 @@ fn walk(dir: &Path, accept: fn(&Path) -> bool, out: &mut Vec<PathBuf>, depth: us
         let entry = entry.map_err(|e| Error::io(dir, &e))?;
         let path = entry.path();
         let ft = entry.file_type().map_err(|e| Error::io(&path, &e))?;
-        if ft.is_dir() {
+        // A rosbag2 folder (metadata.yaml + its files) is one input.
+        if ft.is_dir() && accept(&path) && crate::formats::bag::is_bag(&path) {
+            out.push(path);
+        } else if ft.is_dir() {
             walk(&path, accept, out, depth + 1)?;
         } else if accept(&path) {
             out.push(path);

@@ -1,11 +1,290 @@
-//! A .xacro file is expanded by the `xacro` program when it is on PATH. Here a
-//! stand-in `xacro` (a shell script printing a fixed URDF) proves the wiring; the
-//! refusal without `xacro` is in the bad-input catalogue (08-macro.urdf.xacro).
+//! xacro: the built-in expander against Python xacro (`pip install xacro`,
+//! tests/fixtures/xacro/generate.py) on real description packages, edge by
+//! edge to 1e-12; every edge points at a `<joint>` line in the xacro source;
+//! `--arg`, `--package-path`; the external fallback with a stand-in program.
+//! Refusals (unknown macro, missing include, recursion, bomb, ...) are in the
+//! bad-input catalogue (tests/bad_inputs/8*-xacro-*, 9*-xacro-*).
 
+use extrinsic_audit::formats::{load_file, Format, LoadOptions, Loaded};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+const DIR: &str = "tests/fixtures/xacro";
+
+struct Case {
+    name: String,
+    input: PathBuf,
+    args: BTreeMap<String, String>,
+}
+
+fn cases() -> Vec<Case> {
+    let text = std::fs::read_to_string(Path::new(DIR).join("cases.tsv")).expect("cases.tsv");
+    text.lines()
+        .filter(|l| !l.trim().is_empty() && !l.starts_with('#'))
+        .map(|l| {
+            let cols: Vec<&str> = l.split('\t').collect();
+            let args = cols
+                .get(2)
+                .map(|a| {
+                    a.split_whitespace()
+                        .map(|kv| {
+                            let (k, v) = kv.split_once(":=").expect("NAME:=VALUE");
+                            (k.to_string(), v.to_string())
+                        })
+                        .collect()
+                })
+                .unwrap_or_default();
+            Case {
+                name: cols[0].to_string(),
+                input: Path::new(DIR).join(cols[1]),
+                args,
+            }
+        })
+        .collect()
+}
+
+fn native(c: &Case) -> Loaded {
+    let opts = LoadOptions {
+        xacro_args: c.args.clone(),
+        ..LoadOptions::default()
+    };
+    load_file(&c.input, &opts).unwrap_or_else(|e| panic!("{}: {e}", c.name))
+}
+
+fn expected(c: &Case) -> Loaded {
+    let p = Path::new(DIR)
+        .join("expected")
+        .join(format!("{}.urdf", c.name));
+    load_file(&p, &LoadOptions::default()).unwrap_or_else(|e| panic!("{}: {e}", c.name))
+}
+
+/// Largest entry difference of the 4x4 matrices, per edge keyed by
+/// (parent, child); panics when the edge sets differ.
+fn compare(c: &Case, got: &Loaded, want: &Loaded) -> f64 {
+    let key = |l: &Loaded| -> BTreeMap<(String, String), nalgebra::Matrix4<f64>> {
+        l.edges
+            .iter()
+            .map(|e| ((e.parent.clone(), e.child.clone()), e.transform.matrix4()))
+            .collect()
+    };
+    let (g, w) = (key(got), key(want));
+    assert_eq!(g.len(), got.edges.len(), "{}: duplicate edges", c.name);
+    assert_eq!(
+        g.keys().collect::<Vec<_>>(),
+        w.keys().collect::<Vec<_>>(),
+        "{}: the edge sets differ",
+        c.name
+    );
+    g.iter()
+        .map(|(k, m)| (m - w[k]).abs().max())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn native_expansion_equals_python_xacro_on_real_packages() {
+    let all = cases();
+    assert!(all.len() >= 19, "only {} cases", all.len());
+    let mut total = 0;
+    for c in &all {
+        let got = native(c);
+        let want = expected(c);
+        let d = compare(c, &got, &want);
+        assert!(d <= 1e-12, "{}: transforms differ by {d:e}", c.name);
+        assert!(!got.edges.is_empty(), "{}: no edges", c.name);
+        total += got.edges.len();
+    }
+    assert!(total > 250, "{total} edges in all");
+}
+
+/// Every pair of LiDAR / IMU / laser frames (and each such frame against the
+/// root), composed through the frame graph, equals Python xacro's to 1e-12.
+#[test]
+fn lidar_and_imu_paths_equal_python_xacro() {
+    use extrinsic_audit::frames::FrameGraph;
+    let sensor = |f: &str| {
+        let f = f.to_ascii_lowercase();
+        ["lidar", "laser", "velodyne", "imu", "scan"]
+            .iter()
+            .any(|k| f.contains(k))
+    };
+    let mut pairs = 0;
+    for c in &cases() {
+        let (mut g, mut w) = (FrameGraph::new(), FrameGraph::new());
+        g.add(native(c)).expect("graph");
+        w.add(expected(c)).expect("graph");
+        let frames: Vec<String> = g.frames().into_iter().filter(|f| sensor(f)).collect();
+        let root = native(c).edges[0].parent.clone();
+        for (i, a) in frames.iter().enumerate() {
+            for b in std::iter::once(&root).chain(&frames[i + 1..]) {
+                let (Ok(x), Ok(y)) = (g.transform(b, a), w.transform(b, a)) else {
+                    continue;
+                };
+                let d = (x.transform.matrix4() - y.transform.matrix4()).abs().max();
+                assert!(d <= 1e-12, "{}: {b} -> {a}: {d:e}", c.name);
+                pairs += 1;
+            }
+        }
+    }
+    assert!(pairs >= 30, "{pairs} sensor pairs");
+}
+
+/// Every edge names the file and line of a `<joint>` in the xacro sources (the
+/// included file that wrote it, not the top file), and is marked as xacro.
+#[test]
+fn every_edge_points_at_its_joint_in_the_xacro_source() {
+    let mut from_included = 0;
+    for c in &cases() {
+        for e in native(c).edges {
+            let loc = &e.provenance.location;
+            let file = loc.file.as_ref().expect("file");
+            let line = loc.line.expect("line");
+            let text = std::fs::read_to_string(file).expect("source file");
+            let l = text.lines().nth(line - 1).unwrap_or("");
+            assert!(
+                l.contains("<joint") || l.contains("<xacro:element"),
+                "{}: edge {} -> {} at {}:{line} is not a joint line: {l:?}",
+                c.name,
+                e.parent,
+                e.child,
+                file.display()
+            );
+            assert_eq!(e.provenance.format, "xacro");
+            if file != &c.input {
+                from_included += 1;
+            }
+        }
+    }
+    assert!(
+        from_included > 100,
+        "{from_included} edges from included files"
+    );
+}
+
+/// The PR2 base laser: base.urdf.xacro calls the Hokuyo macro of
+/// hokuyo_lx30_laser.urdf.xacro with an `<origin>` block; the edge points at
+/// the `<joint>` in the Hokuyo macro, the numbers are those of the block.
+#[test]
+fn pr2_base_laser_comes_from_the_included_macro() {
+    let c = cases().into_iter().find(|c| c.name == "pr2").expect("pr2");
+    let l = native(&c);
+    let e = l
+        .edges
+        .iter()
+        .find(|e| e.child == "base_laser_link")
+        .expect("base laser");
+    assert_eq!(e.parent, "base_link");
+    let file = e.provenance.location.file.as_ref().expect("file");
+    assert!(
+        file.ends_with("pr2_description/urdf/sensors/hokuyo_lx30_laser.urdf.xacro"),
+        "{}",
+        file.display()
+    );
+    let d = e.transform.translation();
+    assert!(
+        (d.x - 0.275).abs() < 1e-15 && d.y.abs() < 1e-15 && (d.z - 0.252).abs() < 1e-15,
+        "{d}"
+    );
+}
+
+/// `--arg` overrides an `xacro:arg` default (here the DEBUG switch that hangs
+/// the Unitree A1 from a world link).
+#[test]
+fn arg_overrides_the_default() {
+    let mut c = cases()
+        .into_iter()
+        .find(|c| c.name == "unitree_a1")
+        .expect("a1");
+    assert!(!native(&c).edges.iter().any(|e| e.parent == "world"));
+    c.args.insert("DEBUG".into(), "true".into());
+    let l = native(&c);
+    let e = l
+        .edges
+        .iter()
+        .find(|e| e.parent == "world")
+        .expect("world joint");
+    assert_eq!(e.child, "base");
+}
+
+/// `$(find pkg)` of a package that is nowhere is an error naming it; with
+/// `--package-path` pointing at a directory holding it, the file expands (a
+/// file in a temporary directory: the upward search cannot find it).
+#[test]
+fn find_uses_the_package_path() {
+    let e = load_file(
+        Path::new("tests/fixtures/formats/norlab-warthog-rs32-mti10__warthog.urdf.xacro"),
+        &LoadOptions::default(),
+    )
+    .expect_err("no warthog_description");
+    assert!(e.message.contains("$(find warthog_description)"), "{e}");
+    assert!(e.message.contains("--package-path"), "{e}");
+    assert_eq!(e.location.line, Some(372), "{e}");
+
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input = dir.path().join("rig.urdf.xacro");
+    std::fs::write(
+        &input,
+        r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:include filename="$(find velodyne_description)/urdf/VLP-16.urdf.xacro"/>
+  <link name="base_link"/>
+  <xacro:VLP-16 parent="base_link" name="lidar">
+    <origin xyz="0.1 0 ${0.5 / 2}" rpy="0 0 ${pi / 2}"/>
+  </xacro:VLP-16>
+</robot>
+"#,
+    )
+    .expect("write");
+    let e = load_file(&input, &LoadOptions::default()).expect_err("not found");
+    assert!(e.message.contains("$(find velodyne_description)"), "{e}");
+    let opts = LoadOptions {
+        package_paths: vec![PathBuf::from(DIR).join("velodyne_simulator")],
+        ..LoadOptions::default()
+    };
+    let l = load_file(&input, &opts).expect("expanded");
+    let mount = l
+        .edges
+        .iter()
+        .find(|e| e.child == "lidar_base_link")
+        .expect("mount");
+    let d = mount.transform.translation();
+    assert!((d.x - 0.1).abs() < 1e-15 && d.y == 0.0 && (d.z - 0.25).abs() < 1e-15);
+    let r = mount.transform.rotation();
+    assert!((r[(1, 0)] - 1.0).abs() < 1e-15 && (r[(0, 1)] + 1.0).abs() < 1e-15);
+    let scan = l.edges.iter().find(|e| e.child == "lidar").expect("scan");
+    assert!((scan.transform.translation().z - 0.0377).abs() < 1e-15);
+    let f = scan.provenance.location.file.as_ref().expect("file");
+    assert!(
+        f.ends_with("velodyne_description/urdf/VLP-16.urdf.xacro"),
+        "{}",
+        f.display()
+    );
+}
+
+/// The velodyne example of this fork calls its macros without the `xacro:`
+/// prefix: Python xacro 2 copies `<VLP-16>` as is (the LiDARs vanish from the
+/// URDF), and so does this expander, with a warning naming the element.
+#[test]
+fn a_macro_called_without_prefix_is_copied_with_a_warning() {
+    let c = cases()
+        .into_iter()
+        .find(|c| c.name == "velodyne_example")
+        .expect("case");
+    let l = native(&c);
+    assert_eq!(l.edges.len(), 1);
+    let w: Vec<_> = l
+        .warnings
+        .iter()
+        .filter(|w| w.message.contains("no `xacro:` prefix"))
+        .collect();
+    assert_eq!(w.len(), 3, "{w:?}");
+    assert!(w[0].message.contains("<VLP-16>"), "{}", w[0].message);
+    assert_eq!(w[0].location.line, Some(36));
+}
+
+/// `--xacro external` runs the `xacro` program: a stand-in shell script
+/// printing a fixed URDF proves the wiring.
 #[cfg(unix)]
 #[test]
-fn xacro_on_path_is_run() {
-    use extrinsic_audit::formats::{load_file, LoadOptions};
+fn external_xacro_on_request() {
     use std::os::unix::fs::PermissionsExt;
 
     let dir = tempfile::tempdir().expect("tempdir");
@@ -17,17 +296,170 @@ fn xacro_on_path_is_run() {
     .expect("write");
     std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).expect("chmod");
     let l = load_file(
-        std::path::Path::new(
-            "tests/fixtures/formats/norlab-warthog-rs32-mti10__warthog.urdf.xacro",
-        ),
+        Path::new("tests/fixtures/formats/norlab-warthog-rs32-mti10__warthog.urdf.xacro"),
         &LoadOptions {
             xacro_search_path: Some(dir.path().into()),
+            xacro_external: true,
             ..LoadOptions::default()
         },
     )
     .expect("expanded");
     assert_eq!(l.edges.len(), 1);
-    assert_eq!(l.edges[0].provenance.format, "urdf");
     assert!(l.edges[0].provenance.key.contains("expanded"));
     assert!((l.edges[0].transform.translation().z - 0.5).abs() < 1e-15);
+}
+
+/// Bad input never panics or hangs: deterministic mutations (a character
+/// deleted or inserted, a line duplicated or dropped) of real xacro files,
+/// each expanded with its includes. A stand-in for a fuzz run (the `xacro`
+/// fuzz target exists; cargo-fuzz is not installed on this machine).
+#[test]
+fn mutated_xacro_never_panics_or_hangs() {
+    use extrinsic_audit::formats::load_str;
+    use rand_core::{RngCore, SeedableRng};
+    let files = [
+        "own/lidar_rig/urdf/rig.urdf.xacro",
+        "realsense-ros/realsense2_description/urdf/_d435.urdf.xacro",
+        "unitree_ros/robots/go1_description/xacro/robot.xacro",
+        "velodyne_simulator/velodyne_description/urdf/VLP-16.urdf.xacro",
+    ];
+    const ALPHABET: &[u8] = b"${}()<>\"'/*$:= -_.x019\n";
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(15);
+    let (mut ok, mut refused) = (0, 0);
+    for i in 0..400 {
+        let path = Path::new(DIR).join(files[i % files.len()]);
+        let mut text = std::fs::read_to_string(&path).expect("read").into_bytes();
+        for _ in 0..1 + rng.next_u32() % 3 {
+            let at = rng.next_u32() as usize % text.len().max(1);
+            match rng.next_u32() % 4 {
+                0 => {
+                    text.remove(at);
+                }
+                1 => text.insert(at, ALPHABET[rng.next_u32() as usize % ALPHABET.len()]),
+                _ => {
+                    let start = text[..at]
+                        .iter()
+                        .rposition(|b| *b == b'\n')
+                        .map_or(0, |p| p + 1);
+                    let end = text[at..]
+                        .iter()
+                        .position(|b| *b == b'\n')
+                        .map_or(text.len(), |p| at + p + 1);
+                    let line: Vec<u8> = text[start..end].to_vec();
+                    if rng.next_u32() % 2 == 0 {
+                        text.splice(start..start, line);
+                    } else {
+                        text.drain(start..end);
+                    }
+                }
+            }
+        }
+        let text = String::from_utf8_lossy(&text).into_owned();
+        let t = std::time::Instant::now();
+        let opts = LoadOptions {
+            format: Some(Format(&extrinsic_audit::formats::xacro::SPEC)),
+            ..LoadOptions::default()
+        };
+        match load_str(&text, &path, &opts) {
+            Ok(l) => {
+                ok += 1;
+                for e in &l.edges {
+                    let m = e.transform.matrix4();
+                    assert!(
+                        m.iter().all(|x| x.is_finite()),
+                        "{}: non-finite edge",
+                        path.display()
+                    );
+                }
+            }
+            Err(e) => {
+                refused += 1;
+                assert!(!e.message.is_empty());
+            }
+        }
+        assert!(
+            t.elapsed().as_secs_f64() < 5.0,
+            "mutation {i}: {:?}",
+            t.elapsed()
+        );
+    }
+    assert!(
+        ok >= 30 && refused >= 100,
+        "{ok} expanded, {refused} refused"
+    );
+}
+
+/// The CLI flags: `--arg NAME=VALUE` reaches `$(arg)`, `--xacro external`
+/// without the program is a clear exit-2 refusal.
+#[test]
+fn cli_arg_and_xacro_mode() {
+    let rig = format!("{DIR}/own/lidar_rig/urdf/rig.urdf.xacro");
+    let out = crate::common::audit()
+        .args([
+            &rig,
+            "--arg",
+            "prefix=r1_",
+            "--arg",
+            "with_camera=false",
+            "--frames",
+        ])
+        .output()
+        .expect("run");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("r1_camera_placeholder"), "{stdout}");
+    assert!(!stdout.contains("camera_link"), "{stdout}");
+    let out = crate::common::audit()
+        .env("PATH", "")
+        .args([&rig, "--xacro", "external", "--frames"])
+        .output()
+        .expect("run");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("--xacro external"), "{stderr}");
+}
+
+/// The macro bomb of the catalogue (2^21 links) is refused at the element cap,
+/// quickly, naming the limit.
+#[test]
+fn macro_bomb_is_refused_quickly() {
+    let t = std::time::Instant::now();
+    let e = load_file(
+        Path::new("tests/bad_inputs/83-xacro-bomb.urdf.xacro"),
+        &LoadOptions::default(),
+    )
+    .expect_err("bomb");
+    assert!(e.message.contains("elements: a macro bomb?"), "{e}");
+    let secs = t.elapsed().as_secs_f64();
+    assert!(secs < 20.0, "took {secs} s");
+}
+
+/// Old-style xacro elements without the prefix (`<property>`, `<include>`)
+/// are copied as Python xacro 2 copies them, each with a warning.
+#[test]
+fn unprefixed_xacro_elements_are_warned_about() {
+    let text = r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <property name="h" value="0.5"/>
+  <link name="a"/><link name="b"/>
+  <joint name="j" type="fixed"><parent link="a"/><child link="b"/><origin xyz="0 0 1"/></joint>
+</robot>
+"#;
+    let opts = LoadOptions {
+        format: Some(Format(&extrinsic_audit::formats::xacro::SPEC)),
+        ..LoadOptions::default()
+    };
+    let l = extrinsic_audit::formats::load_str(text, Path::new("old.urdf.xacro"), &opts)
+        .expect("expands");
+    let w: Vec<_> = l
+        .warnings
+        .iter()
+        .filter(|w| w.message.contains("without the `xacro:` prefix"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", l.warnings);
+    assert_eq!(w[0].location.line, Some(2));
 }

@@ -264,7 +264,7 @@ fn floating_joint_needs_setting() {
 fn xacro_in_urdf_refused_with_advice() {
     let e = urdf("<link name=\"${prefix}base\"/>\n", &LoadOptions::default()).expect_err("xacro");
     assert!(
-        e.message.contains("xacro") && e.message.contains("pip install xacro"),
+        e.message.contains("xacro") && e.message.contains("--input-format xacro"),
         "{e}"
     );
 }

@@ -1,0 +1,255 @@
+//! Binary records (PLY and PCD): scalar types and the record decoder, with
+//! monomorphic fast paths for the usual all-`double` and all-`float` records.
+
+use super::check::Checker;
+use super::source::Source;
+use super::Sink;
+use crate::diagnostic::{Error, Result};
+use std::io::Read;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    I64,
+    U64,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    pub(crate) fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::I64 | Scalar::U64 | Scalar::F64 => 8,
+        }
+    }
+    pub(crate) fn ply(name: &str) -> Option<Scalar> {
+        Some(match name {
+            "char" | "int8" => Scalar::I8,
+            "uchar" | "uint8" => Scalar::U8,
+            "short" | "int16" => Scalar::I16,
+            "ushort" | "uint16" => Scalar::U16,
+            "int" | "int32" => Scalar::I32,
+            "uint" | "uint32" => Scalar::U32,
+            "float" | "float32" => Scalar::F32,
+            "double" | "float64" => Scalar::F64,
+            _ => return None,
+        })
+    }
+    pub(crate) fn pcd(ty: &str, size: usize) -> Option<Scalar> {
+        Some(match (ty, size) {
+            ("I", 1) => Scalar::I8,
+            ("U", 1) => Scalar::U8,
+            ("I", 2) => Scalar::I16,
+            ("U", 2) => Scalar::U16,
+            ("I", 4) => Scalar::I32,
+            ("U", 4) => Scalar::U32,
+            ("I", 8) => Scalar::I64,
+            ("U", 8) => Scalar::U64,
+            ("F", 4) => Scalar::F32,
+            ("F", 8) => Scalar::F64,
+            _ => return None,
+        })
+    }
+    /// Read one value; `b` has at least `size()` bytes.
+    pub(crate) fn read(self, b: &[u8], little: bool) -> f64 {
+        macro_rules! rd {
+            ($t:ty, $n:expr) => {{
+                let mut a = [0u8; $n];
+                a.copy_from_slice(&b[..$n]);
+                if little {
+                    <$t>::from_le_bytes(a) as f64
+                } else {
+                    <$t>::from_be_bytes(a) as f64
+                }
+            }};
+        }
+        match self {
+            Scalar::I8 => b[0] as i8 as f64,
+            Scalar::U8 => b[0] as f64,
+            Scalar::I16 => rd!(i16, 2),
+            Scalar::U16 => rd!(u16, 2),
+            Scalar::I32 => rd!(i32, 4),
+            Scalar::U32 => rd!(u32, 4),
+            Scalar::I64 => rd!(i64, 8),
+            Scalar::U64 => rd!(u64, 8),
+            Scalar::F32 => rd!(f32, 4),
+            Scalar::F64 => rd!(f64, 8),
+        }
+    }
+}
+
+/// Where each role (x y z nx ny nz w) sits in a record.
+#[derive(Debug, Clone)]
+pub(crate) struct Layout {
+    /// Record size in bytes (at least 1).
+    pub rec: usize,
+    /// (byte offset, type) of each role; the weight may be absent.
+    pub roles: [Option<(usize, Scalar)>; 7],
+    pub little: bool,
+}
+
+/// A run of records: `first` is the index of its first record in the file
+/// (a multiple of the block length), `count` how many to decode, `total` how
+/// many the header claims.
+pub(crate) struct Run {
+    pub first: usize,
+    pub count: usize,
+    pub total: usize,
+    /// "PLY", "vertex", "vertices" (for messages).
+    pub names: [&'static str; 3],
+}
+
+impl Run {
+    /// The error when the stream ends after `k` records of the file.
+    pub(crate) fn truncated(&self, rec: usize, k: usize) -> Error {
+        let [fmt, _, items] = self.names;
+        Error::parse(format!(
+            "{fmt}: header claims {} {items} of {rec} bytes, the file holds {k}",
+            self.total
+        ))
+    }
+
+    /// "vertex 12 (byte offset 345)".
+    fn locate(&self, k: usize, offset: u64) -> String {
+        format!("{} {k} (byte offset {offset})", self.names[1])
+    }
+}
+
+/// Decoding modes: 0 generic, 1/2 f64 little/big endian, 3/4 f32 little/big.
+fn mode(layout: &Layout) -> u8 {
+    let mut types = layout.roles.iter().flatten().map(|(_, s)| *s);
+    let first = types.next();
+    let uniform = layout
+        .roles
+        .iter()
+        .flatten()
+        .all(|(_, s)| Some(*s) == first);
+    match (uniform, first, layout.little) {
+        (true, Some(Scalar::F64), true) => 1,
+        (true, Some(Scalar::F64), false) => 2,
+        (true, Some(Scalar::F32), true) => 3,
+        (true, Some(Scalar::F32), false) => 4,
+        _ => 0,
+    }
+}
+
+#[inline(always)]
+fn bytes<const N: usize>(b: &[u8], o: usize) -> [u8; N] {
+    b.get(o..o + N)
+        .and_then(|s| s.try_into().ok())
+        .unwrap_or([0; N])
+}
+
+#[inline(always)]
+fn get<const MODE: u8>(b: &[u8], o: usize, s: Scalar, little: bool) -> f64 {
+    match MODE {
+        1 => f64::from_le_bytes(bytes(b, o)),
+        2 => f64::from_be_bytes(bytes(b, o)),
+        3 => f32::from_le_bytes(bytes(b, o)) as f64,
+        4 => f32::from_be_bytes(bytes(b, o)) as f64,
+        _ => match b.get(o..o + s.size()) {
+            Some(v) => s.read(v, little),
+            None => 0.0,
+        },
+    }
+}
+
+/// Decode `run.count` records from `src` into the checker.
+pub(crate) fn decode_records<R: Read, S: Sink>(
+    src: &mut Source<R>,
+    layout: &Layout,
+    run: &Run,
+    ck: &mut Checker<S>,
+) -> Result<()> {
+    match mode(layout) {
+        1 => decode::<1, R, S>(src, layout, run, ck),
+        2 => decode::<2, R, S>(src, layout, run, ck),
+        3 => decode::<3, R, S>(src, layout, run, ck),
+        4 => decode::<4, R, S>(src, layout, run, ck),
+        _ => decode::<0, R, S>(src, layout, run, ck),
+    }
+}
+
+fn decode<const MODE: u8, R: Read, S: Sink>(
+    src: &mut Source<R>,
+    layout: &Layout,
+    run: &Run,
+    ck: &mut Checker<S>,
+) -> Result<()> {
+    let rec = layout.rec.max(1);
+    let mut batch = Batch::new();
+    let mut k = 0usize;
+    while k < run.count {
+        src.fill(rec)?;
+        let at = src.offset();
+        let data = src.data();
+        let n = (data.len() / rec).min(run.count - k);
+        if n == 0 {
+            return Err(run.truncated(rec, run.first + k));
+        }
+        // Batches of at most BATCH records that end where blocks end.
+        let mut r = 0;
+        while r < n {
+            let m = (n - r).min(BATCH).min(ck.until_block_end());
+            batch.decode::<MODE>(&data[r * rec..(r + m) * rec], layout);
+            let (p, nn, w) = batch.slices(m);
+            if let Err((i, f)) = ck.batch(p, nn, w) {
+                let j = r + i;
+                return Err(f.error(run.locate(run.first + k + j, at + (j * rec) as u64), None));
+            }
+            r += m;
+        }
+        src.consume(n * rec);
+        k += n;
+    }
+    Ok(())
+}
+
+/// Records decoded per batch.
+const BATCH: usize = 256;
+
+/// One batch of decoded records.
+struct Batch {
+    p: Box<[[f64; 3]; BATCH]>,
+    n: Box<[[f64; 3]; BATCH]>,
+    w: Box<[f64; BATCH]>,
+}
+
+impl Batch {
+    fn new() -> Self {
+        Batch {
+            p: Box::new([[0.0; 3]; BATCH]),
+            n: Box::new([[0.0; 3]; BATCH]),
+            w: Box::new([1.0; BATCH]),
+        }
+    }
+
+    /// Decode the whole records in `bytes` (at most `BATCH`).
+    #[inline(always)]
+    fn decode<const MODE: u8>(&mut self, bytes: &[u8], layout: &Layout) {
+        let rec = layout.rec.max(1);
+        let r = &layout.roles;
+        let g = |b: &[u8], role: usize, default: f64| match r[role] {
+            Some((o, s)) => get::<MODE>(b, o, s, layout.little),
+            None => default,
+        };
+        for (i, b) in bytes.chunks_exact(rec).take(BATCH).enumerate() {
+            self.p[i] = [g(b, 0, 0.0), g(b, 1, 0.0), g(b, 2, 0.0)];
+            self.n[i] = [g(b, 3, 0.0), g(b, 4, 0.0), g(b, 5, 0.0)];
+            self.w[i] = g(b, 6, 1.0);
+        }
+    }
+
+    fn slices(&self, m: usize) -> (&[[f64; 3]], &[[f64; 3]], &[f64]) {
+        let m = m.min(BATCH);
+        (&self.p[..m], &self.n[..m], &self.w[..m])
+    }
+}

@@ -1,0 +1,355 @@
+//! Point files with normals: CSV, PLY (ascii, binary little and big endian) and
+//! PCD (ascii, binary).
+//!
+//! - CSV: `x,y,z,nx,ny,nz[,w]`, with or without a header line. A header names
+//!   the columns (`x y z nx ny nz w`; `normal_x`.. and `weight` also accepted) in
+//!   any order; without one the columns are positional. Commas, semicolons, tabs
+//!   or spaces separate fields; `#` starts a comment line.
+//! - PLY: `element vertex` with scalar properties `x y z nx ny nz` (optional `w`
+//!   or `weight`), any numeric type. Elements before `vertex` must have scalar
+//!   properties only (they are skipped); elements after it are ignored.
+//! - PCD (0.7): `FIELDS x y z normal_x normal_y normal_z` (or `nx ny nz`), with
+//!   `SIZE`/`TYPE`/`COUNT`, `DATA ascii` or `binary`. `binary_compressed` is
+//!   refused (decompress it with `pcl_convert_pcd_ascii_binary`).
+//!
+//! Checks: a file claiming more points than it holds is an error (pre-allocation
+//! is capped, never taken from the header); a zero normal is an error naming the
+//! line (or vertex); normals off unit length by more than [`NORMAL_UNIT_TOL`] are
+//! renormalised with one `assumed-convention` warning for the file; points with
+//! a non-finite coordinate or normal (PCL marks invalid points with NaN) are
+//! skipped with a warning; a coordinate beyond [`MAX_COORDINATE`] and a negative
+//! or non-finite weight are errors.
+//!
+//! # Streaming
+//!
+//! Every reader decodes from a fixed-size buffer ([`POINT_READ_BUFFER`]) into a
+//! sink, one record at a time: [`read_points`] and [`parse_points`] collect the
+//! points (for commands that need them: normal estimation, pairs, sweeps),
+//! [`accumulate_file`] and [`accumulate_reader`] feed them straight into an
+//! [`Accumulator`] and hold no point at all. Binary PLY and PCD files large
+//! enough are split into block-aligned record ranges decoded on scoped threads;
+//! the block sums are combined in file order, so the result is the same bits
+//! whatever the thread count and however the reads fall.
+//!
+//! [`NORMAL_UNIT_TOL`]: crate::tolerances::NORMAL_UNIT_TOL
+//! [`MAX_COORDINATE`]: crate::tolerances::MAX_COORDINATE
+//! [`POINT_READ_BUFFER`]: crate::tolerances::POINT_READ_BUFFER
+
+mod binary;
+mod check;
+mod csv;
+mod parallel;
+mod pcd;
+mod ply;
+mod source;
+mod write;
+
+pub use write::{write_csv, write_pcd, write_ply, Encoding};
+
+use crate::degeneracy::{Accumulator, Assembly};
+use crate::diagnostic::{Error, Result, Warning};
+use crate::geometry::se3::Transform;
+use crate::tolerances::MAX_POINT_FILE_SIZE;
+use check::Stats;
+use source::Source;
+use std::io::Read;
+use std::path::Path;
+
+/// Cap on the capacity reserved from a header's point count.
+const MAX_PREALLOC: usize = 1 << 20;
+
+/// Which reader was used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PointFormat {
+    /// CSV `x,y,z,nx,ny,nz[,w]`, with or without a header.
+    Csv,
+    /// PLY, ascii.
+    PlyAscii,
+    /// PLY, binary little-endian.
+    PlyBinaryLittleEndian,
+    /// PLY, binary big-endian.
+    PlyBinaryBigEndian,
+    /// PCD, ascii.
+    PcdAscii,
+    /// PCD, binary.
+    PcdBinary,
+}
+
+impl PointFormat {
+    /// The name reports print (`ply-binary-little-endian`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PointFormat::Csv => "csv",
+            PointFormat::PlyAscii => "ply-ascii",
+            PointFormat::PlyBinaryLittleEndian => "ply-binary-little-endian",
+            PointFormat::PlyBinaryBigEndian => "ply-binary-big-endian",
+            PointFormat::PcdAscii => "pcd-ascii",
+            PointFormat::PcdBinary => "pcd-binary",
+        }
+    }
+}
+
+/// Points with unit normals and optional weights.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointData {
+    /// Points, in the file's frame and unit.
+    pub points: Vec<[f64; 3]>,
+    /// Unit normals, one per point (renormalised where the file's were not).
+    pub normals: Vec<[f64; 3]>,
+    /// Weights, one per point, when the file has a weight column.
+    pub weights: Option<Vec<f64>>,
+    /// The reader used.
+    pub format: PointFormat,
+    /// Named warnings (renormalised normals, skipped records, ...).
+    pub warnings: Vec<Warning>,
+}
+
+/// `H` and `M` of a point file, assembled without holding its points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Accumulated {
+    /// In the requested frame (`assembly.count`: the points used).
+    pub assembly: Assembly,
+    /// The reader used.
+    pub format: PointFormat,
+    /// Named warnings (renormalised normals, skipped records, ...).
+    pub warnings: Vec<Warning>,
+}
+
+/// Where the readers put valid points.
+pub(crate) trait Sink {
+    /// Called once, after the header: whether there are weights, and a
+    /// (capped, untrusted) size hint.
+    fn begin(&mut self, weighted: bool, hint: usize);
+    fn point(&mut self, p: &[f64; 3], n: &[f64; 3], w: f64);
+    /// Valid points in bulk (weights 1 when the file has none).
+    fn points(&mut self, p: &[[f64; 3]], n: &[[f64; 3]], w: &[f64]) {
+        for ((p, n), w) in p.iter().zip(n).zip(w) {
+            self.point(p, n, *w);
+        }
+    }
+    /// Every `BLOCK` records.
+    fn end_block(&mut self);
+}
+
+/// Collects the points.
+#[derive(Default)]
+struct Collect {
+    points: Vec<[f64; 3]>,
+    normals: Vec<[f64; 3]>,
+    weights: Option<Vec<f64>>,
+}
+
+impl Sink for Collect {
+    fn begin(&mut self, weighted: bool, hint: usize) {
+        let cap = hint.min(MAX_PREALLOC);
+        self.points.reserve(cap);
+        self.normals.reserve(cap);
+        if weighted {
+            self.weights = Some(Vec::with_capacity(cap));
+        }
+    }
+    fn point(&mut self, p: &[f64; 3], n: &[f64; 3], w: f64) {
+        self.points.push(*p);
+        self.normals.push(*n);
+        if let Some(ws) = self.weights.as_mut() {
+            ws.push(w);
+        }
+    }
+    fn points(&mut self, p: &[[f64; 3]], n: &[[f64; 3]], w: &[f64]) {
+        self.points.extend_from_slice(p);
+        self.normals.extend_from_slice(n);
+        if let Some(ws) = self.weights.as_mut() {
+            ws.extend_from_slice(w);
+        }
+    }
+    fn end_block(&mut self) {}
+}
+
+impl Sink for Accumulator {
+    fn begin(&mut self, _weighted: bool, _hint: usize) {}
+    #[inline(always)]
+    fn point(&mut self, p: &[f64; 3], n: &[f64; 3], w: f64) {
+        self.push_point(p, n, w);
+    }
+    fn points(&mut self, p: &[[f64; 3]], n: &[[f64; 3]], w: &[f64]) {
+        self.push_slices(p, n, Some(w));
+    }
+    fn end_block(&mut self) {
+        Accumulator::end_block(self);
+    }
+}
+
+/// Refuse files over [`MAX_POINT_FILE_SIZE`]; returns the metadata.
+fn check_size(path: &Path) -> Result<std::fs::Metadata> {
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, &e))?;
+    if meta.len() > MAX_POINT_FILE_SIZE {
+        return Err(Error::limit(format!(
+            "point file is {} bytes, more than the limit of {MAX_POINT_FILE_SIZE}",
+            meta.len()
+        ))
+        .in_file(path));
+    }
+    Ok(meta)
+}
+
+/// Read a point file, detecting the format from its content (`ply` magic, a PCD
+/// header) and otherwise reading CSV.
+pub fn read_points(path: &Path) -> Result<PointData> {
+    check_size(path)?;
+    // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
+    let f = crate::input::open_regular(path)?;
+    read_from(f).map_err(|e| e.in_file(path))
+}
+
+/// Parse a point file held in memory.
+pub fn parse_points(bytes: &[u8]) -> Result<PointData> {
+    read_from(bytes)
+}
+
+/// Read a point file from any reader, holding the points.
+pub fn read_from<R: Read>(r: R) -> Result<PointData> {
+    let mut sink = Collect::default();
+    let mut src = Source::new(r);
+    let (format, stats) = decode(&mut src, &mut sink)?;
+    Ok(PointData {
+        points: sink.points,
+        normals: sink.normals,
+        weights: sink.weights,
+        format,
+        warnings: stats.warnings(),
+    })
+}
+
+/// `H` and `M` of a point file, streamed from disk in bounded reads (binary
+/// PLY and PCD over several threads when large), optionally re-expressed in
+/// the frame whose pose in the file's frame is `frame` (exactly, by congruence
+/// of the sums with `Ad(frame)`).
+pub fn accumulate_file(path: &Path, frame: Option<&Transform>) -> Result<Accumulated> {
+    if crate::input::is_stdin(path) {
+        // `-`: standard input, read serially, bounded (issue 12).
+        let r = crate::input::Capped::new(std::io::stdin().lock(), MAX_POINT_FILE_SIZE);
+        return accumulate_reader(r, frame).map_err(|e| e.in_file("<stdin>"));
+    }
+    let meta = check_size(path)?;
+    // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
+    let f = crate::input::open_regular(path)?;
+    let mut acc = Accumulator::new();
+    let mut src = Source::new(f);
+    // A pipe or device has no length to split by and cannot be reopened.
+    let (format, stats) = if meta.is_file() {
+        parallel::decode_file(path, meta.len(), &mut src, &mut acc)
+    } else {
+        decode(&mut src, &mut acc)
+    }
+    .map_err(|e| e.in_file(path))?;
+    Ok(finish(&acc, format, stats, frame))
+}
+
+/// `H` and `M` of a point file read from `r` (one thread), as
+/// [`accumulate_file`].
+pub fn accumulate_reader<R: Read>(r: R, frame: Option<&Transform>) -> Result<Accumulated> {
+    let mut acc = Accumulator::new();
+    let mut src = Source::new(r);
+    let (format, stats) = decode(&mut src, &mut acc)?;
+    Ok(finish(&acc, format, stats, frame))
+}
+
+fn finish(
+    acc: &Accumulator,
+    format: PointFormat,
+    stats: Stats,
+    frame: Option<&Transform>,
+) -> Accumulated {
+    let asm = acc.finish();
+    Accumulated {
+        assembly: match frame {
+            Some(t) => asm.congruence(&t.adjoint()),
+            None => asm,
+        },
+        format,
+        warnings: stats.warnings(),
+    }
+}
+
+/// Which reader a file needs, from its first bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Ply,
+    Pcd,
+    Csv,
+}
+
+fn detect<R: Read>(src: &mut Source<R>) -> Result<Kind> {
+    src.fill(4096)?;
+    // A UTF-8 byte-order mark is skipped, as in every text format (issue 12).
+    if src.data().starts_with(b"\xef\xbb\xbf") {
+        src.consume(3);
+    }
+    let head = src.data();
+    let head = &head[..head.len().min(4096)];
+    Ok(
+        if head.starts_with(b"ply\n") || head.starts_with(b"ply\r\n") {
+            Kind::Ply
+        } else if looks_like_pcd(head) {
+            Kind::Pcd
+        } else {
+            Kind::Csv
+        },
+    )
+}
+
+/// Decode a whole stream into `sink` on this thread.
+fn decode<R: Read, S: Sink>(src: &mut Source<R>, sink: &mut S) -> Result<(PointFormat, Stats)> {
+    match detect(src)? {
+        Kind::Ply => {
+            let h = ply::read_header(src)?;
+            ply::body(src, &h, sink)
+        }
+        Kind::Pcd => {
+            let h = pcd::read_header(src)?;
+            pcd::body(src, &h, sink)
+        }
+        Kind::Csv => csv::decode(src, sink),
+    }
+}
+
+fn looks_like_pcd(head: &[u8]) -> bool {
+    let s = String::from_utf8_lossy(head);
+    for line in s.lines() {
+        let t = line.trim();
+        if t.is_empty() || (t.starts_with('#') && !t.contains(".PCD")) {
+            continue;
+        }
+        if t.starts_with("# .PCD") {
+            return true;
+        }
+        let first = t.split_whitespace().next().unwrap_or("");
+        return matches!(first, "VERSION" | "FIELDS");
+    }
+    false
+}
+
+/// The names of the six required roles (x y z and the normal) that `roles`
+/// has not found, in order.
+fn missing_roles<'a, T>(roles: &[Option<T>], names: [&'a str; 6]) -> Vec<&'a str> {
+    names
+        .into_iter()
+        .zip(roles)
+        .filter(|(_, r)| r.is_none())
+        .map(|(n, _)| n)
+        .collect()
+}
+
+/// The role (0..7: x y z nx ny nz w) a column or field name plays.
+fn column_role(name: &str) -> Option<usize> {
+    match name.trim().trim_matches('"').to_ascii_lowercase().as_str() {
+        "x" => Some(0),
+        "y" => Some(1),
+        "z" => Some(2),
+        "nx" | "normal_x" => Some(3),
+        "ny" | "normal_y" => Some(4),
+        "nz" | "normal_z" => Some(5),
+        "w" | "weight" => Some(6),
+        _ => None,
+    }
+}

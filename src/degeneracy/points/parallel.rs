@@ -1,0 +1,179 @@
+//! Files on disk: binary PLY and PCD large enough are split into block-aligned
+//! record ranges, each decoded on a scoped thread from its own file handle
+//! into its own accumulator; the block sums are then added in file order, so
+//! the result does not depend on the thread count. Everything else is decoded
+//! on this thread.
+
+use super::binary::{decode_records, Layout, Run};
+use super::check::{Checker, Stats};
+use super::source::{io_error, Source};
+use super::{detect, pcd, ply, Kind, PointFormat, Sink};
+use crate::degeneracy::{worker_count, Accumulator, Kernel, Sums, BLOCK};
+use crate::diagnostic::Result;
+use std::fs::File;
+use std::io::{Read, Seek, SeekFrom};
+use std::path::Path;
+
+/// Decode the file `path` (`len` bytes, open in `src`) into `acc`.
+pub(super) fn decode_file(
+    path: &Path,
+    len: u64,
+    src: &mut Source<File>,
+    acc: &mut Accumulator,
+) -> Result<(PointFormat, Stats)> {
+    match detect(src)? {
+        Kind::Ply => {
+            let h = ply::read_header(src)?;
+            if h.format == PointFormat::PlyAscii {
+                return ply::body(src, &h, acc);
+            }
+            let (skip, layout) = ply::binary_plan(&h)?;
+            let start = src.offset().saturating_add(skip);
+            let total = h.count();
+            let stats = records(
+                path,
+                len,
+                start,
+                &layout,
+                &|a, b| ply::run(&h, a, b),
+                total,
+                acc,
+            )?;
+            Ok((h.format, stats))
+        }
+        Kind::Pcd => {
+            let h = pcd::read_header(src)?;
+            if h.format == PointFormat::PcdAscii {
+                return pcd::body(src, &h, acc);
+            }
+            let start = src.offset();
+            let layout = pcd::layout(&h);
+            let stats = records(
+                path,
+                len,
+                start,
+                &layout,
+                &|a, b| pcd::run(&h, a, b),
+                h.n,
+                acc,
+            )?;
+            Ok((h.format, stats))
+        }
+        Kind::Csv => super::decode(src, acc),
+    }
+}
+
+/// `total` records of `layout` from byte `start` of the file.
+fn records(
+    path: &Path,
+    len: u64,
+    start: u64,
+    layout: &Layout,
+    run: &(dyn Fn(usize, usize) -> Run + Sync),
+    total: usize,
+    acc: &mut Accumulator,
+) -> Result<Stats> {
+    // The file's length settles a lying header before any decoding.
+    let avail = len.saturating_sub(start) / layout.rec as u64;
+    if avail < total as u64 {
+        return Err(run(0, total).truncated(layout.rec, avail as usize));
+    }
+    let blocks = total.div_ceil(BLOCK);
+    let threads = worker_count(0, blocks, total);
+    let per = blocks.div_ceil(threads.max(1)) * BLOCK;
+    let ranges: Vec<(usize, usize)> = (0..total)
+        .step_by(per.max(1))
+        .map(|a| (a, (a + per).min(total)))
+        .collect();
+    let kernel = acc.kernel();
+    let work = |&(a, b): &(usize, usize)| decode_range(path, start, layout, &run(a, b - a), kernel);
+    let parts: Vec<Result<Part>> = if ranges.len() <= 1 {
+        ranges.iter().map(work).collect()
+    } else {
+        std::thread::scope(|s| {
+            let work = &work;
+            // A range whose thread cannot start (or that panics, a bug) is
+            // decoded here.
+            let handles: Vec<_> = ranges[1..]
+                .iter()
+                .map(|r| std::thread::Builder::new().spawn_scoped(s, move || work(r)))
+                .collect();
+            let mut out = vec![work(&ranges[0])];
+            for (h, r) in handles.into_iter().zip(&ranges[1..]) {
+                out.push(match h {
+                    Ok(h) => h.join().unwrap_or_else(|_| work(r)),
+                    Err(_) => work(r),
+                });
+            }
+            out
+        })
+    };
+    let mut stats = Stats::default();
+    for p in parts {
+        let p = p?;
+        for b in &p.blocks {
+            acc.add_block(b);
+        }
+        acc.add_count(p.count);
+        stats.merge(&p.stats);
+    }
+    Ok(stats)
+}
+
+/// What one range gave: its block sums in order, its point count, its stats.
+struct Part {
+    blocks: Vec<Sums>,
+    count: usize,
+    stats: Stats,
+}
+
+/// Collects block sums instead of adding them up.
+struct BlockSink {
+    acc: Accumulator,
+    blocks: Vec<Sums>,
+}
+
+impl Sink for BlockSink {
+    fn begin(&mut self, _weighted: bool, _hint: usize) {}
+    #[inline(always)]
+    fn point(&mut self, p: &[f64; 3], n: &[f64; 3], w: f64) {
+        self.acc.push_point(p, n, w);
+    }
+    fn points(&mut self, p: &[[f64; 3]], n: &[[f64; 3]], w: &[f64]) {
+        self.acc.push_slices(p, n, Some(w));
+    }
+    fn end_block(&mut self) {
+        self.blocks.push(self.acc.take_block());
+    }
+}
+
+fn decode_range(
+    path: &Path,
+    start: u64,
+    layout: &Layout,
+    run: &Run,
+    kernel: Kernel,
+) -> Result<Part> {
+    let mut f = File::open(path).map_err(|e| io_error(&e))?;
+    let at = start + (run.first as u64) * layout.rec as u64;
+    f.seek(SeekFrom::Start(at)).map_err(|e| io_error(&e))?;
+    let mut src = Source::at(f.take((run.count as u64) * layout.rec as u64), at);
+    let mut sink = BlockSink {
+        acc: Accumulator::with_kernel(kernel).threads(1),
+        blocks: Vec::new(),
+    };
+    let stats = {
+        let mut ck = Checker::new(&mut sink, layout.roles[6].is_some(), 0);
+        decode_records(&mut src, layout, run, &mut ck)?;
+        ck.stats
+    };
+    // The last range ends with a partial block (or none).
+    if !run.count.is_multiple_of(BLOCK) {
+        sink.end_block();
+    }
+    Ok(Part {
+        count: sink.acc.count(),
+        blocks: sink.blocks,
+        stats,
+    })
+}

@@ -1,0 +1,247 @@
+//! PCD 0.7: `DATA ascii` and `binary` (`binary_compressed` is refused).
+
+use super::binary::{decode_records, Layout, Run, Scalar};
+use super::check::{Checker, Stats};
+use super::source::{header_lines, Source};
+use super::{column_role, missing_roles, PointFormat, Sink};
+use crate::diagnostic::{Error, ErrorKind, Result};
+use crate::tolerances::{MAX_PCD_COUNT, MAX_POINT_RECORD_BYTES};
+use std::io::Read;
+
+/// What the header says.
+pub(super) struct Header {
+    pub format: PointFormat,
+    /// Points claimed.
+    pub n: usize,
+    /// Values per ascii line.
+    elems: usize,
+    /// (element index, byte offset, type) of each role.
+    roles: [Option<(usize, usize, Scalar)>; 7],
+    /// Bytes per binary record.
+    rec: usize,
+}
+
+/// The header's fields, as written.
+#[derive(Default)]
+struct Fields {
+    fields: Vec<String>,
+    sizes: Vec<usize>,
+    types: Vec<String>,
+    counts: Vec<usize>,
+    points: Option<usize>,
+    width: Option<usize>,
+    height: Option<usize>,
+    data: String,
+}
+
+fn header_line(t: &[&str], lineno: usize, h: &mut Fields) -> Result<()> {
+    let nums = |what: &str| -> Result<Vec<usize>> {
+        t[1..]
+            .iter()
+            .map(|x| {
+                x.parse::<usize>().map_err(|_| {
+                    Error::parse(format!(
+                        "PCD {what}: expected non-negative integers, found {x:?}"
+                    ))
+                    .at_line(lineno, None)
+                })
+            })
+            .collect()
+    };
+    match t.first().copied() {
+        None => {}
+        Some(s) if s.starts_with('#') => {}
+        Some("VERSION") | Some("VIEWPOINT") => {}
+        Some("FIELDS") => h.fields = t[1..].iter().map(|s| s.to_string()).collect(),
+        Some("SIZE") => h.sizes = nums("SIZE")?,
+        Some("TYPE") => h.types = t[1..].iter().map(|s| s.to_string()).collect(),
+        Some("COUNT") => h.counts = nums("COUNT")?,
+        Some("WIDTH") => h.width = nums("WIDTH")?.first().copied(),
+        Some("HEIGHT") => h.height = nums("HEIGHT")?.first().copied(),
+        Some("POINTS") => h.points = nums("POINTS")?.first().copied(),
+        Some("DATA") => h.data = t.get(1).copied().unwrap_or("").to_string(),
+        Some(other) => {
+            return Err(Error::parse(format!(
+                "PCD: unexpected header line starting with {other:?}"
+            ))
+            .at_line(lineno, None))
+        }
+    }
+    Ok(())
+}
+
+/// FIELDS, SIZE, TYPE and COUNT agree, and every COUNT is in range.
+fn check_fields(h: &mut Fields) -> Result<()> {
+    if h.counts.is_empty() {
+        h.counts = vec![1; h.fields.len()];
+    }
+    let nf = h.fields.len();
+    if nf == 0 || h.sizes.len() != nf || h.types.len() != nf || h.counts.len() != nf {
+        return Err(Error::parse(format!(
+            "PCD: expected FIELDS, SIZE, TYPE (and COUNT) of equal length, found {}, {}, {}, {}",
+            nf,
+            h.sizes.len(),
+            h.types.len(),
+            h.counts.len()
+        )));
+    }
+    // PCD's COUNT is the number of elements of a field: at least 1. A cap keeps
+    // the record arithmetic far from overflow (real descriptors use <= 352).
+    if let Some((k, c)) = h
+        .counts
+        .iter()
+        .enumerate()
+        .find(|(_, c)| **c == 0 || **c > MAX_PCD_COUNT)
+    {
+        return Err(Error::parse(format!(
+            "PCD: field {:?}: expected COUNT between 1 and {MAX_PCD_COUNT}, found {c}",
+            h.fields[k]
+        )));
+    }
+    Ok(())
+}
+
+pub(super) fn read_header<R: Read>(src: &mut Source<R>) -> Result<Header> {
+    let lines = header_lines(src, &|l| l.trim_start().starts_with("DATA"), "PCD")?;
+    let mut h = Fields::default();
+    for (i, l) in lines.iter().enumerate() {
+        let t: Vec<&str> = l.split_whitespace().collect();
+        header_line(&t, i + 1, &mut h)?;
+    }
+    check_fields(&mut h)?;
+    let n = match (h.points, h.width, h.height) {
+        (Some(p), _, _) => p,
+        (None, Some(w), Some(hh)) => w.saturating_mul(hh),
+        _ => {
+            return Err(Error::parse(
+                "PCD: expected POINTS (or WIDTH and HEIGHT) in the header, found neither",
+            ))
+        }
+    };
+    let mut roles = [None; 7];
+    let (mut elem, mut byte) = (0usize, 0usize);
+    for k in 0..h.fields.len() {
+        let Some(s) = Scalar::pcd(&h.types[k], h.sizes[k]) else {
+            return Err(Error::parse(format!(
+                "PCD: field {:?} has TYPE {} SIZE {}, not a supported combination",
+                h.fields[k], h.types[k], h.sizes[k]
+            )));
+        };
+        if let Some(r) = column_role(&h.fields[k]) {
+            roles[r] = Some((elem, byte, s));
+        }
+        elem += h.counts[k];
+        byte += h.counts[k] * h.sizes[k];
+    }
+    let missing = missing_roles(&roles, ["x", "y", "z", "normal_x", "normal_y", "normal_z"]);
+    if !missing.is_empty() {
+        return Err(Error::parse(format!(
+            "PCD: expected FIELDS x y z normal_x normal_y normal_z, missing {} (found {})",
+            missing.join(" "),
+            h.fields.join(" ")
+        )));
+    }
+    let format = match h.data.as_str() {
+        "ascii" => PointFormat::PcdAscii,
+        "binary" => PointFormat::PcdBinary,
+        "binary_compressed" => return Err(Error::new(
+            ErrorKind::Parse,
+            "PCD: DATA binary_compressed is not supported; convert the file to ascii or binary first (e.g. `pcl_convert_pcd_ascii_binary in.pcd out.pcd 1`)",
+        )),
+        other => return Err(Error::parse(format!("PCD: expected DATA ascii, binary or binary_compressed, found {other:?}"))),
+    };
+    if format == PointFormat::PcdBinary && byte > MAX_POINT_RECORD_BYTES {
+        return Err(Error::limit(format!(
+            "PCD: expected records of at most {MAX_POINT_RECORD_BYTES} bytes, found {byte}"
+        )));
+    }
+    Ok(Header {
+        format,
+        n,
+        elems: elem,
+        roles,
+        rec: byte,
+    })
+}
+
+/// The binary record layout (PCL writes little endian).
+pub(super) fn layout(h: &Header) -> Layout {
+    let mut roles = [None; 7];
+    for (r, c) in h.roles.iter().enumerate() {
+        roles[r] = c.map(|(_, o, s)| (o, s));
+    }
+    Layout {
+        rec: h.rec.max(1),
+        roles,
+        little: true,
+    }
+}
+
+/// The records `first .. first + count`.
+pub(super) fn run(h: &Header, first: usize, count: usize) -> Run {
+    Run {
+        first,
+        count,
+        total: h.n,
+        names: ["PCD", "point", "points"],
+    }
+}
+
+/// Decode the data after the header into `sink`.
+pub(super) fn body<R: Read, S: Sink>(
+    src: &mut Source<R>,
+    h: &Header,
+    sink: &mut S,
+) -> Result<(PointFormat, Stats)> {
+    let mut ck = Checker::new(sink, h.roles[6].is_some(), h.n);
+    match h.format {
+        PointFormat::PcdAscii => ascii(src, h, &mut ck)?,
+        _ => decode_records(src, &layout(h), &run(h, 0, h.n), &mut ck)?,
+    }
+    Ok((h.format, ck.stats))
+}
+
+fn ascii<R: Read, S: Sink>(src: &mut Source<R>, h: &Header, ck: &mut Checker<S>) -> Result<()> {
+    let mut buf = Vec::new();
+    let mut k = 0usize;
+    while k < h.n {
+        if src.read_line(&mut buf)?.is_none() {
+            return Err(Error::parse(format!(
+                "PCD: header claims {} points, the file holds {k}",
+                h.n
+            )));
+        }
+        let line = String::from_utf8_lossy(&buf);
+        if line.trim().is_empty() {
+            continue;
+        }
+        let lineno = src.lines();
+        let f: Vec<&str> = line.split_whitespace().collect();
+        if f.len() < h.elems {
+            return Err(Error::parse(format!(
+                "PCD: expected {} values, found {}",
+                h.elems,
+                f.len()
+            ))
+            .at_line(lineno, None));
+        }
+        let mut v = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+        for (r, c) in h.roles.iter().enumerate() {
+            if let Some((e, _, _)) = c {
+                let tok = f[*e];
+                v[r] = if tok.eq_ignore_ascii_case("nan") {
+                    f64::NAN
+                } else {
+                    tok.parse::<f64>().map_err(|_| {
+                        Error::parse(format!("PCD: expected a number, found {tok:?}"))
+                            .at_line(lineno, Some(e + 1))
+                    })?
+                };
+            }
+        }
+        ck.record(&v)
+            .map_err(|f| f.error(format!("point {k}"), Some(lineno)))?;
+        k += 1;
+    }
+    Ok(())
+}

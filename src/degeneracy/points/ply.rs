@@ -1,0 +1,295 @@
+//! PLY: ascii, binary little and big endian.
+
+use super::binary::{decode_records, Layout, Run, Scalar};
+use super::check::{Checker, Stats};
+use super::source::{header_lines, Source};
+use super::{column_role, missing_roles, PointFormat, Sink};
+use crate::diagnostic::{Error, Result};
+use crate::tolerances::MAX_POINT_RECORD_BYTES;
+use std::io::Read;
+
+struct PlyElement {
+    name: String,
+    count: usize,
+    /// (name, type); `None` type for a list property.
+    props: Vec<(String, Option<Scalar>)>,
+    line: usize,
+}
+
+/// What the header says.
+pub(super) struct Header {
+    pub format: PointFormat,
+    elements: Vec<PlyElement>,
+    /// Index of the `vertex` element.
+    vi: usize,
+    /// Property index of each role.
+    roles: [Option<usize>; 7],
+}
+
+impl Header {
+    pub fn count(&self) -> usize {
+        self.elements[self.vi].count
+    }
+    fn weighted(&self) -> bool {
+        self.roles[6].is_some()
+    }
+}
+
+fn header_line(
+    t: &[&str],
+    l: &str,
+    lineno: usize,
+    format: &mut Option<PointFormat>,
+    elements: &mut Vec<PlyElement>,
+) -> Result<()> {
+    match t.first().copied() {
+        Some("ply") | Some("comment") | Some("obj_info") | Some("end_header") | None => {}
+        Some("format") => {
+            *format = Some(match t.get(1).copied() {
+                Some("ascii") => PointFormat::PlyAscii,
+                Some("binary_little_endian") => PointFormat::PlyBinaryLittleEndian,
+                Some("binary_big_endian") => PointFormat::PlyBinaryBigEndian,
+                other => {
+                    return Err(Error::parse(format!(
+                        "PLY: expected format ascii, binary_little_endian or binary_big_endian, found {other:?}"
+                    ))
+                    .at_line(lineno, None))
+                }
+            })
+        }
+        Some("element") => {
+            let (Some(name), Some(count)) = (t.get(1), t.get(2).and_then(|c| c.parse::<usize>().ok())) else {
+                return Err(Error::parse(format!("PLY: expected `element NAME COUNT`, found {l:?}")).at_line(lineno, None));
+            };
+            elements.push(PlyElement {
+                name: name.to_string(),
+                count,
+                props: Vec::new(),
+                line: lineno,
+            });
+        }
+        Some("property") => {
+            let Some(el) = elements.last_mut() else {
+                return Err(Error::parse("PLY: property before any element").at_line(lineno, None));
+            };
+            if t.get(1) == Some(&"list") {
+                el.props.push((t.get(4).unwrap_or(&"").to_string(), None));
+            } else {
+                let (Some(ty), Some(name)) = (t.get(1), t.get(2)) else {
+                    return Err(Error::parse(format!("PLY: expected `property TYPE NAME`, found {l:?}")).at_line(lineno, None));
+                };
+                let Some(s) = Scalar::ply(ty) else {
+                    return Err(Error::parse(format!("PLY: unknown property type {ty:?}")).at_line(lineno, None));
+                };
+                el.props.push((name.to_string(), Some(s)));
+            }
+        }
+        Some(other) => {
+            return Err(Error::parse(format!("PLY: unexpected header line starting with {other:?}")).at_line(lineno, None))
+        }
+    }
+    Ok(())
+}
+
+pub(super) fn read_header<R: Read>(src: &mut Source<R>) -> Result<Header> {
+    let lines = header_lines(src, &|l| l.trim() == "end_header", "PLY")?;
+    let mut format = None;
+    let mut elements: Vec<PlyElement> = Vec::new();
+    for (i, l) in lines.iter().enumerate() {
+        let t: Vec<&str> = l.split_whitespace().collect();
+        header_line(&t, l, i + 1, &mut format, &mut elements)?;
+    }
+    let Some(format) = format else {
+        return Err(Error::parse(
+            "PLY: expected a `format` line in the header, found none",
+        ));
+    };
+    let Some(vi) = elements.iter().position(|e| e.name == "vertex") else {
+        return Err(Error::parse(
+            "PLY: expected an `element vertex`, found none",
+        ));
+    };
+    let vert = &elements[vi];
+    let mut roles: [Option<usize>; 7] = [None; 7];
+    for (k, (name, ty)) in vert.props.iter().enumerate() {
+        if let Some(r) = column_role(name) {
+            if ty.is_none() {
+                return Err(
+                    Error::parse(format!("PLY: vertex property {name:?} is a list"))
+                        .at_line(vert.line, None),
+                );
+            }
+            roles[r] = Some(k);
+        }
+    }
+    let missing = missing_roles(&roles, ["x", "y", "z", "nx", "ny", "nz"]);
+    if !missing.is_empty() {
+        return Err(Error::parse(format!(
+            "PLY: expected vertex properties x y z nx ny nz, missing {}",
+            missing.join(" ")
+        ))
+        .at_line(vert.line, None));
+    }
+    Ok(Header {
+        format,
+        elements,
+        vi,
+        roles,
+    })
+}
+
+/// Decode the data after the header into `sink`.
+pub(super) fn body<R: Read, S: Sink>(
+    src: &mut Source<R>,
+    h: &Header,
+    sink: &mut S,
+) -> Result<(PointFormat, Stats)> {
+    let mut ck = Checker::new(sink, h.weighted(), h.count());
+    if h.format == PointFormat::PlyAscii {
+        ascii(src, h, &mut ck)?;
+    } else {
+        let (_, layout) = binary_plan(h)?;
+        for e in &h.elements[..h.vi] {
+            let bytes = element_bytes(e)?;
+            if src.skip(bytes)? < bytes {
+                return Err(ends_before(e));
+            }
+        }
+        decode_records(src, &layout, &run(h, 0, h.count()), &mut ck)?;
+    }
+    Ok((h.format, ck.stats))
+}
+
+/// The records `first .. first + count` of the vertex element.
+pub(super) fn run(h: &Header, first: usize, count: usize) -> Run {
+    Run {
+        first,
+        count,
+        total: h.count(),
+        names: ["PLY", "vertex", "vertices"],
+    }
+}
+
+fn ends_before(e: &PlyElement) -> Error {
+    Error::parse(format!(
+        "PLY: header claims {} `{}` items, the file ends before them",
+        e.count, e.name
+    ))
+}
+
+/// Bytes of an element before the vertices (scalar properties only).
+fn element_bytes(e: &PlyElement) -> Result<u64> {
+    let mut size = 0u64;
+    for (name, ty) in &e.props {
+        match ty {
+            Some(s) => size += s.size() as u64,
+            None => {
+                return Err(Error::parse(format!(
+                    "PLY: element `{}` before the vertices has a list property {name:?}; only scalar elements can precede vertices",
+                    e.name
+                ))
+                .at_line(e.line, None))
+            }
+        }
+    }
+    size.checked_mul(e.count as u64)
+        .ok_or_else(|| ends_before(e))
+}
+
+fn ascii<R: Read, S: Sink>(src: &mut Source<R>, h: &Header, ck: &mut Checker<S>) -> Result<()> {
+    let mut line = Vec::new();
+    // The next non-empty data line, with its line number.
+    let mut next = |src: &mut Source<R>| -> Result<Option<(usize, String)>> {
+        loop {
+            if src.read_line(&mut line)?.is_none() {
+                return Ok(None);
+            }
+            let l = String::from_utf8_lossy(&line);
+            if !l.trim().is_empty() {
+                return Ok(Some((src.lines(), l.into_owned())));
+            }
+        }
+    };
+    // Skip earlier elements (one line per item).
+    for e in &h.elements[..h.vi] {
+        for _ in 0..e.count {
+            if next(src)?.is_none() {
+                return Err(Error::parse(format!(
+                    "PLY: header claims {} `{}` items, the file ends before them",
+                    e.count, e.name
+                )));
+            }
+        }
+    }
+    let nprops = h.elements[h.vi].props.len();
+    for k in 0..h.count() {
+        let Some((lineno, line)) = next(src)? else {
+            return Err(Error::parse(format!(
+                "PLY: header claims {} vertices, the file holds {k}",
+                h.count()
+            )));
+        };
+        let f: Vec<&str> = line.split_whitespace().collect();
+        if f.len() < nprops {
+            return Err(Error::parse(format!(
+                "PLY: expected {nprops} values for vertex {k}, found {}",
+                f.len()
+            ))
+            .at_line(lineno, None));
+        }
+        let mut v = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+        for (r, c) in h.roles.iter().enumerate() {
+            if let Some(c) = c {
+                v[r] = f[*c].parse::<f64>().map_err(|_| {
+                    Error::parse(format!("PLY: expected a number, found {:?}", f[*c]))
+                        .at_line(lineno, Some(c + 1))
+                })?;
+            }
+        }
+        ck.record(&v)
+            .map_err(|f| f.error(format!("vertex {k}"), Some(lineno)))?;
+    }
+    Ok(())
+}
+
+/// For a binary file: the bytes of the elements before the vertices, and the
+/// vertex record layout.
+pub(super) fn binary_plan(h: &Header) -> Result<(u64, Layout)> {
+    let mut skip = 0u64;
+    for e in &h.elements[..h.vi] {
+        skip = element_bytes(e)?
+            .checked_add(skip)
+            .ok_or_else(|| ends_before(e))?;
+    }
+    let vert = &h.elements[h.vi];
+    let mut offsets = Vec::new();
+    let mut rec = 0usize;
+    for (name, ty) in &vert.props {
+        let Some(s) = ty else {
+            return Err(Error::parse(format!(
+                "PLY: vertex property {name:?} is a list; not supported in binary files"
+            ))
+            .at_line(vert.line, None));
+        };
+        offsets.push((rec, *s));
+        rec += s.size();
+    }
+    if rec > MAX_POINT_RECORD_BYTES {
+        return Err(Error::limit(format!(
+            "PLY: expected vertex records of at most {MAX_POINT_RECORD_BYTES} bytes, found {rec}"
+        ))
+        .at_line(vert.line, None));
+    }
+    let mut roles = [None; 7];
+    for (r, c) in h.roles.iter().enumerate() {
+        roles[r] = c.and_then(|c| offsets.get(c).copied());
+    }
+    Ok((
+        skip,
+        Layout {
+            rec: rec.max(1),
+            roles,
+            little: h.format == PointFormat::PlyBinaryLittleEndian,
+        },
+    ))
+}

@@ -1,0 +1,443 @@
+//! ROS 1 bags (format 2.0, `#ROSBAG V2.0`), read after the format
+//! specification (wiki.ros.org/Bags/Format/2.0) by a reader of our own: the
+//! `rosbag` crate maps the whole file and is not defensive about corrupt
+//! lengths.
+//!
+//! Layout: magic, a bag header record (`op=03`: `index_pos`, `conn_count`,
+//! `chunk_count`), chunks (`op=05`, compression `none`/`bz2`/`lz4`, holding
+//! connection `op=07` and message data `op=02` records), each followed by its
+//! index data (`op=04`), then at `index_pos` the connection records and chunk
+//! info records (`op=06`: chunk position and per-connection message counts).
+//! A record is `u32 header_len, header, u32 data_len, data`; a header is fields
+//! `u32 len, name=value`. All integers little-endian.
+//!
+//! Only the index section and the chunks whose chunk info counts a message on
+//! a wanted connection are read. A bag without an index (still recording, or
+//! cut short) is refused with the advice to run `rosbag reindex`.
+
+use super::decode::Encoding;
+use super::{Contents, RawMessage};
+use crate::diagnostic::{Error, Result};
+use crate::tolerances::MAX_BAG_RECORD_BYTES;
+use std::collections::{BTreeMap, BTreeSet};
+use std::fs::File;
+use std::io::{Read, Seek, SeekFrom};
+use std::path::Path;
+
+/// The 13 bytes a ROS 1 bag (format 2.0) starts with.
+pub const MAGIC: &[u8; 13] = b"#ROSBAG V2.0\n";
+
+const OP_MSG_DATA: u8 = 0x02;
+const OP_BAG_HEADER: u8 = 0x03;
+const OP_CHUNK: u8 = 0x05;
+const OP_CHUNK_INFO: u8 = 0x06;
+const OP_CONNECTION: u8 = 0x07;
+
+/// One record: header fields and data, with the offset it starts at.
+struct Record {
+    at: u64,
+    fields: Vec<(String, Vec<u8>)>,
+    data: Vec<u8>,
+}
+
+impl Record {
+    fn field(&self, name: &str) -> Option<&[u8]> {
+        self.fields
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
+
+    fn op(&self) -> Option<u8> {
+        self.field("op").and_then(|v| v.first().copied())
+    }
+
+    fn err(&self, path: &Path, msg: impl std::fmt::Display) -> Error {
+        Error::parse(format!("ROS 1 bag record at byte {}: {msg}", self.at)).in_file(path)
+    }
+
+    fn u32(&self, path: &Path, name: &str) -> Result<u32> {
+        match self.field(name) {
+            Some(v) if v.len() == 4 => Ok(u32::from_le_bytes([v[0], v[1], v[2], v[3]])),
+            other => Err(self.err(
+                path,
+                format!(
+                    "field `{name}`: expected 4 bytes, found {}",
+                    describe(other)
+                ),
+            )),
+        }
+    }
+
+    fn u64(&self, path: &Path, name: &str) -> Result<u64> {
+        match self.field(name) {
+            Some(v) if v.len() == 8 => {
+                let mut a = [0u8; 8];
+                a.copy_from_slice(v);
+                Ok(u64::from_le_bytes(a))
+            }
+            other => Err(self.err(
+                path,
+                format!(
+                    "field `{name}`: expected 8 bytes, found {}",
+                    describe(other)
+                ),
+            )),
+        }
+    }
+
+    fn text(&self, path: &Path, name: &str) -> Result<String> {
+        let v = self
+            .field(name)
+            .ok_or_else(|| self.err(path, format!("expected a field `{name}`, found none")))?;
+        String::from_utf8(v.to_vec())
+            .map_err(|_| self.err(path, format!("field `{name}`: expected UTF-8 text")))
+    }
+}
+
+fn describe(v: Option<&[u8]>) -> String {
+    match v {
+        Some(v) => format!("{} bytes", v.len()),
+        None => "no such field".into(),
+    }
+}
+
+fn le32(b: &[u8]) -> u32 {
+    u32::from_le_bytes([b[0], b[1], b[2], b[3]])
+}
+
+/// Split a record header into `name=value` fields.
+fn fields(h: &[u8]) -> std::result::Result<Vec<(String, Vec<u8>)>, String> {
+    let mut out = Vec::new();
+    let mut i = 0usize;
+    while i < h.len() {
+        let Some(len) = h.get(i..i + 4).map(le32) else {
+            return Err(format!(
+                "header byte {i}: expected a 4-byte field length, found the end of the header"
+            ));
+        };
+        let len = len as usize;
+        let body = h.get(i + 4..).and_then(|r| r.get(..len)).ok_or_else(|| {
+            format!("header byte {i}: field of length {len} runs past the end of the header")
+        })?;
+        let eq = body
+            .iter()
+            .position(|&b| b == b'=')
+            .ok_or_else(|| format!("header byte {i}: expected `name=value`, found no `=`"))?;
+        out.push((
+            String::from_utf8_lossy(&body[..eq]).into_owned(),
+            body[eq + 1..].to_vec(),
+        ));
+        i += 4 + len;
+    }
+    Ok(out)
+}
+
+/// Reads length-prefixed blocks from a slice (a decompressed chunk) or a file.
+trait Source {
+    fn pos(&self) -> u64;
+    fn len(&self) -> u64;
+    fn read_exact_at(&mut self, n: usize) -> std::io::Result<Vec<u8>>;
+}
+
+struct FileSource {
+    file: File,
+    pos: u64,
+    len: u64,
+}
+
+impl Source for FileSource {
+    fn pos(&self) -> u64 {
+        self.pos
+    }
+    fn len(&self) -> u64 {
+        self.len
+    }
+    fn read_exact_at(&mut self, n: usize) -> std::io::Result<Vec<u8>> {
+        let mut v = vec![0u8; n];
+        self.file.seek(SeekFrom::Start(self.pos))?;
+        self.file.read_exact(&mut v)?;
+        self.pos += n as u64;
+        Ok(v)
+    }
+}
+
+struct SliceSource<'a> {
+    data: &'a [u8],
+    pos: u64,
+}
+
+impl Source for SliceSource<'_> {
+    fn pos(&self) -> u64 {
+        self.pos
+    }
+    fn len(&self) -> u64 {
+        self.data.len() as u64
+    }
+    fn read_exact_at(&mut self, n: usize) -> std::io::Result<Vec<u8>> {
+        let start = usize::try_from(self.pos).unwrap_or(usize::MAX);
+        let v = self
+            .data
+            .get(start..)
+            .and_then(|r| r.get(..n))
+            .ok_or(std::io::ErrorKind::UnexpectedEof)?;
+        self.pos += n as u64;
+        Ok(v.to_vec())
+    }
+}
+
+/// Read one length-prefixed block of at most the bytes left and the record limit.
+fn block(src: &mut dyn Source, what: &str, within: &str) -> std::result::Result<Vec<u8>, String> {
+    let at = src.pos();
+    let left = src.len().saturating_sub(at);
+    let n = src
+        .read_exact_at(4)
+        .map_err(|_| format!("byte {at}: expected a 4-byte {what} length, found the end of the {within} ({left} bytes left)"))?;
+    let n = u64::from(le32(&n));
+    let left = src.len().saturating_sub(at + 4);
+    if n > left || n > MAX_BAG_RECORD_BYTES as u64 {
+        return Err(format!(
+            "byte {at}: {what} length {n}: expected at most the {left} bytes left in the {within} (truncated or corrupt?)"
+        ));
+    }
+    src.read_exact_at(n as usize)
+        .map_err(|e| format!("byte {at}: reading {what} of {n} bytes: {e}"))
+}
+
+fn record(src: &mut dyn Source, within: &str) -> std::result::Result<Record, String> {
+    let at = src.pos();
+    let header = block(src, "record header", within)?;
+    let fields = fields(&header).map_err(|e| format!("record at byte {at}: {e}"))?;
+    let data = block(src, "record data", within)?;
+    Ok(Record { at, fields, data })
+}
+
+/// A connection: its topic and message type.
+struct Conn {
+    topic: String,
+    type_name: String,
+}
+
+/// Read the messages of the topics `wanted` accepts.
+pub fn read(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
+    let file = File::open(path).map_err(|e| Error::io(path, &e))?;
+    let len = file.metadata().map_err(|e| Error::io(path, &e))?.len();
+    let mut src = FileSource { file, pos: 0, len };
+    let perr = |e: String| Error::parse(format!("ROS 1 bag: {e}")).in_file(path);
+    let magic = src.read_exact_at(MAGIC.len()).unwrap_or_default();
+    if magic != MAGIC {
+        let v1 = magic.starts_with(b"#ROSBAG V1");
+        return Err(Error::parse(if v1 {
+            "ROS 1 bag format 1.x: expected format 2.0 (`rosbag fix` converts it)".to_string()
+        } else {
+            format!(
+                "expected the ROS 1 bag magic `#ROSBAG V2.0` at byte 0, found {:?}",
+                String::from_utf8_lossy(&magic)
+            )
+        })
+        .in_file(path));
+    }
+    let hdr = record(&mut src, "file").map_err(perr)?;
+    if hdr.op() != Some(OP_BAG_HEADER) {
+        return Err(hdr.err(path, "expected the bag header record (op=03)"));
+    }
+    let index_pos = hdr.u64(path, "index_pos")?;
+    let conn_count = hdr.u32(path, "conn_count")?;
+    let chunk_count = hdr.u32(path, "chunk_count")?;
+    if index_pos == 0 || index_pos >= len {
+        return Err(hdr.err(
+            path,
+            format!("index_pos {index_pos}: expected an index inside the {len}-byte file (a bag still recording or cut short; `rosbag reindex` rebuilds the index)"),
+        ));
+    }
+    // The index section runs to the end of the file: one read, then parsed in
+    // memory (a few dozen bytes per chunk).
+    let index_len = len - index_pos;
+    if index_len > MAX_BAG_RECORD_BYTES as u64 {
+        return Err(hdr.err(path, format!("index section of {index_len} bytes at index_pos {index_pos}: expected at most {MAX_BAG_RECORD_BYTES}")));
+    }
+    src.pos = index_pos;
+    let index = src
+        .read_exact_at(index_len as usize)
+        .map_err(|e| Error::io(path, &e))?;
+    let mut isrc = SliceSource {
+        data: &index,
+        pos: 0,
+    };
+    let mut conns: BTreeMap<u32, Conn> = BTreeMap::new();
+    let mut chunks: Vec<(u64, Vec<u32>)> = Vec::new();
+    while isrc.pos < isrc.len() {
+        let mut r = record(&mut isrc, "index section").map_err(|e| {
+            perr(format!(
+                "index section at byte {index_pos}: {e} (offsets within the section)"
+            ))
+        })?;
+        r.at += index_pos;
+        match r.op() {
+            Some(OP_CONNECTION) => {
+                let id = r.u32(path, "conn")?;
+                let conn = connection(path, &r)?;
+                conns.insert(id, conn);
+            }
+            Some(OP_CHUNK_INFO) => chunks.push(chunk_info(path, &r)?),
+            _ => {}
+        }
+    }
+    if conns.len() != conn_count as usize || chunks.len() != chunk_count as usize {
+        return Err(hdr.err(path, format!(
+            "expected {conn_count} connections and {chunk_count} chunk infos in the index, found {} and {} (truncated or corrupt?)",
+            conns.len(), chunks.len()
+        )));
+    }
+    let want: BTreeSet<u32> = conns
+        .iter()
+        .filter(|(_, c)| wanted(&c.topic))
+        .map(|(id, _)| *id)
+        .collect();
+    let mut out = Contents {
+        topics: conns
+            .values()
+            .map(|c| c.topic.clone())
+            .collect::<BTreeSet<_>>()
+            .into_iter()
+            .collect(),
+        messages: Vec::new(),
+    };
+    let todo: Vec<u64> = chunks
+        .into_iter()
+        .filter(|(_, ids)| ids.iter().any(|c| want.contains(c)))
+        .map(|(pos, _)| pos)
+        .collect();
+    // Chunks are about the same size: count progress in chunks, scaled to bytes.
+    let per_chunk = len / u64::from(chunk_count.max(1));
+    let mut progress = super::Progress::new(path, per_chunk * todo.len() as u64);
+    for (i, chunk_pos) in todo.into_iter().enumerate() {
+        progress.update(per_chunk * i as u64);
+        read_chunk(path, &mut src, chunk_pos, &conns, &want, &mut out.messages)?;
+    }
+    Ok(out)
+}
+
+fn connection(path: &Path, r: &Record) -> Result<Conn> {
+    let topic = r.text(path, "topic")?;
+    let inner = fields(&r.data).map_err(|e| r.err(path, format!("connection header: {e}")))?;
+    let type_name = inner
+        .iter()
+        .find(|(n, _)| n == "type")
+        .map(|(_, v)| String::from_utf8_lossy(v).into_owned())
+        .unwrap_or_default();
+    Ok(Conn { topic, type_name })
+}
+
+/// Chunk position and the connections with messages in it.
+fn chunk_info(path: &Path, r: &Record) -> Result<(u64, Vec<u32>)> {
+    let pos = r.u64(path, "chunk_pos")?;
+    let count = r.u32(path, "count")? as usize;
+    if r.data.len() != count.saturating_mul(8) {
+        return Err(r.err(
+            path,
+            format!(
+                "chunk info: expected {count} entries of 8 bytes, found {} bytes",
+                r.data.len()
+            ),
+        ));
+    }
+    let ids = r
+        .data
+        .chunks_exact(8)
+        .filter(|e| le32(&e[4..]) > 0)
+        .map(|e| le32(&e[..4]))
+        .collect();
+    Ok((pos, ids))
+}
+
+fn decompress(path: &Path, r: &Record) -> Result<Vec<u8>> {
+    let comp = r.text(path, "compression")?;
+    let size = r.u32(path, "size")? as usize;
+    if size > MAX_BAG_RECORD_BYTES {
+        return Err(r.err(
+            path,
+            format!("chunk of {size} bytes uncompressed: expected at most {MAX_BAG_RECORD_BYTES}"),
+        ));
+    }
+    let mut out = Vec::with_capacity(size);
+    let limit = size as u64 + 1;
+    let res = match comp.as_str() {
+        "none" => return Ok(r.data.clone()),
+        "bz2" => bzip2::read::BzDecoder::new(r.data.as_slice())
+            .take(limit)
+            .read_to_end(&mut out),
+        "lz4" => {
+            lz4::Decoder::new(r.data.as_slice()).and_then(|d| d.take(limit).read_to_end(&mut out))
+        }
+        other => {
+            return Err(r.err(
+                path,
+                format!("chunk compression '{other}': expected none, bz2 or lz4"),
+            ))
+        }
+    };
+    res.map_err(|e| r.err(path, format!("{comp} chunk: cannot decompress: {e}")))?;
+    if out.len() != size {
+        return Err(r.err(
+            path,
+            format!(
+                "{comp} chunk: expected {size} bytes uncompressed, found {}",
+                out.len()
+            ),
+        ));
+    }
+    Ok(out)
+}
+
+fn read_chunk(
+    path: &Path,
+    src: &mut FileSource,
+    chunk_pos: u64,
+    conns: &BTreeMap<u32, Conn>,
+    want: &BTreeSet<u32>,
+    out: &mut Vec<RawMessage>,
+) -> Result<()> {
+    src.pos = chunk_pos;
+    let r = record(src, "file").map_err(|e| {
+        Error::parse(format!("ROS 1 bag chunk at byte {chunk_pos}: {e}")).in_file(path)
+    })?;
+    if r.op() != Some(OP_CHUNK) {
+        return Err(r.err(
+            path,
+            "expected a chunk record (op=05), as the chunk info says",
+        ));
+    }
+    let data = decompress(path, &r)?;
+    let mut inner = SliceSource {
+        data: &data,
+        pos: 0,
+    };
+    while inner.pos < inner.len() {
+        let m = record(&mut inner, "chunk")
+            .map_err(|e| r.err(path, format!("inside the chunk: {e}")))?;
+        if m.op() != Some(OP_MSG_DATA) {
+            continue;
+        }
+        let conn = m
+            .u32(path, "conn")
+            .map_err(|e| r.err(path, format!("inside the chunk: {}", e.message)))?;
+        let (Some(c), true) = (conns.get(&conn), want.contains(&conn)) else {
+            continue;
+        };
+        let t = m
+            .u64(path, "time")
+            .map_err(|e| r.err(path, format!("inside the chunk: {}", e.message)))?;
+        let (sec, nsec) = (t & 0xffff_ffff, t >> 32);
+        out.push(RawMessage {
+            topic: c.topic.clone(),
+            type_name: c.type_name.clone(),
+            encoding: Encoding::Ros1,
+            time_ns: sec * 1_000_000_000 + nsec,
+            data: m.data,
+            file: path.to_path_buf(),
+            place: format!("chunk at byte {chunk_pos}, record at chunk byte {}", m.at),
+        });
+    }
+    Ok(())
+}

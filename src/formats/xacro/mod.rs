@@ -1,0 +1,178 @@
+//! xacro: robot descriptions kept as macro files, expanded here without ROS
+//! or Python, then read as URDF (see `formats::urdf` for what the numbers mean).
+//!
+//! The expander follows Python xacro 2.x (`pip install xacro`), the in-order
+//! processing of ROS xacro: `xacro:property` (value, default, remove, blocks,
+//! `scope`, lazy evaluation), `${...}` (the Python subset of [`expr`]),
+//! `$(arg|find|env|optenv|dirname|cwd)` ([`subst`]), `xacro:arg`,
+//! `xacro:include` (relative, `$(find pkg)`, `ns`, `optional`), `xacro:macro`
+//! with defaults and `*`/`**` block parameters, `xacro:insert_block`,
+//! `xacro:if`/`unless`, `xacro:element`/`attribute`, `xacro:call`,
+//! `xacro.load_yaml`. Anything outside that is an error naming the file,
+//! line and construct; expansion is bounded (`limits`, values in `crate::tolerances`).
+//!
+//! Provenance: every output element keeps the file, line and column of the
+//! element it came from (a joint written inside a macro in an included file
+//! points there, not at the call), so each edge names the line of the xacro
+//! *source*; URDF errors found after expansion are placed the same way. When
+//! the joint's `<origin>` was written elsewhere (a block passed to a macro,
+//! where calibrations usually are), the edge's key names that place too.
+//!
+//! `--xacro external` runs the `xacro` program instead ([`external`]).
+//!
+//! Known differences from Python xacro 2.1.1 (the reference of the tests):
+//! ints are 64-bit (beyond is an error); a complex intermediate (a negative
+//! number to a fractional power) is an error; `load_yaml` numbers that are
+//! whole become ints (`1.0` reads as `1`: the same number in an attribute);
+//! `$(dirname)` gives the current file's directory (xacro 2.1.1 refuses it
+//! for lack of context); wildcard includes, `$(eval)`, `xacro:message` and
+//! Python outside the subset of [`expr`] are refused; comments are not copied.
+//! YAML unit tags (`!degrees 90`) are converted before the YAML is read, the
+//! scalar ending at a line end, comment or flow separator.
+
+mod builtins;
+mod expand;
+pub mod expr;
+pub mod external;
+mod include;
+mod limits;
+mod macros;
+mod ops;
+mod scope;
+pub mod subst;
+mod tree;
+mod value;
+
+use crate::diagnostic::{Error, Location, Result, Warning};
+use crate::formats::registry::FormatSpec;
+use crate::formats::{urdf, LoadOptions, Loaded};
+use std::path::Path;
+
+/// Whether URDF text still holds xacro: the namespace, elements or
+/// substitutions.
+pub fn has_markers(text: &str) -> bool {
+    text.contains("xmlns:xacro")
+        || text.contains("<xacro:")
+        || text.contains("${")
+        || text.contains("$(")
+}
+
+/// What to do with a `.urdf` that holds xacro, for messages.
+pub fn advice(path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_else(|| "robot.urdf".to_string());
+    format!("read it as xacro: `audit --input-format xacro {name}` (or name it .xacro)")
+}
+
+/// The expanded URDF text and, per output line that starts an element, the
+/// source location of that element.
+pub struct Expanded {
+    /// The expanded URDF.
+    pub text: String,
+    lines: Vec<(usize, Location)>,
+    /// Joint output line -> where its `<origin>` was written.
+    origins: std::collections::HashMap<usize, Location>,
+    /// Constructs expanded as Python xacro does that are likely not meant.
+    pub warnings: Vec<Warning>,
+}
+
+impl Expanded {
+    /// The source location of output line `line` (the element starting at or
+    /// before it).
+    pub fn source_of(&self, line: usize) -> Option<&Location> {
+        let i = self.lines.partition_point(|(l, _)| *l <= line);
+        i.checked_sub(1).map(|i| &self.lines[i].1)
+    }
+}
+
+/// Stack for the expansion thread: evaluation recurses per XML level and per
+/// macro call, and callers may run on small (2 MiB) test-thread stacks.
+const XACRO_STACK: usize = 64 * 1024 * 1024;
+
+/// Expand xacro `text` read from `path` into URDF text with a line map.
+pub fn expand(text: &str, path: &Path, opts: &LoadOptions) -> Result<Expanded> {
+    let run = || -> Result<Expanded> {
+        let file = tree::file_ref(path);
+        let doc = tree::parse(text, file)?;
+        let mut ex = expand::Expander::new(opts, path);
+        let root = ex.run(&doc)?;
+        let w = tree::write(root, &ex.namespaces);
+        Ok(Expanded {
+            text: w.text,
+            lines: w
+                .lines
+                .into_iter()
+                .map(|(l, s)| (l, s.location()))
+                .collect(),
+            origins: w
+                .origins
+                .into_iter()
+                .map(|(l, s)| (l, s.location()))
+                .collect(),
+            warnings: ex.warnings,
+        })
+    };
+    std::thread::scope(|s| {
+        match std::thread::Builder::new()
+            .name("xacro".into())
+            .stack_size(XACRO_STACK)
+            .spawn_scoped(s, run)
+        {
+            Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
+            Err(_) => run(),
+        }
+    })
+}
+
+/// Move a location in the expanded text to the source element it came from.
+fn relocate(loc: &mut Location, x: &Expanded, path: &Path) {
+    let ours = loc.file.as_deref().is_none_or(|f| f == path);
+    if let (true, Some(l)) = (ours, loc.line) {
+        if let Some(src) = x.source_of(l) {
+            *loc = src.clone();
+        }
+    }
+}
+
+/// A `.xacro` file: expanded natively (or by the external program with
+/// `--xacro external`), then read as URDF with source locations.
+pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    if opts.xacro_external {
+        return external::parse(path, opts);
+    }
+    let x = expand(text, path, opts)?;
+    let mut loaded = urdf::parse(&x.text, path, opts).map_err(|mut e: Error| {
+        relocate(&mut e.location, &x, path);
+        e.message = format!(
+            "{} (in the URDF expanded from {})",
+            e.message,
+            path.display()
+        );
+        e
+    })?;
+    for e in &mut loaded.edges {
+        let origin = e.provenance.location.line.and_then(|l| x.origins.get(&l));
+        relocate(&mut e.provenance.location, &x, path);
+        if let Some(o) = origin {
+            e.provenance.key = format!("{} (its <origin> written at {o})", e.provenance.key);
+        }
+        e.provenance.format = SPEC.id;
+    }
+    for w in &mut loaded.warnings {
+        relocate(&mut w.location, &x, path);
+    }
+    loaded.warnings.extend(x.warnings);
+    Ok(loaded)
+}
+
+/// xacro macro files.
+pub const SPEC: FormatSpec = FormatSpec {
+    id: "xacro",
+    description: "xacro macro file: expanded by the built-in expander (--arg NAME=VALUE, --package-path DIR for $(find)), then read as URDF; edges point at the line in the xacro source",
+    extensions: &["xacro", "urdf.xacro"],
+    walk: &[".xacro"],
+    sniff: |_| None,
+    parse,
+};
