@@ -264,7 +264,11 @@ pub fn key_for(file: &Path, root: &Path, dir: &Path) -> Result<String> {
 /// quaternion that is not unit (a zero quaternion would switch the rotation
 /// drift check off).
 pub fn read(path: &Path) -> Result<Baseline> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+    let text = crate::input::read_text(
+        path,
+        crate::tolerances::MAX_BASELINE_FILE_SIZE,
+        "the baseline size cap",
+    )?;
     let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
         Error::parse(format!(
             "expected a baseline written by `audit check --write-baseline`, found: {e}"

@@ -10,6 +10,7 @@
 //! returns one or the other; a `Result`'s error always has severity `error` and
 //! maps to exit code 2 (usage or input error). Findings of `audit check` exit 1.
 
+use crate::tolerances::MAX_MESSAGE_CHARS;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -133,6 +134,9 @@ codes! {
     NonUnitQuaternion = "non-unit-quaternion", Warning;
     /// A translation that looks like millimetres in a field documented as metres.
     MillimetresInMetreField = "millimetres-in-metre-field", Warning;
+    /// A `--joint` value on a revolute or continuous joint that looks like
+    /// degrees (`|value| > 2 pi`) in a field taken as radians.
+    DegreesInRadianField = "degrees-in-radian-field", Warning;
     /// A movable joint (revolute, continuous, prismatic) on a path, taken at its
     /// default position because the user did not set it.
     JointAtDefault = "joint-at-default", Warning;
@@ -241,12 +245,14 @@ pub type ErrorKind = Code;
 
 impl Diagnostic {
     /// A diagnostic of `code` with its default severity and no location.
+    /// The message is bounded: past [`MAX_MESSAGE_CHARS`] its middle is cut,
+    /// with the count of what was cut (a message may quote a file's values).
     pub fn new(code: Code, message: impl Into<String>) -> Self {
         Diagnostic {
             code,
             severity: code.default_severity(),
             location: Location::default(),
-            message: message.into(),
+            message: bounded(message.into()),
             help: None,
         }
     }
@@ -281,7 +287,7 @@ impl Diagnostic {
     }
     /// The same diagnostic with help text.
     pub fn with_help(mut self, help: impl Into<String>) -> Self {
-        self.help = Some(help.into());
+        self.help = Some(bounded(help.into()));
         self
     }
     /// Attach a file, keeping a line that is already known.
@@ -361,6 +367,14 @@ impl serde::Serialize for Diagnostic {
             m.serialize_entry("help", h)?;
         }
         m.end()
+    }
+}
+
+/// `s` shortened to [`MAX_MESSAGE_CHARS`] ([`crate::sanitize::shorten`]).
+fn bounded(s: String) -> String {
+    match crate::sanitize::shorten(&s, MAX_MESSAGE_CHARS) {
+        std::borrow::Cow::Borrowed(_) => s,
+        std::borrow::Cow::Owned(o) => o,
     }
 }
 

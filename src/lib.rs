@@ -73,9 +73,11 @@ pub mod diagnostic;
 pub mod formats;
 pub mod frames;
 pub mod geometry;
+pub mod input;
 pub mod pipeline;
 pub mod render;
 pub mod report;
+pub mod sanitize;
 pub mod tolerances;
 
 // The types most callers need, at the crate root.

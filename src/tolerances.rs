@@ -71,6 +71,15 @@ pub const AXIS_MIN_NORM: f64 = 1e-12;
 /// `non-unit-axis` warning (nine printed digits stay below it).
 pub const UNIT_AXIS_TOL: f64 = 1e-9;
 
+/// Largest `|value|` a `--joint NAME=VALUE` takes (rad or m): a prismatic
+/// joint beyond [`MAX_TRANSLATION_M`] is refused anyway, and a revolute angle
+/// of a million radians means a typo; refused before any file is read.
+pub const MAX_JOINT_VALUE: f64 = 1e6;
+
+/// A `--joint` value on a revolute or continuous joint above this (rad) in
+/// magnitude looks like degrees: a `degrees-in-radian-field` warning.
+pub const DEGREES_LIKE_RAD: f64 = 2.0 * std::f64::consts::PI;
+
 // ---------------------------------------------------------------------------
 // Certificate bands (`geometry::certificate`)
 // ---------------------------------------------------------------------------
@@ -83,6 +92,15 @@ pub const MAX_ELLS: usize = 8;
 /// the ratio `lambda / kappa` each carry a few ulps of rounding; 8 ulps cover
 /// them, so a ratio reported as outside is outside the exact band too.
 pub const BAND_EDGE_MARGIN: f64 = 8.0 * f64::EPSILON;
+
+/// Accepted characteristic lengths `--ell` (m). With a lever arm up to
+/// [`MAX_TRANSLATION_M`] the band edges grow like `(||d|| / ell)^2`, at most
+/// 1e24 here: finite, so no band field of a report becomes `null`.
+pub const ELL_RANGE_M: (f64, f64) = (1e-6, 1e6);
+
+/// Accepted detector threshold `--kappa` (and the largest `--lambda`): the
+/// ratio `lambda / kappa` stays below 1e200 and the band products finite.
+pub const KAPPA_RANGE: (f64, f64) = (1e-100, 1e100);
 
 // ---------------------------------------------------------------------------
 // Frame graph (`frames`)
@@ -123,6 +141,18 @@ pub const MAX_TRANSLATION_M: f64 = 1e6;
 /// most ~8 levels (a tf_static dump); the deserializer recurses once per level
 /// with a large frame (tens of KiB in a debug build).
 pub const MAX_YAML_DEPTH: usize = 32;
+
+/// Largest baseline file read by `audit check --baseline` (bytes): a baseline
+/// holds one short record per edge, so 64 MiB is millions of edges.
+pub const MAX_BASELINE_FILE_SIZE: u64 = 64 * 1024 * 1024;
+
+/// Longest value (characters) a message quotes from a file before it is
+/// shortened (the head and the tail kept, with the count of what was cut).
+pub const MAX_QUOTED_CHARS: usize = 120;
+
+/// Longest message (characters) any diagnostic carries: a backstop for
+/// messages that quote several values.
+pub const MAX_MESSAGE_CHARS: usize = 2000;
 
 /// Largest record, chunk (compressed or not) or message a bag reader allocates
 /// (bytes). rosbag2 and `rosbag record` write chunks of 768 KiB to a few MiB;
@@ -256,6 +286,14 @@ pub const JACOBI_FLOOR: f64 = 1e-12;
 
 /// Default characteristic lengths (m).
 pub const DEFAULT_ELLS: [f64; 4] = [0.25, 1.0, 2.85, 10.0];
+
+/// Largest simulated range noise `--noise` (m, one standard deviation): the
+/// scenes span a few metres, so a metre of noise already erases them.
+pub const MAX_SIM_NOISE_M: f64 = 1.0;
+
+/// Accepted voxel sizes `--voxel` of the simulation (m): below 2 cm the
+/// scenes hold millions of points; above 10 m a scene is one voxel.
+pub const SIM_VOXEL_RANGE_M: (f64, f64) = (0.02, 10.0);
 
 // ---------------------------------------------------------------------------
 // Point files (`degeneracy::points`)

@@ -1,11 +1,15 @@
 //! `audit FILE... --from A --to B`: the rig report.
 
-use super::{emit, parse_joint, parse_nonneg, parse_positive, print_warnings};
+use super::{
+    emit, parse_ell, parse_joint, parse_kappa, parse_lambda, parse_nonneg, print_warnings,
+    write_output,
+};
 use clap::{Args, ValueEnum};
-use extrinsic_audit::diagnostic::{Code, Error, Result};
+use extrinsic_audit::diagnostic::Result;
 use extrinsic_audit::formats::{Format, LoadOptions};
 use extrinsic_audit::pipeline::{self, Rename, RigOptions};
 use extrinsic_audit::render::OutputFormat;
+use extrinsic_audit::sanitize;
 use extrinsic_audit::tolerances::{DEFAULT_ELLS, DEFAULT_MAX_FILE_SIZE};
 use std::io::Write;
 use std::path::PathBuf;
@@ -25,13 +29,13 @@ pub struct AuditArgs {
     #[arg(long)]
     pub frames: bool,
     /// Characteristic lengths (m) for the certificate bands
-    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_positive, value_name = "M,...")]
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
     pub ell: Vec<f64>,
     /// Detector threshold kappa: with --lambda, does the band certify that lambda cannot cross kappa?
-    #[arg(long, requires = "lambda", value_parser = parse_positive)]
+    #[arg(long, requires = "lambda", value_parser = parse_kappa, allow_hyphen_values = true)]
     pub kappa: Option<f64>,
     /// Detector eigenvalue lambda (see --kappa)
-    #[arg(long, requires = "kappa", value_parser = parse_nonneg)]
+    #[arg(long, requires = "kappa", value_parser = parse_lambda, allow_hyphen_values = true)]
     pub lambda: Option<f64>,
     /// Zero-pitch tolerance on |h| (m); the raw h is always printed beside the verdict
     #[arg(long, default_value_t = extrinsic_audit::tolerances::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
@@ -62,7 +66,8 @@ pub struct AuditArgs {
     /// Output format
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
     pub format: OutputFormat,
-    /// xacro `$(arg NAME)` value, overriding the file's xacro:arg default; repeatable
+    /// xacro and launch-file `$(arg NAME)` value (also `if="$(arg NAME)"` in a
+    /// launch file), overriding the file's default; repeatable
     #[arg(long = "arg", value_parser = parse_xacro_arg, value_name = "NAME=VALUE")]
     pub xacro_args: Vec<(String, String)>,
     /// Where xacro `$(find pkg)` looks first: a package directory or a directory
@@ -142,8 +147,10 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     print_warnings(loaded.graph.warnings());
     loaded.check_joint_names(args.joints.iter().map(|(n, _)| n.as_str()))?;
     if args.frames {
-        writeln!(out, "{}", loaded.graph.tree())
-            .map_err(|e| Error::new(Code::Io, format!("cannot write output: {e}")))?;
+        // Names cannot hold a line break (refused when loaded); the rest of
+        // what could act on a terminal or a CI log is escaped.
+        let tree = sanitize::block(&loaded.graph.tree());
+        write_output(out, &format!("{tree}\n"))?;
         return Ok(0);
     }
     let (from, to) = loaded.frame_pair(args.from.as_deref(), args.to.as_deref())?;

@@ -2,7 +2,7 @@
 //! `calibrate-threshold`. Arguments here; computations in
 //! `extrinsic_audit::pipeline::detector`.
 
-use super::emit;
+use super::{emit, parse_noise, parse_positive, parse_voxel};
 use extrinsic_audit::degeneracy::points::accumulate_file;
 use extrinsic_audit::degeneracy::scene::{SceneKind, TUNNEL_RADIUS};
 use extrinsic_audit::degeneracy::threshold::{Calibration, SEEDS};
@@ -12,7 +12,7 @@ use extrinsic_audit::geometry::Transform;
 use extrinsic_audit::pipeline::detector::{self as det, SimulateParams, TunnelParams};
 use extrinsic_audit::pipeline::transform_between;
 use extrinsic_audit::render::OutputFormat;
-use extrinsic_audit::tolerances::DEFAULT_TAU;
+use extrinsic_audit::tolerances::{DEFAULT_TAU, ELL_RANGE_M, MAX_SIM_NOISE_M, SIM_VOXEL_RANGE_M};
 use nalgebra::Vector6;
 use std::io::Write;
 use std::path::PathBuf;
@@ -41,7 +41,7 @@ pub struct DegeneracyArgs {
     /// Point file with normals (CSV, PLY or PCD; detected from the content).
     pub points: PathBuf,
     /// Point-displacement threshold: an eigenvalue below it is degenerate (baselines use their calibrated thresholds).
-    #[arg(long, default_value_t = DEFAULT_TAU)]
+    #[arg(long, default_value_t = DEFAULT_TAU, value_parser = parse_positive, allow_hyphen_values = true)]
     pub tau: f64,
     /// Origin of the new frame in the input frame, `x,y,z` (m).
     #[arg(long, allow_hyphen_values = true)]
@@ -88,7 +88,7 @@ pub struct TunnelArgs {
     #[arg(long, default_value = "1,0,0", allow_hyphen_values = true)]
     pub shift: String,
     /// Degeneracy threshold on the point-displacement eigenvalues.
-    #[arg(long, default_value_t = DEFAULT_TAU)]
+    #[arg(long, default_value_t = DEFAULT_TAU, value_parser = parse_positive, allow_hyphen_values = true)]
     pub tau: f64,
     /// Output format
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
@@ -132,19 +132,19 @@ pub struct SimulateArgs {
     #[arg(long, default_value = "tunnel")]
     pub scene: String,
     /// Range-noise standard deviation (m).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = parse_noise, allow_hyphen_values = true)]
     pub noise: f64,
     /// Seed of the scene (sampling phase, noise, voxel grid origin).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Voxel size (m) of the preprocessing pipeline.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = 0.1, value_parser = parse_voxel, allow_hyphen_values = true)]
     pub voxel: f64,
     /// Keep the exact surface normals (no voxel grid, no normal estimation).
     #[arg(long)]
     pub exact_normals: bool,
     /// Point-displacement threshold (baselines use their calibrated thresholds, see `audit degeneracy --help`).
-    #[arg(long, default_value_t = DEFAULT_TAU)]
+    #[arg(long, default_value_t = DEFAULT_TAU, value_parser = parse_positive, allow_hyphen_values = true)]
     pub tau: f64,
     /// Characteristic lengths (m), comma-separated.
     #[arg(long, default_value = "0.25,1,2.85,10")]
@@ -225,8 +225,8 @@ fn parse_triple(s: &str, what: &str) -> Result<[f64; 3]> {
     Ok(v)
 }
 
-/// A comma-separated list of numbers at least `min` (1 to 16 of them).
-fn parse_list(s: &str, what: &str, min: f64) -> Result<Vec<f64>> {
+/// A comma-separated list of numbers in `[min, max]` (1 to 16 of them).
+fn parse_list(s: &str, what: &str, (min, max): (f64, f64)) -> Result<Vec<f64>> {
     let v: Vec<f64> = s
         .split(',')
         .map(str::trim)
@@ -234,9 +234,11 @@ fn parse_list(s: &str, what: &str, min: f64) -> Result<Vec<f64>> {
         .map(|p| {
             p.parse::<f64>()
                 .ok()
-                .filter(|x| x.is_finite() && *x >= min)
+                .filter(|x| x.is_finite() && (min..=max).contains(x))
                 .ok_or_else(|| {
-                    Error::usage(format!("{what}: expected numbers >= {min}, found {p:?}"))
+                    Error::usage(format!(
+                        "{what}: expected numbers from {min} to {max}, found {p:?}"
+                    ))
                 })
         })
         .collect::<Result<_>>()?;
@@ -257,10 +259,11 @@ fn parse_ells(s: &str) -> Result<Vec<f64>> {
         .map(|p| {
             p.parse::<f64>()
                 .ok()
-                .filter(|x| x.is_finite() && *x > 0.0)
+                .filter(|x| x.is_finite() && (ELL_RANGE_M.0..=ELL_RANGE_M.1).contains(x))
                 .ok_or_else(|| {
                     Error::usage(format!(
-                        "--ell: expected positive lengths in metres, found {p:?}"
+                        "--ell: expected lengths from {:e} to {:e} m, found {p:?}",
+                        ELL_RANGE_M.0, ELL_RANGE_M.1
                     ))
                 })
         })
@@ -380,8 +383,8 @@ pub fn calibration_from_args(args: &CalibrateThresholdArgs) -> Result<Calibratio
         MetricRule::PointDisplacement,
     ]);
     let mut c = Calibration {
-        noise_levels: parse_list(&args.noise, "--noise", 0.0)?,
-        voxel_sizes: parse_list(&args.voxel, "--voxel", 0.02)?,
+        noise_levels: parse_list(&args.noise, "--noise", (0.0, MAX_SIM_NOISE_M))?,
+        voxel_sizes: parse_list(&args.voxel, "--voxel", SIM_VOXEL_RANGE_M)?,
         seeds: args.seeds,
         rules,
         ..Calibration::default()

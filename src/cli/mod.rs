@@ -13,6 +13,10 @@ mod survey;
 use clap::{Parser, Subcommand};
 use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
 use extrinsic_audit::render::{self, OutputFormat, Report, Style};
+use extrinsic_audit::sanitize;
+use extrinsic_audit::tolerances::{
+    ELL_RANGE_M, KAPPA_RANGE, MAX_JOINT_VALUE, MAX_SIM_NOISE_M, SIM_VOXEL_RANGE_M,
+};
 use std::io::Write;
 use std::process::ExitCode;
 
@@ -98,7 +102,8 @@ pub fn main() -> ExitCode {
         Ok(code) => code,
         Err(e) => {
             let _ = out.flush();
-            eprintln!("{}: {e}", Style::stderr().error("error"));
+            let msg = sanitize::line(&e.to_string());
+            to_stderr(&format!("{}: {msg}", Style::stderr().error("error")));
             e.exit_code()
         }
     };
@@ -132,18 +137,34 @@ pub fn emit<R: Report>(report: &R, format: OutputFormat, out: &mut dyn Write) ->
         Style::plain()
     };
     let text = render::render(report, format, style)?;
-    out.write_all(text.as_bytes())
-        .map_err(|e| Error::new(Code::Io, format!("cannot write output: {e}")))
+    write_output(out, &text)
 }
 
-/// Print warnings to stderr, one per line, with their names.
+/// Write `text` to standard output. A closed pipe (`audit ... | head -1`) ends
+/// the process quietly with status 0, as `head` asked for no more.
+pub fn write_output(out: &mut dyn Write, text: &str) -> Result<()> {
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(e) => Err(Error::new(Code::Io, format!("cannot write output: {e}"))),
+    }
+}
+
+/// One line to standard error; a closed standard error is ignored (the
+/// process must not panic, as `eprintln!` does).
+fn to_stderr(line: &str) {
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
+}
+
+/// Print warnings to stderr, one per line, with their names (escaped: a
+/// warning quotes names from files).
 pub fn print_warnings(warnings: &[Warning]) {
     let st = Style::stderr();
     for w in warnings {
-        let text = w.to_string();
+        let text = sanitize::line(&w.to_string());
         match text.split_once(": ") {
-            Some((head, rest)) => eprintln!("{}: {rest}", st.bad(head)),
-            None => eprintln!("{}", st.bad(&text)),
+            Some((head, rest)) => to_stderr(&format!("{}: {rest}", st.bad(head))),
+            None => to_stderr(&st.bad(&text)),
         }
     }
 }
@@ -157,12 +178,61 @@ pub fn parse_joint(s: &str) -> std::result::Result<(String, f64), String> {
         .trim()
         .parse()
         .map_err(|_| format!("joint `{name}`: expected a number, found `{value}`"))?;
-    if !v.is_finite() {
+    if !(v.is_finite() && v.abs() <= MAX_JOINT_VALUE) {
         return Err(format!(
-            "joint `{name}`: expected a finite number, found `{value}`"
+            "joint `{name}`: expected a finite number of at most {MAX_JOINT_VALUE:e} in magnitude (rad or m), found `{value}`"
         ));
     }
     Ok((name.trim().to_string(), v))
+}
+
+/// A finite number in `[lo, hi]` (the option's name is added by clap).
+fn parse_in(s: &str, lo: f64, hi: f64, unit: &str) -> std::result::Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("expected a number, found `{s}`"))?;
+    if !(v.is_finite() && (lo..=hi).contains(&v)) {
+        let (lo, hi) = (short(lo), short(hi));
+        return Err(format!(
+            "expected a finite number from {lo} to {hi}{unit}, found `{s}`"
+        ));
+    }
+    Ok(v)
+}
+
+/// A bound as people write it: `0.02`, `1e-100`.
+fn short(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e4).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// `--ell`: a characteristic length in [`ELL_RANGE_M`].
+pub fn parse_ell(s: &str) -> std::result::Result<f64, String> {
+    parse_in(s, ELL_RANGE_M.0, ELL_RANGE_M.1, " m")
+}
+
+/// `--kappa`: a detector threshold in [`KAPPA_RANGE`].
+pub fn parse_kappa(s: &str) -> std::result::Result<f64, String> {
+    parse_in(s, KAPPA_RANGE.0, KAPPA_RANGE.1, "")
+}
+
+/// `--lambda`: an eigenvalue, 0 to the top of [`KAPPA_RANGE`].
+pub fn parse_lambda(s: &str) -> std::result::Result<f64, String> {
+    parse_in(s, 0.0, KAPPA_RANGE.1, "")
+}
+
+/// `--noise` of `simulate`: 0 to [`MAX_SIM_NOISE_M`].
+pub fn parse_noise(s: &str) -> std::result::Result<f64, String> {
+    parse_in(s, 0.0, MAX_SIM_NOISE_M, " m")
+}
+
+/// `--voxel` of `simulate`: in [`SIM_VOXEL_RANGE_M`].
+pub fn parse_voxel(s: &str) -> std::result::Result<f64, String> {
+    parse_in(s, SIM_VOXEL_RANGE_M.0, SIM_VOXEL_RANGE_M.1, " m")
 }
 
 /// A positive, finite length for `--ell`, `--max-lever-arm`, ...

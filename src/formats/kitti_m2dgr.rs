@@ -24,7 +24,11 @@ fn numbers(s: &str, line: usize, what: &str) -> Result<Vec<f64>> {
         .split_whitespace()
         .map(|t| {
             parse_number(t).ok_or_else(|| {
-                Error::parse(format!("{what}: expected numbers, found {t:?}")).at_line(line, None)
+                Error::parse(format!(
+                    "{what}: expected numbers, found {:?}",
+                    crate::sanitize::clip(t)
+                ))
+                .at_line(line, None)
             })
         })
         .collect()

@@ -19,8 +19,13 @@
 //! Where the transforms are found:
 //! - launch XML (ROS 1 `<node pkg="tf|tf2_ros" type="static_transform_publisher"
 //!   args="...">`, ROS 2 `exec="static_transform_publisher"`), anywhere in the
-//!   tree (`<group>` included); `$(arg ...)` and other substitutions are refused;
-//! - ROS 2 launch YAML (`node: {pkg, exec, args}`), `args` a string or a list;
+//!   tree (`<group>` included); `$(arg x)` / `$(var x)` resolved from the
+//!   file's `<arg>` declarations and `--arg x=VALUE`, `if` / `unless` on the
+//!   node and its groups evaluated (a node switched off is skipped with an
+//!   `ignored` warning), other substitutions refused (see `launch_subst`);
+//! - ROS 2 launch YAML (`node: {pkg, exec, args}`), `args` a string or a list,
+//!   with `arg:` declarations, `$(var x)` and `if:` / `unless:` on the node
+//!   and its groups decided as for launch XML;
 //! - ROS 2 Python launch files: the literal `arguments=[...]` list of a
 //!   `Node(...)` whose executable is `static_transform_publisher`; an element
 //!   that is not a string or number literal (a variable, `LaunchConfiguration`,
@@ -36,12 +41,15 @@
 //! `assumed-convention` warning says so and `--invert` flips it.
 
 use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::formats::launch_subst::{ArgDecl, Condition, LaunchArgs};
 use crate::formats::registry::{FormatSpec, Sniff};
+use crate::formats::source::LineIndex;
 use crate::formats::yaml::{self, Node, Value};
 use crate::formats::{
     check_metres, line_col, locate_warnings, parse_number, Edge, LoadOptions, Loaded,
 };
 use crate::geometry::se3::{QuatOrder, Transform};
+use crate::sanitize::clip;
 use std::path::Path;
 
 const FLAGS: &[&str] = &[
@@ -80,7 +88,8 @@ fn number_arg(tok: &str, idx: usize, warnings: &mut Vec<Warning>, loc: &Location
         }
     }
     Err(Error::parse(format!(
-        "static_transform_publisher argument {idx}: expected a number, found {tok:?}"
+        "static_transform_publisher argument {idx}: expected a number, found {:?}",
+        clip(tok)
     ))
     .at(loc))
 }
@@ -128,8 +137,9 @@ pub fn parse_stp_args(
             };
             if !FLAGS.contains(&flag) {
                 return Err(Error::parse(format!(
-                    "static_transform_publisher: expected one of {}, found {t:?}",
-                    FLAGS.join(" ")
+                    "static_transform_publisher: expected one of {}, found {:?}",
+                    FLAGS.join(" "),
+                    clip(t)
                 ))
                 .at(loc));
             }
@@ -158,7 +168,8 @@ pub fn parse_stp_args(
                 None => Ok(def),
                 Some(v) => number_arg(v, 0, ws, loc).map_err(|_| {
                     Error::parse(format!(
-                        "static_transform_publisher {f}: expected a number, found {v:?}"
+                        "static_transform_publisher {f}: expected a number, found {:?}",
+                        clip(v)
                     ))
                     .at(loc)
                 }),
@@ -234,7 +245,7 @@ pub fn parse_stp_args(
                 return Err(Error::parse(format!(
                     "static_transform_publisher argument {}: expected a number, found {:?}",
                     n + 1,
-                    toks[n]
+                    clip(toks[n])
                 ))
                 .at(loc))
             }
@@ -254,7 +265,7 @@ pub fn parse_stp_args(
             _ => {
                 return Err(Error::parse(format!(
                     "static_transform_publisher: expected `parent child [period_ms]` after the {nnum} numbers, found {:?}",
-                    rest.join(" ")
+                    clip(&rest.join(" "))
                 ))
                 .at(loc))
             }
@@ -288,11 +299,15 @@ fn xml_doc(text: &str) -> Result<roxmltree::Document<'_>> {
     crate::formats::xml::parse(text)
 }
 
-/// ROS 1 / ROS 2 launch XML.
+/// ROS 1 / ROS 2 launch XML: every `static_transform_publisher` node that
+/// runs (see [`super::launch_subst`] for `$(arg ...)` and `if` / `unless`).
 pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    let _ = opts;
     let doc = xml_doc(text)?;
+    let idx = LineIndex::new(text);
+    let args = LaunchArgs::new(&doc, &opts.xacro_args);
     let mut out = Loaded::default();
+    // The first node switched off, for the error when none runs.
+    let mut skipped: Option<(usize, String)> = None;
     for n in doc
         .descendants()
         .filter(|n| n.is_element() && n.tag_name().name() == "node")
@@ -304,12 +319,29 @@ pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<L
         if exe != "static_transform_publisher" {
             continue;
         }
-        let p = doc.text_pos_at(n.range().start);
-        let loc = Location::at(path, p.row as usize, Some(p.col as usize));
-        let args = n.attribute("args").ok_or_else(|| {
+        let (row, col) = crate::formats::xml::pos_of(&idx, n);
+        let loc = Location::at(path, row, Some(col));
+        if let Some(why) = args.switched_off(n, &loc)? {
+            if skipped.is_none() {
+                skipped = Some((row, why.clone()));
+            }
+            out.warnings.push(
+                Warning::new(
+                    WarningCode::Ignored,
+                    format!("static_transform_publisher <node> not started ({why}): its transform is not read"),
+                )
+                .at(&loc),
+            );
+            continue;
+        }
+        let raw = n.attribute("args").ok_or_else(|| {
             Error::parse("static_transform_publisher <node> without args=\"...\": expected the transform in args").at(&loc)
         })?;
-        let toks: Vec<String> = args.split_whitespace().map(String::from).collect();
+        let toks: Vec<String> = args
+            .resolve(raw, &loc)?
+            .split_whitespace()
+            .map(String::from)
+            .collect();
         let name = n.attribute("name").unwrap_or("");
         let ctx = if name.is_empty() {
             "<node> ".to_string()
@@ -327,6 +359,12 @@ pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<L
     if out.edges.is_empty() && text.contains("Extrinsic_Tlb") {
         return parse_lio_livox(text, path, opts);
     }
+    if let (true, Some((line, why))) = (out.edges.is_empty(), skipped) {
+        return Err(Error::parse(format!(
+            "every static_transform_publisher <node> is switched off (the first by {why}): expected at least one that runs; set the arg it depends on with --arg NAME=VALUE"
+        ))
+        .at_line(line, None));
+    }
     Ok(out)
 }
 
@@ -343,15 +381,17 @@ pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
         if param != want {
             continue;
         }
-        let p = doc.text_pos_at(n.range().start);
-        let loc = Location::at(path, p.row as usize, Some(p.col as usize));
+        let (row, col) = crate::formats::xml::pos_of(&LineIndex::new(text), n);
+        let loc = Location::at(path, row, Some(col));
         let body: String = n.text().unwrap_or("").to_string();
         let cleaned = body.replace(['[', ']', ','], " ");
         let mut v = Vec::new();
         for t in cleaned.split_whitespace() {
             v.push(parse_number(t).ok_or_else(|| {
                 Error::parse(format!(
-                    "<rosparam param=\"{param}\">: expected 16 numbers, found {t:?}"
+                    "<rosparam param=\"{}\">: expected 16 numbers, found {:?}",
+                    clip(param),
+                    clip(t)
                 ))
                 .at(&loc)
             })?);
@@ -397,7 +437,11 @@ pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
     Ok(out)
 }
 
-fn find_nodes<'a>(n: &'a Node, out: &mut Vec<&'a Node>) {
+/// A static_transform_publisher node of launch YAML with the `if` / `unless`
+/// conditions on it and on the mappings enclosing it.
+type YamlNode<'a> = (&'a Node, Vec<Condition>);
+
+fn find_nodes<'a>(n: &'a Node, conds: &mut Vec<Condition>, out: &mut Vec<YamlNode<'a>>) {
     match &n.value {
         Value::Map(m) => {
             let exe = n
@@ -405,34 +449,90 @@ fn find_nodes<'a>(n: &'a Node, out: &mut Vec<&'a Node>) {
                 .or_else(|| n.get("executable"))
                 .or_else(|| n.get("type"))
                 .and_then(|v| v.as_str());
-            if exe.as_deref() == Some("static_transform_publisher") {
-                out.push(n);
-                return;
+            let is_node = exe.as_deref() == Some("static_transform_publisher");
+            let before = conds.len();
+            for attr in ["if", "unless"] {
+                if let Some(raw) = n.get(attr).and_then(|v| v.as_str()) {
+                    let place = if is_node {
+                        ""
+                    } else {
+                        " on its enclosing group"
+                    };
+                    conds.push(Condition {
+                        attr,
+                        raw,
+                        place: place.to_string(),
+                    });
+                }
             }
-            for (_, v) in m {
-                find_nodes(v, out);
+            if is_node {
+                // The node's own conditions first.
+                let mut own = conds[before..].to_vec();
+                own.extend_from_slice(&conds[..before]);
+                out.push((n, own));
+            } else {
+                for (_, v) in m {
+                    find_nodes(v, conds, out);
+                }
             }
+            conds.truncate(before);
         }
         Value::Seq(s) => {
             for v in s {
-                find_nodes(v, out);
+                find_nodes(v, conds, out);
             }
         }
         _ => {}
     }
 }
 
+/// The `arg:` and `let:` declarations of a launch YAML document.
+fn yaml_args(n: &Node, out: &mut Vec<ArgDecl>) {
+    for (k, v) in n.entries() {
+        let key = k.as_str().unwrap_or_default();
+        if key == "arg" || key == "let" {
+            if let Some(name) = v.get("name").and_then(|x| x.as_str()) {
+                out.push(ArgDecl {
+                    name,
+                    value: v.get("value").and_then(|x| x.as_str()),
+                    default: v.get("default").and_then(|x| x.as_str()),
+                });
+            }
+        }
+        yaml_args(v, out);
+    }
+    if let Value::Seq(s) = &n.value {
+        for v in s {
+            yaml_args(v, out);
+        }
+    }
+}
+
 /// ROS 2 launch YAML.
 pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    let _ = opts;
     let docs = yaml::parse_documents(text)?;
     let mut nodes = Vec::new();
+    let mut decls = Vec::new();
     for d in &docs {
-        find_nodes(d, &mut nodes);
+        find_nodes(d, &mut Vec::new(), &mut nodes);
+        yaml_args(d, &mut decls);
     }
+    let largs = LaunchArgs::from_decls(decls, &opts.xacro_args);
     let mut out = Loaded::default();
-    for n in nodes {
+    let mut skipped: Option<(usize, String)> = None;
+    for (n, conds) in nodes {
         let loc = Location::at(path, n.line.max(1), Some(n.column.max(1)));
+        if let Some(why) = largs.first_off(&conds, &loc)? {
+            skipped.get_or_insert((n.line.max(1), why.clone()));
+            out.warnings.push(
+                Warning::new(
+                    WarningCode::Ignored,
+                    format!("static_transform_publisher node not started ({why}): its transform is not read"),
+                )
+                .at(&loc),
+            );
+            continue;
+        }
         let args = n
             .get("args")
             .or_else(|| n.get("arguments"))
@@ -443,17 +543,22 @@ pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<
                 .at(&loc)
             })?;
         let toks: Vec<String> = match &args.value {
-            Value::Str(s) => s.split_whitespace().map(String::from).collect(),
+            Value::Str(s) => largs
+                .resolve(s, &loc)?
+                .split_whitespace()
+                .map(String::from)
+                .collect(),
             Value::Seq(items) => {
                 let mut v = Vec::new();
                 for it in items {
-                    v.push(it.as_str().ok_or_else(|| {
+                    let t = it.as_str().ok_or_else(|| {
                         Error::parse(format!(
                             "static_transform_publisher args: expected strings or numbers, found {}",
                             it.kind()
                         ))
                         .at(&loc)
-                    })?);
+                    })?;
+                    v.push(largs.resolve(&t, &loc)?);
                 }
                 v
             }
@@ -472,6 +577,12 @@ pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<
             "node ",
             &mut out.warnings,
         )?);
+    }
+    if let (true, Some((line, why))) = (out.edges.is_empty(), skipped) {
+        return Err(Error::parse(format!(
+            "every static_transform_publisher node is switched off (the first by {why}): expected at least one that runs; set the arg it depends on with --arg NAME=VALUE"
+        ))
+        .at_line(line, None));
     }
     Ok(out)
 }

@@ -9,7 +9,7 @@
 //! and `os_sensor -> os_imu`, ...), each stated in its parser's module doc and
 //! listed in the README's "Input formats" section.
 
-use crate::diagnostic::{Error, ErrorKind, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
 pub use crate::frames::{Edge, JointState, JointType, Provenance};
 use crate::tolerances::{DEFAULT_MAX_FILE_SIZE, MAX_TRANSLATION_M, METRE_FIELD_WARN_M};
 use std::collections::BTreeMap;
@@ -18,6 +18,7 @@ use std::path::Path;
 pub mod bag;
 pub mod kitti_m2dgr;
 pub mod launch;
+pub mod launch_subst;
 pub mod ouster;
 pub mod registry;
 pub mod rig_toml;
@@ -54,7 +55,9 @@ pub struct LoadOptions {
     /// `--xacro external`: expand `.xacro` files with the external program
     /// instead of the built-in expander.
     pub xacro_external: bool,
-    /// `--arg NAME=VALUE`: xacro `$(arg NAME)` values (override `xacro:arg`).
+    /// `--arg NAME=VALUE`: xacro `$(arg NAME)` values (override `xacro:arg`),
+    /// and launch-file args (`$(arg NAME)`, `$(var NAME)`, conditions),
+    /// overriding the defaults the file declares.
     pub xacro_args: BTreeMap<String, String>,
     /// `--package-path DIR`: where `$(find pkg)` looks first.
     pub package_paths: Vec<std::path::PathBuf>,
@@ -189,43 +192,73 @@ pub fn detect_format(path: &Path, text: &str) -> Result<Format> {
 
 /// Read one file: detect its format (or use `opts.format`), parse, validate.
 pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    // A FIFO or a device is refused before anything opens it (bag detection
+    // reads magic bytes); a bag folder is a directory.
+    if !path.is_dir() && !crate::input::is_stdin(path) {
+        drop(crate::input::open_regular(path)?);
+    }
     // Bags are binary and large: read through their index, never whole.
     if bag::is_bag(path) {
         return bag::load(path, opts);
     }
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, &e))?;
-    if meta.is_dir() {
-        return Err(Error::new(ErrorKind::Io, "is a directory: expected a file").in_file(path));
-    }
-    if meta.len() > opts.max_file_size {
-        return Err(Error::limit(format!(
-            "file is {} bytes: expected at most {} bytes (the --max-file-size cap)",
-            meta.len(),
-            opts.max_file_size
-        ))
-        .in_file(path));
-    }
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
-    let text = match String::from_utf8(bytes) {
-        Ok(t) => t,
-        Err(e) => {
-            let off = e.utf8_error().valid_up_to();
-            let valid = std::str::from_utf8(&e.as_bytes()[..off]).unwrap_or("");
-            let (line, col) = line_col(valid, off);
-            return Err(Error::parse(format!(
-                "expected UTF-8 text, found byte 0x{:02x} (binary file?)",
-                e.as_bytes().get(off).copied().unwrap_or(0)
-            ))
-            .in_file(path)
-            .at_line(line, Some(col)));
-        }
-    };
+    let text = crate::input::read_text(path, opts.max_file_size, "the --max-file-size cap")?;
     load_str(&text, path, opts)
+}
+
+/// A `--joint` value above 2 pi on a revolute or continuous joint of these
+/// edges looks like degrees: a `degrees-in-radian-field` warning.
+fn warn_degrees(edges: &[Edge], opts: &LoadOptions, warnings: &mut Vec<Warning>) {
+    use crate::tolerances::DEGREES_LIKE_RAD;
+    for e in edges {
+        let Some(j) = &e.joint else { continue };
+        let Some(&v) = opts.joints.get(&j.name) else {
+            continue;
+        };
+        if matches!(j.joint_type, JointType::Revolute | JointType::Continuous)
+            && v.abs() > DEGREES_LIKE_RAD
+        {
+            warnings.push(
+                Warning::new(
+                    WarningCode::DegreesInRadianField,
+                    format!(
+                        "--joint {}={v}: {} joint positions are radians, and |{v}| > 2 pi looks like degrees ({v} deg = {:.6} rad)",
+                        crate::sanitize::quote(&j.name),
+                        j.joint_type,
+                        v.to_radians()
+                    ),
+                )
+                .at(&e.provenance.location),
+            );
+        }
+    }
+}
+
+/// A NUL or a line break in a frame or joint name is an error at the edge's
+/// place: no ROS name holds one, and a line break would let a name start a
+/// line of a report or a CI log.
+fn check_names(e: &Edge) -> Result<()> {
+    let joint = e.joint.as_ref().map(|j| ("joint", j.name.as_str()));
+    let names = [("frame", e.parent.as_str()), ("frame", e.child.as_str())];
+    for (what, name) in names.into_iter().chain(joint) {
+        let bad = name
+            .chars()
+            .find(|&c| matches!(c, '\0' | '\n' | '\r' | '\u{85}' | '\u{2028}' | '\u{2029}'));
+        if let Some(c) = bad {
+            let found = if c == '\0' { "a NUL" } else { "a line break" };
+            return Err(Error::parse(format!(
+                "{what} name \"{}\" contains {found}: expected a name without control characters",
+                crate::sanitize::quote(name)
+            ))
+            .at(&e.provenance.location));
+        }
+    }
+    Ok(())
 }
 
 /// Parse `text` as if read from `path` (the path names the file in provenance
 /// and selects the format by extension).
 pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    let text = &*crate::input::normalize(text);
     if text.trim().is_empty() {
         return Err(Error::parse(
             "file is empty: expected a URDF, launch file, calibration YAML/JSON or text",
@@ -245,6 +278,7 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         .in_file(path));
     }
     for e in &loaded.edges {
+        check_names(e).map_err(|err| err.in_file(path))?;
         let d = e.transform.translation();
         if let Some(x) = d.iter().find(|x| x.is_nan() || x.abs() > MAX_TRANSLATION_M) {
             return Err(Error::invalid(format!(
@@ -255,6 +289,7 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             .in_file(path));
         }
     }
+    warn_degrees(&loaded.edges, opts, &mut loaded.warnings);
     if opts.invert {
         loaded.edges = loaded.edges.into_iter().map(Edge::inverted).collect();
     }

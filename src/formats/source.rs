@@ -29,11 +29,21 @@ fn column(text: &str, line_start: usize, offset: usize) -> usize {
         .unwrap_or(1)
 }
 
-/// Line starts of a text, for O(log n) offset -> line lookups
-/// (roxmltree's `text_pos_at` scans from the start each time).
+/// Bytes between two character-count marks of a [`LineIndex`]: a column
+/// costs at most this many bytes of counting, whatever the line's length.
+const CHAR_MARK_STRIDE: usize = 4096;
+
+/// Line starts of a text, for O(log n) offset -> (line, column) lookups,
+/// whatever the line lengths (a URDF dumped on one line has one line of
+/// megabytes): columns come from character counts kept every
+/// 4096 bytes, or from byte offsets when the text is ASCII.
+/// (roxmltree's `text_pos_at` scans from the start each time.)
 pub struct LineIndex<'a> {
     text: &'a str,
     starts: Vec<usize>,
+    /// (byte offset at a char boundary, characters before it), increasing;
+    /// empty when the text is ASCII (a column is then a byte difference).
+    marks: Vec<(usize, usize)>,
 }
 
 impl<'a> LineIndex<'a> {
@@ -46,7 +56,15 @@ impl<'a> LineIndex<'a> {
                 .filter(|(_, b)| *b == b'\n')
                 .map(|(i, _)| i + 1),
         );
-        LineIndex { text, starts }
+        LineIndex {
+            text,
+            starts,
+            marks: if text.is_ascii() {
+                Vec::new()
+            } else {
+                char_marks(text)
+            },
+        }
     }
 
     /// 1-based (line, column in characters) of a byte offset.
@@ -54,8 +72,32 @@ impl<'a> LineIndex<'a> {
         let offset = clamp_to_char(self.text, offset);
         let line = self.starts.partition_point(|&s| s <= offset);
         let start = self.starts[line.saturating_sub(1)];
-        (line.max(1), column(self.text, start, offset))
+        let col = self.chars_before(offset) - self.chars_before(start) + 1;
+        (line.max(1), col)
     }
+
+    /// Characters before a byte offset (at a char boundary).
+    fn chars_before(&self, offset: usize) -> usize {
+        if self.marks.is_empty() {
+            return offset;
+        }
+        let k = self.marks.partition_point(|&(b, _)| b <= offset);
+        let (b, n) = self.marks[k.saturating_sub(1)];
+        n + self.text.get(b..offset).map_or(0, |s| s.chars().count())
+    }
+}
+
+/// Character-count marks every [`CHAR_MARK_STRIDE`] bytes (the first at 0).
+fn char_marks(text: &str) -> Vec<(usize, usize)> {
+    let mut marks = vec![(0, 0)];
+    let (mut b, mut n) = (0, 0);
+    while b + CHAR_MARK_STRIDE < text.len() {
+        let next = clamp_to_char(text, b + CHAR_MARK_STRIDE);
+        n += text[b..next].chars().count();
+        b = next;
+        marks.push((b, n));
+    }
+    marks
 }
 
 #[cfg(test)]
@@ -73,5 +115,19 @@ mod tests {
         assert_eq!(line_col(t, 4), (2, 2));
         assert_eq!(line_col(t, 8), (3, 1));
         assert_eq!(line_col(t, 9), (4, 1));
+    }
+
+    #[test]
+    fn columns_on_a_long_multibyte_line_agree_with_counting() {
+        let t = format!("x\n{}\n{}", "aé€".repeat(5000), "b".repeat(9000));
+        let idx = LineIndex::new(&t);
+        for off in (0..t.len() + 2).step_by(97).chain([t.len(), 2, 3, 4, 5]) {
+            assert_eq!(line_col(&t, off), idx.pos(off), "offset {off}");
+        }
+        let ascii = "ab\n".repeat(3000);
+        let idx = LineIndex::new(&ascii);
+        for off in (0..ascii.len()).step_by(7) {
+            assert_eq!(line_col(&ascii, off), idx.pos(off), "offset {off}");
+        }
     }
 }

@@ -280,7 +280,7 @@ impl Node {
                     "{what}: expected a list of numbers, found {}{}",
                     self.kind(),
                     match &self.value {
-                        Value::Str(s) => format!(" {s:?}"),
+                        Value::Str(s) => format!(" {:?}", crate::sanitize::clip(s)),
                         _ => String::new(),
                     }
                 ))

@@ -134,15 +134,14 @@ impl Walker<'_> {
             } else if !(self.accept)(&path) || is_default_excluded(&path) {
                 continue;
             } else if !meta.as_ref().is_ok_and(|m| m.is_file()) {
-                // A FIFO or device would block or never end; a dangling link
-                // has nothing to read.
-                self.out.findings.push(
-                    Diagnostic::new(
-                        Code::Ignored,
-                        "not a regular file (a FIFO, device, socket or dangling symlink): not read",
-                    )
-                    .at(&Location::file(&path)),
-                );
+                // A FIFO or device would block or never end, a dangling link
+                // has nothing to read: refused as if named, never opened (a
+                // gate must not pass over a calibration it cannot read).
+                return Err(Diagnostic::new(
+                    Code::Io,
+                    "not a regular file (a FIFO, device, socket or dangling symlink): refused, not opened",
+                )
+                .at(&Location::file(&path)));
             } else {
                 self.out.files.push(Found {
                     path,

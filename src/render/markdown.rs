@@ -1,5 +1,8 @@
 //! GitHub-flavoured markdown: `###` sections, pipe tables with `|` escaped, a
 //! blank line before every paragraph so that none is read as a table row.
+//! Text from the report is escaped (control characters shown, `|` and `<`
+//! escaped, no line starting a list, heading, quote or CI log command);
+//! the notes' own markdown is kept (only control characters escaped).
 
 use super::document::{Block, Document, Table};
 use crate::diagnostic::{Diagnostic, Severity};
@@ -10,18 +13,19 @@ pub fn render(doc: &Document) -> String {
     for b in &doc.blocks {
         match b {
             Block::Headline { text, .. } => {
-                s.push_str(&format!("**{text}**\n"));
+                s.push_str(&format!("**{}**\n", inline(text)));
             }
-            Block::Section(t) => s.push_str(&format!("\n### {t}\n\n")),
+            Block::Section(t) => s.push_str(&format!("\n### {}\n\n", inline(t))),
             Block::Note { markdown, .. } => {
                 if let Some(m) = markdown {
-                    s.push_str(m);
+                    // The note's own markdown, but it may quote names.
+                    s.push_str(&crate::sanitize::block(m));
                     s.push_str("\n\n");
                 }
             }
             Block::Text(t) => {
                 paragraph_break(&mut s);
-                let lines: Vec<String> = t.lines().map(escape_line_start).collect();
+                let lines: Vec<String> = t.lines().map(|l| escape_line_start(&inline(l))).collect();
                 s.push_str(&lines.join("  \n"));
                 s.push('\n');
             }
@@ -37,12 +41,24 @@ pub fn render(doc: &Document) -> String {
     s
 }
 
-/// A line that would start a list item is escaped.
+/// A line that would start a list item, a heading or a quote is escaped (and
+/// a CI log command, [`crate::sanitize::guard_line_start`]).
 fn escape_line_start(l: &str) -> String {
-    match l.strip_prefix("* ") {
-        Some(rest) => format!("\\* {rest}"),
-        None => l.to_string(),
+    if ["* ", "- ", "+ ", "#", ">"]
+        .iter()
+        .any(|p| l.starts_with(p))
+    {
+        return format!("\\{l}");
     }
+    crate::sanitize::guard_line_start(l).into_owned()
+}
+
+/// Text on one line of markdown: escaped ([`crate::sanitize::visible`]), and
+/// `|` and `<` escaped so that it cannot break a table or open HTML.
+fn inline(s: &str) -> String {
+    crate::sanitize::visible(s, false)
+        .replace('|', "\\|")
+        .replace('<', "&lt;")
 }
 
 fn paragraph_break(s: &mut String) {
@@ -51,9 +67,14 @@ fn paragraph_break(s: &mut String) {
     }
 }
 
-/// A pipe table, cells escaped for `|`.
+/// A pipe table, cells escaped for `|` and `<` (a cell's line breaks become `<br>`).
 pub fn table(t: &Table) -> String {
-    let esc = |s: &str| s.replace('|', "\\|").replace('\n', "<br>");
+    let esc = |s: &str| {
+        crate::sanitize::visible(s, true)
+            .replace('|', "\\|")
+            .replace('<', "&lt;")
+            .replace('\n', "<br>")
+    };
     let mut s = String::new();
     s.push_str(&format!(
         "| {} |\n",

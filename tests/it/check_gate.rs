@@ -935,16 +935,26 @@ fn symlinked_directories_are_followed_once() {
     assert!(f.contains(&("invalid".into(), "error".into())), "{f:?}");
     let notes = f.iter().filter(|(c, _)| c == "ignored").count();
     assert_eq!(notes, 2, "the loop and the second link are reported: {j}");
-    // A FIFO named like a calibration file is reported, never opened.
+    // A FIFO named like a calibration file is refused (exit 2), never opened.
     let fifo = root.join("pipe.yaml");
     assert!(std::process::Command::new("mkfifo")
         .arg(&fifo)
         .status()
         .unwrap()
         .success());
-    let (code, j, _) = check_json(&[s(&root), "--exclude", "linked", "--exclude", "again"]);
-    assert_eq!(code, 0, "{j}");
-    assert!(j.to_string().contains("not a regular file"), "{j}");
+    let (code, out, err) = run_cli(&[
+        "check",
+        s(&root),
+        "--exclude",
+        "linked",
+        "--exclude",
+        "again",
+    ]);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains("not a regular file") && err.contains("pipe.yaml"),
+        "{err}"
+    );
 }
 
 #[test]

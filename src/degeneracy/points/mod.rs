@@ -196,7 +196,8 @@ fn check_size(path: &Path) -> Result<std::fs::Metadata> {
 /// header) and otherwise reading CSV.
 pub fn read_points(path: &Path) -> Result<PointData> {
     check_size(path)?;
-    let f = std::fs::File::open(path).map_err(|e| Error::io(path, &e))?;
+    // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
+    let f = crate::input::open_regular(path)?;
     read_from(f).map_err(|e| e.in_file(path))
 }
 
@@ -224,8 +225,14 @@ pub fn read_from<R: Read>(r: R) -> Result<PointData> {
 /// the frame whose pose in the file's frame is `frame` (exactly, by congruence
 /// of the sums with `Ad(frame)`).
 pub fn accumulate_file(path: &Path, frame: Option<&Transform>) -> Result<Accumulated> {
+    if crate::input::is_stdin(path) {
+        // `-`: standard input, read serially, bounded (issue 12).
+        let r = crate::input::Capped::new(std::io::stdin().lock(), MAX_POINT_FILE_SIZE);
+        return accumulate_reader(r, frame).map_err(|e| e.in_file("<stdin>"));
+    }
     let meta = check_size(path)?;
-    let f = std::fs::File::open(path).map_err(|e| Error::io(path, &e))?;
+    // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
+    let f = crate::input::open_regular(path)?;
     let mut acc = Accumulator::new();
     let mut src = Source::new(f);
     // A pipe or device has no length to split by and cannot be reopened.
@@ -274,6 +281,10 @@ enum Kind {
 
 fn detect<R: Read>(src: &mut Source<R>) -> Result<Kind> {
     src.fill(4096)?;
+    // A UTF-8 byte-order mark is skipped, as in every text format (issue 12).
+    if src.data().starts_with(b"\xef\xbb\xbf") {
+        src.consume(3);
+    }
     let head = src.data();
     let head = &head[..head.len().min(4096)];
     Ok(

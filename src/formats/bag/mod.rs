@@ -170,7 +170,8 @@ enum Container {
 
 fn magic(path: &Path) -> Option<Container> {
     let mut head = [0u8; 16];
-    let mut f = std::fs::File::open(path).ok()?;
+    // Regular files only: opening a FIFO to sniff it would block (issue 12).
+    let mut f = crate::input::open_regular(path).ok()?;
     let n = f.read(&mut head).ok()?;
     let head = &head[..n];
     if head.starts_with(mcap_file::MAGIC) {

@@ -1,0 +1,248 @@
+//! Reading input safely: the one place the library opens a file it reads.
+//!
+//! Only regular files are read (and `-`, standard input, where a command takes
+//! one file). The type is checked on the opened descriptor, and the file is
+//! opened with `O_NONBLOCK` so that opening a FIFO cannot block before the
+//! check refuses it. Every read is bounded by the bytes actually read (a
+//! `take(cap + 1)`), never by the size the file system reports: `/dev/zero`
+//! reports size 0.
+//!
+//! Text is decoded once here too: UTF-8 only, a byte-order mark stripped, and
+//! lone CR line endings (classic Mac) read as LF.
+
+use crate::diagnostic::{Code, Error, Result};
+use std::borrow::Cow;
+use std::fs::File;
+use std::io::Read;
+use std::path::Path;
+
+/// The path that names standard input.
+pub const STDIN: &str = "-";
+
+/// Whether `path` names standard input (`-`).
+pub fn is_stdin(path: &Path) -> bool {
+    path.as_os_str() == STDIN
+}
+
+/// Open `path` for reading without blocking and refuse anything but a regular
+/// file ("not a regular file", naming its kind).
+pub fn open_regular(path: &Path) -> Result<File> {
+    let f = match open_nonblocking(path) {
+        Ok(f) => f,
+        // A socket cannot be opened at all: say what it is (stat does not block).
+        Err(e) => match std::fs::metadata(path) {
+            Ok(m) if !m.is_file() && !m.is_dir() => return Err(not_regular(path, &m.file_type())),
+            _ => return Err(Error::io(path, &e)),
+        },
+    };
+    let meta = f.metadata().map_err(|e| Error::io(path, &e))?;
+    let ft = meta.file_type();
+    if ft.is_file() {
+        return Ok(f);
+    }
+    if ft.is_dir() {
+        return Err(Error::new(Code::Io, "is a directory: expected a file").in_file(path));
+    }
+    Err(not_regular(path, &ft))
+}
+
+fn not_regular(path: &Path, ft: &std::fs::FileType) -> Error {
+    Error::new(
+        Code::Io,
+        format!(
+            "not a regular file ({}): expected a regular file (to read a pipe, pass `-` and redirect it to standard input)",
+            kind_of(ft)
+        ),
+    )
+    .in_file(path)
+}
+
+#[cfg(unix)]
+fn open_nonblocking(path: &Path) -> std::io::Result<File> {
+    use std::os::unix::fs::OpenOptionsExt;
+    std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NONBLOCK)
+        .open(path)
+}
+
+#[cfg(not(unix))]
+fn open_nonblocking(path: &Path) -> std::io::Result<File> {
+    File::open(path)
+}
+
+#[cfg(unix)]
+fn kind_of(ft: &std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if ft.is_fifo() {
+        "a FIFO"
+    } else if ft.is_socket() {
+        "a socket"
+    } else if ft.is_char_device() {
+        "a character device"
+    } else if ft.is_block_device() {
+        "a block device"
+    } else {
+        "not a file"
+    }
+}
+
+#[cfg(not(unix))]
+fn kind_of(_: &std::fs::FileType) -> &'static str {
+    "not a file"
+}
+
+/// Read at most `cap` bytes from `r`; more is a `limit` error (`what` names
+/// the cap in the message).
+pub fn read_capped(r: impl Read, cap: u64, path: &Path, what: &str) -> Result<Vec<u8>> {
+    let mut buf = Vec::new();
+    r.take(cap.saturating_add(1))
+        .read_to_end(&mut buf)
+        .map_err(|e| Error::io(path, &e))?;
+    if buf.len() as u64 > cap {
+        return Err(Error::limit(format!(
+            "file is more than {cap} bytes: expected at most {cap} bytes ({what})"
+        ))
+        .in_file(path));
+    }
+    Ok(buf)
+}
+
+/// A reader that fails (rather than stopping short) once more than `cap`
+/// bytes come through: for streams read without holding them.
+pub struct Capped<R> {
+    inner: R,
+    left: u64,
+    cap: u64,
+}
+
+impl<R: Read> Capped<R> {
+    /// At most `cap` bytes of `inner`.
+    pub fn new(inner: R, cap: u64) -> Self {
+        Capped {
+            inner,
+            left: cap,
+            cap,
+        }
+    }
+}
+
+impl<R: Read> Read for Capped<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        let want = buf
+            .len()
+            .min(usize::try_from(self.left).unwrap_or(usize::MAX).max(1));
+        let n = self.inner.read(&mut buf[..want])?;
+        if n as u64 > self.left {
+            return Err(std::io::Error::other(format!(
+                "input is more than {} bytes: expected at most that",
+                self.cap
+            )));
+        }
+        self.left -= n as u64;
+        Ok(n)
+    }
+}
+
+/// The bytes of a regular file (or of standard input for `-`), at most `cap`.
+pub fn read_bytes(path: &Path, cap: u64, what: &str) -> Result<Vec<u8>> {
+    if is_stdin(path) {
+        return read_capped(std::io::stdin().lock(), cap, Path::new("<stdin>"), what);
+    }
+    let f = open_regular(path)?;
+    // The reported size refuses a large regular file before reading it.
+    if let Ok(m) = f.metadata() {
+        if m.len() > cap {
+            return Err(Error::limit(format!(
+                "file is {} bytes: expected at most {cap} bytes ({what})",
+                m.len()
+            ))
+            .in_file(path));
+        }
+    }
+    read_capped(f, cap, path, what)
+}
+
+/// The text of a file: [`read_bytes`], then [`decode`].
+pub fn read_text(path: &Path, cap: u64, what: &str) -> Result<String> {
+    let bytes = read_bytes(path, cap, what)?;
+    decode(bytes).map_err(|e| e.in_file(path))
+}
+
+/// UTF-8 text with the byte-order mark stripped and lone CRs read as LF; a
+/// byte that is not UTF-8 is an error at its line and column.
+pub fn decode(bytes: Vec<u8>) -> Result<String> {
+    match String::from_utf8(bytes) {
+        Ok(t) => Ok(normalize(&t).into_owned()),
+        Err(e) => {
+            let off = e.utf8_error().valid_up_to();
+            let valid = std::str::from_utf8(&e.as_bytes()[..off]).unwrap_or("");
+            let line = valid.bytes().filter(|&b| b == b'\n').count() + 1;
+            let col = valid.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+            Err(Error::parse(format!(
+                "expected UTF-8 text, found byte 0x{:02x} (binary file?)",
+                e.as_bytes().get(off).copied().unwrap_or(0)
+            ))
+            .at_line(line, Some(col)))
+        }
+    }
+}
+
+/// `text` without a leading byte-order mark, its lone CRs (not followed by LF)
+/// replaced by LF; borrowed when there is nothing to change. Offsets after the
+/// mark keep their lines: a CR and an LF are both one byte.
+pub fn normalize(text: &str) -> Cow<'_, str> {
+    let t = strip_bom(text);
+    let b = t.as_bytes();
+    let lone_cr = b.contains(&b'\r')
+        && b.iter()
+            .enumerate()
+            .any(|(i, &c)| c == b'\r' && b.get(i + 1) != Some(&b'\n'));
+    if !lone_cr {
+        return Cow::Borrowed(t);
+    }
+    let mut out = String::with_capacity(t.len());
+    let mut chars = t.chars().peekable();
+    while let Some(c) = chars.next() {
+        if c == '\r' && chars.peek() != Some(&'\n') {
+            out.push('\n');
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
+}
+
+/// `text` without a leading UTF-8 byte-order mark.
+pub fn strip_bom(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
+}
+
+/// `bytes` without a leading UTF-8 byte-order mark.
+pub fn strip_bom_bytes(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normalize_strips_the_mark_and_reads_lone_crs_as_lf() {
+        assert_eq!(normalize("\u{feff}a\r\nb"), "a\r\nb");
+        assert_eq!(normalize("a\rb\r\nc\r"), "a\nb\r\nc\n");
+        assert!(matches!(normalize("a\nb"), Cow::Borrowed(_)));
+    }
+
+    #[test]
+    fn capped_reads_stop_at_the_cap() {
+        let r = std::io::repeat(0).take(10_000);
+        let e = read_capped(r, 100, Path::new("x"), "cap").unwrap_err();
+        assert!(e.message.contains("more than 100 bytes"), "{e}");
+        let ok = read_capped(&b"abc"[..], 3, Path::new("x"), "cap").unwrap();
+        assert_eq!(ok, b"abc");
+    }
+}
