@@ -863,7 +863,7 @@ pub const LAUNCH_XML: FormatSpec = FormatSpec {
     extensions: &[],
     walk: &[".launch", ".xml"],
     sniff: |s| match launch_xml(s)? {
-        (true, _) => Some(90),
+        (true, _) => Some(super::registry::CERTAIN),
         (false, true) => None,
         (false, false) => Some(85),
     },

@@ -18,6 +18,11 @@ use std::path::Path;
 
 /// Score of a file-name extension that selects one format outright.
 pub const EXTENSION: u8 = 100;
+/// The highest score a sniffer gives content (a URDF `<robot>`, a launch file
+/// with static transform publishers): detection stops at the first sniffer
+/// that returns it, so the others (the YAML dialect among them) never scan the
+/// text. Equal scores go to the earlier entry anyway.
+pub const CERTAIN: u8 = 90;
 /// Lowest score an XML format gives text it recognises: below it, XML text is
 /// refused as no known format.
 pub const XML_CLAIM: u8 = 80;
@@ -199,6 +204,9 @@ pub fn detect(path: &Path, text: &str) -> Result<Format> {
     let mut best: Option<(u8, &'static FormatSpec)> = None;
     for f in FORMATS {
         if let Some(score) = (f.sniff)(&s) {
+            if score >= CERTAIN {
+                return Ok(Format(f));
+            }
             if best.is_none_or(|(b, _)| score > b) {
                 best = Some((score, f));
             }

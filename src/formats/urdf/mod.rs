@@ -211,7 +211,7 @@ pub const SPEC: FormatSpec = FormatSpec {
     walk: &[".urdf", ".xml"],
     sniff: |s| {
         if s.xml_candidate() && s.text.contains("<robot") {
-            Some(90)
+            Some(crate::formats::registry::CERTAIN)
         } else {
             (s.ext == "urdf").then_some(80)
         }
