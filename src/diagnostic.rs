@@ -238,10 +238,6 @@ pub struct Diagnostic {
 pub type Error = Diagnostic;
 /// A diagnostic of severity `warning`.
 pub type Warning = Diagnostic;
-/// Former name of [`Code`] for readers' warnings.
-pub type WarningCode = Code;
-/// Former name of [`Code`] for errors.
-pub type ErrorKind = Code;
 
 impl Diagnostic {
     /// A diagnostic of `code` with its default severity and no location.

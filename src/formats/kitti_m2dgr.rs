@@ -12,7 +12,7 @@
 //!   (`Handsfree IMU` -> `handsfree_imu`). Blocks that are not extrinsics are
 //!   skipped.
 
-use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::registry::FormatSpec;
 use crate::formats::{check_metres, locate_warnings, parse_number, Edge, LoadOptions, Loaded};
 use crate::geometry::se3::Transform;
@@ -83,7 +83,7 @@ pub fn parse_kitti(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded
         _ => {
             out.warnings.push(
                 Warning::new(
-                    WarningCode::AssumedConvention,
+                    Code::AssumedConvention,
                     "file name is not calib_A_to_B.txt: frames named `source` and `target` (x_target = R x_source + T)",
                 )
                 .at(&loc),

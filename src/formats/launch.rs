@@ -40,7 +40,7 @@
 //! offset); the file does not say which direction it is, so an
 //! `assumed-convention` warning says so and `--invert` flips it.
 
-use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::launch_subst::{ArgDecl, Condition, LaunchArgs};
 use crate::formats::registry::{FormatSpec, Sniff};
 use crate::formats::source::LineIndex;
@@ -79,7 +79,7 @@ fn number_arg(tok: &str, idx: usize, warnings: &mut Vec<Warning>, loc: &Location
         if let Some(x) = parse_number(stripped) {
             warnings.push(
                 Warning::new(
-                    WarningCode::Ignored,
+                    Code::Ignored,
                     format!("argument {idx} {tok:?}: trailing comma ignored (ROS 1 reads it with atof, which stops there)"),
                 )
                 .at(loc),
@@ -327,7 +327,7 @@ pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<L
             }
             out.warnings.push(
                 Warning::new(
-                    WarningCode::Ignored,
+                    Code::Ignored,
                     format!("static_transform_publisher <node> not started ({why}): its transform is not read"),
                 )
                 .at(&loc),
@@ -414,7 +414,7 @@ pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
         locate_warnings(ws, &loc, &mut out.warnings);
         out.warnings.push(
             Warning::new(
-                WarningCode::AssumedConvention,
+                Code::AssumedConvention,
                 format!("<rosparam param=\"{param}\"> read as the LiDAR pose in the IMU frame (imu -> lidar, FAST-LIO sign); the file does not state the direction: pass --invert if yours stores the other one"),
             )
             .at(&loc),
@@ -526,7 +526,7 @@ pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<
             skipped.get_or_insert((n.line.max(1), why.clone()));
             out.warnings.push(
                 Warning::new(
-                    WarningCode::Ignored,
+                    Code::Ignored,
                     format!("static_transform_publisher node not started ({why}): its transform is not read"),
                 )
                 .at(&loc),

@@ -9,7 +9,7 @@
 //! and `os_sensor -> os_imu`, ...), each stated in its parser's module doc and
 //! listed in the README's "Input formats" section.
 
-use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
 pub use crate::frames::{Edge, JointState, JointType, Provenance};
 use crate::tolerances::{DEFAULT_MAX_FILE_SIZE, MAX_TRANSLATION_M, METRE_FIELD_WARN_M};
 use std::collections::BTreeMap;
@@ -169,7 +169,7 @@ pub fn check_metres(d: &[f64; 3], what: &str, loc: &Location, warnings: &mut Vec
     if d.iter().any(|x| x.abs() > METRE_FIELD_WARN_M) {
         warnings.push(
             Warning::new(
-                WarningCode::MillimetresInMetreField,
+                Code::MillimetresInMetreField,
                 format!(
                     "{what} = [{}, {}, {}] m: a component above {METRE_FIELD_WARN_M} m in a field documented as metres; is it in millimetres?",
                     d[0], d[1], d[2]
@@ -219,7 +219,7 @@ fn warn_degrees(edges: &[Edge], opts: &LoadOptions, warnings: &mut Vec<Warning>)
         {
             warnings.push(
                 Warning::new(
-                    WarningCode::DegreesInRadianField,
+                    Code::DegreesInRadianField,
                     format!(
                         "--joint {}={v}: {} joint positions are radians, and |{v}| > 2 pi looks like degrees ({v} deg = {:.6} rad)",
                         crate::sanitize::quote(&j.name),

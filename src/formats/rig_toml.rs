@@ -40,7 +40,7 @@
 //! Errors name the file and line (from the TOML parser's span), what was expected
 //! and what was found. The parser never panics on any input.
 
-use crate::diagnostic::{Error, ErrorKind, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::registry::FormatSpec;
 use crate::formats::source::line_col;
 use crate::formats::{Edge, LoadOptions, Loaded, Provenance, RigMeta};
@@ -185,7 +185,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     if opts.invert || opts.key.is_some() {
         warnings.push(
             Warning::new(
-                WarningCode::Ignored,
+                Code::Ignored,
                 "--invert and --key do not apply to a rig TOML file: each [[transform]] states its own direction (invert = true) and source_key",
             )
             .at(&Location::file(path)),
@@ -459,7 +459,7 @@ fn rotation(
     } else {
         // Unreachable: exactly one form was found above.
         Err(Error::new(
-            ErrorKind::Parse,
+            Code::Parse,
             format!("rig TOML: [[transform]] #{index}: no rotation form"),
         ))
     }

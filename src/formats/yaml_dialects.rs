@@ -52,7 +52,7 @@
 //! still not YAML (UrbanNav's `KEY:!!opencv-matrix (comment)` with mis-indented
 //! fields) is refused with the parser's position and what to fix.
 
-use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::registry::{FormatSpec, Sniff};
 use crate::formats::yaml::{self, Node, Value};
 use crate::formats::{check_metres, locate_warnings, Edge, LoadOptions, Loaded};
@@ -386,7 +386,7 @@ fn parse_lio_sam(docs: &[Node], path: &Path) -> Result<Loaded> {
         if v.iter().zip(r.iter()).any(|(a, b)| (a - b).abs() > 1e-12) {
             out.warnings.push(
                 Warning::new(
-                    WarningCode::Ignored,
+                    Code::Ignored,
                     "extrinsicRPY differs from extrinsicRot: LIO-SAM applies it to the IMU's attitude readings only; the tool uses extrinsicRot",
                 )
                 .at(&loc_of(path, rpy)),
@@ -395,7 +395,7 @@ fn parse_lio_sam(docs: &[Node], path: &Path) -> Result<Loaded> {
     }
     out.warnings.push(
         Warning::new(
-            WarningCode::AssumedConvention,
+            Code::AssumedConvention,
             "LIO-SAM extrinsicRot + extrinsicTrans read as the IMU pose in the LiDAR frame (edge lidar -> imu), as LIO-SAM's code uses them; many users fill them FAST-LIO-style (LiDAR in IMU): pass --invert for such a file",
         )
         .at(&loc),
@@ -479,7 +479,7 @@ fn parse_slict(docs: &[Node], path: &Path) -> Result<Loaded> {
             b[12] == 0.0 && b[13] == 0.0 && b[14] == 0.0 && (b[15] == 0.0 || b[15] == 1.0);
         if !flag_ok {
             ws.push(Warning::new(
-                WarningCode::Ignored,
+                Code::Ignored,
                 format!(
                     "lidar_extr matrix {i}: bottom row [{}, {}, {}, {}] is not [0, 0, 0, 0|1]; not used (SLICT reads the (4,4) entry as a timestamp flag)",
                     b[12], b[13], b[14], b[15]
@@ -534,7 +534,7 @@ fn parse_tf_tree(docs: &[Node], path: &Path) -> Result<Loaded> {
             let Some((p, c)) = name.split_once("_to_") else {
                 out.warnings.push(
                     Warning::new(
-                        WarningCode::Ignored,
+                        Code::Ignored,
                         format!(
                             "`{name}` does not name its frames as <parent>_to_<child>; ignored"
                         ),
@@ -722,7 +722,7 @@ fn matrix_edge(
     if millimetre_comment(text, k.line) {
         t = t.scaled_translation(1e-3);
         ws.push(Warning::new(
-            WarningCode::AssumedConvention,
+            Code::AssumedConvention,
             format!("{key}: the comment above says millimetres; translation converted to metres"),
         ));
     }
@@ -845,7 +845,7 @@ fn parse_quaternion(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
                 .map_err(|e| e.at(&loc))?;
             if !stated_wxyz {
                 ws.push(Warning::new(
-                    WarningCode::AssumedConvention,
+                    Code::AssumedConvention,
                     format!("`{name}`: quaternion read w first (qw, qx, qy, qz), FusionPortable's order; the file does not state it"),
                 ));
             }
@@ -913,7 +913,7 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
         None => {
             out.warnings.push(
                 Warning::new(
-                    WarningCode::AssumedConvention,
+                    Code::AssumedConvention,
                     format!("--key {key}: the name does not say which frames (T_A_B or A_T_B); frames named `parent` -> `child`, the value read as the child's pose in the parent"),
                 )
                 .at(&loc_of(path, k)),

@@ -23,7 +23,7 @@
 //! `joint-at-default` warning in [`Chain::warnings`]; floating and planar joints
 //! that were not set make the path an error.
 
-use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::frames::Edge;
 use crate::geometry::se3::Transform;
 use crate::tolerances::{
@@ -218,7 +218,7 @@ impl FrameGraph {
                 if transforms_agree(&old.transform, &given) {
                     self.warnings.push(
                         Warning::new(
-                            WarningCode::DuplicateEdge,
+                            Code::DuplicateEdge,
                             format!(
                                 "edge {} -> {} given twice, agreeing within {:e} m and {:e} rad: here and at {}",
                                 edge.parent,
@@ -532,7 +532,7 @@ impl FrameGraph {
         for (name, jt, s) in defaulted {
             warnings.push(
                 Warning::new(
-                    WarningCode::JointAtDefault,
+                    Code::JointAtDefault,
                     format!(
                         "{jt} joint '{name}' on the path {from} -> {to} taken at position 0; set it with --joint {name}=VALUE"
                     ),

@@ -26,7 +26,7 @@
 //! - Below `ANGLE_ZERO_TOL` (1e-9 rad) a rotation counts as none: the transform is
 //!   the identity or a pure translation, with no axis (the angle is still reported).
 
-use crate::diagnostic::{Error, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Result, Warning};
 use crate::tolerances::{
     ANGLE_ZERO_TOL, AXIS_MIN_NORM, BOTTOM_ROW_TOL, HALF_TURN_SIN_TOL, LENGTH_ZERO_TOL,
     ORTHONORMAL_ERROR_TOL, ORTHONORMAL_EXACT_TOL, ORTHONORMAL_ROUNDING_TOL, ORTHONORMAL_WARN_TOL,
@@ -217,7 +217,7 @@ impl Transform {
         if (norm - 1.0).abs() > QUATERNION_WARN_TOL {
             warnings.push(
                 Warning::new(
-                    WarningCode::NonUnitQuaternion,
+                    Code::NonUnitQuaternion,
                     format!(
                         "quaternion {} has norm {norm:.9}, expected 1; normalised",
                         fmt_quat(q, order)
@@ -588,7 +588,7 @@ fn checked_rotation(m: &Matrix3<f64>, warnings: &mut Vec<Warning>) -> Result<Mat
     if err > ORTHONORMAL_WARN_TOL {
         warnings.push(
             Warning::new(
-                WarningCode::NonOrthonormalRotation,
+                Code::NonOrthonormalRotation,
                 format!(
                     "rotation matrix is orthonormal only to ||R^T R - I||_F = {err:.3e} (det {det:.9}); projected to the nearest rotation"
                 ),

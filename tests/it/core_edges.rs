@@ -7,7 +7,7 @@
 use extrinsic_audit::analysis::metric::{
     analyze, family_verdicts, AdaptedReason, Family, RigAnalysis, VerdictReason,
 };
-use extrinsic_audit::diagnostic::{ErrorKind, WarningCode};
+use extrinsic_audit::diagnostic::Code;
 use extrinsic_audit::geometry::certificate::{
     band, certificates, certifies_no_crossing, delta_eff, sigma_max, sigma_min,
 };
@@ -89,7 +89,7 @@ fn quaternion_orders_agree_and_round_trip() {
 fn quaternion_norm_zero_is_an_error() {
     let mut w = Vec::new();
     let e = Transform::from_quaternion([0.0; 4], QuatOrder::Xyzw, [0.0; 3], &mut w).unwrap_err();
-    assert_eq!(e.code, ErrorKind::Invalid);
+    assert_eq!(e.code, Code::Invalid);
     assert!(e.message.contains("norm"), "{}", e.message);
     let e = Transform::from_quaternion([1e-300, 0.0, 0.0, 0.0], QuatOrder::Wxyz, [0.0; 3], &mut w)
         .unwrap_err();
@@ -103,7 +103,7 @@ fn quaternion_norm_1_001_warns_and_normalises() {
     let t = Transform::from_quaternion([0.0, 0.0, 0.0, 1.001], QuatOrder::Xyzw, [0.0; 3], &mut w)
         .unwrap();
     assert_eq!(w.len(), 1);
-    assert_eq!(w[0].code, WarningCode::NonUnitQuaternion);
+    assert_eq!(w[0].code, Code::NonUnitQuaternion);
     assert_eq!(w[0].code.name(), "non-unit-quaternion");
     assert!(w[0].message.contains("1.001"), "{}", w[0].message);
     assert!((t.rotation() - Matrix3::identity()).norm() < 1e-15);
@@ -125,11 +125,11 @@ fn quaternion_norm_1e300_is_normalised_with_a_warning() {
     let t = Transform::from_quaternion([0.0, 0.0, 1e300, 1e300], QuatOrder::Xyzw, [0.0; 3], &mut w)
         .unwrap();
     assert_eq!(w.len(), 1);
-    assert_eq!(w[0].code, WarningCode::NonUnitQuaternion);
+    assert_eq!(w[0].code, Code::NonUnitQuaternion);
     assert!((t.rotation() - rz(FRAC_PI_2)).norm() < 1e-15);
     // Beyond f64 range the norm is infinite: an error, not a panic.
     let e = Transform::from_quaternion([1e308; 4], QuatOrder::Xyzw, [0.0; 3], &mut w).unwrap_err();
-    assert_eq!(e.code, ErrorKind::Invalid);
+    assert_eq!(e.code, Code::Invalid);
 }
 
 #[test]
@@ -141,7 +141,7 @@ fn det_minus_one_is_an_error_that_says_det() {
         &mut w,
     )
     .unwrap_err();
-    assert_eq!(e.code, ErrorKind::Invalid);
+    assert_eq!(e.code, Code::Invalid);
     assert!(e.message.contains("det"), "{}", e.message);
     assert!(e.message.contains("-1"), "{}", e.message);
 }
@@ -166,7 +166,7 @@ fn non_orthonormal_matrices_warn_or_fail_saying_how_far_off() {
     ];
     let t = Transform::from_matrix3(rounded, [0.0; 3], &mut w).unwrap();
     assert_eq!(w.len(), 1);
-    assert_eq!(w[0].code, WarningCode::NonOrthonormalRotation);
+    assert_eq!(w[0].code, Code::NonOrthonormalRotation);
     let rt = t.rotation();
     assert!((rt.transpose() * rt - Matrix3::identity()).norm() < 1e-14);
     assert!((rt.determinant() - 1.0).abs() < 1e-14);
@@ -511,7 +511,7 @@ fn pitch_tolerance_is_configurable_and_h_is_reported() {
     // Built on the axis of the nearly-zero-pitch rig, M0 is invariant only up to h.
     assert!(loose.adapted_metric.invariance_residual.unwrap() < 1e-6);
     for bad in [-1.0, f64::NAN, f64::INFINITY] {
-        assert_eq!(analyze(&t, &[1.0], bad).unwrap_err().code, ErrorKind::Usage);
+        assert_eq!(analyze(&t, &[1.0], bad).unwrap_err().code, Code::Usage);
     }
 }
 
@@ -584,7 +584,7 @@ fn certificate_edges_and_errors() {
     for bad_k in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         assert_eq!(
             certifies_no_crossing(0.1, bad_k, de).unwrap_err().code,
-            ErrorKind::Usage
+            Code::Usage
         );
     }
     assert!(certifies_no_crossing(f64::NAN, k, de).is_err());
@@ -609,7 +609,7 @@ fn characteristic_lengths() {
     assert!(certificates(0.5, &[1.0; MAX_ELLS]).is_ok());
     assert_eq!(
         certificates(0.5, &[1.0; MAX_ELLS + 1]).unwrap_err().code,
-        ErrorKind::Usage
+        Code::Usage
     );
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         assert!(certificates(0.5, &[1.0, bad]).is_err());

@@ -5,7 +5,7 @@
 //! corrupt bags give clear errors and never panic.
 
 use crate::common::audit;
-use extrinsic_audit::diagnostic::WarningCode;
+use extrinsic_audit::diagnostic::Code;
 use extrinsic_audit::formats::bag::{self, BagOptions};
 use extrinsic_audit::formats::{load_file, Edge, LoadOptions, Loaded};
 use serde_json::Value;
@@ -146,7 +146,7 @@ fn tf_static_updates_latest_wins_with_a_named_warning() {
         let ws: Vec<_> = l
             .warnings
             .iter()
-            .filter(|w| w.code == WarningCode::Ignored)
+            .filter(|w| w.code == Code::Ignored)
             .collect();
         assert_eq!(ws.len(), 1, "{what}: {:?}", l.warnings);
         let m = &ws[0].message;
@@ -526,7 +526,7 @@ fn robot_description_from_a_parameter_event() {
         assert!(k.contains("(parameter robot_description of node /robot_state_publisher): joint \"lidar_joint\" <origin>, description line 11"), "{k}");
         // The decoy from another node, earlier, is named and not used.
         assert_eq!(l.warnings.len(), 1, "{name}: {:?}", l.warnings);
-        assert_eq!(l.warnings[0].code, WarningCode::Ignored);
+        assert_eq!(l.warnings[0].code, Code::Ignored);
         assert!(
             l.warnings[0]
                 .message

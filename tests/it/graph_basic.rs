@@ -2,7 +2,7 @@
 //! composition through the common ancestor, several files in one graph, and the
 //! URDF details (joints, mimic, quat_xyzw, axes, xacro).
 
-use extrinsic_audit::diagnostic::{ErrorKind, Location, WarningCode};
+use extrinsic_audit::diagnostic::{Code, Location};
 use extrinsic_audit::formats::{load_file, load_str, Edge, Format, LoadOptions};
 use extrinsic_audit::frames::FrameGraph;
 use extrinsic_audit::geometry::se3::Transform;
@@ -69,7 +69,7 @@ fn duplicate_edges() {
     let dups = g
         .warnings()
         .iter()
-        .filter(|w| w.code == WarningCode::DuplicateEdge)
+        .filter(|w| w.code == Code::DuplicateEdge)
         .count();
     assert_eq!(dups, 2);
     assert!(g.warnings()[0].message.contains("test.txt:1"));
@@ -77,7 +77,7 @@ fn duplicate_edges() {
     let e = g
         .add_edge(edge("a", "b", tr(0.2, 0.0, 0.0), 4))
         .expect_err("conflict");
-    assert_eq!(e.code, ErrorKind::Frame);
+    assert_eq!(e.code, Code::Frame);
     let m = e.to_string();
     assert!(m.contains("test.txt:1") && m.contains("test.txt:4"), "{m}");
     let e = g
@@ -164,14 +164,14 @@ fn urdf_joints_mimic_and_axes() {
     assert!(g
         .warnings()
         .iter()
-        .any(|w| w.code == WarningCode::NonUnitAxis && w.message.contains("j1")));
+        .any(|w| w.code == Code::NonUnitAxis && w.message.contains("j1")));
     let c = g.transform("a", "d").expect("chain");
     // j1 at 0, j2 = 2*0 + 0.5 -> x = 1.5
     assert!((c.transform.translation().x - 1.5).abs() < 1e-12);
     assert_eq!(
         c.warnings
             .iter()
-            .filter(|w| w.code == WarningCode::JointAtDefault)
+            .filter(|w| w.code == Code::JointAtDefault)
             .count(),
         2
     );
@@ -208,7 +208,7 @@ fn urdf_quat_xyzw_follows_the_version() {
         let (r, ws) = load(v, &LoadOptions::default());
         assert!((r.rotation()[(0, 0)] - 1.0).abs() < 1e-15, "{v}: identity");
         assert!((r.translation().z - 0.1).abs() < 1e-15);
-        assert_eq!(codes(&ws), vec![WarningCode::QuatXyzwIgnored], "{v}");
+        assert_eq!(codes(&ws), vec![Code::QuatXyzwIgnored], "{v}");
         assert!(
             ws[0].message.contains("version=\"1.1\""),
             "{}",
@@ -226,7 +226,7 @@ fn urdf_quat_xyzw_follows_the_version() {
     };
     let (r, ws) = load("", &opts);
     assert!((r.rotation()[(1, 0)] - 1.0).abs() < 1e-12, "a 90 deg yaw");
-    assert_eq!(codes(&ws), vec![WarningCode::AssumedConvention]);
+    assert_eq!(codes(&ws), vec![Code::AssumedConvention]);
     assert!(
         ws[0].message.contains("ROS ignores it"),
         "{}",
@@ -293,7 +293,7 @@ fn invert_key_format_and_size_options() {
         },
     )
     .expect_err("cap");
-    assert_eq!(e.code, ErrorKind::Limit);
+    assert_eq!(e.code, Code::Limit);
     // --input-format skips detection.
     let e = load_file(
         p,
@@ -347,7 +347,7 @@ fn millimetres_in_metre_field_and_trailing_commas() {
     assert!(l
         .warnings
         .iter()
-        .any(|w| w.code == WarningCode::MillimetresInMetreField));
+        .any(|w| w.code == Code::MillimetresInMetreField));
     let l = load_file(
         Path::new("tests/fixtures/formats/kr_quadrotor_publish_tf.launch"),
         &LoadOptions::default(),
@@ -357,7 +357,7 @@ fn millimetres_in_metre_field_and_trailing_commas() {
     assert!(l
         .warnings
         .iter()
-        .any(|w| w.code == WarningCode::Ignored && w.message.contains("trailing comma")));
+        .any(|w| w.code == Code::Ignored && w.message.contains("trailing comma")));
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! going up and then down the tree) equal values from an independent
 //! implementation (pytransform3d; see tests/fixtures/urdf/gen_expected.py) to 1e-12.
 
-use extrinsic_audit::diagnostic::WarningCode;
+use extrinsic_audit::diagnostic::Code;
 use extrinsic_audit::formats::{load_file, LoadOptions};
 use extrinsic_audit::frames::FrameGraph;
 use std::path::Path;
@@ -78,7 +78,7 @@ fn movable_joints_on_path_warn() {
     let names: Vec<String> = c
         .warnings
         .iter()
-        .filter(|w| w.code == WarningCode::JointAtDefault)
+        .filter(|w| w.code == Code::JointAtDefault)
         .map(|w| w.message.clone())
         .collect();
     assert!(

@@ -20,7 +20,7 @@
 
 use crate::common::hostile;
 
-use extrinsic_audit::diagnostic::WarningCode;
+use extrinsic_audit::diagnostic::Code;
 use extrinsic_audit::formats::{load_str, LoadOptions, Loaded};
 use extrinsic_audit::geometry::se3::{rpy_to_matrix, QuatOrder, Transform};
 use extrinsic_audit::tolerances::MAX_TRANSLATION_M;
@@ -31,7 +31,7 @@ fn load(name: &str, text: &str) -> Result<Loaded, String> {
     load_str(text, Path::new(name), &LoadOptions::default()).map_err(|e| e.to_string())
 }
 
-fn codes(l: &Loaded) -> Vec<WarningCode> {
+fn codes(l: &Loaded) -> Vec<Code> {
     l.warnings.iter().map(|w| w.code).collect()
 }
 
@@ -202,7 +202,7 @@ fn rotation_a_hair_off_orthonormal() {
     let l = load("r4.yaml", &fast_lio("0.1, 0, 0", &off_rotation(1e-4))).unwrap();
     assert_eq!(
         codes(&l),
-        vec![WarningCode::NonOrthonormalRotation],
+        vec![Code::NonOrthonormalRotation],
         "{:?}",
         l.warnings
     );
@@ -259,14 +259,14 @@ fn quaternion_norms() {
     assert!(e.contains("expected a unit quaternion"), "{e}");
     // 1e300: normalised without overflow, warned.
     let l = load("q300.yaml", &tf_echo(["0", "0", "1e300", "1e300"])).unwrap();
-    assert_eq!(codes(&l), vec![WarningCode::NonUnitQuaternion]);
+    assert_eq!(codes(&l), vec![Code::NonUnitQuaternion]);
     let t = &l.edges[0].transform;
     assert!(ortho_err(t) < 1e-12);
     let want = rpy_to_matrix(0.0, 0.0, std::f64::consts::FRAC_PI_2);
     assert!((t.rotation() - want).norm() < 1e-12, "{t:?}");
     // 1.001: normalised, warned.
     let l = load("q1001.yaml", &tf_echo(["0", "0", "0", "1.001"])).unwrap();
-    assert_eq!(codes(&l), vec![WarningCode::NonUnitQuaternion]);
+    assert_eq!(codes(&l), vec![Code::NonUnitQuaternion]);
     assert!(ortho_err(&l.edges[0].transform) < 1e-12);
     // Exactly 1 within 1e-7: quiet.
     let l = load("q1.yaml", &tf_echo(["0", "0", "0", "1.0000001"])).unwrap();
@@ -355,7 +355,7 @@ fn translation_of_1e12_m_is_refused_in_every_format() {
         &fast_lio("50, 0, 0", "1, 0, 0, 0, 1, 0, 0, 0, 1"),
     )
     .unwrap();
-    assert_eq!(codes(&l), vec![WarningCode::MillimetresInMetreField]);
+    assert_eq!(codes(&l), vec![Code::MillimetresInMetreField]);
     // `audit check` reports a 1e12 m file as a finding naming the file.
     let p = write_tmp(
         &dir,
@@ -463,7 +463,7 @@ fn huge_joint_axis_is_normalised_not_zeroed() {
         let mut opts = LoadOptions::default();
         opts.joints.insert("j".into(), 0.5);
         let l = load_str(&text, Path::new("axis.urdf"), &opts).unwrap();
-        assert_eq!(codes(&l), vec![WarningCode::NonUnitAxis], "{jt}");
+        assert_eq!(codes(&l), vec![Code::NonUnitAxis], "{jt}");
         assert!(
             l.warnings[0].to_string().contains("1e300"),
             "{}",

@@ -1,7 +1,7 @@
 //! The rig TOML parser on malformed and edge-case input: every error names the
 //! file and line, says what was expected and what was found, and nothing panics.
 
-use extrinsic_audit::diagnostic::{ErrorKind, WarningCode};
+use extrinsic_audit::diagnostic::Code;
 use extrinsic_audit::formats::rig_toml::parse;
 use extrinsic_audit::formats::{LoadOptions, Loaded};
 use proptest::prelude::*;
@@ -94,7 +94,7 @@ fn missing_rotation() {
         line_of(&text, "[[transform]]"),
         &["expected exactly one rotation form", "found none"],
     );
-    assert_eq!(e.code, ErrorKind::Parse);
+    assert_eq!(e.code, Code::Parse);
 }
 
 #[test]
@@ -125,7 +125,7 @@ fn nan_and_infinity() {
         line_of(&text, "[[transform]]"),
         &["translation", "expected finite numbers, found NaN"],
     );
-    assert_eq!(e.code, ErrorKind::Invalid);
+    assert_eq!(e.code, Code::Invalid);
     let text = with_transform(&GOOD.replace("[0, 1, 0], [0, 0, 1]]", "[0, 1, 0], [0, 0, inf]]"));
     err(
         &text,
@@ -214,7 +214,7 @@ fn bad_matrices() {
 fn syntax_errors_carry_a_line() {
     let text = format!("{HEADER}\n[[transform]]\nparent = \"imu\nchild = 1\n");
     let e = run(&text).expect_err("error");
-    assert_eq!(e.code, ErrorKind::Parse);
+    assert_eq!(e.code, Code::Parse);
     assert!(e.location.line.is_some(), "{e}");
     assert!(e.to_string().starts_with("calibrations/bad-rig.toml:"));
     let e = run("this is not toml").expect_err("error");
@@ -317,7 +317,7 @@ fn cli_invert_and_key_are_ignored_with_a_warning() {
     };
     let l = parse(&with_transform(GOOD), path(), &opts).unwrap();
     assert_eq!(l.edges[0].transform.translation()[0], 0.1, "not inverted");
-    assert!(l.warnings.iter().any(|w| w.code == WarningCode::Ignored));
+    assert!(l.warnings.iter().any(|w| w.code == Code::Ignored));
 }
 
 #[test]
@@ -326,7 +326,7 @@ fn non_unit_quaternion_warns_at_its_transform() {
     let text = with_transform(body);
     let l = run(&text).unwrap();
     let w = &l.warnings[0];
-    assert_eq!(w.code, WarningCode::NonUnitQuaternion);
+    assert_eq!(w.code, Code::NonUnitQuaternion);
     assert_eq!(w.location.line, Some(line_of(&text, "[[transform]]")));
 }
 

@@ -5,7 +5,7 @@
 
 use super::Sink;
 use crate::degeneracy::BLOCK;
-use crate::diagnostic::{Error, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Warning};
 use crate::tolerances::{MAX_COORDINATE, NORMAL_UNIT_TOL, NORMAL_ZERO_TOL};
 
 /// What was wrong with one record.
@@ -57,7 +57,7 @@ impl Stats {
         let mut warnings = Vec::new();
         if self.renormalised > 0 {
             warnings.push(Warning::new(
-                WarningCode::AssumedConvention,
+                Code::AssumedConvention,
                 format!(
                     "{} normals were not unit length (largest | |n| - 1 | = {:.3e}); renormalised",
                     self.renormalised, self.worst_norm_dev
@@ -66,7 +66,7 @@ impl Stats {
         }
         if self.skipped_nonfinite > 0 {
             warnings.push(Warning::new(
-                WarningCode::Ignored,
+                Code::Ignored,
                 format!(
                     "{} points with a non-finite coordinate or normal (NaN marks invalid points in PCL) were skipped",
                     self.skipped_nonfinite

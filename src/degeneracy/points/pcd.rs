@@ -4,7 +4,7 @@ use super::binary::{decode_records, Layout, Run, Scalar};
 use super::check::{Checker, Stats};
 use super::source::{header_lines, Source};
 use super::{column_role, missing_roles, PointFormat, Sink};
-use crate::diagnostic::{Error, ErrorKind, Result};
+use crate::diagnostic::{Code, Error, Result};
 use crate::tolerances::{MAX_PCD_COUNT, MAX_POINT_RECORD_BYTES};
 use std::io::Read;
 
@@ -145,7 +145,7 @@ pub(super) fn read_header<R: Read>(src: &mut Source<R>) -> Result<Header> {
         "ascii" => PointFormat::PcdAscii,
         "binary" => PointFormat::PcdBinary,
         "binary_compressed" => return Err(Error::new(
-            ErrorKind::Parse,
+            Code::Parse,
             "PCD: DATA binary_compressed is not supported; convert the file to ascii or binary first (e.g. `pcl_convert_pcd_ascii_binary in.pcd out.pcd 1`)",
         )),
         other => return Err(Error::parse(format!("PCD: expected DATA ascii, binary or binary_compressed, found {other:?}"))),

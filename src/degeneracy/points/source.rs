@@ -2,7 +2,7 @@
 //! line and record access. The buffer grows only for a single line or record
 //! longer than it, up to the caps in `tolerances`.
 
-use crate::diagnostic::{Error, ErrorKind, Result};
+use crate::diagnostic::{Code, Error, Result};
 use crate::tolerances::{MAX_POINT_LINE_BYTES, POINT_READ_BUFFER};
 use std::io::Read;
 
@@ -19,7 +19,7 @@ pub(crate) struct Source<R> {
 }
 
 pub(crate) fn io_error(e: &std::io::Error) -> Error {
-    Error::new(ErrorKind::Io, format!("cannot read: {e}"))
+    Error::new(Code::Io, format!("cannot read: {e}"))
 }
 
 impl<R: Read> Source<R> {

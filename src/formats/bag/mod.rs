@@ -44,7 +44,7 @@ pub mod decode;
 pub mod mcap_file;
 pub mod ros1;
 
-use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::{check_metres, locate_warnings, urdf, Edge, LoadOptions, Loaded};
 use crate::frames::transforms_agree;
 use crate::geometry::se3::{QuatOrder, Transform};
@@ -458,7 +458,7 @@ fn edge(
     let tf = Transform::from_quaternion(r.rotation, QuatOrder::Xyzw, r.translation, &mut ws)?;
     if let Some(x) = r.translation.iter().find(|x| x.abs() > MAX_TRANSLATION_M) {
         warnings.push(Warning::new(
-            WarningCode::Ignored,
+            Code::Ignored,
             format!("{what} {parent} -> {child}: translation component {x:e} m, beyond {MAX_TRANSLATION_M:e} m: not a sensor extrinsic (a geodetic frame?), left out"),
         ).at(&loc));
         return Ok(None);
@@ -523,7 +523,7 @@ fn superseded(old: &Edge, old_what: &str, new: &Edge, new_what: &str) -> Warning
         format!("parent '{}' then '{}'", old.parent, new.parent)
     };
     Warning::new(
-        WarningCode::Ignored,
+        Code::Ignored,
         format!(
             "frame '{}' is set twice with different values ({how}): {old_what} is superseded by {new_what}, which is used (the latest wins, as in tf2)",
             new.child
@@ -560,7 +560,7 @@ fn constant_transforms(
         if moves {
             warnings.push(
                 Warning::new(
-                    WarningCode::Ignored,
+                    Code::Ignored,
                     format!(
                         "frame '{child}' moves (parent '{}', {n} samples, the first {}): not a static transform, left out",
                         s.edge.parent, s.what
@@ -638,7 +638,7 @@ fn description(
         if old.text != latest.text {
             warnings.push(
                 Warning::new(
-                    WarningCode::Ignored,
+                    Code::Ignored,
                     format!("the robot description of {} differs from the latest, {}: the latest is used", old.what, latest.what),
                 )
                 .at(&file),
@@ -695,7 +695,7 @@ fn merge_description(
             Some(s) if same(&s.edge, &e) => {}
             Some(s) => warnings.push(
                 Warning::new(
-                    WarningCode::Ignored,
+                    Code::Ignored,
                     format!(
                         "{} -> {} from {} differs from {} ({}): the /tf_static transform is used (it is what ran)",
                         e.parent,

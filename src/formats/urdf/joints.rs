@@ -5,7 +5,7 @@
 //! (pytransform3d clamps), with a `joint-outside-limit` warning.
 
 use super::read::JointRaw;
-use crate::diagnostic::{Error, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Result, Warning};
 use crate::formats::source::LineIndex;
 use crate::formats::{xml, LoadOptions};
 use crate::frames::{Edge, JointState, JointType};
@@ -110,7 +110,7 @@ fn check_limit(j: &JointRaw, jt: JointType, value: f64, set: bool, warnings: &mu
     };
     warnings.push(
         Warning::new(
-            WarningCode::JointOutsideLimit,
+            Code::JointOutsideLimit,
             format!(
                 "{jt} joint '{}': position {value} {unit} ({how}) is outside <limit lower=\"{}\" upper=\"{}\"> (line {}); used as given, as robot_state_publisher does (it does not clamp)",
                 j.name, l.lower, l.upper, l.line
@@ -191,7 +191,7 @@ fn motion(
     if (n - 1.0).abs() > UNIT_AXIS_TOL {
         warnings.push(
             Warning::new(
-                WarningCode::NonUnitAxis,
+                Code::NonUnitAxis,
                 format!(
                     "{jt} joint '{}': axis {:?} has norm {}, expected 1; normalised",
                     j.name,

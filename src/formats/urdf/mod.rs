@@ -66,7 +66,7 @@ pub mod version;
 
 pub use version::UrdfVersion;
 
-use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::registry::FormatSpec;
 use crate::formats::source::LineIndex;
 use crate::formats::{xacro, xml, LoadOptions, Loaded};
@@ -144,7 +144,7 @@ fn root_links(edges: &[Edge], frames: &[FrameDecl], path: &Path, warnings: &mut 
         .collect();
     warnings.push(
         Warning::new(
-            WarningCode::RefusedByRos,
+            Code::RefusedByRos,
             format!(
                 "{} links have no parent joint: {}; ROS (urdfdom) refuses a URDF with more than one root link (\"Two root links found\"); each is listed as its own tree and only links joined by joints can be audited",
                 roots.len(),

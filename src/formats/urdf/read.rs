@@ -4,7 +4,7 @@
 
 use super::version::UrdfVersion;
 use super::Links;
-use crate::diagnostic::{Error, Location, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::source::LineIndex;
 use crate::formats::{locate_warnings, xml};
 use crate::frames::JointType;
@@ -332,7 +332,7 @@ fn origin(
                     version.declared_text()
                 )
             };
-            warnings.push(Warning::new(WarningCode::QuatXyzwIgnored, msg).at(loc));
+            warnings.push(Warning::new(Code::QuatXyzwIgnored, msg).at(loc));
             rpy(None)
         }
         (None, Some(q)) => {
@@ -350,7 +350,7 @@ fn origin(
             if version.declared.unwrap_or(UrdfVersion::V1_0) < UrdfVersion::V1_1 {
                 warnings.push(
                     Warning::new(
-                        WarningCode::AssumedConvention,
+                        Code::AssumedConvention,
                         format!(
                             "joint '{name}' <origin quat_xyzw>: applied because of --urdf-version {}; the file {}, so ROS ignores it and runs with the identity rotation",
                             version.used,
@@ -384,7 +384,7 @@ fn limit(
     }
     let refused = |why: String| {
         Warning::new(
-            WarningCode::RefusedByRos,
+            Code::RefusedByRos,
             format!("{jtype} joint '{name}': {why}; ROS (urdfdom) refuses the file, the pose is read anyway"),
         )
         .at(loc)
@@ -497,7 +497,7 @@ fn number_spacing(
     if !found.is_empty() {
         warnings.push(
             Warning::new(
-                WarningCode::RefusedByRos,
+                Code::RefusedByRos,
                 format!(
                     "joint '{name}': {}: urdfdom separates numbers by spaces only and allows nothing after a number, so ROS refuses the file; read here with any whitespace as separator",
                     found.join(", ")

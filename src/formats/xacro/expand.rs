@@ -13,7 +13,7 @@ use super::scope::{MacroScope, MacroTable, Scope, Slot, Table};
 use super::subst::{self, Subst};
 use super::tree::{self, Doc, Elem, Node, Src};
 use super::value::{eval_literal, Value};
-use crate::diagnostic::{Error, Result, Warning, WarningCode};
+use crate::diagnostic::{Code, Error, Result, Warning};
 use crate::formats::LoadOptions;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -456,7 +456,7 @@ impl<'o> Expander<'o> {
         if XACRO_TAGS.contains(&e.name.as_str()) {
             self.warnings.push(
                 Warning::new(
-                    WarningCode::Ignored,
+                    Code::Ignored,
                     format!(
                         "<{0}> without the `xacro:` prefix: copied as is, not processed (as Python xacro 2 does; ROS 1 xacro before 1.12 processed it); write <xacro:{0}>",
                         e.name
@@ -468,7 +468,7 @@ impl<'o> Expander<'o> {
         if let Some(MacroEntry::Macro(_)) = macros.get(&e.name) {
             self.warnings.push(
                 Warning::new(
-                    WarningCode::Ignored,
+                    Code::Ignored,
                     format!(
                         "<{0}> has the name of a macro but no `xacro:` prefix: copied as is, not expanded (as Python xacro 2 does); write <xacro:{0}> to call the macro",
                         e.name
