@@ -2,7 +2,7 @@
 //! `calibrate-threshold`. Arguments here; computations in
 //! `extrinsic_audit::pipeline::detector`.
 
-use super::{emit, parse_noise, parse_positive, parse_voxel};
+use super::{emit, parse_ell, parse_noise, parse_positive, parse_voxel};
 use extrinsic_audit::degeneracy::points::accumulate_file;
 use extrinsic_audit::degeneracy::scene::{SceneKind, TUNNEL_RADIUS};
 use extrinsic_audit::degeneracy::threshold::{Calibration, SEEDS};
@@ -12,7 +12,7 @@ use extrinsic_audit::geometry::Transform;
 use extrinsic_audit::pipeline::detector::{self as det, SimulateParams, TunnelParams};
 use extrinsic_audit::pipeline::transform_between;
 use extrinsic_audit::render::OutputFormat;
-use extrinsic_audit::tolerances::{DEFAULT_TAU, ELL_RANGE_M, MAX_SIM_NOISE_M, SIM_VOXEL_RANGE_M};
+use extrinsic_audit::tolerances::{DEFAULT_ELLS, DEFAULT_TAU, MAX_SIM_NOISE_M, SIM_VOXEL_RANGE_M};
 use nalgebra::Vector6;
 use std::io::Write;
 use std::path::PathBuf;
@@ -50,8 +50,8 @@ pub struct DegeneracyArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub rotate_rpy: Option<String>,
     /// Characteristic lengths (m) for the characteristic-length family, comma-separated.
-    #[arg(long, default_value = "0.25,1,2.85,10")]
-    pub ell: String,
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
+    pub ell: Vec<f64>,
     /// Output format
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
     pub format: OutputFormat,
@@ -147,8 +147,8 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = DEFAULT_TAU, value_parser = parse_positive, allow_hyphen_values = true)]
     pub tau: f64,
     /// Characteristic lengths (m), comma-separated.
-    #[arg(long, default_value = "0.25,1,2.85,10")]
-    pub ell: String,
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
+    pub ell: Vec<f64>,
     /// Pose update xi = `wx,wy,wz,tx,ty,tz` in frame A (rad, m) for the correction difference.
     #[arg(
         long,
@@ -194,8 +194,8 @@ pub struct CalibrateThresholdArgs {
     #[arg(long, default_value = "0.05,0.1,0.2")]
     pub voxel: String,
     /// Characteristic lengths (m), comma-separated.
-    #[arg(long, default_value = "0.25,1,2.85,10")]
-    pub ell: String,
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
+    pub ell: Vec<f64>,
     /// Worker threads (0: all cores).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -251,25 +251,6 @@ fn parse_list(s: &str, what: &str, (min, max): (f64, f64)) -> Result<Vec<f64>> {
     Ok(v)
 }
 
-/// Characteristic lengths: positive metres.
-fn parse_ells(s: &str) -> Result<Vec<f64>> {
-    s.split(',')
-        .map(str::trim)
-        .filter(|p| !p.is_empty())
-        .map(|p| {
-            p.parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite() && (ELL_RANGE_M.0..=ELL_RANGE_M.1).contains(x))
-                .ok_or_else(|| {
-                    Error::usage(format!(
-                        "--ell: expected lengths from {:e} to {:e} m, found {p:?}",
-                        ELL_RANGE_M.0, ELL_RANGE_M.1
-                    ))
-                })
-        })
-        .collect()
-}
-
 /// The frame the user asked for (identity without options).
 fn frame_from_args(shift: Option<&str>, rpy: Option<&str>) -> Result<Transform> {
     let d = match shift {
@@ -285,16 +266,9 @@ fn frame_from_args(shift: Option<&str>, rpy: Option<&str>) -> Result<Transform> 
 
 pub fn degeneracy(args: &DegeneracyArgs, out: &mut dyn Write) -> Result<i32> {
     let frame = frame_from_args(args.shift.as_deref(), args.rotate_rpy.as_deref())?;
-    let ells = parse_ells(&args.ell)?;
-    if !(args.tau.is_finite() && args.tau > 0.0) {
-        return Err(Error::usage(format!(
-            "--tau: expected a positive number, found {}",
-            args.tau
-        )));
-    }
     // Streamed: H and M without holding the points; the frame by congruence.
     let acc = accumulate_file(&args.points, Some(&frame))?;
-    let report = det::degeneracy_of(&acc.assembly, &acc.warnings, &frame, args.tau, &ells)
+    let report = det::degeneracy_of(&acc.assembly, &acc.warnings, &frame, args.tau, &args.ell)
         .map_err(|e| e.in_file(&args.points))?;
     emit(&report, args.format, out)?;
     Ok(0)
@@ -359,7 +333,7 @@ pub fn simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<i32> {
         voxel: args.voxel,
         exact_normals: args.exact_normals,
         tau: args.tau,
-        ells: parse_ells(&args.ell)?,
+        ells: args.ell.clone(),
         update: parse_update(&args.update)?,
     };
     emit(&det::simulate(&params, &t)?, args.format, out)?;
@@ -374,7 +348,7 @@ pub fn calibration_from_args(args: &CalibrateThresholdArgs) -> Result<Calibratio
             args.seeds
         )));
     }
-    let ells = parse_ells(&args.ell)?;
+    let ells = &args.ell;
     let mut rules = vec![MetricRule::Unnormalized];
     rules.extend(ells.iter().map(|&l| MetricRule::CharacteristicLength(l)));
     rules.extend([

@@ -25,36 +25,22 @@ fn assert_valid(name: &str, args: &[&str]) {
     assert!(errors.is_empty(), "{args:?} against {name}: {errors:#?}");
 }
 
+/// The ANYmal C rig report as JSON.
+const ANYMAL_JSON: [&str; 7] = [
+    "tests/fixtures/urdf/anymal_c.urdf",
+    "--from",
+    "base",
+    "--to",
+    "lidar",
+    "--format",
+    "json",
+];
+
 #[test]
 fn json_outputs_match_the_committed_schemas() {
-    assert_valid(
-        "rig-report",
-        &[
-            "tests/fixtures/urdf/anymal_c.urdf",
-            "--from",
-            "base",
-            "--to",
-            "lidar",
-            "--format",
-            "json",
-        ],
-    );
-    assert_valid(
-        "rig-report",
-        &[
-            "tests/fixtures/urdf/anymal_c.urdf",
-            "--from",
-            "base",
-            "--to",
-            "lidar",
-            "--kappa",
-            "0.01",
-            "--lambda",
-            "0.004",
-            "--format",
-            "json",
-        ],
-    );
+    assert_valid("rig-report", &ANYMAL_JSON);
+    let kappa = [&ANYMAL_JSON[..], &["--kappa", "0.01", "--lambda", "0.004"]].concat();
+    assert_valid("rig-report", &kappa);
     assert_valid(
         "survey",
         &["survey", "calibrations/", "--all", "--format", "json"],
@@ -78,15 +64,7 @@ fn the_schemas_refuse_a_wrong_report() {
     // A validator that accepts anything would make the test above worthless.
     let s = schema("rig-report");
     assert!(!s.is_valid(&serde_json::json!({"schema_version": 1})));
-    let (_, out, _) = run_cli(&[
-        "tests/fixtures/urdf/anymal_c.urdf",
-        "--from",
-        "base",
-        "--to",
-        "lidar",
-        "--format",
-        "json",
-    ]);
+    let (_, out, _) = run_cli(&ANYMAL_JSON);
     let mut v: Value = serde_json::from_str(&out).unwrap();
     v["screw"]["kind"] = "helical".into();
     assert!(!s.is_valid(&v));
