@@ -190,6 +190,11 @@ pub const XACRO_MAX_INCLUDE_DEPTH: usize = 32;
 /// expand in milliseconds.
 pub const XACRO_MAX_SECONDS: f64 = 10.0;
 
+/// Most bytes of the external `xacro` program's stderr kept for the error
+/// message (`--xacro external`); Python tracebacks of real failures are a few
+/// KiB.
+pub const XACRO_MAX_STDERR_BYTES: u64 = 16 * 1024;
+
 /// Deepest nesting of one `${...}` expression (parentheses, unary operators):
 /// the parser recurses per level.
 pub const XACRO_MAX_EXPR_DEPTH: usize = 100;

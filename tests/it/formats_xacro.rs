@@ -309,6 +309,42 @@ fn external_xacro_on_request() {
     assert!((l.edges[0].transform.translation().z - 0.5).abs() < 1e-15);
 }
 
+/// A failing external `xacro` shows its whole stderr (the cause is on the
+/// first line; xacro's last line only names the file), and a child that
+/// prints without end is stopped at the file-size cap.
+#[cfg(unix)]
+#[test]
+fn external_xacro_failures_keep_the_cause_and_are_bounded() {
+    use std::os::unix::fs::PermissionsExt;
+    let input = Path::new("tests/fixtures/formats/norlab-warthog-rs32-mti10__warthog.urdf.xacro");
+    let run = |body: &str| {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let script = dir.path().join("xacro");
+        std::fs::write(&script, format!("#!/bin/sh\n{body}\n")).expect("write");
+        std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+        load_file(
+            input,
+            &LoadOptions {
+                xacro_search_path: Some(dir.path().into()),
+                xacro_external: true,
+                max_file_size: 1 << 16,
+                ..LoadOptions::default()
+            },
+        )
+        .expect_err("refused")
+        .to_string()
+    };
+    let e = run(
+        "echo 'name error: undefined macro wheel' >&2; echo 'when processing file: x' >&2; exit 2",
+    );
+    assert!(e.contains("undefined macro wheel"), "{e}");
+    assert!(e.contains("when processing file"), "{e}");
+    let t = std::time::Instant::now();
+    let e = run("exec yes '<robot>'");
+    assert!(e.contains("printed more than 65536 bytes"), "{e}");
+    assert!(t.elapsed() < std::time::Duration::from_secs(5));
+}
+
 /// Bad input never panics or hangs: deterministic mutations (a character
 /// deleted or inserted, a line duplicated or dropped) of real xacro files,
 /// each expanded with its includes. A stand-in for a fuzz run (the `xacro`

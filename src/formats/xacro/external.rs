@@ -1,11 +1,23 @@
 //! The explicit fallback (`--xacro external`): run the `xacro` program found
 //! on the search path and read its output as URDF. Line numbers then refer to
 //! xacro's printed output, not to the source files.
+//!
+//! The child is bounded like the built-in expander: it is killed after
+//! [`XACRO_MAX_SECONDS`], or as soon as it prints more than the file-size cap
+//! on stdout; its stderr is kept whole up to [`XACRO_MAX_STDERR_BYTES`] so the
+//! cause of a failure reaches the user (xacro's last line is only "when
+//! processing file: X").
 
 use super::advice;
 use crate::diagnostic::{Error, Result};
 use crate::formats::{urdf, LoadOptions, Loaded};
+use crate::tolerances::{XACRO_MAX_SECONDS, XACRO_MAX_STDERR_BYTES};
+use std::io::Read;
 use std::path::Path;
+use std::process::{Command, ExitStatus, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 fn find_on_path(prog: &str, search: Option<&std::ffi::OsStr>) -> Option<std::path::PathBuf> {
     let path = match search {
@@ -17,6 +29,101 @@ fn find_on_path(prog: &str, search: Option<&std::ffi::OsStr>) -> Option<std::pat
         .find(|p| p.is_file())
 }
 
+/// What a bounded child run gave.
+#[derive(Debug)]
+struct Bounded {
+    status: ExitStatus,
+    stdout: Vec<u8>,
+    /// Stderr, at most the cap, with the count of bytes cut.
+    stderr: Vec<u8>,
+    stderr_cut: u64,
+}
+
+/// Why a bounded run stopped the child.
+#[derive(Debug, PartialEq)]
+enum Stopped {
+    Timeout,
+    TooMuchOutput,
+}
+
+/// Reads `r` keeping at most `cap` bytes; returns them and the count beyond.
+/// With `stop_at_cap` it stops reading at the cap (the caller kills the child).
+fn read_capped(mut r: impl Read, cap: u64, stop_at_cap: bool) -> (Vec<u8>, u64) {
+    let mut kept = Vec::new();
+    let mut cut = 0u64;
+    let mut buf = [0u8; 8192];
+    loop {
+        match r.read(&mut buf) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => {
+                let room = cap.saturating_sub(kept.len() as u64) as usize;
+                kept.extend_from_slice(&buf[..n.min(room)]);
+                cut += (n - n.min(room)) as u64;
+                if cut > 0 && stop_at_cap {
+                    break;
+                }
+            }
+        }
+    }
+    (kept, cut)
+}
+
+/// Runs `cmd` with stdin closed, killing it after `timeout` or as soon as
+/// stdout passes `out_cap` bytes.
+fn run_bounded(
+    mut cmd: Command,
+    timeout: Duration,
+    out_cap: u64,
+    err_cap: u64,
+) -> std::io::Result<std::result::Result<Bounded, Stopped>> {
+    let mut child = cmd
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()?;
+    let over = Arc::new(AtomicBool::new(false));
+    let out = child.stdout.take().map(|o| {
+        let over = Arc::clone(&over);
+        std::thread::spawn(move || {
+            let (kept, cut) = read_capped(o, out_cap, true);
+            over.store(cut > 0, Ordering::Release);
+            kept
+        })
+    });
+    let err = child
+        .stderr
+        .take()
+        .map(|e| std::thread::spawn(move || read_capped(e, err_cap, false)));
+    let start = Instant::now();
+    let stopped = loop {
+        if over.load(Ordering::Acquire) {
+            break Stopped::TooMuchOutput;
+        }
+        if let Some(status) = child.try_wait()? {
+            let stdout = out.and_then(|h| h.join().ok()).unwrap_or_default();
+            if over.load(Ordering::Acquire) {
+                break Stopped::TooMuchOutput;
+            }
+            let (stderr, stderr_cut) = err.and_then(|h| h.join().ok()).unwrap_or_default();
+            return Ok(Ok(Bounded {
+                status,
+                stdout,
+                stderr,
+                stderr_cut,
+            }));
+        }
+        if start.elapsed() >= timeout {
+            break Stopped::Timeout;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    // Killed: the reader threads see end-of-file once the pipes close; they
+    // are not joined (a grandchild may still hold a pipe open).
+    let _ = child.kill();
+    let _ = child.wait();
+    Ok(Err(stopped))
+}
+
 /// Expand `path` with the external `xacro` program, passing `--arg`s as
 /// `name:=value`.
 pub fn parse(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
@@ -26,17 +133,42 @@ pub fn parse(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             advice(path)
         )));
     };
-    let out = std::process::Command::new(&xacro)
-        .arg(path)
-        .args(opts.xacro_args.iter().map(|(k, v)| format!("{k}:={v}")))
-        .output()
-        .map_err(|e| Error::parse(format!("running {}: {e}", xacro.display())))?;
+    let mut cmd = Command::new(&xacro);
+    cmd.arg(path)
+        .args(opts.xacro_args.iter().map(|(k, v)| format!("{k}:={v}")));
+    let out = run_bounded(
+        cmd,
+        Duration::from_secs_f64(XACRO_MAX_SECONDS),
+        opts.max_file_size,
+        XACRO_MAX_STDERR_BYTES,
+    )
+    .map_err(|e| Error::parse(format!("running {}: {e}", xacro.display())))?;
+    let out = match out {
+        Ok(o) => o,
+        Err(Stopped::Timeout) => {
+            return Err(Error::limit(format!(
+                "--xacro external: {} was still running after {XACRO_MAX_SECONDS} s: expected an expansion in milliseconds (a macro bomb?); stopped it",
+                xacro.display()
+            )))
+        }
+        Err(Stopped::TooMuchOutput) => {
+            return Err(Error::limit(format!(
+                "--xacro external: {} printed more than {} bytes: expected a URDF within the file-size cap (--max-file-size); stopped it",
+                xacro.display(),
+                opts.max_file_size
+            )))
+        }
+    };
     if !out.status.success() {
         let err = String::from_utf8_lossy(&out.stderr);
+        let cut = match out.stderr_cut {
+            0 => String::new(),
+            n => format!(" [{n} more bytes of stderr cut]"),
+        };
         return Err(Error::parse(format!(
-            "xacro could not expand this file ({}): {}",
+            "xacro could not expand this file ({}); its stderr:\n{}{cut}",
             out.status,
-            err.lines().last().unwrap_or("").trim()
+            err.trim_end()
         )));
     }
     let expanded = String::from_utf8(out.stdout)
@@ -46,4 +178,63 @@ pub fn parse(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         e.provenance.key = format!("{} (line in xacro's expanded output)", e.provenance.key);
     }
     Ok(loaded)
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+
+    fn sh(script: &str) -> Command {
+        let mut c = Command::new("sh");
+        c.arg("-c").arg(script);
+        c
+    }
+
+    #[test]
+    fn a_child_that_runs_too_long_is_killed_at_the_limit() {
+        let t = Instant::now();
+        let r = run_bounded(sh("sleep 30"), Duration::from_millis(300), 1 << 20, 1 << 10);
+        assert_eq!(r.expect("spawned").err(), Some(Stopped::Timeout));
+        assert!(t.elapsed() < Duration::from_secs(5), "{:?}", t.elapsed());
+    }
+
+    #[test]
+    fn a_child_that_prints_without_end_is_stopped_at_the_cap() {
+        let t = Instant::now();
+        let r = run_bounded(sh("yes"), Duration::from_secs(20), 1 << 16, 1 << 10);
+        assert_eq!(r.expect("spawned").err(), Some(Stopped::TooMuchOutput));
+        assert!(t.elapsed() < Duration::from_secs(5), "{:?}", t.elapsed());
+    }
+
+    #[test]
+    fn the_whole_stderr_is_kept_up_to_its_cap() {
+        let r = run_bounded(
+            sh("echo cause >&2; echo 'when processing file: x' >&2; exit 3"),
+            Duration::from_secs(20),
+            1 << 16,
+            1 << 10,
+        )
+        .expect("spawned")
+        .expect("exited");
+        assert_eq!(r.status.code(), Some(3));
+        assert_eq!(r.stderr, b"cause\nwhen processing file: x\n");
+        assert_eq!(r.stderr_cut, 0);
+        let r = run_bounded(
+            sh("head -c 5000 /dev/zero >&2"),
+            Duration::from_secs(20),
+            16,
+            100,
+        )
+        .expect("spawned")
+        .expect("exited");
+        assert_eq!((r.stderr.len(), r.stderr_cut), (100, 4900));
+    }
+
+    #[test]
+    fn stdout_within_the_cap_is_kept_whole() {
+        let r = run_bounded(sh("printf 'abc'"), Duration::from_secs(20), 3, 10)
+            .expect("spawned")
+            .expect("exited");
+        assert_eq!(r.stdout, b"abc");
+    }
 }
