@@ -6,6 +6,7 @@ use super::{
 };
 use clap::{Args, ValueEnum};
 use extrinsic_audit::diagnostic::Result;
+use extrinsic_audit::formats::bag::BagOptions;
 use extrinsic_audit::formats::{Format, LoadOptions};
 use extrinsic_audit::pipeline::{self, Rename, RigOptions};
 use extrinsic_audit::render::OutputFormat;
@@ -78,6 +79,18 @@ pub struct AuditArgs {
     /// `xacro` program on PATH)
     #[arg(long = "xacro", value_enum, default_value_t = XacroMode::Native)]
     pub xacro_mode: XacroMode,
+    /// Bags: a static transform topic (tf2_msgs/TFMessage, named as recorded)
+    /// to read instead of /tf_static; repeatable
+    #[arg(long = "tf-static-topic", value_name = "TOPIC")]
+    pub tf_static_topics: Vec<String>,
+    /// Bags: also read this dynamic topic (e.g. /tf), keeping the transforms
+    /// that never change over the bag; repeatable
+    #[arg(long = "tf-topic", value_name = "TOPIC")]
+    pub tf_topics: Vec<String>,
+    /// Bags: a std_msgs/String topic holding the URDF, instead of
+    /// /robot_description; repeatable
+    #[arg(long = "description-topic", value_name = "TOPIC")]
+    pub description_topics: Vec<String>,
 }
 
 /// `--xacro native|external`.
@@ -116,8 +129,24 @@ impl AuditArgs {
             xacro_args: self.xacro_args.iter().cloned().collect(),
             package_paths: self.package_paths.clone(),
             xacro_external: self.xacro_mode == XacroMode::External,
+            bag: self.bag_options(),
             ..LoadOptions::default()
         })
+    }
+}
+
+impl AuditArgs {
+    /// The bag topics: each list given replaces its default.
+    fn bag_options(&self) -> BagOptions {
+        let mut b = BagOptions::default();
+        if !self.tf_static_topics.is_empty() {
+            b.static_topics = self.tf_static_topics.clone();
+        }
+        b.tf_topics = self.tf_topics.clone();
+        if !self.description_topics.is_empty() {
+            b.description_topics = self.description_topics.clone();
+        }
+        b
     }
 }
 

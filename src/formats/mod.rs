@@ -61,6 +61,9 @@ pub struct LoadOptions {
     pub xacro_args: BTreeMap<String, String>,
     /// `--package-path DIR`: where `$(find pkg)` looks first.
     pub package_paths: Vec<std::path::PathBuf>,
+    /// Which topics of a bag are read (`--tf-static-topic`, `--tf-topic`,
+    /// `--description-topic`).
+    pub bag: bag::BagOptions,
 }
 
 impl Default for LoadOptions {
@@ -76,6 +79,7 @@ impl Default for LoadOptions {
             xacro_external: false,
             xacro_args: BTreeMap::new(),
             package_paths: Vec::new(),
+            bag: bag::BagOptions::default(),
         }
     }
 }

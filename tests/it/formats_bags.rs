@@ -235,6 +235,31 @@ fn tf_on_request_keeps_the_constant_transforms() {
     }
 }
 
+/// The CLI's topic flags reach the reader: `--tf-topic /tf` adds the
+/// constant `base_link -> camera`; `--tf-static-topic` replaces /tf_static.
+#[test]
+fn cli_topic_flags_choose_what_is_read() {
+    for p in containers("unrelated") {
+        let f = p.to_str().expect("utf-8");
+        let (code, out, err) = crate::common::run_cli(&[f, "--frames"]);
+        assert_eq!(code, 0, "{err}");
+        assert!(!out.contains("camera"), "{out}");
+        let (code, out, err) = crate::common::run_cli(&[f, "--frames", "--tf-topic", "/tf"]);
+        assert_eq!(code, 0, "{err}");
+        assert!(out.contains("camera"), "{out}");
+        let (code, _, err) = crate::common::run_cli(&[
+            f,
+            "--frames",
+            "--tf-static-topic",
+            "/no_such_topic",
+            "--description-topic",
+            "/none",
+        ]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("/no_such_topic"), "{err}");
+    }
+}
+
 #[test]
 fn only_the_asked_topics_are_read() {
     // Without /tf_static there is only the description.

@@ -210,9 +210,10 @@ pub fn is_bag(path: &Path) -> bool {
     container(path).is_some()
 }
 
-/// Read a bag's `/tf_static` and `/robot_description` (see the module docs).
+/// Read a bag's transform and description topics as `opts.bag` chooses
+/// (default `/tf_static` and `/robot_description`; see the module docs).
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    load_with(path, opts, &BagOptions::default())
+    load_with(path, opts, &opts.bag)
 }
 
 /// [`load`] with the topics chosen by `bag`.
