@@ -163,6 +163,13 @@ pub const MAX_BAG_RECORD_BYTES: usize = 1 << 30;
 /// one entry per split file and topic.
 pub const MAX_BAG_METADATA_BYTES: u64 = 16 * 1024 * 1024;
 
+/// Largest file a compressed rosbag2 split (`compression_mode: FILE`, a
+/// `.db3.zstd` or `.mcap.zstd`) may decompress to (bytes): rosbag2 splits at a
+/// few GiB at most; beyond this is a zstd bomb. The file is decompressed into
+/// a temporary file (SQLite and the MCAP index need random access), deleted
+/// after reading.
+pub const MAX_BAG_DECOMPRESSED_BYTES: u64 = 64 * 1024 * 1024 * 1024;
+
 /// A bag read that will go through at least this many bytes shows a progress
 /// line on stderr when stderr is a terminal (below it the read takes well
 /// under a second).

@@ -30,6 +30,12 @@ fn containers(name: &str) -> Vec<PathBuf> {
         v.push(d.join("updates_lz4.bag"));
         v.push(d.join("updates_ros1.mcap"));
         v.push(d.join("updates_mcapdir"));
+        // rosbag2 folders compressed with zstd per file and per message.
+        for mode in ["file", "message"] {
+            for storage in ["sqlite3", "mcap"] {
+                v.push(d.join(format!("updates_{mode}_zstd_{storage}")));
+            }
+        }
     }
     v
 }
@@ -233,6 +239,45 @@ fn tf_on_request_keeps_the_constant_transforms() {
         );
         assert!(l.edges.iter().all(|e| e.child != "base_link"));
     }
+}
+
+/// A compressed split names the compressed file in provenance, and a
+/// metadata.yaml that claims a compression the files do not have is a clear
+/// error naming the message.
+#[test]
+fn compressed_rosbag2_provenance_and_lies() {
+    let d = Path::new(DIR).join("updates_file_zstd_sqlite3");
+    let l = load(&d);
+    let f = l.edges[0].provenance.location.file.as_ref().expect("file");
+    assert!(f.ends_with("updates_file_zstd_sqlite3.db3.zstd"), "{f:?}");
+    assert!(
+        l.edges[0].provenance.key.contains("decompressed"),
+        "{:?}",
+        l.edges[0].provenance
+    );
+
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let src = Path::new(DIR).join("updates_db3");
+    for f in ["metadata.yaml", "updates_db3.db3"] {
+        std::fs::copy(src.join(f), tmp.path().join(f)).expect("copy");
+    }
+    let meta = tmp.path().join("metadata.yaml");
+    let text = std::fs::read_to_string(&meta).expect("read");
+    let lie = text
+        .replace("compression_mode: ''", "compression_mode: message")
+        .replace("compression_format: ''", "compression_format: zstd");
+    assert_ne!(lie, text, "the fixture's metadata names its compression");
+    std::fs::write(&meta, lie).expect("write");
+    let e = load_file(tmp.path(), &LoadOptions::default()).expect_err("refused");
+    assert!(e.message.contains("expected zstd-compressed bytes"), "{e}");
+    std::fs::write(
+        &meta,
+        text.replace("compression_format: ''", "compression_format: lz4")
+            .replace("compression_mode: ''", "compression_mode: file"),
+    )
+    .expect("write");
+    let e = load_file(tmp.path(), &LoadOptions::default()).expect_err("refused");
+    assert!(e.message.contains("expected zstd"), "{e}");
 }
 
 /// The CLI's topic flags reach the reader: `--tf-topic /tf` adds the

@@ -3,7 +3,8 @@
 //! Reads `/tf_static` (`tf2_msgs/TFMessage`), on request `/tf`, and
 //! `/robot_description` (`std_msgs/String` holding a URDF) from ROS 2 bags
 //! (MCAP files; rosbag2 sqlite3 `.db3` files; a rosbag2 folder with its
-//! `metadata.yaml`) and ROS 1 `.bag` files (format 2.0). Each container reader
+//! `metadata.yaml`, also zstd-compressed per file or per message) and ROS 1
+//! `.bag` files (format 2.0). Each container reader
 //! uses the container's index to read only the wanted topics
 //! ([`mcap_file`], [`db3`], [`ros1`]); [`decode`] turns CDR and ROS 1 messages
 //! into transforms and strings.
@@ -48,7 +49,10 @@ use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::{check_metres, locate_warnings, urdf, Edge, LoadOptions, Loaded};
 use crate::frames::transforms_agree;
 use crate::geometry::se3::{QuatOrder, Transform};
-use crate::tolerances::{BAG_PROGRESS_MIN_BYTES, MAX_BAG_METADATA_BYTES, MAX_TRANSLATION_M};
+use crate::tolerances::{
+    BAG_PROGRESS_MIN_BYTES, MAX_BAG_DECOMPRESSED_BYTES, MAX_BAG_METADATA_BYTES,
+    MAX_BAG_RECORD_BYTES, MAX_TRANSLATION_M,
+};
 use decode::{Encoding, TfRecord};
 use std::collections::BTreeMap;
 use std::io::Read;
@@ -350,6 +354,105 @@ struct BagInfo {
     relative_file_paths: Vec<String>,
     #[serde(default)]
     compression_mode: String,
+    #[serde(default)]
+    compression_format: String,
+}
+
+/// rosbag2's `compression_mode` (rosbag2 writes `FILE`/`MESSAGE`, rosbags
+/// `file`/`message`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Compression {
+    None,
+    File,
+    Message,
+}
+
+impl BagInfo {
+    fn compression(&self, meta_path: &Path) -> Result<Compression> {
+        let mode = match self.compression_mode.to_ascii_lowercase().as_str() {
+            "" | "none" => return Ok(Compression::None),
+            "file" => Compression::File,
+            "message" => Compression::Message,
+            other => {
+                return Err(Error::parse(format!(
+                    "rosbag2 metadata: compression_mode `{other}`: expected none, file or message"
+                ))
+                .in_file(meta_path))
+            }
+        };
+        if !self.compression_format.eq_ignore_ascii_case("zstd") {
+            return Err(Error::parse(format!(
+                "rosbag2 metadata: compression_format `{}`: expected zstd (the only format rosbag2 ships)",
+                self.compression_format
+            ))
+            .in_file(meta_path));
+        }
+        Ok(mode)
+    }
+}
+
+/// A `compression_mode: FILE` split decompressed into a temporary file with
+/// the inner extension (`x.db3.zstd` -> `x.db3`), bounded by
+/// [`MAX_BAG_DECOMPRESSED_BYTES`]. The file is deleted when the guard drops.
+fn decompress_split(f: &Path) -> Result<tempfile::TempPath> {
+    let input = crate::input::open_regular(f)?;
+    let inner = f.file_stem().map(Path::new).and_then(|s| s.extension());
+    let suffix = format!(
+        ".{}",
+        inner.map(|e| e.to_string_lossy()).unwrap_or_default()
+    );
+    let mut tmp = tempfile::Builder::new()
+        .prefix("audit-bag-")
+        .suffix(&suffix)
+        .tempfile()
+        .map_err(|e| Error::io(Path::new("temporary file"), &e))?;
+    let mut dec = zstd::stream::read::Decoder::new(input)
+        .map_err(|e| Error::parse(format!("zstd: {e}")).in_file(f))?;
+    let n = std::io::copy(
+        &mut (&mut dec).take(MAX_BAG_DECOMPRESSED_BYTES + 1),
+        tmp.as_file_mut(),
+    )
+    .map_err(|e| {
+        Error::parse(format!(
+            "expected a zstd-compressed rosbag2 file (compression_mode file): {e}"
+        ))
+        .in_file(f)
+    })?;
+    if n > MAX_BAG_DECOMPRESSED_BYTES {
+        return Err(Error::limit(format!(
+            "decompresses to more than {MAX_BAG_DECOMPRESSED_BYTES} bytes: expected a rosbag2 split of a few GiB"
+        ))
+        .in_file(f));
+    }
+    Ok(tmp.into_temp_path())
+}
+
+/// `compression_mode: MESSAGE`: each message's bytes are one zstd frame.
+fn decompress_messages(c: &mut Contents) -> Result<()> {
+    for m in &mut c.messages {
+        let mut out = Vec::new();
+        zstd::stream::read::Decoder::new(m.data.as_slice())
+            .and_then(|d| {
+                d.take(MAX_BAG_RECORD_BYTES as u64 + 1)
+                    .read_to_end(&mut out)
+            })
+            .map_err(|e| {
+                Error::parse(format!(
+                    "{} message ({}): expected zstd-compressed bytes (compression_mode message): {e}",
+                    m.topic, m.place
+                ))
+                .in_file(&m.file)
+            })?;
+        if out.len() > MAX_BAG_RECORD_BYTES {
+            return Err(Error::limit(format!(
+                "{} message ({}) decompresses to more than {MAX_BAG_RECORD_BYTES} bytes",
+                m.topic, m.place
+            ))
+            .in_file(&m.file));
+        }
+        m.data = out;
+    }
+    Ok(())
 }
 
 /// A rosbag2 folder: the files its `metadata.yaml` lists, read in order.
@@ -378,25 +481,27 @@ fn read_folder(dir: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
         )
         .in_file(&meta_path));
     }
+    let compression = info.compression(&meta_path)?;
     let mut out = Contents::default();
     for rel in &info.relative_file_paths {
         let f = dir.join(rel);
-        if !info.compression_mode.is_empty()
-            && info.compression_mode != "NONE"
-            && magic(&f).is_none()
-        {
-            return Err(Error::parse(format!(
-                "rosbag2 file {rel} is compressed (compression_mode {}): expected an uncompressed bag (`ros2 bag decompress` or `zstd -d` first)",
-                info.compression_mode
-            ))
-            .in_file(&meta_path));
-        }
-        let c = match container(&f) {
-            Some(Container::Mcap) => mcap_file::read(&f, wanted)?,
-            Some(Container::Db3) => db3::read(&f, wanted)?,
+        // FILE mode: a split that is not itself a container is decompressed.
+        let tmp = match compression {
+            Compression::File if f.is_file() && magic(&f).is_none() => Some(decompress_split(&f)?),
+            _ => None,
+        };
+        let read_from = tmp.as_deref().unwrap_or(&f);
+        let mut c = match container(read_from) {
+            Some(Container::Mcap) => mcap_file::read(read_from, wanted)?,
+            Some(Container::Db3) => db3::read(read_from, wanted)?,
             _ => {
                 return Err(Error::parse(format!(
-                    "rosbag2 file {rel}: expected an .mcap or .db3 file, found {}",
+                    "rosbag2 file {rel}: expected an .mcap or .db3 file{}, found {}",
+                    if compression == Compression::File {
+                        " (zstd-compressed)"
+                    } else {
+                        ""
+                    },
                     if f.exists() {
                         "neither"
                     } else {
@@ -406,6 +511,15 @@ fn read_folder(dir: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
                 .in_file(&meta_path))
             }
         };
+        if tmp.is_some() {
+            for m in &mut c.messages {
+                m.file = f.clone();
+                m.place = format!("{} of the decompressed file", m.place);
+            }
+        }
+        if compression == Compression::Message {
+            decompress_messages(&mut c)?;
+        }
         for t in c.topics {
             if !out.topics.contains(&t) {
                 out.topics.push(t);
