@@ -125,6 +125,8 @@ codes! {
     Limit = "limit", Error;
     /// The command line asks for something impossible.
     Usage = "usage", Error;
+    /// `audit --strict`: warnings were raised, and every warning is an error.
+    WarningsDenied = "warnings-denied", Error;
 
     // Warnings raised while reading: the answer is given, the input is suspicious.
     /// A rotation matrix off orthonormal by more than the warning tolerance;

@@ -5,7 +5,7 @@ use super::{
     write_output,
 };
 use clap::{Args, ValueEnum};
-use extrinsic_audit::diagnostic::Result;
+use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
 use extrinsic_audit::formats::bag::BagOptions;
 use extrinsic_audit::formats::{Format, LoadOptions};
 use extrinsic_audit::pipeline::{self, Rename, RigOptions};
@@ -79,6 +79,11 @@ pub struct AuditArgs {
     /// `xacro` program on PATH)
     #[arg(long = "xacro", value_enum, default_value_t = XacroMode::Native)]
     pub xacro_mode: XacroMode,
+    /// Every warning is an error (exit 2 after printing them): for CI runs
+    /// that must not pass with a joint outside its limits or a value that
+    /// looks like degrees
+    #[arg(long, alias = "deny-warnings")]
+    pub strict: bool,
     /// Bags: a static transform topic (tf2_msgs/TFMessage, named as recorded)
     /// to read instead of /tf_static; repeatable
     #[arg(long = "tf-static-topic", value_name = "TOPIC")]
@@ -171,9 +176,28 @@ pub fn parse_rename(s: &str) -> std::result::Result<Rename, String> {
     })
 }
 
+/// `--strict`: the warnings just printed stop the command.
+fn deny_warnings(strict: bool, warnings: &[Warning]) -> Result<()> {
+    if !strict || warnings.is_empty() {
+        return Ok(());
+    }
+    let mut codes: Vec<&str> = warnings.iter().map(|w| w.code.name()).collect();
+    codes.sort_unstable();
+    codes.dedup();
+    Err(Error::new(
+        Code::WarningsDenied,
+        format!(
+            "--strict: expected no warnings, found {} ({})",
+            warnings.len(),
+            codes.join(", ")
+        ),
+    ))
+}
+
 pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     let loaded = pipeline::load(&args.files, &args.load_options()?, &args.renames)?;
     print_warnings(loaded.graph.warnings());
+    deny_warnings(args.strict, loaded.graph.warnings())?;
     loaded.check_joint_names(args.joints.iter().map(|(n, _)| n.as_str()))?;
     if args.frames {
         // Names cannot hold a line break (refused when loaded); the rest of
@@ -185,6 +209,7 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     let (from, to) = loaded.frame_pair(args.from.as_deref(), args.to.as_deref())?;
     let chain = loaded.graph.transform(&from, &to)?;
     print_warnings(&chain.warnings);
+    deny_warnings(args.strict, &chain.warnings)?;
     let opts = RigOptions {
         ells: args.ell.clone(),
         pitch_tol: args.pitch_tol,

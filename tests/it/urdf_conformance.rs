@@ -434,4 +434,23 @@ fn joint_outside_limit_is_used_with_a_warning() {
         .expect("run");
     assert_eq!(out.status.code(), Some(0));
     assert!(!String::from_utf8_lossy(&out.stderr).contains("warning["));
+    // --strict: the same warning stops the command (exit 2, no report), and a
+    // value within the limit still passes.
+    let strict = |joint: &str| {
+        audit()
+            .arg(&p)
+            .args(["--from", "a", "--to", "c", "--strict", "--joint", joint])
+            .output()
+            .expect("run")
+    };
+    let out = strict("shoulder=2");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(out.stdout.is_empty());
+    assert!(
+        err.contains("warning[joint-outside-limit]")
+            && err.contains("--strict: expected no warnings, found 1 (joint-outside-limit)"),
+        "{err}"
+    );
+    assert_eq!(strict("shoulder=1").status.code(), Some(0));
 }
