@@ -76,32 +76,37 @@ use std::path::Path;
 
 /// Parse URDF text.
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    let doc = match roxmltree::Document::parse_with_options(text, xml::parse_options()) {
-        Ok(d) => d,
-        Err(e) if xacro::has_markers(text) => {
-            let _ = e;
-            return Err(Error::parse(format!(
-                "this file holds un-expanded xacro, not URDF: {}",
-                xacro::advice(path)
-            )));
-        }
-        Err(e) => return Err(xml::error(&e, text)),
-    };
-    let idx = LineIndex::new(text);
-    let root = doc.root_element();
-    check_root(&idx, root)?;
-    refuse_xacro(&idx, &doc, path)?;
     let mut warnings = Vec::new();
-    let version = read::version(&idx, root, opts)?;
-    let links = read::links(&idx, root)?;
-    let raw = read::joints(&idx, root, &links, version, path, &mut warnings)?;
-    let edges = joints::edges(&idx, &raw, opts, &mut warnings)?;
-    let frames = link_frames(&idx, &links, path);
+    // The XML tree is dropped before the tree check below: on a large robot it
+    // is the largest allocation (issue 12: memory per link).
+    let (edges, frames) = {
+        let doc = match roxmltree::Document::parse_with_options(text, xml::parse_options()) {
+            Ok(d) => d,
+            Err(e) if xacro::has_markers(text) => {
+                let _ = e;
+                return Err(Error::parse(format!(
+                    "this file holds un-expanded xacro, not URDF: {}",
+                    xacro::advice(path)
+                )));
+            }
+            Err(e) => return Err(xml::error(&e, text)),
+        };
+        let idx = LineIndex::new(text);
+        let root = doc.root_element();
+        check_root(&idx, root)?;
+        refuse_xacro(&idx, &doc, path)?;
+        let version = read::version(&idx, root, opts)?;
+        let links = read::links(&idx, root)?;
+        let raw = read::joints(&idx, root, &links, version, path, &mut warnings)?;
+        let edges = joints::edges(&idx, &raw, opts, &mut warnings)?;
+        (edges, link_frames(&idx, &links, path))
+    };
     // The joints must form a tree: check now, with the file's positions.
     let mut g = FrameGraph::new();
     for e in &edges {
         g.add_edge(e.clone())?;
     }
+    drop(g);
     root_links(&edges, &frames, path, &mut warnings);
     Ok(Loaded {
         edges,

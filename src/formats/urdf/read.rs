@@ -161,8 +161,10 @@ pub(super) fn joints<'a>(
     path: &Path,
     warnings: &mut Vec<Warning>,
 ) -> Result<Vec<JointRaw<'a>>> {
-    let mut joints: Vec<JointRaw> = Vec::new();
-    let mut seen: HashMap<String, usize> = HashMap::new();
+    // Sized once: a doubling Vec holds up to twice the joints (issue 12).
+    let n = elements(root, "joint").count();
+    let mut joints: Vec<JointRaw> = Vec::with_capacity(n);
+    let mut seen: HashMap<String, usize> = HashMap::with_capacity(n);
     for j in elements(root, "joint") {
         if let Some(&prev) = j.attribute("name").and_then(|n| seen.get(n)) {
             return Err(err_at(
