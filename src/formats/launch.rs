@@ -26,10 +26,13 @@
 //! - ROS 2 launch YAML (`node: {pkg, exec, args}`), `args` a string or a list,
 //!   with `arg:` declarations, `$(var x)` and `if:` / `unless:` on the node
 //!   and its groups decided as for launch XML;
-//! - ROS 2 Python launch files: the literal `arguments=[...]` list of a
-//!   `Node(...)` whose executable is `static_transform_publisher`; an element
-//!   that is not a string or number literal (a variable, `LaunchConfiguration`,
-//!   an f-string) is refused, naming it;
+//! - ROS 2 Python launch files: the `arguments=[...]` list of a `Node(...)`
+//!   whose executable is `static_transform_publisher`, its elements string or
+//!   number literals or `LaunchConfiguration('x')` (resolved from the file's
+//!   `DeclareLaunchArgument('x', default_value=...)` and `--arg x=VALUE`);
+//!   `condition=IfCondition(...)` / `UnlessCondition(...)` on the Node or an
+//!   enclosing `GroupAction` decided the same way; any other element (a
+//!   variable, an f-string, a `PythonExpression`) is refused, naming it;
 //! - command lines saved as text (`rosrun tf static_transform_publisher ...`,
 //!   `ros2 run tf2_ros static_transform_publisher ...`), one a line, `\`
 //!   continuations joined, `#` comments skipped.
@@ -755,11 +758,121 @@ fn python_literal(e: &str) -> Option<String> {
     parse_number(t).map(|_| t.to_string())
 }
 
+/// `LaunchConfiguration('x')` (any module prefix) as the launch-XML
+/// substitution `$(var x)`, so Python args resolve like XML args.
+fn py_launch_configuration(e: &str) -> Option<String> {
+    let t = e.trim();
+    let open = t.find("LaunchConfiguration(")?;
+    let before = &t[..open];
+    if !(before.is_empty() || before.ends_with('.')) || !t.ends_with(')') {
+        return None;
+    }
+    let inner = &t[open + "LaunchConfiguration(".len()..t.len() - 1];
+    let first = split_top_level(inner).into_iter().next()?.1;
+    let name = python_literal(first.trim().trim_start_matches("variable_name=").trim())?;
+    Some(format!("$(var {name})"))
+}
+
+/// A top-level keyword argument `key=...` of a Python call body: its value
+/// and its offset in `body`.
+fn py_kwarg(body: &str, key: &str) -> Option<(usize, String)> {
+    split_top_level(body).into_iter().find_map(|(off, el)| {
+        let t = el.trim_start();
+        let rest = t.strip_prefix(key)?.trim_start();
+        let value = rest.strip_prefix('=')?;
+        (!value.starts_with('=')).then(|| (off + (el.len() - t.len()), value.trim().to_string()))
+    })
+}
+
+/// `DeclareLaunchArgument('x', default_value='v')` calls of a Python launch
+/// file, as launch-arg declarations (a default that is not a literal is no
+/// default: `--arg` must give it).
+fn py_arg_decls(text: &str) -> Vec<ArgDecl> {
+    let src = text.as_bytes();
+    let mut out = Vec::new();
+    for (at, _) in text.match_indices("DeclareLaunchArgument(") {
+        let open = at + "DeclareLaunchArgument".len();
+        let Some(close) = matching_close(src, open) else {
+            continue;
+        };
+        let body = &text[open + 1..close];
+        let name = py_kwarg(body, "name")
+            .map(|(_, v)| v)
+            .or_else(|| split_top_level(body).into_iter().next().map(|(_, e)| e))
+            .and_then(|e| python_literal(&e));
+        let Some(name) = name else { continue };
+        let default = py_kwarg(body, "default_value").and_then(|(_, v)| python_literal(&v));
+        out.push(ArgDecl {
+            name,
+            value: None,
+            default,
+        });
+    }
+    out
+}
+
+/// The `if` / `unless` condition of a Python launch `condition=...`:
+/// `IfCondition(X)` / `UnlessCondition(X)` with `X` a literal or
+/// `LaunchConfiguration('x')`; anything else cannot be decided from the file.
+fn py_condition(value: &str, place: &str) -> std::result::Result<Condition, String> {
+    let t = value.trim();
+    for (call, attr) in [("IfCondition(", "if"), ("UnlessCondition(", "unless")] {
+        let Some(open) = t.find(call) else { continue };
+        let before = &t[..open];
+        if !(before.is_empty() || before.ends_with('.')) || !t.ends_with(')') {
+            continue;
+        }
+        let inner = t[open + call.len()..t.len() - 1].trim();
+        let inner = inner.strip_prefix("predicate_expression=").unwrap_or(inner);
+        let raw = python_literal(inner).or_else(|| py_launch_configuration(inner));
+        if let Some(raw) = raw {
+            return Ok(Condition {
+                attr,
+                raw,
+                place: place.to_string(),
+            });
+        }
+    }
+    Err(format!(
+        "condition={} cannot be decided from the file: expected IfCondition(...) or UnlessCondition(...) of a literal or LaunchConfiguration('NAME')",
+        crate::sanitize::quote(t)
+    ))
+}
+
+/// The conditions on the Node call at `call` (`Node(` opening at `open`)
+/// and on every `GroupAction(...)` enclosing it.
+fn py_conditions(text: &str, call: usize, open: usize, close: usize) -> Result<Vec<Condition>> {
+    let src = text.as_bytes();
+    let mut spans = vec![(open, close, String::new())];
+    for (at, _) in text[..call].match_indices("GroupAction(") {
+        let g_open = at + "GroupAction".len();
+        if let Some(g_close) = matching_close(src, g_open) {
+            if g_close > close {
+                spans.push((g_open, g_close, " on its enclosing GroupAction".to_string()));
+            }
+        }
+    }
+    let mut conds = Vec::new();
+    for (o, c, place) in spans {
+        let body = &text[o + 1..c];
+        if let Some((off, value)) = py_kwarg(body, "condition") {
+            let cond = py_condition(&value, &place).map_err(|m| {
+                let (l, col) = line_col(text, o + 1 + off);
+                Error::parse(m).at_line(l, Some(col))
+            })?;
+            conds.push(cond);
+        }
+    }
+    Ok(conds)
+}
+
 /// ROS 2 Python launch files: literal argument lists only.
 pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    let _ = opts;
     let src = text.as_bytes();
+    let args = LaunchArgs::from_decls(py_arg_decls(text), &opts.xacro_args);
     let mut out = Loaded::default();
+    // The first Node switched off, for the error when none runs.
+    let mut skipped: Option<(usize, String)> = None;
     let mut search_from = 0;
     let mut seen_calls: Vec<usize> = Vec::new();
     while let Some(rel) = text[search_from..].find("static_transform_publisher") {
@@ -790,6 +903,18 @@ pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
         let body = &text[open + 1..close];
         let (l, c) = line_col(text, call);
         let loc = Location::at(path, l, Some(c));
+        let conds = py_conditions(text, call, open, close)?;
+        if let Some(why) = args.first_off(&conds, &loc)? {
+            skipped.get_or_insert((l, why.clone()));
+            out.warnings.push(
+                Warning::new(
+                    Code::Ignored,
+                    format!("static_transform_publisher Node not started ({why}): its transform is not read"),
+                )
+                .at(&loc),
+            );
+            continue;
+        }
         let Some(arel) = body.find("arguments") else {
             return Err(Error::parse(
                 "static_transform_publisher Node without `arguments=[...]`: expected a literal argument list",
@@ -821,7 +946,14 @@ pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
         let inner = &text[list_off + 1..lclose];
         let mut toks = Vec::new();
         for (off, el) in split_top_level(inner) {
-            match python_literal(&el) {
+            let value = match python_literal(&el) {
+                Some(v) => Some(v),
+                None => match py_launch_configuration(&el) {
+                    Some(var) => Some(args.resolve(&var, &loc)?),
+                    None => None,
+                },
+            };
+            match value {
                 Some(s) => toks.extend(s.split_whitespace().map(String::from)),
                 None => {
                     let lead = el.len() - el.trim_start().len();
@@ -841,6 +973,12 @@ pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
             "Node(arguments=[...]) ",
             &mut out.warnings,
         )?);
+    }
+    if let (true, Some((line, why))) = (out.edges.is_empty(), skipped) {
+        return Err(Error::parse(format!(
+            "every static_transform_publisher Node is switched off (the first by {why}): expected at least one that runs; set the launch argument it depends on with --arg NAME=VALUE"
+        ))
+        .at_line(line, None));
     }
     Ok(out)
 }

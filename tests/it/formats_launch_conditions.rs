@@ -179,3 +179,85 @@ fn launch_yaml_conditions_and_args_are_decided_the_same_way() {
         "{err}"
     );
 }
+
+/// ROS 2 Python launch: `condition=IfCondition(...)` / `UnlessCondition(...)`
+/// on a Node or its enclosing GroupAction, and `LaunchConfiguration('x')` in
+/// the arguments, decided from `DeclareLaunchArgument` defaults and `--arg`.
+#[test]
+fn python_launch_conditions_and_launch_configurations() {
+    let f = "tests/fixtures/formats/ros2_conditions.launch.py";
+    let pose = |extra: &[&str], to: &str| {
+        let mut a = vec![f, "--from", "base_link", "--to", to, "--format", "json"];
+        a.extend_from_slice(extra);
+        let (code, out, err) = run_cli(&a);
+        let t = serde_json::from_str::<serde_json::Value>(&out)
+            .ok()
+            .map(|v| v["transform"]["translation_m"].clone());
+        (code, t, err)
+    };
+    // Defaults: the new mount (0.3, 0, 0.4) to `lidar`, the camera group on.
+    let (code, t, err) = pose(&[], "lidar");
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(t, Some(serde_json::json!([0.3, 0.0, 0.4])));
+    assert!(
+        err.contains(":17:9: static_transform_publisher Node not started (if="),
+        "{err}"
+    );
+    assert!(
+        err.contains(":40:9:") && err.contains("(if=\"false\")"),
+        "{err}"
+    );
+    assert_eq!(pose(&[], "camera").0, 0);
+    // --arg flips the mount, renames the lidar frame, switches the group off.
+    let args = [
+        "--arg",
+        "use_old_mount=true",
+        "--arg",
+        "lidar_frame=os",
+        "--arg",
+        "with_camera=0",
+    ];
+    let (code, t, err) = pose(&args, "os");
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(t, Some(serde_json::json!([0.5, 0.0, 0.2])));
+    assert!(err.contains("on its enclosing GroupAction"), "{err}");
+    let (code, _, err) = pose(&args, "camera");
+    assert_eq!(code, 2, "{err}");
+}
+
+/// A condition the file cannot decide is refused at its line, naming what is
+/// expected; every Node off is an error naming the argument to pass.
+#[test]
+fn python_launch_conditions_that_cannot_be_decided() {
+    let d = tempfile::tempdir().unwrap();
+    let node = |cond: &str| {
+        format!(
+            "from launch_ros.actions import Node\nNode(\n    executable='static_transform_publisher',\n    condition={cond},\n    arguments=['0', '0', '1', '0', '0', '0', 'base', 'lidar'],\n)\n"
+        )
+    };
+    let p = d.path().join("a.launch.py");
+    std::fs::write(&p, node("IfCondition(PythonExpression(['1 == 1']))")).unwrap();
+    let (code, _, err) = run_cli(&[p.to_str().unwrap(), "--frames"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("a.launch.py:4:5") && err.contains("cannot be decided"),
+        "{err}"
+    );
+    std::fs::write(&p, node("IfCondition(LaunchConfiguration('lidar_on'))")).unwrap();
+    let (code, _, err) = run_cli(&[p.to_str().unwrap(), "--frames"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--arg lidar_on=VALUE") || err.contains("--arg 'lidar_on'=VALUE"),
+        "{err}"
+    );
+    let (code, out, err) = run_cli(&[p.to_str().unwrap(), "--frames", "--arg", "lidar_on=true"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("lidar"), "{out}");
+    std::fs::write(&p, node("UnlessCondition('true')")).unwrap();
+    let (code, _, err) = run_cli(&[p.to_str().unwrap(), "--frames"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("every static_transform_publisher Node is switched off"),
+        "{err}"
+    );
+}
