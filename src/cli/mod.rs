@@ -8,6 +8,7 @@
 mod audit;
 mod check;
 mod detector;
+mod frames;
 mod survey;
 
 use clap::{Parser, Subcommand};

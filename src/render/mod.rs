@@ -9,6 +9,7 @@
 mod csv;
 mod document;
 mod github;
+pub mod graph;
 mod markdown;
 pub mod numbers;
 mod sarif;

@@ -23,6 +23,7 @@ mod formats_launch_conditions;
 mod formats_no_panic;
 mod formats_rigs;
 mod formats_xacro;
+mod frames_pictures;
 mod graph_basic;
 mod graph_urdf_corpus;
 mod hostile_atomic;
