@@ -252,6 +252,16 @@ pub const MAX_WALK_DEPTH: usize = 64;
 /// `CMakeLists.txt` a `.txt` one).
 pub const DEFAULT_WALK_EXCLUDES: &[&str] = &["package.xml", "CMakeLists.txt"];
 
+/// Default `audit diff --tolerance` on a translation change (mm): the length
+/// of `d_new - d_old`, per edge and for the composed chain. A millimetre, as
+/// [`DEFAULT_MAX_TRANSLATION_DRIFT`]: below what a recalibration moves on
+/// purpose, above the printed digits of any format.
+pub const DEFAULT_DIFF_TRANSLATION_TOL_MM: f64 = 1.0;
+
+/// Default `audit diff --tolerance` on a rotation change (deg): the angle of
+/// `R_old^T R_new`, as [`DEFAULT_MAX_ROTATION_DRIFT_DEG`].
+pub const DEFAULT_DIFF_ROTATION_TOL_DEG: f64 = 0.05;
+
 // ---------------------------------------------------------------------------
 // Degeneracy detector (`degeneracy`)
 // ---------------------------------------------------------------------------

@@ -8,6 +8,7 @@
 mod audit;
 mod check;
 mod detector;
+mod diff;
 mod frames;
 mod survey;
 
@@ -76,6 +77,8 @@ pub enum Command {
     Degeneracy(detector::DegeneracyArgs),
     // about/long_about come from the Args struct.
     CalibrateThreshold(detector::CalibrateThresholdArgs),
+    // about/long_about come from the Args struct.
+    Diff(diff::DiffArgs),
     /// Print shell completions (bash, zsh, fish, elvish, powershell)
     #[command(
         long_about = "Print a completion script for your shell to standard output.",
@@ -121,6 +124,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
         Some(Command::Simulate(args)) => detector::simulate(&args, out),
         Some(Command::Degeneracy(args)) => detector::degeneracy(&args, out),
         Some(Command::CalibrateThreshold(args)) => detector::calibrate_threshold(&args, out),
+        Some(Command::Diff(args)) => diff::run(&args, out),
         Some(Command::Completions { shell }) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();
             clap_complete::generate(shell, &mut cmd, "audit", out);

@@ -17,6 +17,7 @@ mod core_fixtures;
 mod core_props;
 mod detector_core;
 mod detector_threshold;
+mod diff;
 mod formats_bad_inputs;
 mod formats_bags;
 mod formats_launch_conditions;
