@@ -102,6 +102,13 @@ pub const ELL_RANGE_M: (f64, f64) = (1e-6, 1e6);
 /// ratio `lambda / kappa` stays below 1e200 and the band products finite.
 pub const KAPPA_RANGE: (f64, f64) = (1e-100, 1e100);
 
+/// Characteristic lengths (m) spanned by the survey plot's band panel
+/// (`survey --plot`): 10 cm (a handheld rig's scene) to 100 m (open roads).
+pub const PLOT_ELL_RANGE_M: (f64, f64) = (0.1, 100.0);
+
+/// Size (px, width x height) of the survey plot: two panels side by side.
+pub const PLOT_SIZE_PX: (u32, u32) = (1400, 640);
+
 // ---------------------------------------------------------------------------
 // Frame graph (`frames`)
 // ---------------------------------------------------------------------------

@@ -14,7 +14,7 @@ pub mod walk;
 pub use check::{check, CheckOptions, Robot};
 pub use diff::{diff, DiffOptions};
 pub use files::{expand_paths, write_atomic};
-pub use survey::{survey, SortColumn, SurveyOptions};
+pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};
 
 use crate::diagnostic::{Error, Result};
 use crate::formats::{self, LoadOptions};

@@ -12,6 +12,7 @@ mod github;
 pub mod graph;
 mod markdown;
 pub mod numbers;
+pub mod plot;
 mod sarif;
 mod style;
 mod text;

@@ -44,4 +44,5 @@ mod readme;
 mod rig_toml;
 mod scene_simulate;
 mod scene_tunnel;
+mod survey_any;
 mod urdf_conformance;
