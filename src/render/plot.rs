@@ -71,7 +71,7 @@ fn scatter(
         .draw()
         .map_err(plot_err)?;
     for (label, c) in [
-        ("zero pitch: adapted metric M0 exists", ZERO_PITCH),
+        ("zero pitch (ringed): adapted metric M0 exists", ZERO_PITCH),
         ("general screw: no constant metric", GENERAL),
         ("no rotation (h undefined)", NO_ROTATION),
     ] {
@@ -104,6 +104,14 @@ fn scatter(
             no_rot
                 .iter()
                 .map(|r| TriangleMarker::new((r.lever_arm_m, 0.0), 5, NO_ROTATION.filled())),
+        )
+        .map_err(plot_err)?;
+    // Zero-pitch rigs last, ringed, so that no other marker hides them.
+    chart
+        .draw_series(
+            rigs.iter()
+                .filter(|r| r.zero_pitch)
+                .map(|r| Circle::new((r.lever_arm_m, abs_h(r)), 7, BLACK.stroke_width(2))),
         )
         .map_err(plot_err)?;
     chart
@@ -156,8 +164,11 @@ fn bands(
         .light_line_style(WHITE.mix(0.0))
         .draw()
         .map_err(plot_err)?;
-    for r in rigs {
-        let c = colour(r).mix(0.35);
+    // Zero-pitch rigs drawn last, over the others.
+    let mut order: Vec<&SurveyRigJson> = rigs.iter().collect();
+    order.sort_by_key(|r| r.zero_pitch);
+    for r in order {
+        let c = colour(r).mix(if r.zero_pitch { 0.9 } else { 0.35 });
         let curve = band_curve(r.lever_arm_m);
         for k in 0..2 {
             chart

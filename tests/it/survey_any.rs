@@ -187,7 +187,9 @@ fn the_plot_names_every_rig_and_marks_zero_pitch() {
         .filter(|r| r["zero_pitch"] == true)
         .count();
     assert!(
-        texts.contains(&format!("zero pitch: adapted metric M0 exists ({zero})")),
+        texts.contains(&format!(
+            "zero pitch (ringed): adapted metric M0 exists ({zero})"
+        )),
         "{texts:?}"
     );
     let max = v["summary"]["lever_arm_max_m"].as_f64().unwrap();
