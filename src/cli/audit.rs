@@ -23,7 +23,9 @@ pub struct AuditArgs {
     /// Child frame (e.g. the LiDAR)
     #[arg(long, value_name = "FRAME")]
     pub to: Option<String>,
-    /// List the frames and edges the files yield (with file:line), then exit
+    /// List the frames and edges the files yield (with file:line), then exit;
+    /// --format text, json, dot, mermaid, markdown or svg draws the tree, and
+    /// --from/--to highlight their chain
     #[arg(long)]
     pub frames: bool,
     /// Characteristic lengths (m) for the certificate bands

@@ -38,6 +38,8 @@ const AFTER_HELP: &str = "\
 Examples:
   audit robot.urdf --from base_link --to lidar
   audit robot.urdf --frames
+  audit robot.urdf --frames --from base_link --to lidar --format svg > frames.svg
+  audit diff old.urdf new.urdf --from base_link --to lidar --format markdown
   audit robot.urdf lidar_calib.yaml --from base_link --to lidar --format json
   audit fast_lio.yaml                      # one edge: imu -> lidar
   audit robot.urdf --from base --to lidar --joint torso_joint=0.2
