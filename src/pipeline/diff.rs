@@ -14,7 +14,7 @@ use crate::report::diff::{
 };
 use crate::report::RigReport;
 use crate::report::SCHEMA_VERSION;
-use crate::tolerances::{DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL};
+use crate::tolerances::{DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, NEAR_HALF_TURN_RAD};
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
@@ -155,6 +155,20 @@ fn edge_diffs(
     common
 }
 
+/// `h` changed sign and the rotation change could pass through a half-turn
+/// (see `ChainDiffJson::screw_sign_flip_at_half_turn`).
+fn sign_flip_at_half_turn(o: &RigReport, n: &RigReport, change_deg: f64) -> bool {
+    let (Some(ho), Some(hn)) = (
+        o.screw.translation_along_axis_m,
+        n.screw.translation_along_axis_m,
+    ) else {
+        return false;
+    };
+    let to_half_turn = (180.0 - o.rotation.angle_deg) + (180.0 - n.rotation.angle_deg);
+    // Rounding slack: NEAR_HALF_TURN_RAD.
+    ho * hn < 0.0 && to_half_turn <= change_deg + NEAR_HALF_TURN_RAD.to_degrees()
+}
+
 fn old_new<T>(o: &RigReport, n: &RigReport, f: impl Fn(&RigReport) -> T) -> OldNew<T> {
     OldNew {
         old: f(o),
@@ -178,6 +192,7 @@ fn chain_diff(
         angle_deg: old_new(o, n, |r| r.rotation.angle_deg),
         lever_arm_m: old_new(o, n, |r| r.lever_arm_m),
         screw_translation_m: old_new(o, n, |r| r.screw.translation_along_axis_m),
+        screw_sign_flip_at_half_turn: sign_flip_at_half_turn(o, n, angle.to_degrees()),
         screw_kind: old_new(o, n, |r| r.screw.kind),
         bands: o
             .certificate

@@ -112,6 +112,11 @@ pub struct ChainDiffJson {
     pub lever_arm_m: OldNew<f64>,
     /// Screw translation `h` (m); null without a rotation.
     pub screw_translation_m: OldNew<Option<f64>>,
+    /// `h` changed sign, and both rotations are close enough to a half-turn
+    /// that turning through it explains the flip (180 - angle_old + 180 -
+    /// angle_new <= the rotation change): the axis `e` flips there, and
+    /// `h = e . d` with it, so compare `|h|`.
+    pub screw_sign_flip_at_half_turn: bool,
     /// Screw kind.
     pub screw_kind: OldNew<ScrewKind>,
     /// One band per characteristic length.
@@ -200,11 +205,21 @@ impl DiffReport {
             .concat(),
         ];
         let (ho, hn) = (c.screw_translation_m.old, c.screw_translation_m.new);
+        let dh = ho.zip(hn).map_or("-".into(), |(o, n)| {
+            if c.screw_sign_flip_at_half_turn {
+                format!(
+                    "|h| {} (sign flips at the half-turn)",
+                    fixed(n.abs() - o.abs(), 4)
+                )
+            } else {
+                fixed(n - o, 4)
+            }
+        });
         rows.push(vec![
             "screw translation h (m)".into(),
             opt_m(ho),
             opt_m(hn),
-            ho.zip(hn).map_or("-".into(), |(o, n)| fixed(n - o, 4)),
+            dh,
         ]);
         rows.push(vec![
             "screw kind".into(),

@@ -1,9 +1,10 @@
 //! `audit diff OLD NEW`: real pairs (ANYmal C against ANYmal D, the ANYmal D
-//! URDF against its rig TOML, and against an authored FAST-LIO extrinsic with
-//! renames), every figure checked against tests/fixtures/diff/expected.json
-//! (numpy + pytransform3d, gen_expected.py beside it); the JSON against
-//! docs/schemas/diff.schema.json; exit 1 beyond --tolerance, 0 within, 2 on bad
-//! input.
+//! URDF against its rig TOML) and authored ones (FAST-LIO and Kalibr-style
+//! extrinsics of ANYmal D with known changes, frames matched with renames),
+//! every figure checked against tests/fixtures/diff/expected.json (numpy +
+//! pytransform3d, gen_expected.py beside it); the JSON against
+//! docs/schemas/diff.schema.json; exit 1 beyond --tolerance, 0 within, 2 on
+//! bad input.
 
 use crate::common::run_cli;
 use serde_json::Value;
@@ -315,4 +316,60 @@ fn bad_input_exits_2_with_a_message() {
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(err.contains(needle), "{args:?}: {err}");
     }
+}
+
+#[test]
+fn a_urdf_against_a_kalibr_matrix_within_tolerance() {
+    let x = &expected()["urdf_vs_kalibr"];
+    let (code, v) = diff_json(&[
+        D,
+        "tests/fixtures/diff/anymal_d_kalibr.yaml",
+        "--from",
+        "imu_link",
+        "--to",
+        "lidar",
+        "--rename",
+        "anymal_d_kalibr.yaml:imu=imu_link",
+    ]);
+    assert_eq!(code, 0, "0.55 mm and 0.02 deg are within 1 mm, 0.05 deg");
+    let c = &v["chain"];
+    close(
+        &c["translation_change_mm"],
+        &x["chain"]["translation_change_mm"],
+        1e-9,
+    );
+    close(
+        &c["rotation_change_deg"],
+        &x["chain"]["rotation_change_deg"],
+        1e-9,
+    );
+    close(&c["lever_arm_m"]["new"], &x["new"]["lever_arm_m"], 1e-12);
+    close(&c["angle_deg"]["new"], &x["new"]["angle_deg"], 1e-9);
+    // OLD is an exact half-turn (h >= 0 by convention), NEW 0.02 deg short of
+    // one: the axis, and the sign of h, flip between them; |h| barely moves.
+    let (ho, hn) = (
+        c["screw_translation_m"]["old"].as_f64().unwrap(),
+        c["screw_translation_m"]["new"].as_f64().unwrap(),
+    );
+    assert!(ho > 0.0 && hn < 0.0, "{ho} {hn}");
+    assert!((hn.abs() - x["new"]["abs_h_m"].as_f64().unwrap()).abs() < 1e-9);
+    assert_eq!(c["screw_sign_flip_at_half_turn"], true);
+    let (_, text, _) = run_cli(&[
+        "diff",
+        D,
+        "tests/fixtures/diff/anymal_d_kalibr.yaml",
+        "--from",
+        "imu_link",
+        "--to",
+        "lidar",
+        "--rename",
+        "anymal_d_kalibr.yaml:imu=imu_link",
+    ]);
+    assert!(
+        text.contains("|h| 0.0003 (sign flips at the half-turn)"),
+        "{text}"
+    );
+    // A rig far from a half-turn never gets the note.
+    let (_, same) = diff_json(&[C, C, "--from", "base", "--to", "lidar"]);
+    assert_eq!(same["chain"]["screw_sign_flip_at_half_turn"], false);
 }
