@@ -102,6 +102,13 @@ pub const ELL_RANGE_M: (f64, f64) = (1e-6, 1e6);
 /// ratio `lambda / kappa` stays below 1e200 and the band products finite.
 pub const KAPPA_RANGE: (f64, f64) = (1e-100, 1e100);
 
+/// Characteristic lengths (m) spanned by the survey plot's band panel
+/// (`survey --plot`): 10 cm (a handheld rig's scene) to 100 m (open roads).
+pub const PLOT_ELL_RANGE_M: (f64, f64) = (0.1, 100.0);
+
+/// Size (px, width x height) of the survey plot: two panels side by side.
+pub const PLOT_SIZE_PX: (u32, u32) = (1400, 640);
+
 // ---------------------------------------------------------------------------
 // Frame graph (`frames`)
 // ---------------------------------------------------------------------------
@@ -263,6 +270,16 @@ pub const MAX_WALK_DEPTH: usize = 64;
 /// build files of every ROS package (`package.xml` has a `.xml` name,
 /// `CMakeLists.txt` a `.txt` one).
 pub const DEFAULT_WALK_EXCLUDES: &[&str] = &["package.xml", "CMakeLists.txt"];
+
+/// Default `audit diff --tolerance` on a translation change (mm): the length
+/// of `d_new - d_old`, per edge and for the composed chain. A millimetre, as
+/// [`DEFAULT_MAX_TRANSLATION_DRIFT`]: below what a recalibration moves on
+/// purpose, above the printed digits of any format.
+pub const DEFAULT_DIFF_TRANSLATION_TOL_MM: f64 = 1.0;
+
+/// Default `audit diff --tolerance` on a rotation change (deg): the angle of
+/// `R_old^T R_new`, as [`DEFAULT_MAX_ROTATION_DRIFT_DEG`].
+pub const DEFAULT_DIFF_ROTATION_TOL_DEG: f64 = 0.05;
 
 // ---------------------------------------------------------------------------
 // Degeneracy detector (`degeneracy`)

@@ -1,16 +1,14 @@
 //! `audit FILE... --from A --to B`: the rig report.
 
+use super::frames::AuditFormat;
 use super::{
     emit, parse_ell, parse_joint, parse_kappa, parse_lambda, parse_nonneg, print_warnings,
-    write_output,
 };
 use clap::{Args, ValueEnum};
 use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
 use extrinsic_audit::formats::bag::BagOptions;
 use extrinsic_audit::formats::{Format, LoadOptions};
 use extrinsic_audit::pipeline::{self, Rename, RigOptions};
-use extrinsic_audit::render::OutputFormat;
-use extrinsic_audit::sanitize;
 use extrinsic_audit::tolerances::{DEFAULT_ELLS, DEFAULT_MAX_FILE_SIZE};
 use std::io::Write;
 use std::path::PathBuf;
@@ -26,7 +24,9 @@ pub struct AuditArgs {
     /// Child frame (e.g. the LiDAR)
     #[arg(long, value_name = "FRAME")]
     pub to: Option<String>,
-    /// List the frames and edges the files yield (with file:line), then exit
+    /// List the frames and edges the files yield (with file:line), then exit;
+    /// --format text, json, dot, mermaid, markdown or svg draws the tree, and
+    /// --from/--to highlight their chain
     #[arg(long)]
     pub frames: bool,
     /// Characteristic lengths (m) for the certificate bands
@@ -64,9 +64,9 @@ pub struct AuditArgs {
     /// Refuse input files larger than this many bytes
     #[arg(long, default_value_t = DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
     pub max_file_size: u64,
-    /// Output format
-    #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
-    pub format: OutputFormat,
+    /// Output format (dot, mermaid and svg only with --frames)
+    #[arg(long, value_enum, default_value_t = AuditFormat::Table)]
+    pub format: AuditFormat,
     /// xacro and launch-file `$(arg NAME)` value (also `if="$(arg NAME)"` in a
     /// launch file), overriding the file's default; repeatable
     #[arg(long = "arg", value_parser = parse_xacro_arg, value_name = "NAME=VALUE")]
@@ -200,12 +200,15 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     deny_warnings(args.strict, loaded.graph.warnings())?;
     loaded.check_joint_names(args.joints.iter().map(|(n, _)| n.as_str()))?;
     if args.frames {
-        // Names cannot hold a line break (refused when loaded); the rest of
-        // what could act on a terminal or a CI log is escaped.
-        let tree = sanitize::block(&loaded.graph.tree());
-        write_output(out, &format!("{tree}\n"))?;
-        return Ok(0);
+        return super::frames::run(
+            &loaded,
+            args.from.as_deref(),
+            args.to.as_deref(),
+            args.format,
+            out,
+        );
     }
+    let format = args.format.report_format()?;
     let (from, to) = loaded.frame_pair(args.from.as_deref(), args.to.as_deref())?;
     let chain = loaded.graph.transform(&from, &to)?;
     print_warnings(&chain.warnings);
@@ -215,6 +218,6 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
         pitch_tol: args.pitch_tol,
         kappa_lambda: args.kappa.zip(args.lambda),
     };
-    emit(&pipeline::report(&chain, &opts)?, args.format, out)?;
+    emit(&pipeline::report(&chain, &opts)?, format, out)?;
     Ok(0)
 }

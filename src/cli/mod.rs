@@ -8,6 +8,8 @@
 mod audit;
 mod check;
 mod detector;
+mod diff;
+mod frames;
 mod survey;
 
 use clap::{Parser, Subcommand};
@@ -36,6 +38,8 @@ const AFTER_HELP: &str = "\
 Examples:
   audit robot.urdf --from base_link --to lidar
   audit robot.urdf --frames
+  audit robot.urdf --frames --from base_link --to lidar --format svg > frames.svg
+  audit diff old.urdf new.urdf --from base_link --to lidar --format markdown
   audit robot.urdf lidar_calib.yaml --from base_link --to lidar --format json
   audit fast_lio.yaml                      # one edge: imu -> lidar
   audit robot.urdf --from base --to lidar --joint torso_joint=0.2
@@ -75,6 +79,8 @@ pub enum Command {
     Degeneracy(detector::DegeneracyArgs),
     // about/long_about come from the Args struct.
     CalibrateThreshold(detector::CalibrateThresholdArgs),
+    // about/long_about come from the Args struct.
+    Diff(diff::DiffArgs),
     /// Print shell completions (bash, zsh, fish, elvish, powershell)
     #[command(
         long_about = "Print a completion script for your shell to standard output.",
@@ -120,6 +126,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
         Some(Command::Simulate(args)) => detector::simulate(&args, out),
         Some(Command::Degeneracy(args)) => detector::degeneracy(&args, out),
         Some(Command::CalibrateThreshold(args)) => detector::calibrate_threshold(&args, out),
+        Some(Command::Diff(args)) => diff::run(&args, out),
         Some(Command::Completions { shell }) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();
             clap_complete::generate(shell, &mut cmd, "audit", out);

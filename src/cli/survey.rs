@@ -15,10 +15,11 @@ translation, zero pitch, s_max, band at l = 1, adapted metric), then a summary: 
 lever-arm min / median / max, and how many rigs have nonzero pitch (general screws and pure \
 translations: no adapted constant metric exists for them).\n\nRotations below 1 degree are \
 marked `*`: their screw axis is set by calibration noise, so read h with the angle beside it.",
-    after_long_help = "Examples:\n  audit survey calibrations/\n  audit survey calibrations/ --sort lever-arm --format markdown\n  audit survey calibrations/geode-*.toml --format csv > geode.csv"
+    after_long_help = "Examples:\n  audit survey calibrations/\n  audit survey calibrations/ --sort lever-arm --format markdown\n  audit survey calibrations/geode-*.toml --format csv > geode.csv\n  audit survey robots/ --from base_link --to lidar\n  audit survey robot.urdf:base_link:velodyne other.urdf.xacro:base:os_sensor\n  audit survey calibrations/ --plot survey.svg"
 )]
 pub struct SurveyArgs {
-    /// Rig files or directories of them (*.toml)
+    /// Rig files (*.toml) or directories of them; with --from/--to any file the
+    /// tool reads (URDF, xacro, YAML, launch, ...), or PATH:FROM:TO per path
     #[arg(required = true, value_name = "PATH")]
     pub paths: Vec<PathBuf>,
     /// Output format
@@ -33,16 +34,34 @@ pub struct SurveyArgs {
     /// Also list placeholder and duplicate rigs (never counted in the summary)
     #[arg(long)]
     pub all: bool,
+    /// Frame pair for files that are not rig files (URDF, xacro, YAML,
+    /// launch, ...); per file: PATH:FROM:TO
+    #[arg(long, value_name = "FRAME", requires = "to")]
+    pub from: Option<String>,
+    /// See --from
+    #[arg(long, value_name = "FRAME", requires = "from")]
+    pub to: Option<String>,
+    /// Also draw the survey plot (lever arm against |h|, bands against the
+    /// characteristic length) to this SVG file
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
 }
 
 pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
+    if let Some(plot) = &args.plot {
+        pipeline::check_plot_target(plot, &args.paths)?;
+    }
     let (report, warnings) = pipeline::survey(&SurveyOptions {
         paths: args.paths.clone(),
         pitch_tol: args.pitch_tol,
         all: args.all,
         sort: args.sort,
+        pair: args.from.clone().zip(args.to.clone()),
     })?;
     print_warnings(&warnings);
+    if let Some(plot) = &args.plot {
+        pipeline::write_survey_plot(plot, &args.paths, &report)?;
+    }
     emit(&report, args.format, out)?;
     Ok(0)
 }

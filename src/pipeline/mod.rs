@@ -5,14 +5,16 @@
 
 mod check;
 pub mod detector;
+mod diff;
 pub mod files;
 pub mod manifest;
 mod survey;
 pub mod walk;
 
 pub use check::{check, CheckOptions, Robot};
+pub use diff::{diff, DiffOptions};
 pub use files::{expand_paths, write_atomic};
-pub use survey::{survey, SortColumn, SurveyOptions};
+pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};
 
 use crate::diagnostic::{Error, Result};
 use crate::formats::{self, LoadOptions};
@@ -43,7 +45,11 @@ pub struct Loaded {
 
 /// Apply the renames that concern `path` to what it yielded; returns how many
 /// frame names changed per rename.
-fn apply_renames(renames: &[Rename], path: &Path, loaded: &mut formats::Loaded) -> Vec<usize> {
+pub(crate) fn apply_renames(
+    renames: &[Rename],
+    path: &Path,
+    loaded: &mut formats::Loaded,
+) -> Vec<usize> {
     let p = path.to_string_lossy();
     renames
         .iter()

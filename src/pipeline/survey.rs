@@ -1,9 +1,18 @@
-//! The survey over rig files: each TOML rig file loaded, its declared pair
-//! composed and analysed at `l = 1`.
+//! The survey: each file loaded, one frame pair composed and analysed at
+//! `l = 1`.
+//!
+//! Which pair: `FILE:FROM:TO` on the command line (also `DIR:FROM:TO`, for
+//! every file under it), else the pair a TOML rig file declares, else
+//! `--from`/`--to`. Without a pair anywhere only TOML rig files are read (a
+//! directory yields its `*.toml`); with `--from`/`--to` or a `:FROM:TO` on a
+//! directory, every file a walk reads (URDF, xacro, YAML, launch, ...). A
+//! walked file that cannot be read or lacks the frames is skipped with an
+//! `ignored` warning (a folder holds other robots too); a file named on the
+//! command line is an error.
 
 use super::expand_paths;
-use crate::diagnostic::{Error, Result, Warning};
-use crate::formats::{self, LoadOptions};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
+use crate::formats::{self, LoadOptions, RigMeta};
 use crate::frames::FrameGraph;
 use crate::geometry::ScrewKind;
 use crate::report::rig::rig_report;
@@ -43,6 +52,71 @@ pub struct SurveyOptions {
     pub all: bool,
     /// Sort by this column (ties by id).
     pub sort: Option<SortColumn>,
+    /// `--from`/`--to`: the pair for files that are not rig files.
+    pub pair: Option<(String, String)>,
+}
+
+/// One file to survey.
+#[derive(Debug, Clone)]
+struct Input {
+    path: PathBuf,
+    /// From `FILE:FROM:TO` (or `DIR:FROM:TO`).
+    pair: Option<(String, String)>,
+    /// Found by a directory walk (skipped with a warning when unusable).
+    walked: bool,
+}
+
+/// `FILE:FROM:TO` split, when `p` is not itself an existing path.
+fn split_pair(p: &Path) -> (PathBuf, Option<(String, String)>) {
+    if p.exists() {
+        return (p.to_path_buf(), None);
+    }
+    let s = p.to_string_lossy();
+    let mut it = s.rsplitn(3, ':');
+    match (it.next(), it.next(), it.next()) {
+        (Some(to), Some(from), Some(file))
+            if !to.is_empty() && !from.is_empty() && !file.is_empty() =>
+        {
+            (
+                PathBuf::from(file),
+                Some((from.to_string(), to.to_string())),
+            )
+        }
+        _ => (p.to_path_buf(), None),
+    }
+}
+
+/// Any file a directory walk reads, but a check manifest.
+fn is_any_input(p: &Path) -> bool {
+    formats::is_calibration_file(p)
+        && p.file_name()
+            .is_some_and(|n| n != super::manifest::MANIFEST)
+}
+
+/// The files to survey, with the pair each is given.
+fn inputs(opts: &SurveyOptions) -> Result<Vec<Input>> {
+    let mut v = Vec::new();
+    for p in &opts.paths {
+        let (path, pair) = split_pair(p);
+        if !path.is_dir() {
+            v.push(Input {
+                path,
+                pair,
+                walked: false,
+            });
+            continue;
+        }
+        let any = pair.is_some() || opts.pair.is_some();
+        let accept: fn(&Path) -> bool = if any { is_any_input } else { is_rig_file };
+        for f in expand_paths(std::slice::from_ref(&path), accept)? {
+            v.push(Input {
+                path: f,
+                pair: pair.clone(),
+                walked: true,
+            });
+        }
+    }
+    Ok(v)
 }
 
 /// A `.toml` file other than a check manifest (`audit.toml`).
@@ -52,31 +126,55 @@ fn is_rig_file(p: &Path) -> bool {
             .is_some_and(|n| n != super::manifest::MANIFEST)
 }
 
-/// Load and analyse one rig file; its warnings go to `warnings`.
-fn survey_rig(
-    path: &Path,
-    pitch_tol: f64,
-    warnings: &mut Vec<Warning>,
-) -> Result<(SurveyRigJson, RowMarks, bool)> {
+/// The pair for `input`, and the rig metadata when it is a rig file.
+fn pair_of(
+    input: &Input,
+    meta: Option<&RigMeta>,
+    global: Option<&(String, String)>,
+) -> Result<(String, String)> {
+    let declared = meta
+        .filter(|m| !m.from.is_empty() && !m.to.is_empty())
+        .map(|m| (m.from.clone(), m.to.clone()));
+    input
+        .pair
+        .clone()
+        .or(declared)
+        .or_else(|| global.cloned())
+        .ok_or_else(|| {
+            Error::usage(
+                "expected a TOML rig file with a [rig] table (see docs/rig-format.md), or a frame pair: --from FRAME --to FRAME, or FILE:FROM:TO",
+            )
+            .in_file(&input.path)
+        })
+}
+
+/// One survey row: the report at `l = 1`, the row's marks, and whether it
+/// counts in the statistics.
+type Row = (SurveyRigJson, RowMarks, bool);
+
+/// Load and analyse one file; its warnings go to `warnings`.
+fn survey_one(input: &Input, opts: &SurveyOptions, warnings: &mut Vec<Warning>) -> Result<Row> {
+    let path = &input.path;
     let loaded = formats::load_file(path, &LoadOptions::default())?;
-    let meta = loaded.rig.clone().ok_or_else(|| {
-        Error::parse("expected a TOML rig file with a [rig] table (see docs/rig-format.md)")
-            .in_file(path)
-    })?;
+    let meta = loaded.rig.clone();
+    let (from, to) = pair_of(input, meta.as_ref(), opts.pair.as_ref())?;
     let mut graph = FrameGraph::new();
     graph.add(loaded)?;
     warnings.extend(graph.warnings().iter().cloned());
-    let chain = graph
-        .transform(&meta.from, &meta.to)
-        .map_err(|e| e.in_file(path))?;
-    let rep = rig_report(&chain, &[1.0], pitch_tol).map_err(|e| e.in_file(path))?;
+    let chain = graph.transform(&from, &to).map_err(|e| e.in_file(path))?;
+    let rep = rig_report(&chain, &[1.0], opts.pitch_tol).map_err(|e| e.in_file(path))?;
+    // A file that is not a rig file is named by its path.
+    let meta = meta.unwrap_or_else(|| RigMeta {
+        id: path.display().to_string(),
+        ..RigMeta::default()
+    });
     let json = SurveyRigJson {
         id: meta.id.clone(),
         sensor: meta.sensor.clone(),
         platform: meta.platform.clone(),
         dataset: meta.dataset.clone(),
-        from: meta.from.clone(),
-        to: meta.to.clone(),
+        from,
+        to,
         lever_arm_m: rep.lever_arm_m,
         angle_deg: rep.rotation.angle_deg,
         screw_translation_m: rep.screw.translation_along_axis_m,
@@ -92,7 +190,7 @@ fn survey_rig(
     Ok((json, marks, meta.in_statistics()))
 }
 
-fn sort_rows(rows: &mut [(SurveyRigJson, RowMarks, bool)], col: Option<SortColumn>) {
+fn sort_rows(rows: &mut [Row], col: Option<SortColumn>) {
     rows.sort_by(|a, b| a.0.id.cmp(&b.0.id));
     let Some(col) = col else { return };
     rows.sort_by(|a, b| {
@@ -116,27 +214,113 @@ fn sort_rows(rows: &mut [(SurveyRigJson, RowMarks, bool)], col: Option<SortColum
 /// Survey every rig under the paths; returns the report and the warnings the
 /// files raised.
 pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
-    let files = expand_paths(&opts.paths, is_rig_file)?;
+    let files = inputs(opts)?;
+    let names = || {
+        opts.paths
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     if files.is_empty() {
         return Err(Error::usage(format!(
-            "no rig files (*.toml) found under {}",
-            opts.paths
-                .iter()
-                .map(|p| p.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
+            "no rig files (*.toml) found under {}; for URDF, xacro, YAML or launch files give the frames: --from FRAME --to FRAME, or PATH:FROM:TO",
+            names()
         )));
     }
     let mut warnings = Vec::new();
     let mut rows = Vec::new();
     for f in &files {
-        let row = survey_rig(f, opts.pitch_tol, &mut warnings)?;
+        let row = match survey_one(f, opts, &mut warnings) {
+            Ok(row) => row,
+            // A folder holds other robots too: a walked file that cannot
+            // give the pair is reported, not fatal.
+            Err(e) if f.walked && (f.pair.is_some() || opts.pair.is_some()) => {
+                let loc = if e.location.is_empty() {
+                    Location::file(&f.path)
+                } else {
+                    e.location
+                };
+                warnings.push(
+                    Warning::new(Code::Ignored, format!("not surveyed: {}", e.message)).at(&loc),
+                );
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
         if row.2 || opts.all {
             rows.push(row);
         }
+    }
+    if rows.is_empty() && files.iter().all(|f| f.walked) {
+        return Err(Error::usage(format!(
+            "no file under {} yields the frame pair asked for (each is listed above with why)",
+            names()
+        )));
     }
     sort_rows(&mut rows, opts.sort);
     let counted: Vec<bool> = rows.iter().map(|r| r.2).collect();
     let report = SurveyReport::new(rows.into_iter().map(|(j, m, _)| (j, m)).collect(), &counted);
     Ok((report, warnings))
+}
+
+/// Whether the survey plot may be written to `target`: an `.svg` file name in
+/// an existing directory that is none of the survey's inputs (checked before
+/// the survey runs, so that nothing is read or written in vain).
+pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
+    if !target
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+    {
+        return Err(Error::usage(format!(
+            "--plot {}: expected a file name ending in .svg",
+            target.display()
+        )));
+    }
+    if target.is_dir() {
+        return Err(Error::usage(format!(
+            "--plot {}: expected a file, found a directory",
+            target.display()
+        )));
+    }
+    // Compare where the files really are (`./a.svg` and `a.svg`, symlinks).
+    let real = |p: &Path| {
+        let dir = p
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        dir.canonicalize()
+            .ok()
+            .map(|d| d.join(p.file_name().unwrap_or_default()))
+    };
+    let t = real(target).ok_or_else(|| {
+        Error::usage(format!(
+            "--plot {}: expected a file in an existing directory",
+            target.display()
+        ))
+    })?;
+    let t = t.canonicalize().unwrap_or(t);
+    for p in inputs {
+        let (p, _) = split_pair(p);
+        let is_input = p.canonicalize().ok().is_some_and(|c| c == t);
+        let walked = p.is_dir()
+            && p.canonicalize().ok().is_some_and(|d| t.starts_with(d))
+            && is_any_input(&t);
+        if is_input || walked {
+            return Err(Error::usage(format!(
+                "--plot {}: refusing to write over an input of the survey ({})",
+                target.display(),
+                p.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Draw the survey plot to `target` after [`check_plot_target`] (again: the
+/// inputs must still not include it).
+pub fn write_survey_plot(target: &Path, inputs: &[PathBuf], report: &SurveyReport) -> Result<()> {
+    check_plot_target(target, inputs)?;
+    let svg = crate::render::plot::survey_svg(report)?;
+    super::write_atomic(target, svg.as_bytes())
 }

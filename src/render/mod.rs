@@ -9,8 +9,10 @@
 mod csv;
 mod document;
 mod github;
+pub mod graph;
 mod markdown;
 pub mod numbers;
+pub mod plot;
 mod sarif;
 mod style;
 mod text;

@@ -4,6 +4,8 @@
 
 pub mod check;
 pub mod detector;
+pub mod diff;
+pub mod frames;
 pub mod rig;
 pub mod survey;
 

@@ -1,0 +1,326 @@
+//! `audit diff OLD NEW`: each file loaded into its own frame graph (renames
+//! applied where they match), the same frame pair composed in both, and the
+//! edges and the two rig reports compared (what counts as a change: see
+//! [`crate::report::diff`]).
+
+use super::{apply_renames, Rename, RigOptions};
+use crate::diagnostic::{Error, Result, Warning};
+use crate::formats::{self, LoadOptions};
+use crate::frames::{Edge, FrameGraph};
+use crate::geometry::Transform;
+use crate::report::diff::{
+    BandDiffJson, ChainDiffJson, DiffReport, DiffToleranceJson, EdgeDiffJson, EdgeStatus,
+    FamilyDiffJson, OldNew,
+};
+use crate::report::RigReport;
+use crate::report::SCHEMA_VERSION;
+use crate::tolerances::{DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, NEAR_HALF_TURN_RAD};
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+/// What to compare and how.
+#[derive(Debug, Clone)]
+pub struct DiffOptions {
+    /// The old calibration file.
+    pub old: PathBuf,
+    /// The new one.
+    pub new: PathBuf,
+    /// `--from` (else the frame pair a rig file declares).
+    pub from: Option<String>,
+    /// `--to`.
+    pub to: Option<String>,
+    /// `--rename [FILE:]OLD=NEW`, applied to the files they match.
+    pub renames: Vec<Rename>,
+    /// How the files are read.
+    pub load: LoadOptions,
+    /// Lengths of the bands, zero-pitch tolerance.
+    pub rig: RigOptions,
+    /// `--tolerance MM,DEG`.
+    pub tolerance: DiffToleranceJson,
+}
+
+/// One file loaded: its graph and the frame pair it declares (a rig file).
+struct Side {
+    graph: FrameGraph,
+    pair: Option<(String, String)>,
+}
+
+fn load_side(path: &Path, opts: &DiffOptions, matched: &mut [usize]) -> Result<Side> {
+    let mut loaded = formats::load_file(path, &opts.load)?;
+    for (total, n) in matched
+        .iter_mut()
+        .zip(apply_renames(&opts.renames, path, &mut loaded))
+    {
+        *total += n;
+    }
+    let pair = loaded
+        .rig
+        .as_ref()
+        .filter(|m| !m.from.is_empty() && !m.to.is_empty())
+        .map(|m| (m.from.clone(), m.to.clone()));
+    let mut graph = FrameGraph::new();
+    graph.add(loaded)?;
+    Ok(Side { graph, pair })
+}
+
+/// `d_new - d_old` (m) and the angle of `R_old^T R_new` (rad).
+fn change(old: &Transform, new: &Transform) -> ([f64; 3], f64) {
+    let d = new.translation() - old.translation();
+    let angle = old.inverse().compose(new).rotation_angle_axis().0;
+    ([d.x, d.y, d.z], angle)
+}
+
+fn beyond(tol: &DiffToleranceJson, d: &[f64; 3], angle_rad: f64) -> bool {
+    let mm = 1e3 * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    mm > tol.translation_mm || angle_rad.to_degrees() > tol.rotation_deg
+}
+
+fn place(e: &Edge) -> String {
+    e.provenance.location.to_string()
+}
+
+/// The edge of `g` joining the same two frames as `e`, and whether it is
+/// stored the other way round.
+fn counterpart<'a>(g: &'a FrameGraph, e: &Edge) -> Option<(&'a Edge, bool)> {
+    if let Some(n) = g.parent_edge(&e.child).filter(|n| n.parent == e.parent) {
+        return Some((n, false));
+    }
+    g.parent_edge(&e.parent)
+        .filter(|n| n.parent == e.child)
+        .map(|n| (n, true))
+}
+
+/// Every edge of either graph compared; `on` holds the `(parent, child)`
+/// pairs of both chains (either order).
+fn edge_diffs(
+    old: &FrameGraph,
+    new: &FrameGraph,
+    tol: &DiffToleranceJson,
+    on: &HashSet<(&str, &str)>,
+) -> Vec<EdgeDiffJson> {
+    let on_chain =
+        |e: &Edge| on.contains(&(&e.parent, &e.child)) || on.contains(&(&e.child, &e.parent));
+    let only = |e: &Edge, status: EdgeStatus| EdgeDiffJson {
+        on_chain: on_chain(e),
+        parent: e.parent.clone(),
+        child: e.child.clone(),
+        status,
+        reversed: false,
+        translation_delta_m: None,
+        translation_change_mm: None,
+        rotation_change_deg: None,
+        old_place: (status == EdgeStatus::Removed).then(|| place(e)),
+        new_place: (status == EdgeStatus::Added).then(|| place(e)),
+        exceeds: false,
+    };
+    let (mut common, mut removed) = (Vec::new(), Vec::new());
+    for e in old.edges() {
+        let Some((n, reversed)) = counterpart(new, e) else {
+            removed.push(only(e, EdgeStatus::Removed));
+            continue;
+        };
+        let nt = if reversed {
+            n.transform.inverse()
+        } else {
+            n.transform
+        };
+        let (d, angle) = change(&e.transform, &nt);
+        let moved = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let same = moved <= DUPLICATE_TRANSLATION_TOL && angle <= DUPLICATE_ROTATION_TOL;
+        common.push(EdgeDiffJson {
+            parent: e.parent.clone(),
+            child: e.child.clone(),
+            status: if same {
+                EdgeStatus::Unchanged
+            } else {
+                EdgeStatus::Changed
+            },
+            reversed,
+            translation_delta_m: Some(d),
+            translation_change_mm: Some(1e3 * moved),
+            rotation_change_deg: Some(angle.to_degrees()),
+            old_place: Some(place(e)),
+            new_place: Some(place(n)),
+            exceeds: beyond(tol, &d, angle),
+            on_chain: on_chain(e) || on_chain(n),
+        });
+    }
+    let added = new
+        .edges()
+        .iter()
+        .filter(|n| counterpart(old, n).is_none())
+        .map(|n| only(n, EdgeStatus::Added));
+    common.extend(removed);
+    common.extend(added);
+    common
+}
+
+/// `h` changed sign and the rotation change could pass through a half-turn
+/// (see `ChainDiffJson::screw_sign_flip_at_half_turn`).
+fn sign_flip_at_half_turn(o: &RigReport, n: &RigReport, change_deg: f64) -> bool {
+    let (Some(ho), Some(hn)) = (
+        o.screw.translation_along_axis_m,
+        n.screw.translation_along_axis_m,
+    ) else {
+        return false;
+    };
+    let to_half_turn = (180.0 - o.rotation.angle_deg) + (180.0 - n.rotation.angle_deg);
+    // Rounding slack: NEAR_HALF_TURN_RAD.
+    ho * hn < 0.0 && to_half_turn <= change_deg + NEAR_HALF_TURN_RAD.to_degrees()
+}
+
+fn old_new<T>(o: &RigReport, n: &RigReport, f: impl Fn(&RigReport) -> T) -> OldNew<T> {
+    OldNew {
+        old: f(o),
+        new: f(n),
+    }
+}
+
+fn chain_diff(
+    o: &RigReport,
+    n: &RigReport,
+    told: &Transform,
+    tnew: &Transform,
+    tol: &DiffToleranceJson,
+) -> ChainDiffJson {
+    let (d, angle) = change(told, tnew);
+    ChainDiffJson {
+        translation_m: old_new(o, n, |r| r.transform.translation_m),
+        translation_delta_m: d,
+        translation_change_mm: 1e3 * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt(),
+        rotation_change_deg: angle.to_degrees(),
+        angle_deg: old_new(o, n, |r| r.rotation.angle_deg),
+        lever_arm_m: old_new(o, n, |r| r.lever_arm_m),
+        screw_translation_m: old_new(o, n, |r| r.screw.translation_along_axis_m),
+        screw_sign_flip_at_half_turn: sign_flip_at_half_turn(o, n, angle.to_degrees()),
+        screw_kind: old_new(o, n, |r| r.screw.kind),
+        bands: o
+            .certificate
+            .iter()
+            .zip(&n.certificate)
+            .map(|(a, b)| BandDiffJson {
+                ell_m: a.ell_m,
+                band: OldNew {
+                    old: a.band,
+                    new: b.band,
+                },
+            })
+            .collect(),
+        adapted_metric_exists: old_new(o, n, |r| r.adapted_metric.exists),
+        detectors: o
+            .detectors
+            .iter()
+            .zip(&n.detectors)
+            .map(|(a, b)| FamilyDiffJson {
+                family: a.family,
+                invariant_on_rig: OldNew {
+                    old: a.invariant_on_rig,
+                    new: b.invariant_on_rig,
+                },
+                changed: a.invariant_on_rig != b.invariant_on_rig,
+            })
+            .collect(),
+        exceeds: beyond(tol, &d, angle),
+    }
+}
+
+/// Why the diff exceeds its tolerance, one sentence each.
+fn exceeded(chain: &ChainDiffJson, edges: &[EdgeDiffJson]) -> Vec<String> {
+    let mut why = Vec::new();
+    if chain.exceeds {
+        why.push(format!(
+            "the chain moved {:.3} mm, {:.4} deg",
+            chain.translation_change_mm, chain.rotation_change_deg
+        ));
+    }
+    let n = edges.iter().filter(|e| e.exceeds).count();
+    if n > 0 {
+        why.push(format!("{n} common edge(s) moved"));
+    }
+    if chain.screw_kind.old != chain.screw_kind.new {
+        why.push(format!(
+            "the screw kind changed ({} -> {})",
+            chain.screw_kind.old.name(),
+            chain.screw_kind.new.name()
+        ));
+    }
+    let flipped: Vec<&str> = chain
+        .detectors
+        .iter()
+        .filter(|f| f.changed)
+        .map(|f| f.family.label())
+        .collect();
+    if !flipped.is_empty() {
+        why.push(format!("verdict changed for {}", flipped.join(", ")));
+    }
+    why
+}
+
+/// The frame pair: given, or declared by OLD's (else NEW's) rig file.
+fn frame_pair(opts: &DiffOptions, old: &Side, new: &Side) -> Result<(String, String)> {
+    match (&opts.from, &opts.to) {
+        (Some(f), Some(t)) => Ok((f.clone(), t.clone())),
+        (None, None) => old.pair.clone().or_else(|| new.pair.clone()).ok_or_else(|| {
+            Error::usage(
+                "name the frames to compare with --from FRAME --to FRAME (neither file is a rig file declaring them; `audit FILE --frames` lists them)",
+            )
+        }),
+        _ => Err(Error::usage("give both --from and --to, or neither")),
+    }
+}
+
+/// Compare OLD and NEW; returns the report and the warnings the files and
+/// chains raised.
+pub fn diff(opts: &DiffOptions) -> Result<(DiffReport, Vec<Warning>)> {
+    let mut matched = vec![0usize; opts.renames.len()];
+    let old = load_side(&opts.old, opts, &mut matched)?;
+    let new = load_side(&opts.new, opts, &mut matched)?;
+    if let Some(i) = matched.iter().position(|&n| n == 0) {
+        let r = &opts.renames[i];
+        return Err(Error::usage(format!(
+            "--rename {}{}={}: expected a frame `{}` in OLD or NEW, found none",
+            r.file
+                .as_deref()
+                .map(|f| format!("{f}:"))
+                .unwrap_or_default(),
+            r.old,
+            r.new,
+            r.old
+        )));
+    }
+    let (from, to) = frame_pair(opts, &old, &new)?;
+    let co = old
+        .graph
+        .transform(&from, &to)
+        .map_err(|e| e.in_file(&opts.old))?;
+    let cn = new
+        .graph
+        .transform(&from, &to)
+        .map_err(|e| e.in_file(&opts.new))?;
+    let ro = super::report(&co, &opts.rig)?;
+    let rn = super::report(&cn, &opts.rig)?;
+    let chain = chain_diff(&ro, &rn, &co.transform, &cn.transform, &opts.tolerance);
+    let on: HashSet<(&str, &str)> = co
+        .steps
+        .iter()
+        .chain(&cn.steps)
+        .map(|s| (s.edge.parent.as_str(), s.edge.child.as_str()))
+        .collect();
+    let edges = edge_diffs(&old.graph, &new.graph, &opts.tolerance, &on);
+    let mut warnings: Vec<Warning> = old.graph.warnings().to_vec();
+    warnings.extend(new.graph.warnings().iter().cloned());
+    warnings.extend(co.warnings.iter().cloned());
+    warnings.extend(cn.warnings.iter().cloned());
+    let report = DiffReport {
+        schema_version: SCHEMA_VERSION,
+        old: opts.old.display().to_string(),
+        new: opts.new.display().to_string(),
+        from,
+        to,
+        tolerance: opts.tolerance,
+        exceeded: exceeded(&chain, &edges),
+        chain,
+        edges,
+    };
+    Ok((report, warnings))
+}

@@ -1,0 +1,377 @@
+//! `audit diff OLD NEW`: what changed between two calibrations, per edge and
+//! for the `--from` -> `--to` chain; JSON in `docs/schemas/diff.schema.json`.
+//!
+//! A change is `|d_new - d_old|` (mm) for a translation and the angle of
+//! `R_old^T R_new` (deg) for a rotation, both in the parent frame of the edge
+//! (of `from` for the chain). The diff exceeds its tolerance when a common
+//! edge or the chain moves by more than `--tolerance`, or when a verdict
+//! changes (screw kind, adapted metric, any family); edges only in one file
+//! are listed but do not by themselves exceed it (two formats rarely share
+//! edges: a URDF against a Kalibr YAML).
+
+use crate::analysis::Family;
+use crate::geometry::ScrewKind;
+use crate::render::numbers::{fixed, short};
+use crate::render::{Document, Report, Table};
+use serde::Serialize;
+
+/// A value in OLD and in NEW.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct OldNew<T> {
+    /// In OLD.
+    pub old: T,
+    /// In NEW.
+    pub new: T,
+}
+
+/// `tolerance`: what counts as a change.
+#[derive(Debug, Clone, Copy, Serialize, PartialEq)]
+pub struct DiffToleranceJson {
+    /// On a translation change (mm).
+    pub translation_mm: f64,
+    /// On a rotation change (deg).
+    pub rotation_deg: f64,
+}
+
+/// How an edge of one file compares with the other's.
+#[derive(Debug, Clone, Copy, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum EdgeStatus {
+    /// In both, the same transform (within the duplicate-edge tolerances).
+    Unchanged,
+    /// In both, a different transform.
+    Changed,
+    /// Only in NEW.
+    Added,
+    /// Only in OLD.
+    Removed,
+}
+
+/// `edges[i]`: one edge, as OLD stores it (NEW's when added).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct EdgeDiffJson {
+    /// Parent frame.
+    pub parent: String,
+    /// Child frame.
+    pub child: String,
+    /// How it compares.
+    pub status: EdgeStatus,
+    /// NEW stores the edge the other way round (child -> parent); compared
+    /// after inverting it.
+    pub reversed: bool,
+    /// `d_new - d_old` (m); null unless in both.
+    pub translation_delta_m: Option<[f64; 3]>,
+    /// `|d_new - d_old|` (mm); null unless in both.
+    pub translation_change_mm: Option<f64>,
+    /// Angle of `R_old^T R_new` (deg); null unless in both.
+    pub rotation_change_deg: Option<f64>,
+    /// `file:line:col` in OLD; null when only in NEW.
+    pub old_place: Option<String>,
+    /// `file:line:col` in NEW; null when only in OLD.
+    pub new_place: Option<String>,
+    /// The change is beyond the tolerance.
+    pub exceeds: bool,
+    /// The edge is on the `from -> to` chain of OLD or of NEW.
+    pub on_chain: bool,
+}
+
+/// `chain.bands[i]`: the certificate band at one characteristic length.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct BandDiffJson {
+    /// Characteristic length (m).
+    pub ell_m: f64,
+    /// `[s_min^2, s_max^2]` in OLD and NEW.
+    pub band: OldNew<[f64; 2]>,
+}
+
+/// `chain.detectors[i]`: one family's verdict in OLD and NEW.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct FamilyDiffJson {
+    /// The family's JSON name.
+    pub family: Family,
+    /// Invariant on the rig, in OLD and NEW.
+    pub invariant_on_rig: OldNew<bool>,
+    /// The verdict differs.
+    pub changed: bool,
+}
+
+/// `chain`: the composed `from -> to` transform of each file and its analysis.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct ChainDiffJson {
+    /// `d` (m).
+    pub translation_m: OldNew<[f64; 3]>,
+    /// `d_new - d_old` (m).
+    pub translation_delta_m: [f64; 3],
+    /// `|d_new - d_old|` (mm).
+    pub translation_change_mm: f64,
+    /// Angle of `R_old^T R_new` (deg).
+    pub rotation_change_deg: f64,
+    /// Rotation angle (deg).
+    pub angle_deg: OldNew<f64>,
+    /// Lever arm `||d||` (m).
+    pub lever_arm_m: OldNew<f64>,
+    /// Screw translation `h` (m); null without a rotation.
+    pub screw_translation_m: OldNew<Option<f64>>,
+    /// `h` changed sign, and both rotations are close enough to a half-turn
+    /// that turning through it explains the flip (180 - angle_old + 180 -
+    /// angle_new <= the rotation change): the axis `e` flips there, and
+    /// `h = e . d` with it, so compare `|h|`.
+    pub screw_sign_flip_at_half_turn: bool,
+    /// Screw kind.
+    pub screw_kind: OldNew<ScrewKind>,
+    /// One band per characteristic length.
+    pub bands: Vec<BandDiffJson>,
+    /// An adapted constant metric exists.
+    pub adapted_metric_exists: OldNew<bool>,
+    /// One entry per family, in the family table's order.
+    pub detectors: Vec<FamilyDiffJson>,
+    /// The chain's transform moved beyond the tolerance.
+    pub exceeds: bool,
+}
+
+/// The diff report.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct DiffReport {
+    /// Version of this JSON layout (1).
+    pub schema_version: u32,
+    /// OLD, as named on the command line.
+    pub old: String,
+    /// NEW, as named on the command line.
+    pub new: String,
+    /// The frame the chain is expressed in.
+    pub from: String,
+    /// The frame whose pose it is.
+    pub to: String,
+    /// What counts as a change.
+    pub tolerance: DiffToleranceJson,
+    /// The chain in both files.
+    pub chain: ChainDiffJson,
+    /// Every edge of either file: common ones first (OLD's order), then
+    /// removed, then added.
+    pub edges: Vec<EdgeDiffJson>,
+    /// Why the diff exceeds its tolerance, one sentence each; empty when it
+    /// does not (exit 0; otherwise exit 1).
+    pub exceeded: Vec<String>,
+}
+
+fn opt_m(h: Option<f64>) -> String {
+    h.map_or("-".into(), |h| fixed(h, 4))
+}
+
+fn band(b: [f64; 2]) -> String {
+    format!("[{}, {}]", fixed(b[0], 4), fixed(b[1], 4))
+}
+
+fn yes(b: bool) -> &'static str {
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
+}
+
+impl DiffReport {
+    fn chain_table(&self) -> Table {
+        let c = &self.chain;
+        let d = |o: f64, n: f64, dec: usize| vec![fixed(o, dec), fixed(n, dec), fixed(n - o, dec)];
+        let mut rows = vec![
+            [
+                vec![
+                    "translation change (mm)".to_string(),
+                    String::new(),
+                    String::new(),
+                ],
+                vec![fixed(c.translation_change_mm, 3)],
+            ]
+            .concat(),
+            [
+                vec![
+                    "rotation change (deg)".to_string(),
+                    String::new(),
+                    String::new(),
+                ],
+                vec![fixed(c.rotation_change_deg, 4)],
+            ]
+            .concat(),
+            [
+                vec!["lever arm (m)".to_string()],
+                d(c.lever_arm_m.old, c.lever_arm_m.new, 4),
+            ]
+            .concat(),
+            [
+                vec!["rotation angle (deg)".to_string()],
+                d(c.angle_deg.old, c.angle_deg.new, 3),
+            ]
+            .concat(),
+        ];
+        let (ho, hn) = (c.screw_translation_m.old, c.screw_translation_m.new);
+        let dh = ho.zip(hn).map_or("-".into(), |(o, n)| {
+            if c.screw_sign_flip_at_half_turn {
+                format!(
+                    "|h| {} (sign flips at the half-turn)",
+                    fixed(n.abs() - o.abs(), 4)
+                )
+            } else {
+                fixed(n - o, 4)
+            }
+        });
+        rows.push(vec![
+            "screw translation h (m)".into(),
+            opt_m(ho),
+            opt_m(hn),
+            dh,
+        ]);
+        rows.push(vec![
+            "screw kind".into(),
+            c.screw_kind.old.name().into(),
+            c.screw_kind.new.name().into(),
+            changed(c.screw_kind.old != c.screw_kind.new),
+        ]);
+        for b in &c.bands {
+            rows.push(vec![
+                format!("band at l = {} m", short(b.ell_m)),
+                band(b.band.old),
+                band(b.band.new),
+                String::new(),
+            ]);
+        }
+        rows.push(vec![
+            "adapted metric exists".into(),
+            yes(c.adapted_metric_exists.old).into(),
+            yes(c.adapted_metric_exists.new).into(),
+            changed(c.adapted_metric_exists.old != c.adapted_metric_exists.new),
+        ]);
+        Table::new(&["quantity", "old", "new", "change"], rows)
+    }
+
+    fn family_table(&self) -> Table {
+        let rows = self
+            .chain
+            .detectors
+            .iter()
+            .map(|f| {
+                vec![
+                    f.family.label().to_string(),
+                    yes(f.invariant_on_rig.old).into(),
+                    yes(f.invariant_on_rig.new).into(),
+                    changed(f.changed),
+                ]
+            })
+            .collect();
+        Table::new(
+            &["family", "invariant (old)", "invariant (new)", "change"],
+            rows,
+        )
+    }
+
+    fn edge_table(&self) -> Option<Table> {
+        let rows: Vec<Vec<String>> = self
+            .edges
+            .iter()
+            .filter(|e| {
+                e.status == EdgeStatus::Changed || (e.status != EdgeStatus::Unchanged && e.on_chain)
+            })
+            .map(|e| {
+                let status = match e.status {
+                    EdgeStatus::Changed if e.exceeds => "changed (beyond tolerance)",
+                    EdgeStatus::Changed => "changed",
+                    EdgeStatus::Added => "added",
+                    EdgeStatus::Removed => "removed",
+                    EdgeStatus::Unchanged => "unchanged",
+                };
+                let mark = if e.on_chain { " (chain)" } else { "" };
+                vec![
+                    format!("{} -> {}{mark}", e.parent, e.child),
+                    status.to_string(),
+                    e.translation_change_mm.map_or("-".into(), |x| fixed(x, 3)),
+                    e.rotation_change_deg.map_or("-".into(), |x| fixed(x, 4)),
+                    e.old_place.clone().unwrap_or_else(|| "-".into()),
+                    e.new_place.clone().unwrap_or_else(|| "-".into()),
+                ]
+            })
+            .collect();
+        (!rows.is_empty()).then(|| {
+            Table::new(
+                &[
+                    "edge",
+                    "status",
+                    "translation change (mm)",
+                    "rotation change (deg)",
+                    "old",
+                    "new",
+                ],
+                rows,
+            )
+        })
+    }
+
+    fn headline(&self) -> String {
+        let tol = format!(
+            "{} mm, {} deg",
+            short(self.tolerance.translation_mm),
+            short(self.tolerance.rotation_deg)
+        );
+        if self.exceeded.is_empty() {
+            format!(
+                "{} -> {}: no change beyond the tolerance ({tol}); chain moved {} mm, {} deg",
+                self.from,
+                self.to,
+                fixed(self.chain.translation_change_mm, 3),
+                fixed(self.chain.rotation_change_deg, 4)
+            )
+        } else {
+            format!(
+                "{} -> {}: {} beyond the tolerance ({tol})",
+                self.from,
+                self.to,
+                self.exceeded.join("; ")
+            )
+        }
+    }
+}
+
+fn changed(c: bool) -> String {
+    if c {
+        "changed".into()
+    } else {
+        String::new()
+    }
+}
+
+impl Report for DiffReport {
+    fn document(&self) -> Document {
+        let mut doc = Document::new();
+        doc.push(crate::render::Block::Headline {
+            text: self.headline(),
+            good: self.exceeded.is_empty(),
+        });
+        doc.text(format!("old: {}\nnew: {}", self.old, self.new));
+        doc.section(format!("Chain {} -> {}", self.from, self.to));
+        doc.table(self.chain_table());
+        doc.section("Detector families");
+        doc.table(self.family_table());
+        doc.section("Edges");
+        let n = |s: EdgeStatus| self.edges.iter().filter(|e| e.status == s).count();
+        doc.text(format!(
+            "{} unchanged, {} changed, {} removed, {} added",
+            n(EdgeStatus::Unchanged),
+            n(EdgeStatus::Changed),
+            n(EdgeStatus::Removed),
+            n(EdgeStatus::Added)
+        ));
+        if let Some(t) = self.edge_table() {
+            doc.table(t);
+        }
+        let off = self
+            .edges
+            .iter()
+            .filter(|e| matches!(e.status, EdgeStatus::Added | EdgeStatus::Removed) && !e.on_chain)
+            .count();
+        if off > 0 {
+            doc.text(format!(
+                "{off} edges off the chain are in only one file (listed in --format json)"
+            ));
+        }
+        doc
+    }
+}

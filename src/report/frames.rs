@@ -1,0 +1,178 @@
+//! The frame tree (`audit FILE... --frames`): every frame and every edge the
+//! files yield, each edge with its transform (pose of child in parent,
+//! `p_parent = R p_child + d`), joint type and `file:line`, and the
+//! `--from` -> `--to` chain marked when one is given. JSON in
+//! `docs/schemas/frames.schema.json`; the pictures (DOT, Mermaid, SVG) are
+//! drawn from this report by `crate::render::graph`.
+//!
+//! Frames are listed depth first from the roots (sorted), children in the
+//! order their edges were read, so a parent always comes before its children.
+
+use super::SCHEMA_VERSION;
+use crate::frames::{Chain, Edge, FrameGraph};
+use serde::Serialize;
+use std::collections::{HashMap, HashSet};
+
+/// `frames[i]`: one frame.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct FrameJson {
+    /// The frame's name, exactly as in the file.
+    pub name: String,
+    /// Its parent frame; null for a root.
+    pub parent: Option<String>,
+    /// Edges from its root (0 for a root).
+    pub depth: usize,
+    /// The frame is on the `--from` -> `--to` chain.
+    pub on_chain: bool,
+}
+
+/// `edges[i]`: one edge, parent -> child as stored.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct FrameEdgeJson {
+    /// Parent frame.
+    pub parent: String,
+    /// Child frame.
+    pub child: String,
+    /// `d` (m): the origin of the child in parent coordinates.
+    pub translation_m: [f64; 3],
+    /// URDF fixed-axis `[roll, pitch, yaw]` (deg), `R = Rz(yaw) Ry(pitch) Rx(roll)`.
+    pub rpy_deg: [f64; 3],
+    /// Rotation angle of `R` in `[0, 180]` (deg).
+    pub angle_deg: f64,
+    /// `fixed`, or the joint type (`revolute`, `continuous`, `prismatic`,
+    /// `floating`, `planar`); a movable joint is drawn at the position used.
+    pub joint_type: String,
+    /// The movable joint's name; null for a fixed edge.
+    pub joint_name: Option<String>,
+    /// The file the edge was read from (empty when none).
+    pub file: String,
+    /// 1-based line; null when unknown.
+    pub line: Option<usize>,
+    /// 1-based column; null when unknown.
+    pub column: Option<usize>,
+    /// Id of the format that read it.
+    pub format: String,
+    /// The edge is on the `--from` -> `--to` chain.
+    pub on_chain: bool,
+}
+
+/// `chain`: the frame pair asked for and the frames of its path, in order.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct ChainFramesJson {
+    /// `--from`.
+    pub from: String,
+    /// `--to`.
+    pub to: String,
+    /// The frames walked from `from` to `to`, both included.
+    pub path: Vec<String>,
+}
+
+/// The frame tree report.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct FramesReport {
+    /// Version of this JSON layout (1).
+    pub schema_version: u32,
+    /// Every frame, depth first from the roots.
+    pub frames: Vec<FrameJson>,
+    /// Every edge, in the order of `frames` (the edge into each non-root).
+    pub edges: Vec<FrameEdgeJson>,
+    /// The highlighted chain; null without `--from`/`--to`.
+    pub chain: Option<ChainFramesJson>,
+    /// The text tree (the `text` rendering), kept for it.
+    #[serde(skip)]
+    pub tree_text: String,
+}
+
+fn edge_json(e: &Edge, on_chain: bool) -> FrameEdgeJson {
+    let t = &e.transform;
+    let d = t.translation();
+    let rpy = t.rpy();
+    let loc = &e.provenance.location;
+    FrameEdgeJson {
+        parent: e.parent.clone(),
+        child: e.child.clone(),
+        translation_m: [d.x, d.y, d.z],
+        rpy_deg: rpy.map(f64::to_degrees),
+        angle_deg: t.rotation_angle_axis().0.to_degrees(),
+        joint_type: e
+            .joint
+            .as_ref()
+            .map_or("fixed".to_string(), |j| j.joint_type.name().to_string()),
+        joint_name: e.joint.as_ref().map(|j| j.name.clone()),
+        file: loc
+            .file
+            .as_ref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_default(),
+        line: loc.line,
+        column: loc.column,
+        format: e.provenance.format.to_string(),
+        on_chain,
+    }
+}
+
+/// The chain's frames in order from `from` to `to`.
+fn chain_path(chain: &Chain) -> Vec<String> {
+    let mut path = vec![chain.from.clone()];
+    for s in &chain.steps {
+        let next = if s.inverted {
+            &s.edge.parent
+        } else {
+            &s.edge.child
+        };
+        path.push(next.clone());
+    }
+    path
+}
+
+/// The frame tree of `graph`, with `chain` marked when given.
+pub fn frames_report(graph: &FrameGraph, chain: Option<&Chain>) -> FramesReport {
+    let on: HashSet<(String, String)> = chain
+        .map(|c| {
+            c.steps
+                .iter()
+                .map(|s| (s.edge.parent.clone(), s.edge.child.clone()))
+                .collect()
+        })
+        .unwrap_or_default();
+    let path = chain.map(chain_path).unwrap_or_default();
+    let on_frame: HashSet<&str> = path.iter().map(String::as_str).collect();
+    let mut kids: HashMap<&str, Vec<&Edge>> = HashMap::new();
+    for e in graph.edges() {
+        kids.entry(e.parent.as_str()).or_default().push(e);
+    }
+    let mut frames = Vec::new();
+    let mut edges = Vec::new();
+    for root in graph.roots() {
+        // Explicit stack, children pushed in reverse to pop in file order.
+        let mut stack: Vec<(Option<&Edge>, String, usize)> = vec![(None, root, 0)];
+        while let Some((edge, name, depth)) = stack.pop() {
+            if let Some(e) = edge {
+                edges.push(edge_json(
+                    e,
+                    on.contains(&(e.parent.clone(), e.child.clone())),
+                ));
+            }
+            for e in kids.get(name.as_str()).into_iter().flatten().rev() {
+                stack.push((Some(e), e.child.clone(), depth + 1));
+            }
+            frames.push(FrameJson {
+                on_chain: on_frame.contains(name.as_str()),
+                parent: edge.map(|e| e.parent.clone()),
+                name,
+                depth,
+            });
+        }
+    }
+    FramesReport {
+        schema_version: SCHEMA_VERSION,
+        frames,
+        edges,
+        chain: chain.map(|c| ChainFramesJson {
+            from: c.from.clone(),
+            to: c.to.clone(),
+            path,
+        }),
+        tree_text: graph.tree(),
+    }
+}

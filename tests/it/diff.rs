@@ -1,0 +1,375 @@
+//! `audit diff OLD NEW`: real pairs (ANYmal C against ANYmal D, the ANYmal D
+//! URDF against its rig TOML) and authored ones (FAST-LIO and Kalibr-style
+//! extrinsics of ANYmal D with known changes, frames matched with renames),
+//! every figure checked against tests/fixtures/diff/expected.json (numpy +
+//! pytransform3d, gen_expected.py beside it); the JSON against
+//! docs/schemas/diff.schema.json; exit 1 beyond --tolerance, 0 within, 2 on
+//! bad input.
+
+use crate::common::run_cli;
+use serde_json::Value;
+
+const C: &str = "tests/fixtures/urdf/anymal_c.urdf";
+const D: &str = "calibrations/anymal-d.urdf";
+const D_TOML: &str = "calibrations/anymal-d-lidar-imu.toml";
+const FASTLIO: &str = "tests/fixtures/diff/anymal_d_fastlio.yaml";
+
+fn expected() -> Value {
+    let p = format!(
+        "{}/tests/fixtures/diff/expected.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+fn validator() -> jsonschema::Validator {
+    let p = format!(
+        "{}/docs/schemas/diff.schema.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let s: Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
+    jsonschema::validator_for(&s).expect("schema")
+}
+
+/// `audit diff ARGS --format json`: (exit code, the validated report).
+fn diff_json(args: &[&str]) -> (i32, Value) {
+    let mut a = vec!["diff"];
+    a.extend_from_slice(args);
+    a.extend_from_slice(&["--format", "json"]);
+    let (code, out, err) = run_cli(&a);
+    assert!(code == 0 || code == 1, "{a:?}: exit {code}: {err}");
+    let v: Value = serde_json::from_str(&out).expect("JSON");
+    let errors: Vec<String> = validator()
+        .iter_errors(&v)
+        .map(|e| format!("{e} at {}", e.instance_path))
+        .collect();
+    assert!(errors.is_empty(), "{errors:#?}");
+    assert_eq!(v["exceeded"].as_array().unwrap().is_empty(), code == 0);
+    (code, v)
+}
+
+fn close(a: &Value, b: &Value, tol: f64) {
+    let (x, y) = (a.as_f64().unwrap(), b.as_f64().unwrap());
+    assert!((x - y).abs() <= tol, "{x} vs {y}");
+}
+
+fn edge<'a>(v: &'a Value, parent: &str, child: &str) -> &'a Value {
+    v["edges"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["parent"] == parent && e["child"] == child)
+        .unwrap_or_else(|| panic!("no edge {parent} -> {child}"))
+}
+
+#[test]
+fn anymal_c_against_anymal_d() {
+    let x = &expected()["anymal_c_vs_d"];
+    let (code, v) = diff_json(&[C, D, "--from", "base", "--to", "lidar"]);
+    assert_eq!(code, 1);
+    let c = &v["chain"];
+    close(
+        &c["translation_change_mm"],
+        &x["chain"]["translation_change_mm"],
+        1e-9,
+    );
+    close(
+        &c["rotation_change_deg"],
+        &x["chain"]["rotation_change_deg"],
+        1e-6,
+    );
+    for side in ["old", "new"] {
+        close(&c["lever_arm_m"][side], &x[side]["lever_arm_m"], 1e-12);
+        close(&c["angle_deg"][side], &x[side]["angle_deg"], 1e-6);
+        let h = c["screw_translation_m"][side].as_f64().unwrap().abs();
+        close(&h.into(), &x[side]["abs_h_m"], 1e-9);
+        let l1 = c["bands"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|b| b["ell_m"] == 1.0)
+            .unwrap();
+        for i in 0..2 {
+            close(&l1["band"][side][i], &x[side]["band_l1"][i], 1e-12);
+        }
+        for i in 0..3 {
+            close(
+                &c["translation_m"][side][i],
+                &x[side]["translation_m"][i],
+                1e-12,
+            );
+        }
+    }
+    // The IMU moved by half a metre and turned over between the two robots.
+    let imu = edge(&v, "base", "imu_link");
+    assert_eq!(imu["status"], "changed");
+    assert_eq!(imu["exceeds"], true);
+    close(
+        &imu["translation_change_mm"],
+        &x["edge_base_imu_link"]["translation_change_mm"],
+        1e-9,
+    );
+    close(
+        &imu["rotation_change_deg"],
+        &x["edge_base_imu_link"]["rotation_change_deg"],
+        1e-6,
+    );
+    // ANYmal C reaches the LiDAR through lidar_cage, ANYmal D through lidar_parent.
+    for (p, ch, status) in [
+        ("base", "lidar_cage", "removed"),
+        ("lidar_cage", "lidar", "removed"),
+        ("base", "lidar_parent", "added"),
+        ("lidar_parent", "lidar", "added"),
+    ] {
+        let e = edge(&v, p, ch);
+        assert_eq!(
+            (e["status"].as_str(), e["on_chain"].as_bool()),
+            (Some(status), Some(true))
+        );
+    }
+    // Text and markdown carry the same verdict.
+    let (code, md, _) = run_cli(&[
+        "diff", C, D, "--from", "base", "--to", "lidar", "--format", "markdown",
+    ]);
+    assert_eq!(code, 1);
+    assert!(
+        md.contains("beyond the tolerance")
+            && md.contains("| lever arm (m) | 0.3908 | 0.3482 | -0.0426 |"),
+        "{md}"
+    );
+    assert!(
+        md.contains("| base -> lidar_parent (chain) | added |"),
+        "{md}"
+    );
+}
+
+#[test]
+fn a_urdf_against_its_rig_toml_is_unchanged() {
+    let x = &expected()["urdf_vs_toml"];
+    // The rig TOML declares imu_link -> lidar: no --from/--to needed.
+    let (code, v) = diff_json(&[D, D_TOML]);
+    assert_eq!(code, 0);
+    assert_eq!(
+        (v["from"].as_str(), v["to"].as_str()),
+        (Some("imu_link"), Some("lidar"))
+    );
+    close(
+        &v["chain"]["translation_change_mm"],
+        &x["chain"]["translation_change_mm"],
+        1e-9,
+    );
+    close(
+        &v["chain"]["rotation_change_deg"],
+        &x["chain"]["rotation_change_deg"],
+        1e-6,
+    );
+    close(
+        &v["chain"]["lever_arm_m"]["old"],
+        &x["old"]["lever_arm_m"],
+        1e-12,
+    );
+    let unchanged: Vec<(&str, &str)> = v["edges"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["status"] == "unchanged")
+        .map(|e| (e["parent"].as_str().unwrap(), e["child"].as_str().unwrap()))
+        .collect();
+    assert_eq!(
+        unchanged,
+        [
+            ("base", "imu_link"),
+            ("base", "lidar_parent"),
+            ("lidar_parent", "lidar")
+        ]
+    );
+    assert!(v["edges"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|e| e["status"] != "changed"));
+    let (code, text, _) = run_cli(&["diff", D, D_TOML]);
+    assert_eq!(code, 0);
+    assert!(
+        text.starts_with("imu_link -> lidar: no change beyond the tolerance"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_urdf_against_a_fastlio_extrinsic_with_renames() {
+    let x = &expected()["urdf_vs_fastlio"];
+    let args = [
+        D,
+        FASTLIO,
+        "--from",
+        "imu_link",
+        "--to",
+        "lidar",
+        "--rename",
+        "anymal_d_fastlio.yaml:imu=imu_link",
+    ];
+    let (code, v) = diff_json(&args);
+    assert_eq!(code, 1, "2.2 mm and 0.2 deg exceed 1 mm, 0.05 deg");
+    close(
+        &v["chain"]["translation_change_mm"],
+        &x["chain"]["translation_change_mm"],
+        1e-9,
+    );
+    close(
+        &v["chain"]["rotation_change_deg"],
+        &x["chain"]["rotation_change_deg"],
+        1e-9,
+    );
+    close(
+        &v["chain"]["lever_arm_m"]["new"],
+        &x["new"]["lever_arm_m"],
+        1e-12,
+    );
+    let h = v["chain"]["screw_translation_m"]["new"]
+        .as_f64()
+        .unwrap()
+        .abs();
+    close(&h.into(), &x["new"]["abs_h_m"], 1e-9);
+    assert_eq!(edge(&v, "imu_link", "lidar")["status"], "added");
+    // Within a looser tolerance: exit 0.
+    let loose = [&args[..], &["--tolerance", "2.5,0.25"]].concat();
+    assert_eq!(diff_json(&loose).0, 0);
+    let tight = [&args[..], &["--tolerance", "2.5,0.15"]].concat();
+    assert_eq!(diff_json(&tight).0, 1);
+}
+
+#[test]
+fn a_file_against_itself_is_unchanged_everywhere() {
+    let (code, v) = diff_json(&[C, C, "--from", "base", "--to", "lidar"]);
+    assert_eq!(code, 0);
+    assert_eq!(v["chain"]["translation_change_mm"], 0.0);
+    assert!(v["edges"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|e| e["status"] == "unchanged"));
+    assert!(v["chain"]["detectors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|d| d["changed"] == false));
+}
+
+#[test]
+fn bad_input_exits_2_with_a_message() {
+    let cases: [(&[&str], &str); 6] = [
+        (
+            &["diff", C, "no/such.urdf", "--from", "base", "--to", "lidar"],
+            "no/such.urdf",
+        ),
+        (
+            &[
+                "diff",
+                C,
+                D,
+                "--from",
+                "base",
+                "--to",
+                "lidar",
+                "--tolerance",
+                "1",
+            ],
+            "MM,DEG",
+        ),
+        (
+            &[
+                "diff",
+                C,
+                D,
+                "--from",
+                "base",
+                "--to",
+                "lidar",
+                "--tolerance",
+                "1,-2",
+            ],
+            "-2",
+        ),
+        (&["diff", C, D], "--from"),
+        (
+            &["diff", C, D, "--from", "base", "--to", "nowhere"],
+            "nowhere",
+        ),
+        (
+            &[
+                "diff",
+                C,
+                D,
+                "--from",
+                "base",
+                "--to",
+                "lidar",
+                "--rename",
+                "x.yaml:imu=i",
+            ],
+            "--rename",
+        ),
+    ];
+    for (args, needle) in cases {
+        let (code, _, err) = run_cli(args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn a_urdf_against_a_kalibr_matrix_within_tolerance() {
+    let x = &expected()["urdf_vs_kalibr"];
+    let (code, v) = diff_json(&[
+        D,
+        "tests/fixtures/diff/anymal_d_kalibr.yaml",
+        "--from",
+        "imu_link",
+        "--to",
+        "lidar",
+        "--rename",
+        "anymal_d_kalibr.yaml:imu=imu_link",
+    ]);
+    assert_eq!(code, 0, "0.55 mm and 0.02 deg are within 1 mm, 0.05 deg");
+    let c = &v["chain"];
+    close(
+        &c["translation_change_mm"],
+        &x["chain"]["translation_change_mm"],
+        1e-9,
+    );
+    close(
+        &c["rotation_change_deg"],
+        &x["chain"]["rotation_change_deg"],
+        1e-9,
+    );
+    close(&c["lever_arm_m"]["new"], &x["new"]["lever_arm_m"], 1e-12);
+    close(&c["angle_deg"]["new"], &x["new"]["angle_deg"], 1e-9);
+    // OLD is an exact half-turn (h >= 0 by convention), NEW 0.02 deg short of
+    // one: the axis, and the sign of h, flip between them; |h| barely moves.
+    let (ho, hn) = (
+        c["screw_translation_m"]["old"].as_f64().unwrap(),
+        c["screw_translation_m"]["new"].as_f64().unwrap(),
+    );
+    assert!(ho > 0.0 && hn < 0.0, "{ho} {hn}");
+    assert!((hn.abs() - x["new"]["abs_h_m"].as_f64().unwrap()).abs() < 1e-9);
+    assert_eq!(c["screw_sign_flip_at_half_turn"], true);
+    let (_, text, _) = run_cli(&[
+        "diff",
+        D,
+        "tests/fixtures/diff/anymal_d_kalibr.yaml",
+        "--from",
+        "imu_link",
+        "--to",
+        "lidar",
+        "--rename",
+        "anymal_d_kalibr.yaml:imu=imu_link",
+    ]);
+    assert!(
+        text.contains("|h| 0.0003 (sign flips at the half-turn)"),
+        "{text}"
+    );
+    // A rig far from a half-turn never gets the note.
+    let (_, same) = diff_json(&[C, C, "--from", "base", "--to", "lidar"]);
+    assert_eq!(same["chain"]["screw_sign_flip_at_half_turn"], false);
+}

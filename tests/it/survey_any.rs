@@ -1,0 +1,256 @@
+//! `audit survey` on any file the tool reads, given a frame pair (`--from/--to`
+//! for all, `PATH:FROM:TO` per path), next to rig TOMLs that keep their
+//! declared pairs; and `survey --plot`: a well-formed SVG naming every rig,
+//! never written over an input.
+
+use crate::common::run_cli;
+use serde_json::Value;
+use std::collections::BTreeSet;
+
+fn survey_json(args: &[&str]) -> (Value, String) {
+    let mut a = vec!["survey"];
+    a.extend_from_slice(args);
+    a.extend_from_slice(&["--format", "json"]);
+    let (code, out, err) = run_cli(&a);
+    assert_eq!(code, 0, "{a:?}: {err}");
+    (serde_json::from_str(&out).expect("JSON"), err)
+}
+
+fn row<'a>(v: &'a Value, id: &str) -> &'a Value {
+    v["rigs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["id"] == id)
+        .unwrap_or_else(|| panic!("no row {id} in {v}"))
+}
+
+fn close(a: &Value, b: f64, tol: f64) {
+    let x = a.as_f64().unwrap();
+    assert!((x - b).abs() <= tol, "{x} vs {b}");
+}
+
+fn expected_diff() -> Value {
+    let p = format!(
+        "{}/tests/fixtures/diff/expected.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+#[test]
+fn a_directory_of_urdfs_with_a_frame_pair() {
+    let (v, err) = survey_json(&["tests/fixtures/urdf/", "--from", "base", "--to", "lidar"]);
+    let ids: Vec<&str> = v["rigs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["id"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        ids,
+        [
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "tests/fixtures/urdf/anymal_d.urdf"
+        ]
+    );
+    // numpy / pytransform3d (tests/fixtures/diff/gen_expected.py).
+    let x = &expected_diff()["anymal_c_vs_d"];
+    for (id, side) in [("anymal_c", "old"), ("anymal_d", "new")] {
+        let r = row(&v, &format!("tests/fixtures/urdf/{id}.urdf"));
+        close(
+            &r["lever_arm_m"],
+            x[side]["lever_arm_m"].as_f64().unwrap(),
+            1e-12,
+        );
+        let h = r["screw_translation_m"].as_f64().unwrap().abs();
+        assert!((h - x[side]["abs_h_m"].as_f64().unwrap()).abs() < 1e-9);
+        assert_eq!(
+            (r["from"].as_str(), r["to"].as_str()),
+            (Some("base"), Some("lidar"))
+        );
+    }
+    // The robots without those frames are named on stderr, with why.
+    assert!(
+        err.contains("warning[ignored]: tests/fixtures/urdf/pr2.urdf")
+            && err.contains("unknown frame 'base'"),
+        "{err}"
+    );
+    assert_eq!(v["summary"]["count"], 2);
+}
+
+#[test]
+fn a_pair_per_file_across_formats() {
+    let (v, _) = survey_json(&[
+        "tests/fixtures/formats/fastlio_avia.yaml:imu:lidar",
+        "tests/fixtures/formats/ros1_static_tf.launch:imu:os_lidar",
+        "calibrations/fastlio-avia.toml",
+    ]);
+    assert_eq!(v["rigs"].as_array().unwrap().len(), 3);
+    // FAST-LIO avia: extrinsic_T = [0.04165, 0.02326, -0.0284], R = I.
+    let y = row(&v, "tests/fixtures/formats/fastlio_avia.yaml");
+    let lever = (0.04165f64.powi(2) + 0.02326f64.powi(2) + 0.0284f64.powi(2)).sqrt();
+    close(&y["lever_arm_m"], lever, 1e-15);
+    close(&y["angle_deg"], 0.0, 0.0);
+    // The rig TOML of the same numbers keeps its declared pair and metadata.
+    let t = row(&v, "fastlio-avia");
+    assert_eq!(t["sensor"], "Livox Avia");
+    assert_eq!(t["lever_arm_m"], y["lever_arm_m"]);
+    // The launch file's row is the rig report of the same pair.
+    let l = row(&v, "tests/fixtures/formats/ros1_static_tf.launch");
+    let (code, out, err) = run_cli(&[
+        "tests/fixtures/formats/ros1_static_tf.launch",
+        "--from",
+        "imu",
+        "--to",
+        "os_lidar",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let rep: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(l["lever_arm_m"], rep["lever_arm_m"]);
+    assert_eq!(
+        l["screw_translation_m"],
+        rep["screw"]["translation_along_axis_m"]
+    );
+    assert_eq!(l["band_l1"], rep["certificate"][1]["band"]);
+}
+
+#[test]
+fn rig_tomls_keep_their_pairs_beside_a_urdf() {
+    // calibrations/ with a pair: every rig TOML as before, plus the URDF.
+    let (plain, _) = survey_json(&["calibrations/"]);
+    let (v, err) = survey_json(&["calibrations/", "--from", "imu_link", "--to", "lidar"]);
+    let n = plain["rigs"].as_array().unwrap().len();
+    assert_eq!(v["rigs"].as_array().unwrap().len(), n + 1, "{err}");
+    for r in plain["rigs"].as_array().unwrap() {
+        assert_eq!(row(&v, r["id"].as_str().unwrap()), r);
+    }
+    let urdf = row(&v, "calibrations/anymal-d.urdf");
+    let toml = row(&plain, "anymal-d-lidar-imu");
+    assert_eq!(urdf["lever_arm_m"], toml["lever_arm_m"]);
+    // baseline.json is not a calibration: skipped with a warning.
+    assert!(err.contains("calibrations/baseline.json"), "{err}");
+}
+
+#[test]
+fn a_named_file_without_a_pair_is_an_error() {
+    let (code, _, err) = run_cli(&["survey", "tests/fixtures/urdf/anymal_c.urdf"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--from FRAME --to FRAME") && err.contains("FILE:FROM:TO"),
+        "{err}"
+    );
+    let (code, _, err) = run_cli(&["survey", "tests/fixtures/urdf/"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("no rig files (*.toml)") && err.contains("--from"),
+        "{err}"
+    );
+    let (code, _, err) = run_cli(&["survey", "tests/fixtures/urdf/anymal_c.urdf:base:nowhere"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("nowhere"), "{err}");
+    let (code, _, err) = run_cli(&["survey", "calibrations/", "--from", "imu"]);
+    assert_eq!(code, 2, "{err}");
+}
+
+/// Every `<text>` of an SVG, trimmed.
+fn svg_texts(svg: &str) -> BTreeSet<String> {
+    let doc = roxmltree::Document::parse(svg).expect("well-formed XML");
+    assert!(doc.root_element().has_tag_name("svg"));
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text())
+        .map(|t| t.trim().to_string())
+        .collect()
+}
+
+#[test]
+fn the_plot_names_every_rig_and_marks_zero_pitch() {
+    let dir = tempfile::tempdir().unwrap();
+    let plot = dir.path().join("survey.svg");
+    let p = plot.to_str().unwrap();
+    let (v, _) = survey_json(&["calibrations/", "--all", "--plot", p]);
+    let texts = svg_texts(&std::fs::read_to_string(&plot).unwrap());
+    for r in v["rigs"].as_array().unwrap() {
+        assert!(
+            texts.contains(r["id"].as_str().unwrap()),
+            "{} not in the plot",
+            r["id"]
+        );
+    }
+    let zero = v["rigs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| r["zero_pitch"] == true)
+        .count();
+    assert!(
+        texts.contains(&format!(
+            "zero pitch (ringed): adapted metric M0 exists ({zero})"
+        )),
+        "{texts:?}"
+    );
+    let max = v["summary"]["lever_arm_max_m"].as_f64().unwrap();
+    assert!(
+        texts
+            .iter()
+            .any(|t| t.starts_with("largest lever arm:") && t.ends_with(&format!("({max:.3} m)"))),
+        "{texts:?}"
+    );
+}
+
+#[test]
+fn the_plot_never_overwrites_an_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let rig = dir.path().join("rig.toml");
+    std::fs::copy("calibrations/fastlio-avia.toml", &rig).unwrap();
+    let odd = dir.path().join("rig.svg");
+    std::fs::copy("calibrations/fastlio-avia.toml", &odd).unwrap();
+    let before = std::fs::read(&odd).unwrap();
+    let d = dir.path().to_str().unwrap();
+    let cases = [
+        // An input named .svg (read with --input-format-free detection: a TOML).
+        vec![odd.to_str().unwrap().to_string(), format!("{d}/./rig.svg")],
+        // Not an .svg name: refused before anything is read.
+        vec![
+            rig.to_str().unwrap().to_string(),
+            rig.to_str().unwrap().to_string(),
+        ],
+        // A directory that does not exist.
+        vec![
+            rig.to_str().unwrap().to_string(),
+            format!("{d}/no/such/dir/p.svg"),
+        ],
+    ];
+    for c in cases {
+        let (code, out, err) = run_cli(&["survey", &c[0], "--plot", &c[1]]);
+        assert_eq!(code, 2, "{c:?}: {err}");
+        assert!(out.is_empty(), "{c:?}: the survey ran: {out}");
+        assert!(err.contains("--plot"), "{err}");
+    }
+    assert_eq!(std::fs::read(&odd).unwrap(), before);
+    assert_eq!(
+        std::fs::read(&rig).unwrap(),
+        std::fs::read("calibrations/fastlio-avia.toml").unwrap()
+    );
+}
+
+#[test]
+fn hostile_rig_ids_stay_text_in_the_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string("calibrations/fastlio-avia.toml")
+        .unwrap()
+        .replace("id = \"fastlio-avia\"", "id = \"<b>&amp;\\\"x\\u202e\"");
+    std::fs::write(dir.path().join("h.toml"), text).unwrap();
+    let plot = dir.path().join("out").with_extension("svg");
+    let (v, _) = survey_json(&[
+        dir.path().join("h.toml").to_str().unwrap(),
+        "--plot",
+        plot.to_str().unwrap(),
+    ]);
+    assert_eq!(v["rigs"][0]["id"], "<b>&amp;\"x\u{202e}");
+    let texts = svg_texts(&std::fs::read_to_string(&plot).unwrap());
+    assert!(texts.contains("<b>&amp;\"x\\u{202e}"), "{texts:?}");
+}
