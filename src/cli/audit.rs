@@ -145,6 +145,7 @@ pub fn parse_rename(s: &str) -> std::result::Result<Rename, String> {
 pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     let loaded = pipeline::load(&args.files, &args.load_options()?, &args.renames)?;
     print_warnings(loaded.graph.warnings());
+    super::print_notes(loaded.graph.notes());
     loaded.check_joint_names(args.joints.iter().map(|(n, _)| n.as_str()))?;
     if args.frames {
         // Names cannot hold a line break (refused when loaded); the rest of
@@ -156,6 +157,7 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     let (from, to) = loaded.frame_pair(args.from.as_deref(), args.to.as_deref())?;
     let chain = loaded.graph.transform(&from, &to)?;
     print_warnings(&chain.warnings);
+    super::print_notes(&chain.notes);
     let opts = RigOptions {
         ells: args.ell.clone(),
         pitch_tol: args.pitch_tol,

@@ -19,6 +19,7 @@ pub mod bag;
 pub mod kitti_m2dgr;
 pub mod launch;
 pub mod launch_subst;
+pub mod matrix_tree;
 pub mod ouster;
 pub mod registry;
 pub mod rig_toml;
@@ -142,6 +143,9 @@ pub struct Loaded {
     pub warnings: Vec<Warning>,
     /// The rig metadata, for TOML rig files (`None` for every other format).
     pub rig: Option<RigMeta>,
+    /// Edges that close a loop with `edges` (Kalibr `T_cn_cnm1`): checked
+    /// against the tree, not part of it (see `frames::graph`).
+    pub redundant: Vec<Edge>,
 }
 
 impl From<Loaded> for crate::frames::EdgeSet {
@@ -150,6 +154,7 @@ impl From<Loaded> for crate::frames::EdgeSet {
             edges: l.edges,
             frames: l.frames,
             warnings: l.warnings,
+            redundant: l.redundant,
         }
     }
 }
@@ -277,7 +282,7 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         ))
         .in_file(path));
     }
-    for e in &loaded.edges {
+    for e in loaded.edges.iter().chain(&loaded.redundant) {
         check_names(e).map_err(|err| err.in_file(path))?;
         let d = e.transform.translation();
         if let Some(x) = d.iter().find(|x| x.is_nan() || x.abs() > MAX_TRANSLATION_M) {
@@ -292,6 +297,7 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     warn_degrees(&loaded.edges, opts, &mut loaded.warnings);
     if opts.invert {
         loaded.edges = loaded.edges.into_iter().map(Edge::inverted).collect();
+        loaded.redundant = loaded.redundant.into_iter().map(Edge::inverted).collect();
     }
     Ok(loaded)
 }

@@ -56,7 +56,6 @@ use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::registry::{FormatSpec, Sniff};
 use crate::formats::yaml::{self, Node, Value};
 use crate::formats::{check_metres, locate_warnings, Edge, LoadOptions, Loaded};
-use crate::frames::FrameGraph;
 use crate::geometry::se3::{QuatOrder, Transform};
 use std::path::Path;
 
@@ -115,7 +114,7 @@ pub fn dialect(text: &str) -> &'static str {
     MATRIX_YAML.id
 }
 
-fn loc_of(path: &Path, n: &Node) -> Location {
+pub(crate) fn loc_of(path: &Path, n: &Node) -> Location {
     if n.line == 0 {
         Location::file(path)
     } else {
@@ -123,7 +122,7 @@ fn loc_of(path: &Path, n: &Node) -> Location {
     }
 }
 
-fn err_at(n: &Node, msg: String) -> Error {
+pub(crate) fn err_at(n: &Node, msg: String) -> Error {
     Error::parse(msg).at_line(n.line.max(1), Some(n.column.max(1)))
 }
 
@@ -707,15 +706,17 @@ fn millimetre_comment(text: &str, line: usize) -> bool {
     false
 }
 
-fn matrix_edge(
+/// One matrix key read as an edge `frames.0 -> frames.1` (the pose of the
+/// second frame in the first), its warnings located at the key.
+pub(crate) fn matrix_edge(
     key: &str,
     frames: (String, String),
     v: &Node,
     k: &Node,
     text: &str,
     path: &Path,
-    out: &mut Loaded,
-) -> Result<()> {
+    warnings: &mut Vec<Warning>,
+) -> Result<Edge> {
     let loc = loc_of(path, k);
     let mut ws = Vec::new();
     let mut t = read_transform(v, key, &mut ws)?;
@@ -728,85 +729,19 @@ fn matrix_edge(
     }
     let d = *t.translation();
     check_metres(&[d.x, d.y, d.z], key, &loc, &mut ws);
-    locate_warnings(ws, &loc, &mut out.warnings);
-    out.edges.push(Edge::new(
+    locate_warnings(ws, &loc, warnings);
+    Ok(Edge::new(
         frames.0,
         frames.1,
         t,
         loc,
         MATRIX_YAML.id,
         key.to_string(),
-    ));
-    Ok(())
+    ))
 }
 
 pub(crate) fn parse_matrices(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
-    let mut out = Loaded::default();
-    let mut keys: Vec<(String, usize)> = Vec::new();
-    for d in docs {
-        for (k, v) in d.entries() {
-            let Some(name) = k.as_str() else { continue };
-            if let Some(fr) = frames_from_key(&name) {
-                if let Some(prev) = keys.iter().find(|(n, _)| *n == name) {
-                    return Err(err_at(
-                        k,
-                        format!(
-                            "`{name}` given twice (lines {} and {}): expected one value per key; pick another key with --key NAME, or copy the right value into a file of its own",
-                            prev.1, k.line
-                        ),
-                    ));
-                }
-                keys.push((name.clone(), k.line));
-                matrix_edge(&name, fr, v, k, text, path, &mut out)?;
-                continue;
-            }
-            // Kalibr camchain: camN: {T_cam_imu, T_cn_cnm1}
-            if let (Value::Map(inner), Some(idx)) = (
-                &v.value,
-                name.strip_prefix("cam")
-                    .and_then(|s| s.parse::<usize>().ok()),
-            ) {
-                for (ik, iv) in inner {
-                    let Some(iname) = ik.as_str() else { continue };
-                    let Some((mut a, mut b)) = frames_from_key(&iname) else {
-                        continue;
-                    };
-                    for f in [&mut a, &mut b] {
-                        if f == "cam" || f == "cn" {
-                            *f = name.clone();
-                        } else if f == "cnm1" && idx > 0 {
-                            *f = format!("cam{}", idx - 1);
-                        }
-                    }
-                    let full = format!("{name}.{iname}");
-                    keys.push((full.clone(), ik.line));
-                    matrix_edge(&full, (a, b), iv, ik, text, path, &mut out)?;
-                }
-            }
-        }
-    }
-    if out.edges.is_empty() {
-        return Err(Error::parse(
-            "no transform found: expected FAST-LIO `extrinsic_T`, LIO-SAM `extrinsicTrans`, a tf_static dump, or matrices under keys named T_A_B / A_T_B; pass --key NAME to read one key, or --input-format NAME",
-        ));
-    }
-    let mut g = FrameGraph::new();
-    for e in &out.edges {
-        if let Err(err) = g.add_edge(e.clone()) {
-            return Err(Error {
-                message: format!(
-                    "{}; the matrices in this file do not form one tree: pick one with --key NAME ({})",
-                    err.message,
-                    keys.iter()
-                        .map(|(k, l)| format!("{k} line {l}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-                ..err
-            });
-        }
-    }
-    Ok(out)
+    crate::formats::matrix_tree::parse(docs, text, path)
 }
 
 fn parse_quaternion(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
@@ -908,7 +843,11 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
     };
     let last = key.rsplit('.').next().unwrap_or(key);
     let mut out = Loaded::default();
-    let frames = match frames_from_key(last) {
+    // Kalibr `camN.T_cam_imu`: frames named from the block (camN, imu).
+    let block = key.rsplit('.').nth(1);
+    let imu = crate::formats::matrix_tree::kalibr_imu(docs);
+    let kalibr = block.and_then(|cam| crate::formats::matrix_tree::kalibr_frames(cam, last, imu));
+    let frames = match kalibr.or_else(|| frames_from_key(last)) {
         Some(f) => f,
         None => {
             out.warnings.push(
@@ -925,7 +864,8 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
         Some(i) => format!("{key}[{i}]"),
         None => key.to_string(),
     };
-    matrix_edge(&label, frames, v, k, text, path, &mut out)?;
+    let e = matrix_edge(&label, frames, v, k, text, path, &mut out.warnings)?;
+    out.edges.push(e);
     Ok(out)
 }
 

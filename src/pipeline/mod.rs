@@ -52,7 +52,7 @@ fn apply_renames(renames: &[Rename], path: &Path, loaded: &mut formats::Loaded) 
                 return 0;
             }
             let mut n = 0;
-            for e in &mut loaded.edges {
+            for e in loaded.edges.iter_mut().chain(&mut loaded.redundant) {
                 for name in [&mut e.parent, &mut e.child] {
                     if *name == r.old {
                         *name = r.new.clone();

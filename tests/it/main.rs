@@ -19,6 +19,7 @@ mod detector_core;
 mod detector_threshold;
 mod formats_bad_inputs;
 mod formats_bags;
+mod formats_extrinsics;
 mod formats_launch_conditions;
 mod formats_no_panic;
 mod formats_rigs;

@@ -1,0 +1,207 @@
+//! Issue 14's formats (tests/fixtures/extrinsics): every case of
+//! `expected.json` (computed by `gen_expected.py` with numpy and
+//! pytransform3d) matched to 1e-9, and the redundancy, ambiguity and naming
+//! rules.
+
+use crate::common::audit;
+use extrinsic_audit::diagnostic::Code;
+use extrinsic_audit::formats::{load_file, LoadOptions};
+use extrinsic_audit::frames::FrameGraph;
+use std::path::Path;
+
+const DIR: &str = "tests/fixtures/extrinsics";
+
+fn graph(file: &str, key: Option<&str>) -> FrameGraph {
+    let opts = LoadOptions {
+        key: key.map(str::to_string),
+        ..LoadOptions::default()
+    };
+    let path = Path::new(DIR).join(file);
+    let loaded = load_file(&path, &opts).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let mut g = FrameGraph::new();
+    g.add(loaded).unwrap_or_else(|e| panic!("{file}: {e}"));
+    g
+}
+
+#[test]
+fn expected_transforms_match_numpy() {
+    let text = std::fs::read_to_string(Path::new(DIR).join("expected.json")).expect("expected");
+    let cases: serde_json::Value = serde_json::from_str(&text).expect("json");
+    let cases = cases.as_array().expect("list");
+    assert!(!cases.is_empty());
+    for c in cases {
+        let file = c["file"].as_str().expect("file");
+        let (from, to) = (
+            c["from"].as_str().expect("from"),
+            c["to"].as_str().expect("to"),
+        );
+        let g = graph(file, c["key"].as_str());
+        let chain = g
+            .transform(from, to)
+            .unwrap_or_else(|e| panic!("{file} {from} -> {to}: {e}"));
+        let m = chain.transform.matrix4();
+        for i in 0..4 {
+            for j in 0..4 {
+                let want = c["matrix"][i][j].as_f64().expect("number");
+                assert!(
+                    (m[(i, j)] - want).abs() <= 1e-9,
+                    "{file} {from} -> {to} ({:?}) entry ({i},{j}): {} vs numpy {want}",
+                    c["key"],
+                    m[(i, j)]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn kalibr_stereo_is_a_tree_with_a_checked_redundant_edge() {
+    let g = graph("kalibr_padrl_camchain-imucam.yaml", None);
+    assert_eq!(g.roots(), vec!["imu".to_string()]);
+    for cam in ["cam0", "cam1"] {
+        assert_eq!(g.parent_edge(cam).expect("edge").parent, "imu");
+    }
+    let r = g.redundant();
+    assert_eq!(r.len(), 1);
+    assert_eq!(
+        (r[0].edge.parent.as_str(), r[0].edge.child.as_str()),
+        ("cam1", "cam0")
+    );
+    assert!(r[0].agrees(), "{:?}", r[0]);
+    assert_eq!(r[0].path, "cam1 <- imu -> cam0");
+    assert_eq!(g.notes().len(), 1);
+    assert!(g
+        .warnings()
+        .iter()
+        .all(|w| w.code != Code::RedundantEdgeDisagrees));
+    let chain = g.transform("cam0", "cam1").expect("chain");
+    assert_eq!(chain.notes.len(), 1);
+    assert!(
+        chain.notes[0].contains("path used: cam0 <- imu -> cam1"),
+        "{}",
+        chain.notes[0]
+    );
+    assert!(
+        chain.notes[0].contains("--key cam1.T_cn_cnm1"),
+        "{}",
+        chain.notes[0]
+    );
+}
+
+#[test]
+fn kalibr_key_names_the_camera_and_the_imu() {
+    let g = graph("kalibr_padrl_camchain-imucam.yaml", Some("cam1.T_cn_cnm1"));
+    assert_eq!(g.edges()[0].parent, "cam1");
+    assert_eq!(g.edges()[0].child, "cam0");
+    let g = graph("kalibr_padrl_camchain-imucam.yaml", Some("cam1.T_cam_imu"));
+    assert_eq!(
+        (g.edges()[0].parent.as_str(), g.edges()[0].child.as_str()),
+        ("cam1", "imu")
+    );
+}
+
+#[test]
+fn from_and_to_take_a_leading_slash() {
+    let g = graph("kalibr_padrl_camchain-imucam.yaml", None);
+    let a = g.transform("/cam0", "/imu").expect("slash");
+    let b = g.transform("cam0", "imu").expect("plain");
+    assert_eq!(a.transform, b.transform);
+    assert_eq!((a.from.as_str(), a.to.as_str()), ("cam0", "imu"));
+}
+
+#[test]
+fn cli_says_which_path_it_used() {
+    let f = format!("{DIR}/kalibr_padrl_camchain-imucam.yaml");
+    let out = audit()
+        .args([f.as_str(), "--from", "/cam0", "--to", "cam1"])
+        .output()
+        .expect("run");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("note: path used: cam0 <- imu -> cam1"),
+        "{err}"
+    );
+    let out = audit()
+        .args([f.as_str(), "--frames"])
+        .output()
+        .expect("run");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("redundant cam1 -> cam0"), "{text}");
+}
+
+#[test]
+fn a_duplicated_key_blocks_only_its_own_edge() {
+    let g = graph("geode_style_ambiguous.yaml", None);
+    let amb: Vec<_> = g
+        .warnings()
+        .iter()
+        .filter(|w| w.code == Code::AmbiguousKey)
+        .collect();
+    assert_eq!(amb.len(), 1, "{:?}", g.warnings());
+    assert!(
+        amb[0]
+            .message
+            .contains("`T_LiDAR_CamL` given 2 times with different values (lines 11 and 21)"),
+        "{}",
+        amb[0].message
+    );
+    assert_eq!(amb[0].location.line, Some(21));
+    assert!(!g.contains("CamL"));
+    assert!(g.transform("IMU", "LiDAR").is_ok());
+}
+
+#[test]
+fn a_disagreeing_redundant_edge_is_a_warning_with_both_values() {
+    let g = graph("geode_style_ambiguous.yaml", None);
+    let r = g.redundant();
+    assert_eq!(r.len(), 1);
+    assert!(!r[0].agrees());
+    assert!(
+        (r[0].translation_gap - 0.005).abs() < 1e-12,
+        "{}",
+        r[0].translation_gap
+    );
+    assert!(r[0].rotation_gap < 1e-12);
+    let w: Vec<_> = g
+        .warnings()
+        .iter()
+        .filter(|w| w.code == Code::RedundantEdgeDisagrees)
+        .collect();
+    assert_eq!(w.len(), 1);
+    assert!(
+        w[0].message
+            .contains("the file gives translation [0.055000000, -0.120000000, 0.120000000]"),
+        "{}",
+        w[0].message
+    );
+    assert!(
+        w[0].message
+            .contains("the tree [0.050000000, -0.120000000, 0.120000000]"),
+        "{}",
+        w[0].message
+    );
+    assert!(g.notes().is_empty());
+}
+
+#[test]
+fn no_transform_lists_the_keys_seen_and_the_layouts_known() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let p = dir.path().join("unknown.yaml");
+    std::fs::write(&p, "camera_fps: 30\nlidar_topic: /points\n").expect("write");
+    let e = load_file(&p, &LoadOptions::default()).expect_err("refused");
+    assert!(
+        e.message.contains("found keys camera_fps, lidar_topic"),
+        "{}",
+        e.message
+    );
+    assert!(
+        e.message.contains("Kalibr `camN: {T_cam_imu, T_cn_cnm1}`"),
+        "{}",
+        e.message
+    );
+}
