@@ -19,6 +19,7 @@ pub mod bag;
 pub mod kitti_m2dgr;
 pub mod launch;
 pub mod launch_subst;
+pub mod lio_yaml;
 pub mod matrix_tree;
 pub mod ouster;
 pub mod registry;

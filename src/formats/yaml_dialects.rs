@@ -35,11 +35,11 @@
 //!   `!!opencv-matrix` `{rows, cols, dt, data}`, a flat list of 16, a list of four
 //!   rows, or a 3x4 without the bottom row) or `T_A_B_t_xyz_q_xyzw` (7 numbers):
 //!   the pose of B in A (maps B coordinates into A), edge `A -> B`. Kalibr's
-//!   `camN: {T_cam_imu, T_cn_cnm1}` name the camera `camN` (and `cam<N-1>`). A
-//!   comment `# Units: millimeters` just above a matrix converts it to metres
-//!   (GEODE) with a warning. Matrices that do not form a tree (GEODE repeats
-//!   `T_LiDAR_CamL` with other values and closes cycles) are refused with the
-//!   list of keys: pass `--key NAME`.
+//!   `camN: {T_cam_imu, T_cn_cnm1}` name the camera `camN` (and `cam<N-1>`),
+//!   the IMU `imu` or `imu0`. A comment `# Units: millimeters` just above a
+//!   matrix converts it to metres (GEODE) with a warning. The keys become a
+//!   tree plus checked redundant edges, and a key repeated with other values
+//!   (GEODE's `T_LiDAR_CamL`) blocks only its own edge: see `matrix_tree`.
 //! - `quaternion-yaml` (FusionPortable): `quaternion_A_B` (`data: [qw, qx, qy, qz]`,
 //!   w first as its comments say) with `translation_A_B`: the pose of B in A
 //!   (FusionPortable: "Extrinsics from the sensor (reference) to body_imu
@@ -60,7 +60,7 @@ use crate::geometry::se3::{QuatOrder, Transform};
 use std::path::Path;
 
 /// A non-comment line that starts (after indentation) with `key:`.
-fn has_key_line(text: &str, key: &str) -> bool {
+pub(crate) fn has_key_line(text: &str, key: &str) -> bool {
     text.lines().any(|l| {
         let t = l.trim_start();
         !t.starts_with('#')
@@ -88,6 +88,9 @@ pub fn dialect(text: &str) -> &'static str {
     }
     if has_key_line(text, "extrinsicTrans") || has_key_line(text, "extrinsicRot") {
         return LIO_SAM.id;
+    }
+    if let Some(id) = crate::formats::lio_yaml::dialect(text) {
+        return id;
     }
     if has_key_line(text, "lidar_extr") {
         return SLICT.id;
@@ -146,7 +149,7 @@ fn maps_with<'a>(n: &'a Node, key: &str, out: &mut Vec<&'a Node>) {
     }
 }
 
-fn exactly<const N: usize>(n: &Node, what: &str) -> Result<[f64; N]> {
+pub(crate) fn exactly<const N: usize>(n: &Node, what: &str) -> Result<[f64; N]> {
     let v = n.numbers(what)?;
     if v.len() != N {
         return Err(err_at(
@@ -159,12 +162,12 @@ fn exactly<const N: usize>(n: &Node, what: &str) -> Result<[f64; N]> {
     Ok(out)
 }
 
-fn mat3(v: [f64; 9]) -> [[f64; 3]; 3] {
+pub(crate) fn mat3(v: [f64; 9]) -> [[f64; 3]; 3] {
     [[v[0], v[1], v[2]], [v[3], v[4], v[5]], [v[6], v[7], v[8]]]
 }
 
 /// The single map holding `key` (error when several do).
-fn unique_map<'a>(docs: &'a [Node], key: &str) -> Result<&'a Node> {
+pub(crate) fn unique_map<'a>(docs: &'a [Node], key: &str) -> Result<&'a Node> {
     let mut found = Vec::new();
     for d in docs {
         maps_with(d, key, &mut found);
@@ -200,7 +203,7 @@ fn unique_map<'a>(docs: &'a [Node], key: &str) -> Result<&'a Node> {
     }
 }
 
-fn key_node<'a>(m: &'a Node, key: &str) -> Option<&'a Node> {
+pub(crate) fn key_node<'a>(m: &'a Node, key: &str) -> Option<&'a Node> {
     m.entries()
         .iter()
         .rev()
@@ -208,11 +211,11 @@ fn key_node<'a>(m: &'a Node, key: &str) -> Option<&'a Node> {
         .map(|(k, _)| k)
 }
 
-type DocsParser = fn(&[Node], &str, &Path) -> Result<Loaded>;
+pub(crate) type DocsParser = fn(&[Node], &str, &Path) -> Result<Loaded>;
 
 /// Parse YAML text with one dialect's reader; `--key` reads one key instead
 /// (except in tf_static dumps, whose keys are not transforms).
-fn parse_with(
+pub(crate) fn parse_with(
     read: DocsParser,
     keyed: bool,
     text: &str,
@@ -246,7 +249,7 @@ dialect!(LIO_SAM, "lio-sam", true, |d, _, p| parse_lio_sam(d, p), "LIO-SAM `extr
 dialect!(COCO_LIC, "coco-lic", true, |d, _, p| parse_coco_lic(d, p), "Coco-LIC `lidarN: Extrinsics: {Trans, Rot}` (\"lidar to imu\"): LiDAR pose in the IMU frame, edges imu -> lidarN");
 dialect!(SLICT, "slict", true, |d, _, p| parse_slict(d, p), "SLICT `lidar_extr`: stacked row-major 4x4, \"transform of coordinates in lidar's frame to body\": edges body -> lidar (lidar0, lidar1, ... when several); the (4,4) entry is a timestamp flag and the bottom row is not used");
 dialect!(TF_TREE_YAML, "tf-tree-yaml", true, |d, _, p| parse_tf_tree(d, p), "tf-tree YAML (`<parent>_to_<child>: {x, y, z, roll, pitch, yaw}`, GrandTour): child pose in parent, URDF rpy");
-dialect!(MATRIX_YAML, "matrix-yaml", true, parse_matrices, "YAML with 4x4 matrices under keys `T_A_B` or `A_T_B` (OpenCV FileStorage `!!opencv-matrix`, Kalibr `T_cam_imu`, plain lists, `T_A_B_t_xyz_q_xyzw`): the pose of B in A, edge A -> B; --key NAME picks one");
+dialect!(MATRIX_YAML, "matrix-yaml", true, parse_matrices, "YAML with 4x4 matrices under keys `T_A_B` or `A_T_B` (OpenCV FileStorage `!!opencv-matrix`, VINS-Fusion `body_T_cam0`, plain lists, `T_A_B_t_xyz_q_xyzw`): the pose of B in A, edge A -> B; Kalibr camchain `camN: {T_cam_imu, T_cn_cnm1}`: edges imu -> camN, T_cn_cnm1 checked as a redundant edge; a key that closes a loop is checked, not refused; --key NAME picks one");
 dialect!(QUATERNION_YAML, "quaternion-yaml", true, parse_quaternion, "`quaternion_A_B` (qw, qx, qy, qz: w first) + `translation_A_B` blocks (FusionPortable): the pose of B in A, edge A -> B");
 
 fn explain_yaml_error(e: Error, text: &str) -> Error {

@@ -205,3 +205,44 @@ fn no_transform_lists_the_keys_seen_and_the_layouts_known() {
         e.message
     );
 }
+
+#[test]
+fn each_fixture_is_detected_as_its_format() {
+    use extrinsic_audit::formats::detect_format;
+    for (file, id) in [
+        ("kalibr_padrl_camchain-imucam.yaml", "matrix-yaml"),
+        ("geode_style_ambiguous.yaml", "matrix-yaml"),
+        ("iglio_ncd.yaml", "ig-lio"),
+        ("iglio_nclt.yaml", "ig-lio"),
+        ("dlio_default.yaml", "dlio"),
+        ("vins_mono_euroc.yaml", "vins-mono"),
+        ("vins_fusion_euroc_stereo.yaml", "matrix-yaml"),
+    ] {
+        let path = Path::new(DIR).join(file);
+        let text = std::fs::read_to_string(&path).expect("read");
+        let f = detect_format(&path, &text).expect("detect");
+        assert_eq!(f.name(), id, "{file}");
+    }
+}
+
+#[test]
+fn fixed_frame_names_per_format() {
+    let names = |file: &str| -> Vec<(String, String)> {
+        graph(file, None)
+            .edges()
+            .iter()
+            .map(|e| (e.parent.clone(), e.child.clone()))
+            .collect()
+    };
+    let pair = |a: &str, b: &str| (a.to_string(), b.to_string());
+    assert_eq!(names("iglio_ncd.yaml"), vec![pair("imu", "lidar")]);
+    assert_eq!(
+        names("dlio_default.yaml"),
+        vec![pair("base_link", "imu"), pair("base_link", "lidar")]
+    );
+    assert_eq!(names("vins_mono_euroc.yaml"), vec![pair("imu", "camera")]);
+    assert_eq!(
+        names("vins_fusion_euroc_stereo.yaml"),
+        vec![pair("body", "cam0"), pair("body", "cam1")]
+    );
+}
