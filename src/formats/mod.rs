@@ -24,6 +24,7 @@ pub mod matrix_tree;
 pub mod ouster;
 pub mod registry;
 pub mod rig_toml;
+pub mod shell;
 pub mod source;
 // TODO(issue 10): urdf/mod.rs links to its private `read` and `joints`.
 pub mod urdf;

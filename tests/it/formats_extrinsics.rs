@@ -246,3 +246,27 @@ fn fixed_frame_names_per_format() {
         vec![pair("body", "cam0"), pair("body", "cam1")]
     );
 }
+
+#[test]
+fn shell_script_gives_one_edge_per_publisher_command() {
+    let g = graph("static_tf_script.sh", None);
+    let edges: Vec<(String, String, Option<usize>, Option<usize>)> = g
+        .edges()
+        .iter()
+        .map(|e| {
+            let l = &e.provenance.location;
+            (e.parent.clone(), e.child.clone(), l.line, l.column)
+        })
+        .collect();
+    let e =
+        |p: &str, c: &str, l: usize, col: usize| (p.to_string(), c.to_string(), Some(l), Some(col));
+    assert_eq!(
+        edges,
+        vec![
+            e("body", "avia_frame", 9, 1),
+            e("imu", "os_sensor", 10, 2),
+            e("base_link", "imu", 13, 12),
+            e("base_link", "camera", 15, 1),
+        ]
+    );
+}
