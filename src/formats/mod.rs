@@ -17,6 +17,7 @@ use std::path::Path;
 
 pub mod bag;
 pub mod kitti_m2dgr;
+pub mod kitti_object;
 pub mod launch;
 pub mod launch_subst;
 pub mod lio_yaml;

@@ -9,7 +9,9 @@
 //! Adding a format: its parser file defines a `pub const SPEC: FormatSpec`, and
 //! [`FORMATS`] gets one line.
 
-use super::{kitti_m2dgr, launch, lio_yaml, ouster, rig_toml, urdf, xacro, xml, yaml_dialects};
+use super::{
+    kitti_m2dgr, kitti_object, launch, lio_yaml, ouster, rig_toml, urdf, xacro, xml, yaml_dialects,
+};
 use super::{LoadOptions, Loaded};
 use crate::diagnostic::{Error, Result};
 use crate::formats::source::LineIndex;
@@ -126,6 +128,7 @@ pub const FORMATS: &[&FormatSpec] = &[
     &yaml_dialects::QUATERNION_YAML,
     &ouster::SPEC,
     &kitti_m2dgr::KITTI_CALIB,
+    &kitti_object::KITTI_OBJECT,
     &kitti_m2dgr::M2DGR_TXT,
     &rig_toml::SPEC,
 ];

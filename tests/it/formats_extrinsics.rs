@@ -217,6 +217,9 @@ fn each_fixture_is_detected_as_its_format() {
         ("dlio_default.yaml", "dlio"),
         ("vins_mono_euroc.yaml", "vins-mono"),
         ("vins_fusion_euroc_stereo.yaml", "matrix-yaml"),
+        ("static_tf_script.sh", "static-tf-commands"),
+        ("kitti_object_000000.txt", "kitti-object"),
+        ("kitti_tracking_style.txt", "kitti-object"),
     ] {
         let path = Path::new(DIR).join(file);
         let text = std::fs::read_to_string(&path).expect("read");
@@ -268,5 +271,45 @@ fn shell_script_gives_one_edge_per_publisher_command() {
             e("base_link", "imu", 13, 12),
             e("base_link", "camera", 15, 1),
         ]
+    );
+}
+
+#[test]
+fn kitti_object_frames_and_the_raw_calib_rename_hint() {
+    let g = graph("kitti_object_000000.txt", None);
+    assert_eq!(g.roots(), vec!["cam0_rect".to_string()]);
+    let mut frames = g.frames();
+    frames.sort();
+    assert_eq!(
+        frames,
+        [
+            "cam0",
+            "cam0_rect",
+            "cam1_rect",
+            "cam2_rect",
+            "cam3_rect",
+            "imu",
+            "velo"
+        ]
+    );
+    // P1: K [I | t] with t = (-387.5744 / 721.5377, 0, 0): cam1 sits 0.537 m to
+    // the right of cam0 (x points right).
+    let c1 = g.transform("cam0_rect", "cam1_rect").expect("cam1");
+    assert!((c1.transform.translation().x - 387.5744 / 721.5377).abs() < 1e-12);
+    // KITTI raw calib under another name: the warning says how to name frames.
+    let dir = tempfile::tempdir().expect("tmp");
+    let p = dir.path().join("imu2velo.txt");
+    std::fs::copy("tests/fixtures/formats/calib_imu_to_velo.txt", &p).expect("copy");
+    let l = load_file(&p, &LoadOptions::default()).expect("kitti raw");
+    let w = l
+        .warnings
+        .iter()
+        .find(|w| w.code == Code::AssumedConvention)
+        .expect("warning");
+    assert!(
+        w.message
+            .contains("--rename imu2velo.txt:source=imu --rename imu2velo.txt:target=velo"),
+        "{}",
+        w.message
     );
 }
