@@ -22,6 +22,7 @@ pub mod launch;
 pub mod launch_subst;
 pub mod lio_yaml;
 pub mod matrix_tree;
+pub mod nuscenes;
 pub mod ouster;
 pub mod registry;
 pub mod rig_toml;

@@ -109,8 +109,16 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
 pub const SPEC: FormatSpec = FormatSpec {
     id: "ouster-json",
     description: "Ouster sensor metadata JSON (legacy flat or nested): `lidar_to_sensor_transform` / `imu_to_sensor_transform`, row-major 4x4 in millimetres, converted to metres: edges os_sensor -> os_lidar and os_sensor -> os_imu",
-    extensions: &["json"],
+    // Not claimed by extension: nuScenes' `.json` lists sniff higher. Any
+    // other `.json` (or text that starts like JSON) is read here.
+    extensions: &[],
     walk: &[".json"],
-    sniff: |s| s.trimmed.starts_with('{').then_some(70),
+    sniff: |s| {
+        if s.trimmed.starts_with(['{', '[']) {
+            Some(70)
+        } else {
+            (s.ext == "json").then_some(20)
+        }
+    },
     parse,
 };

@@ -2,7 +2,8 @@
 //! `static_transform_publisher` command each: words (quotes and backslash
 //! escapes honoured), a `#` that starts a word begins a comment, and the
 //! control operators `;`, `&`, `&&`, `|`, `||`, the subshell and group
-//! brackets `(`, `)`, `{`, `}` end a command. Nothing is expanded: a `$(...)`
+//! brackets `(`, `)`, `{`, `}` end a command when they start a word or end
+//! one before a blank (`cmd &`, `(cmd)`, `cmd; next`). Nothing is expanded: a `$(...)`
 //! or `${...}` stays in its word (the publisher reader refuses it).
 
 /// One simple command: its words and the byte offset of its first word in
@@ -61,7 +62,15 @@ impl Splitter {
     }
 }
 
+/// Whether `c` may follow a control operator that ends a word.
+fn boundary(c: char) -> bool {
+    c.is_whitespace() || matches!(c, ';' | '&' | '|' | '(' | ')')
+}
+
 /// The simple commands of one logical line (continuations already joined).
+/// A control operator inside a word (`a|b`, `x;y`) is kept in the word: the
+/// files are often command lines saved as text, and frame names in hostile
+/// or odd files keep what they hold.
 pub fn commands(line: &str) -> Vec<Command> {
     let mut s = Splitter::default();
     let mut it = line.char_indices().peekable();
@@ -96,7 +105,11 @@ pub fn commands(line: &str) -> Vec<Command> {
                 }
             }
             '#' if !s.open => break,
-            ';' | '&' | '|' | '(' | ')' => s.end_command(),
+            ';' | '&' | '|' | '(' | ')'
+                if !s.open || it.peek().is_none_or(|(_, n)| boundary(*n)) =>
+            {
+                s.end_command()
+            }
             '{' | '}' if !s.open && it.peek().is_none_or(|(_, n)| n.is_whitespace()) => {
                 s.end_command()
             }
@@ -119,7 +132,7 @@ mod tests {
     #[test]
     fn operators_brackets_and_comments_end_commands() {
         assert_eq!(
-            words("(sleep 1 && a 'b c' \"d\\\"e\") & f;g || h # i ; j"),
+            words("(sleep 1 && a 'b c' \"d\\\"e\") & f; g || h # i ; j"),
             vec![
                 vec!["sleep", "1"],
                 vec!["a", "b c", "d\"e"],
@@ -128,6 +141,7 @@ mod tests {
                 vec!["h"],
             ]
         );
+        assert_eq!(words("x|<b> y;z &"), vec![vec!["x|<b>", "y;z"]]);
         assert_eq!(words("{ a; } | b#c"), vec![vec!["a"], vec!["b#c"]]);
         assert_eq!(commands("  x y")[0].offset, 2);
         assert!(commands("# all comment").is_empty());

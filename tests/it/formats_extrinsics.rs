@@ -220,6 +220,8 @@ fn each_fixture_is_detected_as_its_format() {
         ("static_tf_script.sh", "static-tf-commands"),
         ("kitti_object_000000.txt", "kitti-object"),
         ("kitti_tracking_style.txt", "kitti-object"),
+        ("nuscenes/calibrated_sensor.json", "nuscenes-json"),
+        ("nuscenes_two_logs/calibrated_sensor.json", "nuscenes-json"),
     ] {
         let path = Path::new(DIR).join(file);
         let text = std::fs::read_to_string(&path).expect("read");
@@ -311,5 +313,29 @@ fn kitti_object_frames_and_the_raw_calib_rename_hint() {
             .contains("--rename imu2velo.txt:source=imu --rename imu2velo.txt:target=velo"),
         "{}",
         w.message
+    );
+}
+
+#[test]
+fn nuscenes_names_from_sensor_json_and_blocks_a_sensor_calibrated_twice() {
+    let g = graph("nuscenes/calibrated_sensor.json", None);
+    assert_eq!(
+        g.frames(),
+        ["CAM_BACK_LEFT", "LIDAR_TOP", "RADAR_FRONT", "ego"]
+    );
+    assert!(g.warnings().is_empty(), "{:?}", g.warnings());
+    let g = graph("nuscenes_two_logs/calibrated_sensor.json", None);
+    assert_eq!(g.frames(), ["ego", "sensor_a0000000"]);
+    let codes: Vec<Code> = g.warnings().iter().map(|w| w.code).collect();
+    assert!(codes.contains(&Code::AssumedConvention), "{codes:?}");
+    let amb = g
+        .warnings()
+        .iter()
+        .find(|w| w.code == Code::AmbiguousKey)
+        .expect("ambiguous");
+    assert!(
+        amb.message.contains("sensor_dc8b3966 is calibrated 2 times with different values (records 7a0cd258d096410eb68251b4b87febf5, f0000000000000000000000000000009)"),
+        "{}",
+        amb.message
     );
 }
