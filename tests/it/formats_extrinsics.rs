@@ -211,6 +211,7 @@ fn each_fixture_is_detected_as_its_format() {
     use extrinsic_audit::formats::detect_format;
     for (file, id) in [
         ("kalibr_padrl_camchain-imucam.yaml", "matrix-yaml"),
+        ("kalibr_openvins_euroc_imucam_chain.yaml", "matrix-yaml"),
         ("geode_style_ambiguous.yaml", "matrix-yaml"),
         ("iglio_ncd.yaml", "ig-lio"),
         ("iglio_nclt.yaml", "ig-lio"),
@@ -338,4 +339,24 @@ fn nuscenes_names_from_sensor_json_and_blocks_a_sensor_calibrated_twice() {
         "{}",
         amb.message
     );
+}
+
+#[test]
+fn kalibr_t_imu_cam_variant_and_imu0_naming() {
+    let g = graph("kalibr_openvins_euroc_imucam_chain.yaml", None);
+    assert_eq!(g.roots(), vec!["imu".to_string()]);
+    assert!(g.redundant().is_empty());
+    // A file with an `imu0` block names the IMU imu0 (Kalibr's IMU naming).
+    let text = "imu0:\n  update_rate: 200.0\ncam0:\n  T_cam_imu:\n  - [1, 0, 0, 0.1]\n  - [0, 1, 0, 0]\n  - [0, 0, 1, 0]\n  - [0, 0, 0, 1]\n";
+    let l = extrinsic_audit::formats::load_str(
+        text,
+        Path::new("camchain-imucam.yaml"),
+        &LoadOptions::default(),
+    )
+    .expect("imu0");
+    assert_eq!(
+        (l.edges[0].parent.as_str(), l.edges[0].child.as_str()),
+        ("imu0", "cam0")
+    );
+    assert!((l.edges[0].transform.translation().x + 0.1).abs() < 1e-15);
 }
