@@ -886,7 +886,9 @@ pub const STATIC_TF_COMMANDS: FormatSpec = FormatSpec {
     id: "static-tf-commands",
     description: "command lines saved as text or a shell script (rosrun tf / ros2 run tf2_ros static_transform_publisher ..., with `&`, `;`, `&&`, subshells, `\\` continuations, comments): child pose in parent, one edge per publisher command",
     extensions: &["sh", "bash"],
-    walk: &[".txt", ".sh", ".bash"],
+    // Not `.sh`: a directory walk (`audit check DIR`) would read every
+    // script of a repository, most of which publish nothing.
+    walk: &[".txt"],
     sniff: |s| {
         let commands = s.text.lines().any(|l| {
             let l = l.trim_start();
