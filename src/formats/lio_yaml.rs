@@ -11,7 +11,8 @@
 //!   seen from the IMU. Edge `imu -> lidar`.
 //! - `dlio` (DLIO, vectr-ucla/direct_lidar_inertial_odometry `cfg/dlio.yaml`):
 //!   `extrinsics: {baselink2imu: {t, R}, baselink2lidar: {t, R}}`, `R`
-//!   row-major. DLIO's odom.cc builds `baselink2lidar_T` from `t` and `R` and
+//!   row-major (ROS 2 parameter files flatten them: `extrinsics/baselink2imu/t`,
+//!   `extrinsics/baselink2imu/R`, ...). DLIO's odom.cc builds `baselink2lidar_T` from `t` and `R` and
 //!   maps each scan with `T_prior * baselink2lidar_T` (LiDAR points into
 //!   base_link, then the world): the LiDAR pose in base_link; `baselink2imu`
 //!   likewise the IMU pose in base_link. Edges `base_link -> imu` and
@@ -40,7 +41,9 @@ pub fn dialect(text: &str) -> Option<&'static str> {
     if has_key_line(text, "t_imu_lidar") && has_key_line(text, "R_imu_lidar") {
         return Some(IG_LIO.id);
     }
-    if has_key_line(text, "baselink2imu") || has_key_line(text, "baselink2lidar") {
+    let dlio_key =
+        |k: &str| has_key_line(text, k) || has_key_line(text, &format!("extrinsics/{k}/t"));
+    if dlio_key("baselink2imu") || dlio_key("baselink2lidar") {
         return Some(DLIO.id);
     }
     if has_key_line(text, "extrinsicRotation") && has_key_line(text, "extrinsicTranslation") {
@@ -136,6 +139,19 @@ fn parse_ig_lio(docs: &[Node], path: &Path) -> Result<Loaded> {
 fn parse_dlio(docs: &[Node], path: &Path) -> Result<Loaded> {
     let mut out = Loaded::default();
     for (key, child) in [("baselink2imu", "imu"), ("baselink2lidar", "lidar")] {
+        // ROS 2 parameter files flatten the block: `extrinsics/KEY/t`, `/R`.
+        let (tflat, rflat) = (format!("extrinsics/{key}/t"), format!("extrinsics/{key}/R"));
+        if let Ok(m) = unique_map(docs, &tflat) {
+            rt_edge(
+                m,
+                (&tflat, &rflat),
+                ("base_link", child),
+                DLIO.id,
+                path,
+                &mut out,
+            )?;
+            continue;
+        }
         let Ok(m) = unique_map(docs, key) else {
             continue;
         };

@@ -216,6 +216,8 @@ fn each_fixture_is_detected_as_its_format() {
         ("iglio_ncd.yaml", "ig-lio"),
         ("iglio_nclt.yaml", "ig-lio"),
         ("dlio_default.yaml", "dlio"),
+        ("dlio_ros2_params.yaml", "dlio"),
+        ("vins_mono_realsense_color.yaml", "vins-mono"),
         ("vins_mono_euroc.yaml", "vins-mono"),
         ("vins_fusion_euroc_stereo.yaml", "matrix-yaml"),
         ("static_tf_script.sh", "static-tf-commands"),
