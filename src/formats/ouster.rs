@@ -95,12 +95,15 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     }
     if out.edges.is_empty() {
         // Not Ouster metadata: matrices under T_A_B / A_T_B keys are read as in YAML.
-        if let Ok(l) = yaml_dialects::parse_matrices(&docs, text, path) {
-            return Ok(l);
-        }
-        return Err(Error::parse(
-            "JSON without `lidar_to_sensor_transform` or `imu_to_sensor_transform`: expected Ouster sensor metadata; pass --key NAME to read another key",
-        ));
+        return yaml_dialects::parse_matrices(&docs, text, path).map_err(|e| {
+            Error {
+                message: format!(
+                    "JSON without `lidar_to_sensor_transform` or `imu_to_sensor_transform` (Ouster sensor metadata) or nuScenes `sensor_token` records; {}",
+                    e.message
+                ),
+                ..e
+            }
+        });
     }
     Ok(out)
 }
