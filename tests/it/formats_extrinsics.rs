@@ -362,3 +362,35 @@ fn kalibr_t_imu_cam_variant_and_imu0_naming() {
     );
     assert!((l.edges[0].transform.translation().x + 0.1).abs() < 1e-15);
 }
+
+#[test]
+fn a_redundant_edge_between_unconnected_frames_joins_the_tree() {
+    use extrinsic_audit::diagnostic::Location;
+    use extrinsic_audit::frames::{Edge, EdgeSet};
+    use extrinsic_audit::geometry::Transform;
+    let t = |x: f64| Transform::from_translation([x, 0.0, 0.0]).expect("t");
+    let e = |p: &str, c: &str, x: f64| {
+        Edge::new(
+            p,
+            c,
+            t(x),
+            Location::default(),
+            "matrix-yaml",
+            format!("T_{p}_{c}"),
+        )
+    };
+    let mut g = FrameGraph::new();
+    g.add(EdgeSet {
+        edges: vec![e("imu", "cam0", 0.1)],
+        redundant: vec![e("cam1", "cam0", -0.2), e("cam1", "cam0", -0.2)],
+        ..EdgeSet::default()
+    })
+    .expect("add");
+    // The first joins cam1 to the tree (reversed: cam0 already has a parent);
+    // the second is then checked against it and agrees.
+    assert_eq!(g.parent_edge("cam1").expect("edge").parent, "cam0");
+    assert_eq!(g.redundant().len(), 1);
+    assert!(g.redundant()[0].agrees());
+    let c = g.transform("imu", "cam1").expect("chain");
+    assert!((c.transform.translation().x - 0.3).abs() < 1e-15);
+}
