@@ -161,6 +161,14 @@ codes! {
     /// pose (two root links, a revolute joint without `<limit>`, ...): read
     /// anyway; the message gives urdfdom's reason.
     RefusedByRos = "refused-by-ros", Warning;
+    /// A redundant edge (one closing a loop in a file) that disagrees with
+    /// the tree path between its frames beyond the redundant-edge tolerances;
+    /// the message gives both values.
+    RedundantEdgeDisagrees = "redundant-edge-disagrees", Warning;
+    /// A key given twice in one file with different values: the edges it
+    /// would give are left out (the rest of the file is read); the message
+    /// names both lines.
+    AmbiguousKey = "ambiguous-key", Warning;
 
     // Findings of `audit check` (errors unless a policy says otherwise).
     /// A file in the checked paths is not in the baseline.

@@ -126,6 +126,16 @@ pub const TREE_MAX_INDENT: usize = 40;
 /// Frames listed in a cycle message before the middle is elided.
 pub const CYCLE_LIST_MAX: usize = 12;
 
+/// A redundant edge (one that closes a loop in a file, Kalibr's `T_cn_cnm1`
+/// beside the cameras' `T_cam_imu`) agrees with the tree path between its
+/// frames when their translations differ by at most this (m): the files print
+/// 8 or so significant digits and a calibration is good to millimetres, so a
+/// larger gap means the file's own numbers do not close the loop...
+pub const REDUNDANT_TRANSLATION_TOL: f64 = 1e-3;
+
+/// ...and the rotation between them is at most this angle (rad, 0.057 deg).
+pub const REDUNDANT_ROTATION_TOL: f64 = 1e-3;
+
 // ---------------------------------------------------------------------------
 // Reading files (`formats`)
 // ---------------------------------------------------------------------------

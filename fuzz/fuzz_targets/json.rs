@@ -1,16 +1,21 @@
 #![no_main]
-//! Ouster metadata JSON (legacy flat and nested) and matrix JSON.
+//! Ouster metadata JSON (legacy flat and nested), nuScenes calibrated_sensor.json
+//! and matrix JSON.
 use extrinsic_audit::formats::Format;
 use fuzz_common::{load_and_check, split};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     let Some((sel, text)) = split(data) else { return };
-    let (path, fmt) = match sel % 4 {
+    let (path, fmt) = match sel % 5 {
         0 | 1 => ("metadata.json", None),
         2 => ("metadata", None),
         // JSON is YAML: the matrix-YAML reader must take JSON matrices too.
-        _ => ("calib.json", Some(Format::from_name("matrix-yaml").unwrap())),
+        3 => ("calib.json", Some(Format::from_name("matrix-yaml").unwrap())),
+        _ => (
+            "calibrated_sensor.json",
+            Some(Format::from_name("nuscenes-json").unwrap()),
+        ),
     };
     load_and_check(&text, path, fmt, sel);
 });

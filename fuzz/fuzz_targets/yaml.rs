@@ -1,6 +1,6 @@
 #![no_main]
 //! YAML dialects: sniffed from content, and each dialect forced; also the text
-//! formats (KITTI, M2DGR) that share the `.txt` / `.yaml` detection path.
+//! formats (KITTI raw and object, M2DGR) that share the `.txt` / `.yaml` detection path.
 use extrinsic_audit::formats::Format;
 use fuzz_common::{load_and_check, split};
 use libfuzzer_sys::fuzz_target;
@@ -17,6 +17,10 @@ const FORCED: &[&str] = &[
     "quaternion-yaml",
     "kitti-calib",
     "m2dgr-txt",
+    "ig-lio",
+    "dlio",
+    "vins-mono",
+    "kitti-object",
 ];
 
 fuzz_target!(|data: &[u8]| {

@@ -197,6 +197,7 @@ fn deny_warnings(strict: bool, warnings: &[Warning]) -> Result<()> {
 pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     let loaded = pipeline::load(&args.files, &args.load_options()?, &args.renames)?;
     print_warnings(loaded.graph.warnings());
+    super::print_notes(loaded.graph.notes());
     deny_warnings(args.strict, loaded.graph.warnings())?;
     loaded.check_joint_names(args.joints.iter().map(|(n, _)| n.as_str()))?;
     if args.frames {
@@ -212,6 +213,7 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     let (from, to) = loaded.frame_pair(args.from.as_deref(), args.to.as_deref())?;
     let chain = loaded.graph.transform(&from, &to)?;
     print_warnings(&chain.warnings);
+    super::print_notes(&chain.notes);
     deny_warnings(args.strict, &chain.warnings)?;
     let opts = RigOptions {
         ells: args.ell.clone(),

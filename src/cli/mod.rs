@@ -176,6 +176,13 @@ pub fn print_warnings(warnings: &[Warning]) {
     }
 }
 
+/// Notes (a redundant edge that agrees, the path a chain used) to stderr.
+pub fn print_notes(notes: &[String]) {
+    for n in notes {
+        to_stderr(&format!("note: {}", sanitize::line(n)));
+    }
+}
+
 /// `NAME=VALUE` for `--joint`.
 pub fn parse_joint(s: &str) -> std::result::Result<(String, f64), String> {
     let (name, value) = s

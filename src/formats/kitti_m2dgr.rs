@@ -4,7 +4,7 @@
 //!   `R:` 9 numbers row-major, `T:` 3 numbers (m), with `x_B = R x_A + T` for a
 //!   file named `calib_A_to_B.txt`: the pose of A in B, edge `B -> A`. A file
 //!   with another name yields `target -> source` with an `assumed-convention`
-//!   warning. Other lines (`calib_time:`, `delta_f:`, ...) are ignored.
+//!   warning that says how to name them (`--rename FILE:source=imu ...`). Other lines (`calib_time:`, `delta_f:`, ...) are ignored.
 //! - `m2dgr-txt`: M2DGR `calibration_results.txt`: `%% NAME` headers, then
 //!   `% Extrinsic [to LIDAR]` and a `data: [...]` 4x4 or 3x4 (row-major, m): the
 //!   sensor's pose in the LiDAR frame (M2DGR's "[to LIDAR]"), edges
@@ -71,6 +71,10 @@ pub fn parse_kitti(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded
     .map_err(|e| e.at(&loc))?;
     check_metres(&[t[0], t[1], t[2]], "T", &loc, &mut ws);
     locate_warnings(ws, &loc, &mut out.warnings);
+    let name = path
+        .file_name()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_default();
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().to_string())
@@ -84,7 +88,10 @@ pub fn parse_kitti(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded
             out.warnings.push(
                 Warning::new(
                     Code::AssumedConvention,
-                    "file name is not calib_A_to_B.txt: frames named `source` and `target` (x_target = R x_source + T)",
+                    format!(
+                        "file name {:?} is not calib_A_to_B.txt: frames named `source` and `target` (x_target = R x_source + T); name them with --rename, e.g. for a copy of calib_imu_to_velo.txt: --rename {name}:source=imu --rename {name}:target=velo",
+                        crate::sanitize::clip(&name),
+                    ),
                 )
                 .at(&loc),
             );

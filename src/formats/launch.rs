@@ -590,71 +590,52 @@ pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<
     Ok(out)
 }
 
-/// Split a command line like a POSIX shell would for simple cases: whitespace,
-/// single and double quotes.
-fn shell_words(s: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut cur = String::new();
-    let mut quote: Option<char> = None;
-    let mut any = false;
-    for c in s.chars() {
-        match quote {
-            Some(q) if c == q => quote = None,
-            Some(_) => cur.push(c),
-            None if c == '\'' || c == '"' => {
-                quote = Some(c);
-                any = true;
-            }
-            None if c.is_whitespace() => {
-                if any || !cur.is_empty() {
-                    out.push(std::mem::take(&mut cur));
-                    any = false;
-                }
-            }
-            None => cur.push(c),
-        }
-    }
-    if any || !cur.is_empty() {
-        out.push(cur);
-    }
-    out
-}
-
 /// Command lines saved as text.
 pub fn parse_commands(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let _ = opts;
     let mut out = Loaded::default();
     let mut joined = String::new();
     let mut start_line = 0;
+    // Length of the logical line's first physical line: columns are counted
+    // there.
+    let mut first_len = usize::MAX;
     for (i, raw) in text.lines().enumerate() {
         if joined.is_empty() {
             start_line = i + 1;
+            first_len = usize::MAX;
         }
         let l = raw.trim_end();
         if let Some(x) = l.strip_suffix('\\') {
+            if joined.is_empty() {
+                first_len = x.len();
+            }
             joined.push_str(x);
             joined.push(' ');
             continue;
         }
         joined.push_str(l);
         let line = std::mem::take(&mut joined);
-        let t = line.trim_start();
-        if t.is_empty() || t.starts_with('#') {
-            continue;
+        // One edge per publisher command: `&`, `;`, `&&`, `|`, subshells and
+        // comments split the line (see `shell`).
+        for cmd in super::shell::commands(&line) {
+            let words = &cmd.words;
+            let Some(pos) = words.iter().position(|w| w == "static_transform_publisher") else {
+                continue;
+            };
+            let col = if cmd.offset < first_len {
+                line[..cmd.offset].chars().count() + 1
+            } else {
+                1
+            };
+            let loc = Location::at(path, start_line, Some(col));
+            out.edges.push(parse_stp_args(
+                &words[pos + 1..],
+                &loc,
+                STATIC_TF_COMMANDS.id,
+                "",
+                &mut out.warnings,
+            )?);
         }
-        let words = shell_words(t);
-        let Some(pos) = words.iter().position(|w| w == "static_transform_publisher") else {
-            continue;
-        };
-        let col = raw.len() - raw.trim_start().len() + 1;
-        let loc = Location::at(path, start_line, Some(col));
-        out.edges.push(parse_stp_args(
-            &words[pos + 1..],
-            &loc,
-            STATIC_TF_COMMANDS.id,
-            "",
-            &mut out.warnings,
-        )?);
     }
     Ok(out)
 }
@@ -1041,15 +1022,17 @@ pub const LAUNCH_PY: FormatSpec = FormatSpec {
 /// Command lines saved as text.
 pub const STATIC_TF_COMMANDS: FormatSpec = FormatSpec {
     id: "static-tf-commands",
-    description: "command lines saved as text (rosrun tf / ros2 run tf2_ros static_transform_publisher ...): child pose in parent",
-    extensions: &[],
+    description: "command lines saved as text or a shell script (rosrun tf / ros2 run tf2_ros static_transform_publisher ..., with `&`, `;`, `&&`, subshells, `\\` continuations, comments): child pose in parent, one edge per publisher command",
+    extensions: &["sh", "bash"],
+    // Not `.sh`: a directory walk (`audit check DIR`) would read every
+    // script of a repository, most of which publish nothing.
     walk: &[".txt"],
     sniff: |s| {
         let commands = s.text.lines().any(|l| {
             let l = l.trim_start();
             !l.starts_with('#')
                 && !l.starts_with('%')
-                && (l.starts_with("rosrun") || l.starts_with("ros2 run"))
+                && (l.contains("rosrun") || l.contains("ros2 run"))
                 && l.contains("static_transform_publisher")
         });
         (commands && !s.text.contains("!!opencv-matrix")).then_some(50)

@@ -17,11 +17,16 @@ use std::path::Path;
 
 pub mod bag;
 pub mod kitti_m2dgr;
+pub mod kitti_object;
 pub mod launch;
 pub mod launch_subst;
+pub mod lio_yaml;
+pub mod matrix_tree;
+pub mod nuscenes;
 pub mod ouster;
 pub mod registry;
 pub mod rig_toml;
+pub mod shell;
 pub mod source;
 // TODO(issue 10): urdf/mod.rs links to its private `read` and `joints`.
 pub mod urdf;
@@ -146,6 +151,9 @@ pub struct Loaded {
     pub warnings: Vec<Warning>,
     /// The rig metadata, for TOML rig files (`None` for every other format).
     pub rig: Option<RigMeta>,
+    /// Edges that close a loop with `edges` (Kalibr `T_cn_cnm1`): checked
+    /// against the tree, not part of it (see `frames::graph`).
+    pub redundant: Vec<Edge>,
 }
 
 impl From<Loaded> for crate::frames::EdgeSet {
@@ -154,6 +162,7 @@ impl From<Loaded> for crate::frames::EdgeSet {
             edges: l.edges,
             frames: l.frames,
             warnings: l.warnings,
+            redundant: l.redundant,
         }
     }
 }
@@ -281,7 +290,7 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         ))
         .in_file(path));
     }
-    for e in &loaded.edges {
+    for e in loaded.edges.iter().chain(&loaded.redundant) {
         check_names(e).map_err(|err| err.in_file(path))?;
         let d = e.transform.translation();
         if let Some(x) = d.iter().find(|x| x.is_nan() || x.abs() > MAX_TRANSLATION_M) {
@@ -296,6 +305,7 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     warn_degrees(&loaded.edges, opts, &mut loaded.warnings);
     if opts.invert {
         loaded.edges = loaded.edges.into_iter().map(Edge::inverted).collect();
+        loaded.redundant = loaded.redundant.into_iter().map(Edge::inverted).collect();
     }
     Ok(loaded)
 }

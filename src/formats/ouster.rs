@@ -95,12 +95,15 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     }
     if out.edges.is_empty() {
         // Not Ouster metadata: matrices under T_A_B / A_T_B keys are read as in YAML.
-        if let Ok(l) = yaml_dialects::parse_matrices(&docs, text, path) {
-            return Ok(l);
-        }
-        return Err(Error::parse(
-            "JSON without `lidar_to_sensor_transform` or `imu_to_sensor_transform`: expected Ouster sensor metadata; pass --key NAME to read another key",
-        ));
+        return yaml_dialects::parse_matrices(&docs, text, path).map_err(|e| {
+            Error {
+                message: format!(
+                    "JSON without `lidar_to_sensor_transform` or `imu_to_sensor_transform` (Ouster sensor metadata) or nuScenes `sensor_token` records; {}",
+                    e.message
+                ),
+                ..e
+            }
+        });
     }
     Ok(out)
 }
@@ -109,8 +112,16 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
 pub const SPEC: FormatSpec = FormatSpec {
     id: "ouster-json",
     description: "Ouster sensor metadata JSON (legacy flat or nested): `lidar_to_sensor_transform` / `imu_to_sensor_transform`, row-major 4x4 in millimetres, converted to metres: edges os_sensor -> os_lidar and os_sensor -> os_imu",
-    extensions: &["json"],
+    // Not claimed by extension: nuScenes' `.json` lists sniff higher. Any
+    // other `.json` (or text that starts like JSON) is read here.
+    extensions: &[],
     walk: &[".json"],
-    sniff: |s| s.trimmed.starts_with('{').then_some(70),
+    sniff: |s| {
+        if s.trimmed.starts_with(['{', '[']) {
+            Some(70)
+        } else {
+            (s.ext == "json").then_some(20)
+        }
+    },
     parse,
 };

@@ -9,7 +9,10 @@
 //! Adding a format: its parser file defines a `pub const SPEC: FormatSpec`, and
 //! [`FORMATS`] gets one line.
 
-use super::{kitti_m2dgr, launch, ouster, rig_toml, urdf, xacro, xml, yaml_dialects};
+use super::{
+    kitti_m2dgr, kitti_object, launch, lio_yaml, nuscenes, ouster, rig_toml, urdf, xacro, xml,
+    yaml_dialects,
+};
 use super::{LoadOptions, Loaded};
 use crate::diagnostic::{Error, Result};
 use crate::formats::source::LineIndex;
@@ -118,11 +121,16 @@ pub const FORMATS: &[&FormatSpec] = &[
     &launch::LIO_LIVOX_LAUNCH,
     &yaml_dialects::COCO_LIC,
     &yaml_dialects::SLICT,
+    &lio_yaml::IG_LIO,
+    &lio_yaml::DLIO,
+    &lio_yaml::VINS_MONO,
     &yaml_dialects::TF_TREE_YAML,
     &yaml_dialects::MATRIX_YAML,
     &yaml_dialects::QUATERNION_YAML,
+    &nuscenes::NUSCENES,
     &ouster::SPEC,
     &kitti_m2dgr::KITTI_CALIB,
+    &kitti_object::KITTI_OBJECT,
     &kitti_m2dgr::M2DGR_TXT,
     &rig_toml::SPEC,
 ];

@@ -35,11 +35,11 @@
 //!   `!!opencv-matrix` `{rows, cols, dt, data}`, a flat list of 16, a list of four
 //!   rows, or a 3x4 without the bottom row) or `T_A_B_t_xyz_q_xyzw` (7 numbers):
 //!   the pose of B in A (maps B coordinates into A), edge `A -> B`. Kalibr's
-//!   `camN: {T_cam_imu, T_cn_cnm1}` name the camera `camN` (and `cam<N-1>`). A
-//!   comment `# Units: millimeters` just above a matrix converts it to metres
-//!   (GEODE) with a warning. Matrices that do not form a tree (GEODE repeats
-//!   `T_LiDAR_CamL` with other values and closes cycles) are refused with the
-//!   list of keys: pass `--key NAME`.
+//!   `camN: {T_cam_imu, T_cn_cnm1}` name the camera `camN` (and `cam<N-1>`),
+//!   the IMU `imu` or `imu0`. A comment `# Units: millimeters` just above a
+//!   matrix converts it to metres (GEODE) with a warning. The keys become a
+//!   tree plus checked redundant edges, and a key repeated with other values
+//!   (GEODE's `T_LiDAR_CamL`) blocks only its own edge: see `matrix_tree`.
 //! - `quaternion-yaml` (FusionPortable): `quaternion_A_B` (`data: [qw, qx, qy, qz]`,
 //!   w first as its comments say) with `translation_A_B`: the pose of B in A
 //!   (FusionPortable: "Extrinsics from the sensor (reference) to body_imu
@@ -56,12 +56,11 @@ use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::registry::{FormatSpec, Sniff};
 use crate::formats::yaml::{self, Node, Value};
 use crate::formats::{check_metres, locate_warnings, Edge, LoadOptions, Loaded};
-use crate::frames::FrameGraph;
 use crate::geometry::se3::{QuatOrder, Transform};
 use std::path::Path;
 
 /// A non-comment line that starts (after indentation) with `key:`.
-fn has_key_line(text: &str, key: &str) -> bool {
+pub(crate) fn has_key_line(text: &str, key: &str) -> bool {
     text.lines().any(|l| {
         let t = l.trim_start();
         !t.starts_with('#')
@@ -90,6 +89,9 @@ pub fn dialect(text: &str) -> &'static str {
     if has_key_line(text, "extrinsicTrans") || has_key_line(text, "extrinsicRot") {
         return LIO_SAM.id;
     }
+    if let Some(id) = crate::formats::lio_yaml::dialect(text) {
+        return id;
+    }
     if has_key_line(text, "lidar_extr") {
         return SLICT.id;
     }
@@ -115,7 +117,7 @@ pub fn dialect(text: &str) -> &'static str {
     MATRIX_YAML.id
 }
 
-fn loc_of(path: &Path, n: &Node) -> Location {
+pub(crate) fn loc_of(path: &Path, n: &Node) -> Location {
     if n.line == 0 {
         Location::file(path)
     } else {
@@ -123,7 +125,7 @@ fn loc_of(path: &Path, n: &Node) -> Location {
     }
 }
 
-fn err_at(n: &Node, msg: String) -> Error {
+pub(crate) fn err_at(n: &Node, msg: String) -> Error {
     Error::parse(msg).at_line(n.line.max(1), Some(n.column.max(1)))
 }
 
@@ -147,7 +149,7 @@ fn maps_with<'a>(n: &'a Node, key: &str, out: &mut Vec<&'a Node>) {
     }
 }
 
-fn exactly<const N: usize>(n: &Node, what: &str) -> Result<[f64; N]> {
+pub(crate) fn exactly<const N: usize>(n: &Node, what: &str) -> Result<[f64; N]> {
     let v = n.numbers(what)?;
     if v.len() != N {
         return Err(err_at(
@@ -160,12 +162,12 @@ fn exactly<const N: usize>(n: &Node, what: &str) -> Result<[f64; N]> {
     Ok(out)
 }
 
-fn mat3(v: [f64; 9]) -> [[f64; 3]; 3] {
+pub(crate) fn mat3(v: [f64; 9]) -> [[f64; 3]; 3] {
     [[v[0], v[1], v[2]], [v[3], v[4], v[5]], [v[6], v[7], v[8]]]
 }
 
 /// The single map holding `key` (error when several do).
-fn unique_map<'a>(docs: &'a [Node], key: &str) -> Result<&'a Node> {
+pub(crate) fn unique_map<'a>(docs: &'a [Node], key: &str) -> Result<&'a Node> {
     let mut found = Vec::new();
     for d in docs {
         maps_with(d, key, &mut found);
@@ -201,7 +203,7 @@ fn unique_map<'a>(docs: &'a [Node], key: &str) -> Result<&'a Node> {
     }
 }
 
-fn key_node<'a>(m: &'a Node, key: &str) -> Option<&'a Node> {
+pub(crate) fn key_node<'a>(m: &'a Node, key: &str) -> Option<&'a Node> {
     m.entries()
         .iter()
         .rev()
@@ -209,11 +211,11 @@ fn key_node<'a>(m: &'a Node, key: &str) -> Option<&'a Node> {
         .map(|(k, _)| k)
 }
 
-type DocsParser = fn(&[Node], &str, &Path) -> Result<Loaded>;
+pub(crate) type DocsParser = fn(&[Node], &str, &Path) -> Result<Loaded>;
 
 /// Parse YAML text with one dialect's reader; `--key` reads one key instead
 /// (except in tf_static dumps, whose keys are not transforms).
-fn parse_with(
+pub(crate) fn parse_with(
     read: DocsParser,
     keyed: bool,
     text: &str,
@@ -247,7 +249,7 @@ dialect!(LIO_SAM, "lio-sam", true, |d, _, p| parse_lio_sam(d, p), "LIO-SAM `extr
 dialect!(COCO_LIC, "coco-lic", true, |d, _, p| parse_coco_lic(d, p), "Coco-LIC `lidarN: Extrinsics: {Trans, Rot}` (\"lidar to imu\"): LiDAR pose in the IMU frame, edges imu -> lidarN");
 dialect!(SLICT, "slict", true, |d, _, p| parse_slict(d, p), "SLICT `lidar_extr`: stacked row-major 4x4, \"transform of coordinates in lidar's frame to body\": edges body -> lidar (lidar0, lidar1, ... when several); the (4,4) entry is a timestamp flag and the bottom row is not used");
 dialect!(TF_TREE_YAML, "tf-tree-yaml", true, |d, _, p| parse_tf_tree(d, p), "tf-tree YAML (`<parent>_to_<child>: {x, y, z, roll, pitch, yaw}`, GrandTour): child pose in parent, URDF rpy");
-dialect!(MATRIX_YAML, "matrix-yaml", true, parse_matrices, "YAML with 4x4 matrices under keys `T_A_B` or `A_T_B` (OpenCV FileStorage `!!opencv-matrix`, Kalibr `T_cam_imu`, plain lists, `T_A_B_t_xyz_q_xyzw`): the pose of B in A, edge A -> B; --key NAME picks one");
+dialect!(MATRIX_YAML, "matrix-yaml", true, parse_matrices, "YAML with 4x4 matrices under keys `T_A_B` or `A_T_B` (OpenCV FileStorage `!!opencv-matrix`, VINS-Fusion `body_T_cam0`, plain lists, `T_A_B_t_xyz_q_xyzw`): the pose of B in A, edge A -> B; Kalibr camchain `camN: {T_cam_imu, T_cn_cnm1}`: edges imu -> camN, T_cn_cnm1 checked as a redundant edge; a key that closes a loop is checked, not refused; --key NAME picks one");
 dialect!(QUATERNION_YAML, "quaternion-yaml", true, parse_quaternion, "`quaternion_A_B` (qw, qx, qy, qz: w first) + `translation_A_B` blocks (FusionPortable): the pose of B in A, edge A -> B");
 
 fn explain_yaml_error(e: Error, text: &str) -> Error {
@@ -707,15 +709,17 @@ fn millimetre_comment(text: &str, line: usize) -> bool {
     false
 }
 
-fn matrix_edge(
+/// One matrix key read as an edge `frames.0 -> frames.1` (the pose of the
+/// second frame in the first), its warnings located at the key.
+pub(crate) fn matrix_edge(
     key: &str,
     frames: (String, String),
     v: &Node,
     k: &Node,
     text: &str,
     path: &Path,
-    out: &mut Loaded,
-) -> Result<()> {
+    warnings: &mut Vec<Warning>,
+) -> Result<Edge> {
     let loc = loc_of(path, k);
     let mut ws = Vec::new();
     let mut t = read_transform(v, key, &mut ws)?;
@@ -728,85 +732,19 @@ fn matrix_edge(
     }
     let d = *t.translation();
     check_metres(&[d.x, d.y, d.z], key, &loc, &mut ws);
-    locate_warnings(ws, &loc, &mut out.warnings);
-    out.edges.push(Edge::new(
+    locate_warnings(ws, &loc, warnings);
+    Ok(Edge::new(
         frames.0,
         frames.1,
         t,
         loc,
         MATRIX_YAML.id,
         key.to_string(),
-    ));
-    Ok(())
+    ))
 }
 
 pub(crate) fn parse_matrices(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
-    let mut out = Loaded::default();
-    let mut keys: Vec<(String, usize)> = Vec::new();
-    for d in docs {
-        for (k, v) in d.entries() {
-            let Some(name) = k.as_str() else { continue };
-            if let Some(fr) = frames_from_key(&name) {
-                if let Some(prev) = keys.iter().find(|(n, _)| *n == name) {
-                    return Err(err_at(
-                        k,
-                        format!(
-                            "`{name}` given twice (lines {} and {}): expected one value per key; pick another key with --key NAME, or copy the right value into a file of its own",
-                            prev.1, k.line
-                        ),
-                    ));
-                }
-                keys.push((name.clone(), k.line));
-                matrix_edge(&name, fr, v, k, text, path, &mut out)?;
-                continue;
-            }
-            // Kalibr camchain: camN: {T_cam_imu, T_cn_cnm1}
-            if let (Value::Map(inner), Some(idx)) = (
-                &v.value,
-                name.strip_prefix("cam")
-                    .and_then(|s| s.parse::<usize>().ok()),
-            ) {
-                for (ik, iv) in inner {
-                    let Some(iname) = ik.as_str() else { continue };
-                    let Some((mut a, mut b)) = frames_from_key(&iname) else {
-                        continue;
-                    };
-                    for f in [&mut a, &mut b] {
-                        if f == "cam" || f == "cn" {
-                            *f = name.clone();
-                        } else if f == "cnm1" && idx > 0 {
-                            *f = format!("cam{}", idx - 1);
-                        }
-                    }
-                    let full = format!("{name}.{iname}");
-                    keys.push((full.clone(), ik.line));
-                    matrix_edge(&full, (a, b), iv, ik, text, path, &mut out)?;
-                }
-            }
-        }
-    }
-    if out.edges.is_empty() {
-        return Err(Error::parse(
-            "no transform found: expected FAST-LIO `extrinsic_T`, LIO-SAM `extrinsicTrans`, a tf_static dump, or matrices under keys named T_A_B / A_T_B; pass --key NAME to read one key, or --input-format NAME",
-        ));
-    }
-    let mut g = FrameGraph::new();
-    for e in &out.edges {
-        if let Err(err) = g.add_edge(e.clone()) {
-            return Err(Error {
-                message: format!(
-                    "{}; the matrices in this file do not form one tree: pick one with --key NAME ({})",
-                    err.message,
-                    keys.iter()
-                        .map(|(k, l)| format!("{k} line {l}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-                ..err
-            });
-        }
-    }
-    Ok(out)
+    crate::formats::matrix_tree::parse(docs, text, path)
 }
 
 fn parse_quaternion(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
@@ -908,7 +846,11 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
     };
     let last = key.rsplit('.').next().unwrap_or(key);
     let mut out = Loaded::default();
-    let frames = match frames_from_key(last) {
+    // Kalibr `camN.T_cam_imu`: frames named from the block (camN, imu).
+    let block = key.rsplit('.').nth(1);
+    let imu = crate::formats::matrix_tree::kalibr_imu(docs);
+    let kalibr = block.and_then(|cam| crate::formats::matrix_tree::kalibr_frames(cam, last, imu));
+    let frames = match kalibr.or_else(|| frames_from_key(last)) {
         Some(f) => f,
         None => {
             out.warnings.push(
@@ -925,7 +867,8 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
         Some(i) => format!("{key}[{i}]"),
         None => key.to_string(),
     };
-    matrix_edge(&label, frames, v, k, text, path, &mut out)?;
+    let e = matrix_edge(&label, frames, v, k, text, path, &mut out.warnings)?;
+    out.edges.push(e);
     Ok(out)
 }
 

@@ -12,6 +12,20 @@
 //! - a child that already has another parent: error naming both edges;
 //! - an edge whose child is an ancestor of its parent: a cycle, error listing it.
 //!
+//! A source may also give redundant edges ([`EdgeSet::redundant`]: Kalibr's
+//! `T_cn_cnm1` beside every camera's `T_cam_imu` closes a loop). They are
+//! checked after the source's tree edges: one whose frames the tree already
+//! connects is compared with the tree path between them; agreeing within
+//! [`REDUNDANT_TRANSLATION_TOL`] (m) and [`REDUNDANT_ROTATION_TOL`] (rad) is a
+//! note ([`FrameGraph::notes`]), disagreeing a `redundant-edge-disagrees`
+//! warning with both values. Paths always run through the tree; a chain
+//! between the two frames of a redundant edge says so in [`Chain::notes`]. A
+//! redundant edge whose frames the tree does not connect is added as a tree
+//! edge (reversed when its child already has a parent).
+//!
+//! Frame names are looked up as given, then without a leading `/` (loaders
+//! drop it, as tf2 does; `--from /camera` names `camera`).
+//!
 //! A frame can also be declared without an edge ([`FrameGraph::add_frame`], a
 //! URDF link no joint attaches): it is a root of its own, listed by
 //! [`FrameGraph::tree`] with a note, and connected to nothing.
@@ -27,7 +41,8 @@ use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::frames::Edge;
 use crate::geometry::se3::Transform;
 use crate::tolerances::{
-    CYCLE_LIST_MAX, DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, TREE_MAX_INDENT,
+    CYCLE_LIST_MAX, DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, REDUNDANT_ROTATION_TOL,
+    REDUNDANT_TRANSLATION_TOL, TREE_MAX_INDENT,
 };
 use std::collections::HashMap;
 
@@ -60,6 +75,48 @@ pub struct EdgeSet {
     pub frames: Vec<FrameDecl>,
     /// Named warnings about them.
     pub warnings: Vec<Warning>,
+    /// Edges that may close a loop with `edges` (checked against the tree,
+    /// see the module documentation).
+    pub redundant: Vec<Edge>,
+}
+
+/// A redundant edge and how it compares with the tree path between its frames.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RedundantEdge {
+    /// The edge as the file gives it.
+    pub edge: Edge,
+    /// The same pose composed along the tree.
+    pub tree: Transform,
+    /// The tree path, e.g. `cam0 <- imu -> cam1`.
+    pub path: String,
+    /// Translation gap (m) between the two.
+    pub translation_gap: f64,
+    /// Rotation gap (rad) between the two.
+    pub rotation_gap: f64,
+}
+
+impl RedundantEdge {
+    /// Whether the two agree within the redundant-edge tolerances.
+    pub fn agrees(&self) -> bool {
+        self.translation_gap <= REDUNDANT_TRANSLATION_TOL
+            && self.rotation_gap <= REDUNDANT_ROTATION_TOL
+    }
+    fn summary(&self) -> String {
+        let e = &self.edge;
+        format!(
+            "redundant edge {} -> {} ({} at {}) {} the tree path {} (translation gap {:.3e} m, rotation gap {:.3e} rad; tolerances {:e} m, {:e} rad)",
+            e.parent,
+            e.child,
+            e.provenance.key,
+            e.provenance.location,
+            if self.agrees() { "agrees with" } else { "disagrees with" },
+            self.path,
+            self.translation_gap,
+            self.rotation_gap,
+            REDUNDANT_TRANSLATION_TOL,
+            REDUNDANT_ROTATION_TOL
+        )
+    }
 }
 
 /// `T_from_to` and the edges used, in order from `from` to `to`.
@@ -75,6 +132,8 @@ pub struct Chain {
     pub steps: Vec<ChainStep>,
     /// Warnings raised by the path (joints at default position, ...).
     pub warnings: Vec<Warning>,
+    /// Which path was used when a redundant edge offers another.
+    pub notes: Vec<String>,
 }
 
 /// The frame graph: a forest of frames joined by edges with provenance (see
@@ -97,6 +156,32 @@ pub struct FrameGraph {
     /// Union-find over frames (one set per tree), for an O(α(n)) cycle check:
     /// walking ancestors on every edge is quadratic on adversarial inputs.
     uf: Vec<usize>,
+    /// Redundant edges checked against the tree.
+    redundant: Vec<RedundantEdge>,
+    /// Notes: redundant edges that agree with the tree.
+    notes: Vec<String>,
+}
+
+fn vec3(v: &nalgebra::Vector3<f64>) -> String {
+    format!("[{:.9}, {:.9}, {:.9}]", v.x, v.y, v.z)
+}
+
+fn quat(t: &Transform) -> String {
+    let q = t.quaternion_xyzw();
+    format!("[{:.9}, {:.9}, {:.9}, {:.9}]", q[0], q[1], q[2], q[3])
+}
+
+/// The frames a chain passes, `a <- b -> c` (arrows point from parent to child).
+fn path_text(chain: &Chain) -> String {
+    let mut out = chain.from.clone();
+    for s in &chain.steps {
+        if s.inverted {
+            out.push_str(&format!(" <- {}", s.edge.parent));
+        } else {
+            out.push_str(&format!(" -> {}", s.edge.child));
+        }
+    }
+    out
 }
 
 /// `file:line` of an edge, for messages.
@@ -140,8 +225,70 @@ impl FrameGraph {
         for f in set.frames {
             next.add_frame(&f.name, f.location)?;
         }
+        for e in set.redundant {
+            next.add_redundant(e)?;
+        }
         *self = next;
         Ok(())
+    }
+
+    /// Check a redundant edge against the tree, or add it to the tree when
+    /// the tree does not connect its frames yet.
+    fn add_redundant(&mut self, edge: Edge) -> Result<()> {
+        let tree = match (self.index.get(&edge.parent), self.index.get(&edge.child)) {
+            (Some(_), Some(_)) => self.transform_inner(&edge.parent, &edge.child).ok(),
+            _ => None,
+        };
+        let Some(chain) = tree else {
+            let child_has_parent = self.parent_edge(&edge.child).is_some();
+            let e = if child_has_parent {
+                let mut r = edge.clone();
+                std::mem::swap(&mut r.parent, &mut r.child);
+                r.transform = edge.transform.inverse();
+                r.provenance.key = format!("{} (inverted)", edge.provenance.key);
+                r
+            } else {
+                edge
+            };
+            return self.add_edge(e);
+        };
+        let r = RedundantEdge {
+            translation_gap: (chain.transform.translation() - edge.transform.translation()).norm(),
+            rotation_gap: rotation_angle_between(&chain.transform, &edge.transform),
+            tree: chain.transform,
+            path: path_text(&chain),
+            edge,
+        };
+        if r.agrees() {
+            self.notes.push(r.summary());
+        } else {
+            self.warnings.push(
+                Warning::new(
+                    Code::RedundantEdgeDisagrees,
+                    format!(
+                        "{}: the file gives translation {} and rotation (quaternion xyzw) {}, the tree {} and {}",
+                        r.summary(),
+                        vec3(r.edge.transform.translation()),
+                        quat(&r.edge.transform),
+                        vec3(r.tree.translation()),
+                        quat(&r.tree)
+                    ),
+                )
+                .at(&r.edge.provenance.location),
+            );
+        }
+        self.redundant.push(r);
+        Ok(())
+    }
+
+    /// The redundant edges checked against the tree, in the order added.
+    pub fn redundant(&self) -> &[RedundantEdge] {
+        &self.redundant
+    }
+
+    /// Notes: redundant edges that agree with the tree path.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
     }
 
     fn frame_id(&mut self, name: &str) -> usize {
@@ -387,7 +534,11 @@ impl FrameGraph {
     }
 
     fn lookup(&self, name: &str) -> Result<usize> {
-        if let Some(&i) = self.index.get(name) {
+        if let Some(&i) = self
+            .index
+            .get(name)
+            .or_else(|| self.index.get(name.strip_prefix('/')?))
+        {
             return Ok(i);
         }
         if self.names.is_empty() {
@@ -470,6 +621,7 @@ impl FrameGraph {
     fn transform_inner(&self, from: &str, to: &str) -> Result<Chain> {
         let fi = self.lookup(from)?;
         let ti = self.lookup(to)?;
+        let (from, to) = (self.names[fi].as_str(), self.names[ti].as_str());
         let up_from = self.ancestors(fi);
         let up_to = self.ancestors(ti);
         let root_f = up_from.last().map(|x| x.0).unwrap_or(fi);
@@ -540,13 +692,36 @@ impl FrameGraph {
                 .at(&s.edge.provenance.location),
             );
         }
-        Ok(Chain {
+        let mut chain = Chain {
             from: from.to_string(),
             to: to.to_string(),
             transform,
             steps,
             warnings,
-        })
+            notes: Vec::new(),
+        };
+        chain.notes = self.path_notes(&chain);
+        Ok(chain)
+    }
+
+    /// Notes on a chain whose two frames a redundant edge also joins: which
+    /// path was used, and how to read the other.
+    fn path_notes(&self, chain: &Chain) -> Vec<String> {
+        self.redundant
+            .iter()
+            .filter(|r| {
+                let (p, c) = (&r.edge.parent, &r.edge.child);
+                (*p == chain.from && *c == chain.to) || (*p == chain.to && *c == chain.from)
+            })
+            .map(|r| {
+                format!(
+                    "path used: {} (the tree); {}; to use that edge alone, read it with --key {}",
+                    path_text(chain),
+                    r.summary(),
+                    r.edge.provenance.key
+                )
+            })
+            .collect()
     }
 
     /// The frame tree as text, one frame a line, children indented under their
@@ -604,6 +779,21 @@ impl FrameGraph {
                     stack.push((cei, depth + 1, k + 1 == kids.len()));
                 }
             }
+        }
+        for r in &self.redundant {
+            out.push_str(&format!(
+                "redundant {} -> {}  [{}, {}; {} the tree path {}]\n",
+                r.edge.parent,
+                r.edge.child,
+                r.edge.provenance.location,
+                r.edge.provenance.key,
+                if r.agrees() {
+                    "agrees with"
+                } else {
+                    "DISAGREES with"
+                },
+                r.path
+            ));
         }
         out
     }

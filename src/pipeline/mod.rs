@@ -58,7 +58,7 @@ pub(crate) fn apply_renames(
                 return 0;
             }
             let mut n = 0;
-            for e in &mut loaded.edges {
+            for e in loaded.edges.iter_mut().chain(&mut loaded.redundant) {
                 for name in [&mut e.parent, &mut e.child] {
                     if *name == r.old {
                         *name = r.new.clone();

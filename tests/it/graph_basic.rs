@@ -374,11 +374,13 @@ fn kalibr_and_t_xyz_q_xyzw_keys() {
         .iter()
         .map(|e| (e.parent.clone(), e.child.clone()))
         .collect();
+    // Issue 14: the IMU is the root (T_cam_imu inverted); cam1's only edge,
+    // T_cn_cnm1, joins it to the tree reversed (cam0 already has a parent).
     assert_eq!(
         names,
         vec![
-            ("cam0".into(), "imu".into()),
-            ("cam1".into(), "cam0".into())
+            ("imu".into(), "cam0".into()),
+            ("cam0".into(), "cam1".into())
         ]
     );
     let text = "T_cam_front_lidar_t_xyz_q_xyzw: [0.1, 0.2, 0.3, 0, 0, 0, 1]\n";
@@ -443,9 +445,13 @@ fn keyed_reads_stacked_millimetres_and_json_matrices() {
     .expect("mm");
     assert!((l.edges[0].transform.translation().x + 0.1884272993645592).abs() < 1e-12);
     assert!(l.warnings.iter().any(|w| w.message.contains("millimetres")));
-    // Without --key, GEODE's duplicate key is refused with the advice.
-    let e = load_file(geode, &LoadOptions::default()).expect_err("dup");
-    assert!(e.message.contains("--key"), "{e}");
+    // Without --key, GEODE's duplicate key blocks only its own edge (issue 14).
+    let l = load_file(geode, &LoadOptions::default()).expect("dup");
+    assert!(l
+        .warnings
+        .iter()
+        .any(|w| w.code == Code::AmbiguousKey && w.message.contains("T_LiDAR_CamL")));
+    assert!(l.edges.iter().all(|e| e.provenance.key != "T_LiDAR_CamL"));
     // A JSON file with T_A_B keys.
     let text = "{\"T_imu_lidar\": [[1, 0, 0, 0.1], [0, 1, 0, 0], [0, 0, 1, 0.2], [0, 0, 0, 1]]}";
     let l = load_str(text, Path::new("calib.json"), &LoadOptions::default()).expect("json");

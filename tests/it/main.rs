@@ -20,6 +20,7 @@ mod detector_threshold;
 mod diff;
 mod formats_bad_inputs;
 mod formats_bags;
+mod formats_extrinsics;
 mod formats_launch_conditions;
 mod formats_no_panic;
 mod formats_rigs;

@@ -112,7 +112,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         edges,
         frames,
         warnings,
-        rig: None,
+        ..Loaded::default()
     })
 }
 

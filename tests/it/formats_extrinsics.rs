@@ -1,0 +1,396 @@
+//! Issue 14's formats (tests/fixtures/extrinsics): every case of
+//! `expected.json` (computed by `gen_expected.py` with numpy and
+//! pytransform3d) matched to 1e-9, and the redundancy, ambiguity and naming
+//! rules.
+
+use crate::common::audit;
+use extrinsic_audit::diagnostic::Code;
+use extrinsic_audit::formats::{load_file, LoadOptions};
+use extrinsic_audit::frames::FrameGraph;
+use std::path::Path;
+
+const DIR: &str = "tests/fixtures/extrinsics";
+
+fn graph(file: &str, key: Option<&str>) -> FrameGraph {
+    let opts = LoadOptions {
+        key: key.map(str::to_string),
+        ..LoadOptions::default()
+    };
+    let path = Path::new(DIR).join(file);
+    let loaded = load_file(&path, &opts).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let mut g = FrameGraph::new();
+    g.add(loaded).unwrap_or_else(|e| panic!("{file}: {e}"));
+    g
+}
+
+#[test]
+fn expected_transforms_match_numpy() {
+    let text = std::fs::read_to_string(Path::new(DIR).join("expected.json")).expect("expected");
+    let cases: serde_json::Value = serde_json::from_str(&text).expect("json");
+    let cases = cases.as_array().expect("list");
+    assert!(!cases.is_empty());
+    for c in cases {
+        let file = c["file"].as_str().expect("file");
+        let (from, to) = (
+            c["from"].as_str().expect("from"),
+            c["to"].as_str().expect("to"),
+        );
+        let g = graph(file, c["key"].as_str());
+        let chain = g
+            .transform(from, to)
+            .unwrap_or_else(|e| panic!("{file} {from} -> {to}: {e}"));
+        let m = chain.transform.matrix4();
+        for i in 0..4 {
+            for j in 0..4 {
+                let want = c["matrix"][i][j].as_f64().expect("number");
+                assert!(
+                    (m[(i, j)] - want).abs() <= 1e-9,
+                    "{file} {from} -> {to} ({:?}) entry ({i},{j}): {} vs numpy {want}",
+                    c["key"],
+                    m[(i, j)]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn kalibr_stereo_is_a_tree_with_a_checked_redundant_edge() {
+    let g = graph("kalibr_padrl_camchain-imucam.yaml", None);
+    assert_eq!(g.roots(), vec!["imu".to_string()]);
+    for cam in ["cam0", "cam1"] {
+        assert_eq!(g.parent_edge(cam).expect("edge").parent, "imu");
+    }
+    let r = g.redundant();
+    assert_eq!(r.len(), 1);
+    assert_eq!(
+        (r[0].edge.parent.as_str(), r[0].edge.child.as_str()),
+        ("cam1", "cam0")
+    );
+    assert!(r[0].agrees(), "{:?}", r[0]);
+    assert_eq!(r[0].path, "cam1 <- imu -> cam0");
+    assert_eq!(g.notes().len(), 1);
+    assert!(g
+        .warnings()
+        .iter()
+        .all(|w| w.code != Code::RedundantEdgeDisagrees));
+    let chain = g.transform("cam0", "cam1").expect("chain");
+    assert_eq!(chain.notes.len(), 1);
+    assert!(
+        chain.notes[0].contains("path used: cam0 <- imu -> cam1"),
+        "{}",
+        chain.notes[0]
+    );
+    assert!(
+        chain.notes[0].contains("--key cam1.T_cn_cnm1"),
+        "{}",
+        chain.notes[0]
+    );
+}
+
+#[test]
+fn kalibr_key_names_the_camera_and_the_imu() {
+    let g = graph("kalibr_padrl_camchain-imucam.yaml", Some("cam1.T_cn_cnm1"));
+    assert_eq!(g.edges()[0].parent, "cam1");
+    assert_eq!(g.edges()[0].child, "cam0");
+    let g = graph("kalibr_padrl_camchain-imucam.yaml", Some("cam1.T_cam_imu"));
+    assert_eq!(
+        (g.edges()[0].parent.as_str(), g.edges()[0].child.as_str()),
+        ("cam1", "imu")
+    );
+}
+
+#[test]
+fn from_and_to_take_a_leading_slash() {
+    let g = graph("kalibr_padrl_camchain-imucam.yaml", None);
+    let a = g.transform("/cam0", "/imu").expect("slash");
+    let b = g.transform("cam0", "imu").expect("plain");
+    assert_eq!(a.transform, b.transform);
+    assert_eq!((a.from.as_str(), a.to.as_str()), ("cam0", "imu"));
+}
+
+#[test]
+fn cli_says_which_path_it_used() {
+    let f = format!("{DIR}/kalibr_padrl_camchain-imucam.yaml");
+    let out = audit()
+        .args([f.as_str(), "--from", "/cam0", "--to", "cam1"])
+        .output()
+        .expect("run");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("note: path used: cam0 <- imu -> cam1"),
+        "{err}"
+    );
+    let out = audit()
+        .args([f.as_str(), "--frames"])
+        .output()
+        .expect("run");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("redundant cam1 -> cam0"), "{text}");
+}
+
+#[test]
+fn a_duplicated_key_blocks_only_its_own_edge() {
+    let g = graph("geode_style_ambiguous.yaml", None);
+    let amb: Vec<_> = g
+        .warnings()
+        .iter()
+        .filter(|w| w.code == Code::AmbiguousKey)
+        .collect();
+    assert_eq!(amb.len(), 1, "{:?}", g.warnings());
+    assert!(
+        amb[0]
+            .message
+            .contains("`T_LiDAR_CamL` given 2 times with different values (lines 11 and 21)"),
+        "{}",
+        amb[0].message
+    );
+    assert_eq!(amb[0].location.line, Some(21));
+    assert!(!g.contains("CamL"));
+    assert!(g.transform("IMU", "LiDAR").is_ok());
+}
+
+#[test]
+fn a_disagreeing_redundant_edge_is_a_warning_with_both_values() {
+    let g = graph("geode_style_ambiguous.yaml", None);
+    let r = g.redundant();
+    assert_eq!(r.len(), 1);
+    assert!(!r[0].agrees());
+    assert!(
+        (r[0].translation_gap - 0.005).abs() < 1e-12,
+        "{}",
+        r[0].translation_gap
+    );
+    assert!(r[0].rotation_gap < 1e-12);
+    let w: Vec<_> = g
+        .warnings()
+        .iter()
+        .filter(|w| w.code == Code::RedundantEdgeDisagrees)
+        .collect();
+    assert_eq!(w.len(), 1);
+    assert!(
+        w[0].message
+            .contains("the file gives translation [0.055000000, -0.120000000, 0.120000000]"),
+        "{}",
+        w[0].message
+    );
+    assert!(
+        w[0].message
+            .contains("the tree [0.050000000, -0.120000000, 0.120000000]"),
+        "{}",
+        w[0].message
+    );
+    assert!(g.notes().is_empty());
+}
+
+#[test]
+fn no_transform_lists_the_keys_seen_and_the_layouts_known() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let p = dir.path().join("unknown.yaml");
+    std::fs::write(&p, "camera_fps: 30\nlidar_topic: /points\n").expect("write");
+    let e = load_file(&p, &LoadOptions::default()).expect_err("refused");
+    assert!(
+        e.message.contains("found keys camera_fps, lidar_topic"),
+        "{}",
+        e.message
+    );
+    assert!(
+        e.message.contains("Kalibr `camN: {T_cam_imu, T_cn_cnm1}`"),
+        "{}",
+        e.message
+    );
+}
+
+#[test]
+fn each_fixture_is_detected_as_its_format() {
+    use extrinsic_audit::formats::detect_format;
+    for (file, id) in [
+        ("kalibr_padrl_camchain-imucam.yaml", "matrix-yaml"),
+        ("kalibr_openvins_euroc_imucam_chain.yaml", "matrix-yaml"),
+        ("geode_style_ambiguous.yaml", "matrix-yaml"),
+        ("iglio_ncd.yaml", "ig-lio"),
+        ("iglio_nclt.yaml", "ig-lio"),
+        ("dlio_default.yaml", "dlio"),
+        ("dlio_ros2_params.yaml", "dlio"),
+        ("vins_mono_realsense_color.yaml", "vins-mono"),
+        ("vins_mono_euroc.yaml", "vins-mono"),
+        ("vins_fusion_euroc_stereo.yaml", "matrix-yaml"),
+        ("static_tf_script.sh", "static-tf-commands"),
+        ("kitti_object_000000.txt", "kitti-object"),
+        ("kitti_tracking_style.txt", "kitti-object"),
+        ("nuscenes/calibrated_sensor.json", "nuscenes-json"),
+        ("nuscenes_two_logs/calibrated_sensor.json", "nuscenes-json"),
+    ] {
+        let path = Path::new(DIR).join(file);
+        let text = std::fs::read_to_string(&path).expect("read");
+        let f = detect_format(&path, &text).expect("detect");
+        assert_eq!(f.name(), id, "{file}");
+    }
+}
+
+#[test]
+fn fixed_frame_names_per_format() {
+    let names = |file: &str| -> Vec<(String, String)> {
+        graph(file, None)
+            .edges()
+            .iter()
+            .map(|e| (e.parent.clone(), e.child.clone()))
+            .collect()
+    };
+    let pair = |a: &str, b: &str| (a.to_string(), b.to_string());
+    assert_eq!(names("iglio_ncd.yaml"), vec![pair("imu", "lidar")]);
+    assert_eq!(
+        names("dlio_default.yaml"),
+        vec![pair("base_link", "imu"), pair("base_link", "lidar")]
+    );
+    assert_eq!(names("vins_mono_euroc.yaml"), vec![pair("imu", "camera")]);
+    assert_eq!(
+        names("vins_fusion_euroc_stereo.yaml"),
+        vec![pair("body", "cam0"), pair("body", "cam1")]
+    );
+}
+
+#[test]
+fn shell_script_gives_one_edge_per_publisher_command() {
+    let g = graph("static_tf_script.sh", None);
+    let edges: Vec<(String, String, Option<usize>, Option<usize>)> = g
+        .edges()
+        .iter()
+        .map(|e| {
+            let l = &e.provenance.location;
+            (e.parent.clone(), e.child.clone(), l.line, l.column)
+        })
+        .collect();
+    let e =
+        |p: &str, c: &str, l: usize, col: usize| (p.to_string(), c.to_string(), Some(l), Some(col));
+    assert_eq!(
+        edges,
+        vec![
+            e("body", "avia_frame", 9, 1),
+            e("imu", "os_sensor", 10, 2),
+            e("base_link", "imu", 13, 12),
+            e("base_link", "camera", 15, 1),
+        ]
+    );
+}
+
+#[test]
+fn kitti_object_frames_and_the_raw_calib_rename_hint() {
+    let g = graph("kitti_object_000000.txt", None);
+    assert_eq!(g.roots(), vec!["cam0_rect".to_string()]);
+    let mut frames = g.frames();
+    frames.sort();
+    assert_eq!(
+        frames,
+        [
+            "cam0",
+            "cam0_rect",
+            "cam1_rect",
+            "cam2_rect",
+            "cam3_rect",
+            "imu",
+            "velo"
+        ]
+    );
+    // P1: K [I | t] with t = (-387.5744 / 721.5377, 0, 0): cam1 sits 0.537 m to
+    // the right of cam0 (x points right).
+    let c1 = g.transform("cam0_rect", "cam1_rect").expect("cam1");
+    assert!((c1.transform.translation().x - 387.5744 / 721.5377).abs() < 1e-12);
+    // KITTI raw calib under another name: the warning says how to name frames.
+    let dir = tempfile::tempdir().expect("tmp");
+    let p = dir.path().join("imu2velo.txt");
+    std::fs::copy("tests/fixtures/formats/calib_imu_to_velo.txt", &p).expect("copy");
+    let l = load_file(&p, &LoadOptions::default()).expect("kitti raw");
+    let w = l
+        .warnings
+        .iter()
+        .find(|w| w.code == Code::AssumedConvention)
+        .expect("warning");
+    assert!(
+        w.message
+            .contains("--rename imu2velo.txt:source=imu --rename imu2velo.txt:target=velo"),
+        "{}",
+        w.message
+    );
+}
+
+#[test]
+fn nuscenes_names_from_sensor_json_and_blocks_a_sensor_calibrated_twice() {
+    let g = graph("nuscenes/calibrated_sensor.json", None);
+    assert_eq!(
+        g.frames(),
+        ["CAM_BACK_LEFT", "LIDAR_TOP", "RADAR_FRONT", "ego"]
+    );
+    assert!(g.warnings().is_empty(), "{:?}", g.warnings());
+    let g = graph("nuscenes_two_logs/calibrated_sensor.json", None);
+    assert_eq!(g.frames(), ["ego", "sensor_a0000000"]);
+    let codes: Vec<Code> = g.warnings().iter().map(|w| w.code).collect();
+    assert!(codes.contains(&Code::AssumedConvention), "{codes:?}");
+    let amb = g
+        .warnings()
+        .iter()
+        .find(|w| w.code == Code::AmbiguousKey)
+        .expect("ambiguous");
+    assert!(
+        amb.message.contains("sensor_dc8b3966 is calibrated 2 times with different values (records 7a0cd258d096410eb68251b4b87febf5, f0000000000000000000000000000009)"),
+        "{}",
+        amb.message
+    );
+}
+
+#[test]
+fn kalibr_t_imu_cam_variant_and_imu0_naming() {
+    let g = graph("kalibr_openvins_euroc_imucam_chain.yaml", None);
+    assert_eq!(g.roots(), vec!["imu".to_string()]);
+    assert!(g.redundant().is_empty());
+    // A file with an `imu0` block names the IMU imu0 (Kalibr's IMU naming).
+    let text = "imu0:\n  update_rate: 200.0\ncam0:\n  T_cam_imu:\n  - [1, 0, 0, 0.1]\n  - [0, 1, 0, 0]\n  - [0, 0, 1, 0]\n  - [0, 0, 0, 1]\n";
+    let l = extrinsic_audit::formats::load_str(
+        text,
+        Path::new("camchain-imucam.yaml"),
+        &LoadOptions::default(),
+    )
+    .expect("imu0");
+    assert_eq!(
+        (l.edges[0].parent.as_str(), l.edges[0].child.as_str()),
+        ("imu0", "cam0")
+    );
+    assert!((l.edges[0].transform.translation().x + 0.1).abs() < 1e-15);
+}
+
+#[test]
+fn a_redundant_edge_between_unconnected_frames_joins_the_tree() {
+    use extrinsic_audit::diagnostic::Location;
+    use extrinsic_audit::frames::{Edge, EdgeSet};
+    use extrinsic_audit::geometry::Transform;
+    let t = |x: f64| Transform::from_translation([x, 0.0, 0.0]).expect("t");
+    let e = |p: &str, c: &str, x: f64| {
+        Edge::new(
+            p,
+            c,
+            t(x),
+            Location::default(),
+            "matrix-yaml",
+            format!("T_{p}_{c}"),
+        )
+    };
+    let mut g = FrameGraph::new();
+    g.add(EdgeSet {
+        edges: vec![e("imu", "cam0", 0.1)],
+        redundant: vec![e("cam1", "cam0", -0.2), e("cam1", "cam0", -0.2)],
+        ..EdgeSet::default()
+    })
+    .expect("add");
+    // The first joins cam1 to the tree (reversed: cam0 already has a parent);
+    // the second is then checked against it and agrees.
+    assert_eq!(g.parent_edge("cam1").expect("edge").parent, "cam0");
+    assert_eq!(g.redundant().len(), 1);
+    assert!(g.redundant()[0].agrees());
+    let c = g.transform("imu", "cam1").expect("chain");
+    assert!((c.transform.translation().x - 0.3).abs() < 1e-15);
+}
