@@ -3,10 +3,12 @@
 //! two parents, self loops, hostile numbers) and queries. Invariants: no panic;
 //! an edge refused leaves the graph unchanged; a composed transform is finite
 //! and orthonormal when Ok; T(a,b) * T(b,a) ~ identity.
-use extrinsic_audit::error::Location;
-use extrinsic_audit::formats::{Edge, Format, Loaded, MAX_TRANSLATION_M};
-use extrinsic_audit::graph::FrameGraph;
-use extrinsic_audit::se3::{QuatOrder, Transform};
+use extrinsic_audit::diagnostic::Location;
+use extrinsic_audit::formats::{Format, Loaded};
+use extrinsic_audit::frames::{Edge, FrameGraph};
+use extrinsic_audit::tolerances::MAX_TRANSLATION_M;
+
+use extrinsic_audit::geometry::se3::{QuatOrder, Transform};
 use fuzz_common::assert_sane;
 use libfuzzer_sys::fuzz_target;
 

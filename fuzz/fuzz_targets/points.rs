@@ -1,7 +1,7 @@
 #![no_main]
 //! Point files (CSV, PLY ascii/binary, PCD ascii/binary) through the public
 //! in-memory reader. On success every point and normal is finite, normals unit.
-use extrinsic_audit::points::parse_points;
+use extrinsic_audit::degeneracy::points::parse_points;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
