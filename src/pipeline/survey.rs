@@ -5,8 +5,8 @@ use super::expand_paths;
 use crate::diagnostic::{Error, Result, Warning};
 use crate::formats::{self, LoadOptions};
 use crate::frames::FrameGraph;
-use crate::geometry::ScrewKind;
-use crate::report::rig::rig_report;
+use crate::geometry::{PitchTol, ScrewKind, UserSigma};
+use crate::report::rig::{rig_report, Judgement};
 use crate::report::survey::{RowMarks, SurveyRigJson};
 use crate::report::SurveyReport;
 use std::path::{Path, PathBuf};
@@ -37,8 +37,10 @@ pub enum SortColumn {
 pub struct SurveyOptions {
     /// Rig files or directories of them.
     pub paths: Vec<PathBuf>,
-    /// Zero-pitch tolerance on `|h|` (m).
-    pub pitch_tol: f64,
+    /// `--pitch-tol`: `auto` or a tolerance on `|h|` (m).
+    pub pitch_tol: PitchTol,
+    /// `--sigma-t`/`--sigma-r` for rigs whose file gives none.
+    pub sigma: Option<UserSigma>,
     /// Also list placeholder and duplicate rigs.
     pub all: bool,
     /// Sort by this column (ties by id).
@@ -55,7 +57,7 @@ fn is_rig_file(p: &Path) -> bool {
 /// Load and analyse one rig file; its warnings go to `warnings`.
 fn survey_rig(
     path: &Path,
-    pitch_tol: f64,
+    how: &Judgement,
     warnings: &mut Vec<Warning>,
 ) -> Result<(SurveyRigJson, RowMarks, bool)> {
     let loaded = formats::load_file(path, &LoadOptions::default())?;
@@ -69,7 +71,7 @@ fn survey_rig(
     let chain = graph
         .transform(&meta.from, &meta.to)
         .map_err(|e| e.in_file(path))?;
-    let rep = rig_report(&chain, &[1.0], pitch_tol).map_err(|e| e.in_file(path))?;
+    let rep = rig_report(&chain, &[1.0], how).map_err(|e| e.in_file(path))?;
     let json = SurveyRigJson {
         id: meta.id.clone(),
         sensor: meta.sensor.clone(),
@@ -81,6 +83,9 @@ fn survey_rig(
         angle_deg: rep.rotation.angle_deg,
         screw_translation_m: rep.screw.translation_along_axis_m,
         zero_pitch: rep.screw.kind == ScrewKind::ZeroPitch,
+        screw_translation_uncertainty_m: rep.screw.translation_along_axis_uncertainty_m,
+        pitch_verdict: rep.screw.pitch_verdict,
+        uncertainty_source: rep.uncertainty.source,
         sigma_max: rep.adjoint.singular_values[0],
         band_l1: rep.certificate[0].band,
         adapted_metric_exists: rep.adapted_metric.exists,
@@ -127,10 +132,14 @@ pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
                 .join(", ")
         )));
     }
+    let how = Judgement {
+        pitch_tol: opts.pitch_tol,
+        user: opts.sigma,
+    };
     let mut warnings = Vec::new();
     let mut rows = Vec::new();
     for f in &files {
-        let row = survey_rig(f, opts.pitch_tol, &mut warnings)?;
+        let row = survey_rig(f, &how, &mut warnings)?;
         if row.2 || opts.all {
             rows.push(row);
         }

@@ -42,4 +42,5 @@ mod readme;
 mod rig_toml;
 mod scene_simulate;
 mod scene_tunnel;
+mod uncertainty;
 mod urdf_conformance;

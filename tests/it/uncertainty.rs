@@ -1,0 +1,257 @@
+//! Issue 17: the precision of the numbers as written, the user's calibration
+//! uncertainty, their first-order propagation (checked against Monte Carlo)
+//! and the three-way pitch verdict.
+
+use crate::common::run_cli;
+use extrinsic_audit::formats::LoadOptions;
+use extrinsic_audit::geometry::uncertainty::{
+    compose_steps, literal_half_unit, outputs, propagate, tuple_half_units, Step,
+};
+use extrinsic_audit::geometry::UserSigma;
+use extrinsic_audit::pipeline;
+use nalgebra::{Matrix6, Vector6};
+use rand_core::{RngCore, SeedableRng};
+use std::path::PathBuf;
+
+const HALF_TURN: &str = "tests/fixtures/uncertainty/half_turn_3_1416.urdf";
+const PI15: &str = "tests/fixtures/uncertainty/half_turn_pi15.urdf";
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let mut a = args.to_vec();
+    a.extend(["--format", "json"]);
+    let (code, out, err) = run_cli(&a);
+    assert_eq!(code, 0, "{err}");
+    serde_json::from_str(&out).expect("json")
+}
+
+/// `h`, its uncertainty and the verdict, as numbers and a string.
+fn pitch(v: &serde_json::Value) -> (f64, f64, String) {
+    let s = &v["screw"];
+    (
+        s["translation_along_axis_m"].as_f64().unwrap(),
+        s["translation_along_axis_uncertainty_m"].as_f64().unwrap(),
+        s["pitch_verdict"].as_str().unwrap().to_string(),
+    )
+}
+
+#[test]
+fn literals_carry_half_a_unit_of_their_last_decimal() {
+    assert_eq!(literal_half_unit("3.1416"), Some(0.5e-4));
+    assert_eq!(literal_half_unit("-0.1235"), Some(0.5e-4));
+    assert_eq!(literal_half_unit("1e-3"), Some(0.5e-3));
+    assert_eq!(literal_half_unit("1.5E2"), Some(5.0));
+    assert_eq!(literal_half_unit("0"), None);
+    assert_eq!(literal_half_unit("0.000"), None);
+    assert_eq!(literal_half_unit("12"), None);
+    // The shortest print of a double (xacro's ${pi/2}) is exact.
+    assert_eq!(literal_half_unit("1.5707963267948966"), Some(0.0));
+    assert_eq!(tuple_half_units(&["0", "0", "0.1235"]), [0.5e-4; 3]);
+    assert_eq!(tuple_half_units(&["1", "0", "0"]), [0.0; 3]);
+    // Decimals keep their own place; the integer adopts the finest.
+    assert_eq!(
+        tuple_half_units(&["0.1", "2", "0.25"]),
+        [0.05, 0.005, 0.005]
+    );
+}
+
+#[test]
+fn half_turn_3_1416_is_zero_by_default_and_nonzero_with_pitch_tol_1e9() {
+    // Expected values from make_expected.py (numpy, uniform Monte Carlo over
+    // the written digits): h = -1.1882818509246e-06, sigma_h = 2.9123e-05.
+    let v = json(&[HALF_TURN, "--from", "base", "--to", "lidar"]);
+    let (h, u, verdict) = pitch(&v);
+    assert!((h + 1.1882818509246001e-06).abs() < 1e-15, "{h}");
+    assert!((u / 2.912332654844667e-05 - 1.0).abs() < 0.02, "{u}");
+    assert_eq!(verdict, "zero");
+    assert_eq!(v["screw"]["kind"], "zero_pitch");
+    assert_eq!(v["uncertainty"]["source"], "rounding");
+    assert_eq!(v["adapted_metric"]["exists"], true);
+    let residual = v["adapted_metric"]["invariance_residual"].as_f64().unwrap();
+    assert!(residual > 0.0 && residual < 1e-5, "{residual}");
+
+    let v = json(&[
+        HALF_TURN,
+        "--from",
+        "base",
+        "--to",
+        "lidar",
+        "--pitch-tol",
+        "1e-9",
+    ]);
+    assert_eq!(pitch(&v).2, "nonzero");
+    assert_eq!(v["screw"]["kind"], "general");
+    assert_eq!(v["adapted_metric"]["exists"], false);
+
+    let (_, text, _) = run_cli(&[HALF_TURN, "--from", "base", "--to", "lidar"]);
+    let first = text.lines().next().unwrap();
+    assert!(
+        first.contains("h = -1.188e-6 +- 2.907e-5 m (rounding), pitch zero"),
+        "{first}"
+    );
+    assert!(first.contains("adapted metric M0 printed below"), "{first}");
+}
+
+#[test]
+fn pi_to_15_digits_is_zero() {
+    let v = json(&[PI15, "--from", "base", "--to", "lidar"]);
+    let (h, u, verdict) = pitch(&v);
+    assert!(h.abs() < 1e-15, "{h}");
+    // The translation's four decimals dominate (make_expected.py: 2.8915e-05).
+    assert!((u / 2.8915375277717606e-05 - 1.0).abs() < 0.02, "{u}");
+    assert_eq!(verdict, "zero");
+}
+
+#[test]
+fn anymal_c_stays_nonzero_by_default_and_with_sigma_r() {
+    let base = [
+        "tests/fixtures/urdf/anymal_c.urdf",
+        "--from",
+        "base",
+        "--to",
+        "lidar",
+    ];
+    let v = json(&base);
+    assert_eq!(pitch(&v).2, "nonzero");
+    let mut args = base.to_vec();
+    args.extend(["--sigma-r", "0.1"]);
+    let v = json(&args);
+    let (h, u, verdict) = pitch(&v);
+    assert_eq!(verdict, "nonzero");
+    assert_eq!(v["uncertainty"]["source"], "both");
+    assert!(h.abs() > 3.0 * u, "{h} {u}");
+    // 0.1 deg on each of two edges' rotations moves h by about lever * angle.
+    assert!(u > 1e-4 && u < 2e-3, "{u}");
+}
+
+#[test]
+fn undecidable_states_the_precision_that_decides_it() {
+    // hilti2023-hhs-hesai: |h| = 0.14 mm, within 3 x 2 mm of zero.
+    let v = json(&[
+        "calibrations/hilti2023-hhs-hesai.toml",
+        "--sigma-t",
+        "0.002",
+    ]);
+    let (h, _, verdict) = pitch(&v);
+    assert_eq!(verdict, "undecidable");
+    assert_eq!(v["adapted_metric"]["exists"], false);
+    let need = v["screw"]["deciding_uncertainty_m"].as_f64().unwrap();
+    // max(|h|, 1 mm) / 3
+    assert!((need - h.abs().max(1e-3) / 3.0).abs() < 1e-12, "{need}");
+    let (_, text, _) = run_cli(&[
+        "calibrations/hilti2023-hhs-hesai.toml",
+        "--sigma-t",
+        "0.002",
+    ]);
+    assert!(
+        text.contains(
+            "pitch undecidable at this precision (decided with sigma_h below 3.333e-4 m)"
+        ),
+        "{text}"
+    );
+}
+
+#[test]
+fn pitch_tol_refuses_what_is_neither_auto_nor_a_length() {
+    let (code, _, err) = run_cli(&[
+        HALF_TURN,
+        "--from",
+        "base",
+        "--to",
+        "lidar",
+        "--pitch-tol=-1",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("expected `auto` or a finite length"), "{err}");
+    let (code, _, err) = run_cli(&[
+        HALF_TURN,
+        "--from",
+        "base",
+        "--to",
+        "lidar",
+        "--sigma-r",
+        "90",
+    ]);
+    assert_eq!(code, 2, "{err}");
+}
+
+/// A standard normal pair (Box-Muller) from the generator.
+fn normal(rng: &mut rand_pcg::Pcg64) -> f64 {
+    let u = |r: &mut rand_pcg::Pcg64| ((r.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+    let (a, b) = (u(rng), u(rng));
+    (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+}
+
+/// A square root of a covariance (symmetric eigen decomposition).
+fn sqrt_cov(c: &Matrix6<f64>) -> Matrix6<f64> {
+    let e = c.symmetric_eigen();
+    let d = e.eigenvalues.map(|x| x.max(0.0).sqrt());
+    e.eigenvectors * Matrix6::from_diagonal(&d)
+}
+
+fn std_dev(xs: &[f64]) -> f64 {
+    let m = xs.iter().sum::<f64>() / xs.len() as f64;
+    (xs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (xs.len() - 1) as f64).sqrt()
+}
+
+#[test]
+fn first_order_matches_monte_carlo_on_five_shipped_rigs() {
+    let user = UserSigma {
+        sigma_t_m: 0.002,
+        sigma_r_rad: 0.1f64.to_radians(),
+    };
+    for rig in [
+        "anymal-d-lidar-imu",
+        "in2laama-vlp16-mti3",
+        "m3dgr-avia-d435i-imu",
+        "norlab-warthog-rs16left-mti10",
+        "oxford-spires-hesai",
+    ] {
+        let path = PathBuf::from(format!("calibrations/{rig}.toml"));
+        let loaded = pipeline::load(&[path], &LoadOptions::default(), &[]).unwrap();
+        let (from, to) = loaded.frame_pair(None, None).unwrap();
+        let chain = loaded.graph.transform(&from, &to).unwrap();
+        let steps: Vec<Step> = chain
+            .steps
+            .iter()
+            .map(|s| {
+                let mut p = s.edge.precision;
+                p.user = Some(user);
+                Step {
+                    transform: s.edge.transform,
+                    inverted: s.inverted,
+                    covariance: p.covariance(),
+                }
+            })
+            .collect();
+        let nominal = compose_steps(&steps, None).unwrap();
+        assert!((nominal.translation() - chain.transform.translation()).norm() < 1e-12);
+        let e0 = chain.transform.screw(1e-9).axis;
+        let fo = propagate(&steps, e0.as_ref()).unwrap();
+        let roots: Vec<Matrix6<f64>> = steps.iter().map(|s| sqrt_cov(&s.covariance)).collect();
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(17);
+        let (mut lever, mut angle, mut h) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..10_000 {
+            let mut xi = Vec::with_capacity(6 * steps.len());
+            for r in &roots {
+                let z = Vector6::from_fn(|_, _| normal(&mut rng));
+                xi.extend((r * z).iter());
+            }
+            let y = outputs(&compose_steps(&steps, Some(&xi)).unwrap(), e0.as_ref());
+            lever.push(y.lever_arm);
+            angle.push(y.angle);
+            h.push(y.h);
+        }
+        for (what, mc, first) in [
+            ("lever arm", std_dev(&lever), fo.lever_arm_m),
+            ("angle", std_dev(&angle), fo.angle_rad),
+            ("h", std_dev(&h), fo.h_m.unwrap()),
+        ] {
+            let ratio = first / mc;
+            eprintln!("{rig} {what}: first order {first:e}, Monte Carlo {mc:e}, ratio {ratio:.4}");
+            assert!(
+                (ratio - 1.0).abs() < 0.10,
+                "{rig} {what}: first order {first:e}, Monte Carlo {mc:e}"
+            );
+        }
+    }
+}
