@@ -20,8 +20,10 @@
 //!   parameters (central differences through the format's own constructor).
 //! - User uncertainty (`--sigma-t M`, `--sigma-r DEG`): independent, isotropic,
 //!   per edge: `diag(sigma_r^2 I3, sigma_t^2 I3)`, added to the rounding.
-//! - Propagation: first order through the chain, `Sigma_y = J Sigma J^T` with
-//!   `J` by central differences of each output by each edge's tangent. The
+//! - Propagation: first order through the chain. The edges' covariances are
+//!   carried to the composed transform's tangent with adjoints
+//!   ([`chain_covariance`], linear in the chain's length), then to each output
+//!   with `Sigma_y = J Sigma_T J^T`, `J` by central differences. The
 //!   rotation angle and `h` are taken against the nominal screw axis (the angle
 //!   unwrapped past `pi`), so both are smooth through a half-turn.
 //! - Three-way pitch verdict with `auto` tolerance (constants in
@@ -37,12 +39,12 @@
 //!   numbers were written (a calibration printed to 6 digits from a solver
 //!   accurate to 3): the user's `--sigma-t`/`--sigma-r` carry those.
 
-use super::se3::Transform;
+use super::se3::{QuatOrder, Transform};
 use crate::diagnostic::Result;
 use crate::tolerances::{
     EXACT_SIGNIFICANT_DIGITS, PITCH_FLOAT_FLOOR_M, PITCH_K, PITCH_RESOLUTION_M, UNCERTAINTY_STEP,
 };
-use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3, Vector6};
+use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 use serde::Serialize;
 
 /// The half-unit of the last written decimal of one number literal, or `None`
@@ -58,12 +60,16 @@ pub fn literal_half_unit(text: &str) -> Option<f64> {
     if !mant.bytes().all(|b| b.is_ascii_digit() || b == b'.') {
         return None;
     }
-    let digits: String = mant.chars().filter(|c| c.is_ascii_digit()).collect();
-    let significant = digits.trim_start_matches('0');
-    if significant.is_empty() {
+    // Significant digits: from the first non-zero digit on.
+    let significant = mant
+        .bytes()
+        .filter(u8::is_ascii_digit)
+        .skip_while(|&b| b == b'0')
+        .count();
+    if significant == 0 {
         return None; // zero, in any spelling
     }
-    if significant.len() >= EXACT_SIGNIFICANT_DIGITS {
+    if significant >= EXACT_SIGNIFICANT_DIGITS {
         return Some(0.0);
     }
     let decimals = match mant.find('.') {
@@ -82,6 +88,133 @@ pub fn tuple_half_units(texts: &[&str]) -> Vec<f64> {
     let finest = own.iter().flatten().copied().fold(f64::INFINITY, f64::min);
     let fill = if finest.is_finite() { finest } else { 0.0 };
     own.into_iter().map(|h| h.unwrap_or(fill)).collect()
+}
+
+/// Half-units of a tuple of parsed numbers, from the digits of their shortest
+/// print (for readers that keep no text). That print is the written literal
+/// without its trailing zeros, so the half-unit is never smaller than the
+/// written one: the uncertainty errs on the wide side.
+pub fn value_half_units(xs: &[f64]) -> Vec<f64> {
+    // `{:e}` prints the shortest digits (`1.2345e-1`); a whole number prints
+    // as an integer, which adopts the tuple's finest place.
+    let texts: Vec<String> = xs
+        .iter()
+        .map(|x| {
+            if x.fract() == 0.0 && x.abs() < 1e15 {
+                format!("{x:.0}")
+            } else {
+                format!("{x:e}")
+            }
+        })
+        .collect();
+    let refs: Vec<&str> = texts.iter().map(String::as_str).collect();
+    tuple_half_units(&refs)
+}
+
+/// The tangent covariance of `(Rz(yaw) Ry(pitch) Rx(roll), d)` from
+/// independent standard uncertainties of `d` (`u_d`, m) and of `rpy`
+/// (`u_rpy`, rad), in closed form: the translation tangent is `R^T delta_d`,
+/// the rotation tangent the body angular velocity
+/// `[1, 0, -sp; 0, cr, sr cp; 0, -sr, cr cp] delta_rpy`. The same as
+/// [`rounding_covariance`] through [`Transform::from_rpy`] (tested), without
+/// its twelve constructions per edge (a URDF may hold 100,000 joints).
+pub fn rpy_covariance(rpy: [f64; 3], u_d: [f64; 3], u_rpy: [f64; 3]) -> Result<Matrix6<f64>> {
+    if !rpy.iter().all(|x| x.is_finite()) {
+        return Err(crate::diagnostic::Error::invalid(format!(
+            "rpy {rpy:?}: expected finite angles"
+        )));
+    }
+    let rt = tr(&m3(&super::se3::rpy_to_matrix(rpy[0], rpy[1], rpy[2])));
+    let (sr, cr) = rpy[0].sin_cos();
+    let (sp, cp) = rpy[1].sin_cos();
+    let jr: M3 = [[1.0, 0.0, -sp], [0.0, cr, sr * cp], [0.0, -sr, cr * cp]];
+    let sq = |u: [f64; 3]| -> M3 {
+        [
+            [u[0] * u[0], 0.0, 0.0],
+            [0.0, u[1] * u[1], 0.0],
+            [0.0, 0.0, u[2] * u[2]],
+        ]
+    };
+    let mut cov = Matrix6::zeros();
+    put(&mut cov, 0, 0, &mul(&mul(&jr, &sq(u_rpy)), &tr(&jr)));
+    put(&mut cov, 3, 3, &mul(&mul(&rt, &sq(u_d)), &tr(&rt)));
+    Ok(cov)
+}
+
+/// A rotation as a reader parsed it (its numbers, in the file's order).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Written {
+    /// URDF `rpy` (rad).
+    Rpy([f64; 3]),
+    /// `yaw pitch roll` (rad).
+    Ypr([f64; 3]),
+    /// A quaternion in the given order.
+    Quat([f64; 4], QuatOrder),
+    /// A 3x3 matrix, row-major.
+    Matrix3([[f64; 3]; 3]),
+}
+
+/// The rounding of a rotation and translation `d` written as decimal numbers
+/// (digits from [`value_half_units`]; rotation and translation each one
+/// tuple), with the translation scaled by `scale` afterwards (1e-3 for a file
+/// in millimetres). `default` (none recorded) when the constructor refuses.
+pub fn written_precision(rot: Written, d: [f64; 3], scale: f64) -> EdgePrecision {
+    if let Written::Rpy(rpy) = rot {
+        let (hd, hr) = (value_half_units(&d), value_half_units(&rpy));
+        let u = |h: &[f64]| [rounding_std(h[0]), rounding_std(h[1]), rounding_std(h[2])];
+        let cov = rpy_covariance(rpy, u(&hd), u(&hr));
+        return precision_or_none(cov).scaled_translation(scale);
+    }
+    let rp: Vec<f64> = match rot {
+        Written::Rpy(a) | Written::Ypr(a) => a.to_vec(),
+        Written::Quat(q, _) => q.to_vec(),
+        Written::Matrix3(m) => m.as_flattened().to_vec(),
+    };
+    let mut params = d.to_vec();
+    let mut halves = value_half_units(&d);
+    halves.extend(value_half_units(&rp));
+    params.extend(rp);
+    let build = |p: &[f64]| {
+        let d = [p[0], p[1], p[2]];
+        let r = &p[3..];
+        let t = match rot {
+            Written::Rpy(_) => Transform::from_rpy([r[0], r[1], r[2]], d),
+            Written::Ypr(_) => Transform::from_ypr([r[0], r[1], r[2]], d),
+            Written::Quat(_, order) => {
+                Transform::from_quaternion([r[0], r[1], r[2], r[3]], order, d, &mut Vec::new())
+            }
+            Written::Matrix3(_) => Transform::from_matrix3(
+                [[r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[6], r[7], r[8]]],
+                d,
+                &mut Vec::new(),
+            ),
+        }?;
+        Ok(t.scaled_translation(scale))
+    };
+    precision_or_none(rounding_covariance(&params, &halves, build))
+}
+
+/// The rounding of a homogeneous matrix written as decimals (its top three
+/// rows are one tuple), translation scaled by `scale` afterwards.
+pub fn matrix4_precision(m: [[f64; 4]; 4], scale: f64) -> EdgePrecision {
+    let params: Vec<f64> = m[..3].as_flattened().to_vec();
+    let halves = value_half_units(&params);
+    let build = |p: &[f64]| {
+        let r = [[p[0], p[1], p[2]], [p[4], p[5], p[6]], [p[8], p[9], p[10]]];
+        let t = Transform::from_matrix3(r, [p[3], p[7], p[11]], &mut Vec::new())?;
+        Ok(t.scaled_translation(scale))
+    };
+    precision_or_none(rounding_covariance(&params, &halves, build))
+}
+
+fn precision_or_none(cov: Result<Matrix6<f64>>) -> EdgePrecision {
+    match cov {
+        Ok(c) => EdgePrecision {
+            rounding: Some(c),
+            user: None,
+        },
+        Err(_) => EdgePrecision::default(),
+    }
 }
 
 /// The standard uncertainty of a uniform rounding of half-width `half`.
@@ -194,6 +327,16 @@ impl EdgePrecision {
                 .user
                 .map(|u| u.covariance())
                 .unwrap_or_else(Matrix6::zeros)
+    }
+
+    /// The same for the transform with its translation scaled by `s` (a file
+    /// in millimetres read in metres): the translation tangent scales by `s`.
+    pub fn scaled_translation(mut self, s: f64) -> Self {
+        if let Some(c) = &mut self.rounding {
+            let m = Matrix6::from_diagonal(&Vector6::new(1.0, 1.0, 1.0, s, s, s));
+            *c = m * *c * m;
+        }
+        self
     }
 
     fn has_rounding(&self) -> bool {
@@ -322,42 +465,117 @@ pub struct ChainUncertainty {
     pub transform_covariance: Matrix6<f64>,
 }
 
+/// The covariance of the composed transform's tangent (right, `[omega; t]`),
+/// in one pass: perturbing step `i` on the right moves the product
+/// `T = A S_i B` by `T Exp(G_i xi)` with `G_i = Ad(B^-1)` for a step walked
+/// down and `G_i = -Ad(B^-1 T_i)` for one walked up (`S_i = T_i^-1`), so
+/// `Sigma_T = sum G_i Sigma_i G_i^T` (first order).
+pub fn chain_covariance(steps: &[Step]) -> Matrix6<f64> {
+    let mut cov = Matrix6::zeros();
+    let mut suffix = Transform::identity(); // B: the product after step i
+    for s in steps.iter().rev() {
+        if s.covariance.iter().any(|x| *x != 0.0) {
+            // The sign of G_i cancels in G Sigma G^T.
+            let x = if s.inverted {
+                suffix.inverse().compose(&s.transform)
+            } else {
+                suffix.inverse()
+            };
+            cov += adjoint_congruence(&x, &s.covariance);
+        }
+        let factor = if s.inverted {
+            s.transform.inverse()
+        } else {
+            s.transform
+        };
+        suffix = factor.compose(&suffix);
+    }
+    cov
+}
+
+/// A 3x3 block as plain arrays: a chain may hold 100,000 edges and the
+/// generic small-matrix code is slow in unoptimised (test) builds.
+type M3 = [[f64; 3]; 3];
+
+fn m3(m: &Matrix3<f64>) -> M3 {
+    std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))
+}
+
+fn mul(a: &M3, b: &M3) -> M3 {
+    std::array::from_fn(|i| {
+        std::array::from_fn(|j| a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j])
+    })
+}
+
+fn tr(a: &M3) -> M3 {
+    std::array::from_fn(|i| std::array::from_fn(|j| a[j][i]))
+}
+
+fn add(a: &M3, b: &M3) -> M3 {
+    std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] + b[i][j]))
+}
+
+fn block(s: &Matrix6<f64>, r: usize, c: usize) -> M3 {
+    std::array::from_fn(|i| std::array::from_fn(|j| s[(r + i, c + j)]))
+}
+
+fn put(out: &mut Matrix6<f64>, r: usize, c: usize, m: &M3) {
+    for (i, row) in m.iter().enumerate() {
+        for (j, x) in row.iter().enumerate() {
+            out[(r + i, c + j)] = *x;
+        }
+    }
+}
+
+/// `Ad(X) S Ad(X)^T` by 3x3 blocks (`Ad(X) = [[R, 0], [P R, R]]`,
+/// `P = [p]x`): a rotation of both blocks, then the shear by `P`.
+fn adjoint_congruence(x: &Transform, s: &Matrix6<f64>) -> Matrix6<f64> {
+    let r = m3(x.rotation());
+    let p = m3(&super::se3::skew(x.translation()));
+    let (rt, pt) = (tr(&r), tr(&p));
+    let rot = |m: M3| mul(&mul(&r, &m), &rt);
+    let a = rot(block(s, 0, 0));
+    let b = rot(block(s, 0, 3));
+    let c = rot(block(s, 3, 3));
+    let pa = mul(&p, &a);
+    let bt = tr(&b);
+    let lower_left = add(&pa, &bt);
+    let lower_right = add(&add(&mul(&pa, &pt), &mul(&p, &b)), &add(&mul(&bt, &pt), &c));
+    let mut out = Matrix6::zeros();
+    put(&mut out, 0, 0, &a);
+    put(&mut out, 0, 3, &tr(&lower_left));
+    put(&mut out, 3, 0, &lower_left);
+    put(&mut out, 3, 3, &lower_right);
+    out
+}
+
 /// First-order propagation of the steps' covariances to the chain's outputs
-/// (see the module conventions); `e0` is the nominal screw axis.
+/// (see the module conventions); `e0` is the nominal screw axis. Linear in
+/// the number of steps: [`chain_covariance`], then the outputs' derivatives
+/// by the composed tangent (central differences).
 pub fn propagate(steps: &[Step], e0: Option<&Vector3<f64>>) -> Result<ChainUncertainty> {
-    let n = 6 * steps.len();
     let nominal = compose_steps(steps, None)?;
+    let tcov = chain_covariance(steps);
     let y0 = outputs(&nominal, e0);
-    // Rows: lever arm, angle, h, pitch, then the 6 tangent components.
-    let mut jac = DMatrix::<f64>::zeros(10, n);
-    let mut x = vec![0.0; n];
-    for c in 0..n {
-        x[c] = UNCERTAINTY_STEP;
-        let tp = compose_steps(steps, Some(&x))?;
-        x[c] = -UNCERTAINTY_STEP;
-        let tm = compose_steps(steps, Some(&x))?;
-        x[c] = 0.0;
-        let (p, m) = (outputs(&tp, e0), outputs(&tm, e0));
-        let tan = tangent_between(&nominal, &tp) - tangent_between(&nominal, &tm);
+    // Rows: lever arm, angle, h, pitch.
+    let mut jac = nalgebra::Matrix4x6::<f64>::zeros();
+    for c in 0..6 {
+        let mut xi = Vector6::zeros();
+        xi[c] = UNCERTAINTY_STEP;
+        let p = outputs(&perturbed(&nominal, &xi)?, e0);
+        let m = outputs(&perturbed(&nominal, &-xi)?, e0);
         let col = [
             p.lever_arm - m.lever_arm,
             p.angle - m.angle,
             p.h - m.h,
             p.h / p.angle - m.h / m.angle,
         ];
-        for (r, v) in col.iter().chain(tan.iter()).enumerate() {
+        for (r, v) in col.iter().enumerate() {
             jac[(r, c)] = v / (2.0 * UNCERTAINTY_STEP);
         }
     }
-    let mut sigma = DMatrix::<f64>::zeros(n, n);
-    for (i, s) in steps.iter().enumerate() {
-        sigma
-            .view_mut((6 * i, 6 * i), (6, 6))
-            .copy_from(&s.covariance);
-    }
-    let cov = &jac * sigma * jac.transpose();
+    let cov = jac * tcov * jac.transpose();
     let sd = |r: usize| cov[(r, r)].max(0.0).sqrt();
-    let tcov = Matrix6::from_fn(|i, j| cov[(4 + i, 4 + j)]);
     let has_axis = e0.is_some() && y0.angle > 0.0;
     let angle_rad = if has_axis {
         sd(1)

@@ -574,7 +574,10 @@ impl RigReport {
             (Some(u), src) if src != UncertaintySource::None => {
                 format!(" +- {} m ({})", short(u), src.name())
             }
-            _ => " m (no uncertainty recorded)".to_string(),
+            _ if self.uncertainty.edges_without_rounding == 0 => {
+                " m (exact as written)".to_string()
+            }
+            _ => " m (no rounding recorded by the format)".to_string(),
         };
         let verdict = match (sc.pitch_verdict, sc.deciding_uncertainty_m) {
             (Some(PitchVerdict::Undecidable), Some(need)) => format!(

@@ -255,3 +255,141 @@ fn first_order_matches_monte_carlo_on_five_shipped_rigs() {
         }
     }
 }
+
+#[test]
+fn chain_covariance_matches_brute_force_with_inverted_steps() {
+    use extrinsic_audit::geometry::uncertainty::{chain_covariance, tangent_between};
+    use extrinsic_audit::geometry::Transform;
+    let t = |rpy: [f64; 3], d: [f64; 3]| Transform::from_rpy(rpy, d).unwrap();
+    let cov = |k: f64| {
+        Matrix6::from_fn(|i, j| {
+            if i == j {
+                k * (1.0 + i as f64)
+            } else {
+                0.1 * k
+            }
+        })
+    };
+    let steps = [
+        (t([0.3, -0.2, 1.1], [0.1, 0.2, -0.3]), true, cov(1e-6)),
+        (t([-1.0, 0.4, 2.5], [0.5, -0.1, 0.05]), false, cov(4e-6)),
+        (t([2.9, 0.1, -0.7], [-0.2, 0.3, 0.4]), true, cov(2e-6)),
+        (t([0.0, 1.2, 0.2], [0.0, 0.0, 0.9]), false, cov(3e-6)),
+    ]
+    .map(|(transform, inverted, covariance)| Step {
+        transform,
+        inverted,
+        covariance,
+    });
+    let nominal = compose_steps(&steps, None).unwrap();
+    let n = 6 * steps.len();
+    let mut brute = Matrix6::zeros();
+    for (i, s) in steps.iter().enumerate() {
+        // G_i by central differences of the composed tangent.
+        let mut g = Matrix6::zeros();
+        for c in 0..6 {
+            let mut x = vec![0.0; n];
+            x[6 * i + c] = 1e-6;
+            let p = tangent_between(&nominal, &compose_steps(&steps, Some(&x)).unwrap());
+            x[6 * i + c] = -1e-6;
+            let m = tangent_between(&nominal, &compose_steps(&steps, Some(&x)).unwrap());
+            g.set_column(c, &((p - m) / 2e-6));
+        }
+        brute += g * s.covariance * g.transpose();
+    }
+    let fast = chain_covariance(&steps);
+    assert!(
+        (fast - brute).norm() < 1e-9 * brute.norm(),
+        "{fast}\n{brute}"
+    );
+}
+
+/// `h +- sigma` as the verdict table prints it.
+fn h_cell(r: &serde_json::Value) -> String {
+    match (
+        r["screw_translation_m"].as_f64(),
+        r["screw_translation_uncertainty_m"].as_f64(),
+    ) {
+        (Some(h), Some(u)) => format!("{h:.3e} ± {u:.1e}"),
+        _ => "— (no rotation)".into(),
+    }
+}
+
+/// The verdict table of calibrations/README.md: every rig, placeholders and
+/// duplicates included, at the precision as written and with a typical
+/// published calibration uncertainty (2 mm, 0.1 degree per edge).
+fn verdict_table() -> String {
+    let survey = |extra: &[&str]| -> serde_json::Value {
+        let mut a = vec!["survey", "calibrations/", "--all", "--format", "json"];
+        a.extend(extra);
+        let (code, out, err) = run_cli(&a);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str(&out).unwrap()
+    };
+    let (plain, user) = (
+        survey(&[]),
+        survey(&["--sigma-t", "0.002", "--sigma-r", "0.1"]),
+    );
+    let verdict = |r: &serde_json::Value| match r["pitch_verdict"].as_str() {
+        Some(v) => v.to_string(),
+        None if r["lever_arm_m"].as_f64() == Some(0.0) => "zero (identity)".into(),
+        None => "nonzero (pure translation)".into(),
+    };
+    let mut t = String::from(
+        "| id | h ± σ_h (m), as written | verdict | h ± σ_h (m), + 2 mm, 0.1° per edge | verdict |\n|---|---|---|---|---|\n",
+    );
+    let rigs = plain["rigs"].as_array().unwrap();
+    for (a, b) in rigs.iter().zip(user["rigs"].as_array().unwrap()) {
+        assert_eq!(a["id"], b["id"]);
+        t.push_str(&format!(
+            "| {} | {} | {} | {} | {} |\n",
+            a["id"].as_str().unwrap(),
+            h_cell(a),
+            verdict(a),
+            h_cell(b),
+            verdict(b)
+        ));
+    }
+    t
+}
+
+#[test]
+fn calibrations_readme_lists_every_rig_verdict() {
+    let path = std::path::Path::new("calibrations/README.md");
+    let readme = std::fs::read_to_string(path).unwrap();
+    let (b, e) = ("<!-- verdicts:begin -->\n", "<!-- verdicts:end -->");
+    let start = readme.find(b).expect("begin marker") + b.len();
+    let end = readme.find(e).expect("end marker");
+    let table = verdict_table();
+    if readme[start..end] != table {
+        if std::env::var_os("BLESS").is_some() {
+            let new = format!("{}{}{}", &readme[..start], table, &readme[end..]);
+            std::fs::write(path, new).unwrap();
+        } else {
+            panic!(
+                "calibrations/README.md verdict table is out of date; regenerate with\n  BLESS=1 cargo test --test it uncertainty::calibrations_readme"
+            );
+        }
+    }
+}
+
+#[test]
+fn closed_form_rpy_covariance_matches_the_constructor() {
+    use extrinsic_audit::geometry::uncertainty::{
+        rounding_covariance, rounding_std, rpy_covariance,
+    };
+    use extrinsic_audit::geometry::Transform;
+    let (rpy, d) = ([0.4, -1.1, 2.7], [0.12, -0.5, 0.03]);
+    let halves = [5e-4, 5e-3, 5e-5, 5e-5, 5e-4, 5e-6];
+    let params = [d[0], d[1], d[2], rpy[0], rpy[1], rpy[2]];
+    let numeric = rounding_covariance(&params, &halves, |p| {
+        Transform::from_rpy([p[3], p[4], p[5]], [p[0], p[1], p[2]])
+    })
+    .unwrap();
+    let u = |i: usize| [0, 1, 2].map(|k| rounding_std(halves[i + k]));
+    let closed = rpy_covariance(rpy, u(0), u(3)).unwrap();
+    assert!(
+        (numeric - closed).norm() < 1e-8 * closed.norm(),
+        "{numeric}\n{closed}"
+    );
+}

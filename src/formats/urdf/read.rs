@@ -8,7 +8,9 @@ use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::source::LineIndex;
 use crate::formats::{locate_warnings, xml};
 use crate::frames::JointType;
-use crate::geometry::uncertainty::{rounding_covariance, tuple_half_units};
+use crate::geometry::uncertainty::{
+    rounding_covariance, rounding_std, rpy_covariance, tuple_half_units,
+};
 use crate::geometry::{EdgePrecision, QuatOrder, Transform};
 use std::collections::HashMap;
 use std::path::Path;
@@ -54,6 +56,17 @@ fn origin_precision(o: roxmltree::Node, version: Version) -> EdgePrecision {
     halves.extend(tuple_half_units(&rot));
     texts.extend(rot);
     let params: Vec<f64> = texts.iter().map(|t| t.parse().unwrap_or(0.0)).collect();
+    if !quat {
+        let u = |i: usize| [0, 1, 2].map(|k| rounding_std(halves[i + k]));
+        let cov = rpy_covariance([params[3], params[4], params[5]], u(0), u(3));
+        return match cov {
+            Ok(c) => EdgePrecision {
+                rounding: Some(c),
+                user: None,
+            },
+            Err(_) => EdgePrecision::default(),
+        };
+    }
     let build = |p: &[f64]| {
         let d = [p[0], p[1], p[2]];
         if quat {
