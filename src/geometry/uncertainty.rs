@@ -651,7 +651,7 @@ impl std::fmt::Display for PitchTol {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             PitchTol::Auto => f.write_str("auto"),
-            PitchTol::Fixed(v) => write!(f, "{v}"),
+            PitchTol::Fixed(v) => write!(f, "{v:e}"),
         }
     }
 }

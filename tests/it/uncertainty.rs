@@ -393,3 +393,91 @@ fn closed_form_rpy_covariance_matches_the_constructor() {
         "{numeric}\n{closed}"
     );
 }
+
+#[test]
+fn check_require_zero_pitch_follows_the_verdict() {
+    let base = [
+        "check",
+        HALF_TURN,
+        "--pair",
+        "base:lidar",
+        "--require-zero-pitch",
+    ];
+    let (code, out, err) = run_cli(&base);
+    assert_eq!(code, 0, "{out}{err}");
+    let mut strict = base.to_vec();
+    strict.extend(["--pitch-tol", "1e-9"]);
+    let (code, out, _) = run_cli(&strict);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains("error[nonzero-pitch]") && out.contains("(--pitch-tol 1e-9)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("+- 2.9e-5 m (rounding), verdict nonzero"),
+        "{out}"
+    );
+}
+
+#[test]
+fn survey_counts_rigs_by_the_three_way_verdict() {
+    let (code, out, err) = run_cli(&[
+        "survey",
+        "calibrations/",
+        "--format",
+        "json",
+        "--sigma-t",
+        "0.002",
+        "--sigma-r",
+        "0.1",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let s = &v["summary"];
+    let n = |k: &str| s[k].as_u64().unwrap();
+    assert_eq!(
+        n("zero_pitch_count") + n("nonzero_pitch_count") + n("undecidable_pitch_count"),
+        n("count")
+    );
+    // hilti2023-hhs-hesai (|h| = 0.14 mm) and hilti2022-hesai (5.3 mm) are
+    // within 3 x 2 mm of zero: undecidable with a published calibration's
+    // uncertainty.
+    assert_eq!(n("undecidable_pitch_count"), 2);
+    let verdict = |id: &str| {
+        v["rigs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["id"] == id)
+            .map(|r| r["pitch_verdict"].clone())
+            .unwrap()
+    };
+    assert_eq!(verdict("hilti2023-hhs-hesai"), "undecidable");
+    assert_eq!(verdict("liosam-mid360-9axis"), "zero");
+}
+
+#[test]
+fn rig_toml_states_its_own_calibration_uncertainty() {
+    let text = std::fs::read_to_string("calibrations/hilti2023-hhs-hesai.toml").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let write = |extra: &str| {
+        let p = dir.path().join("rig.toml");
+        std::fs::write(&p, text.replacen("[rig]\n", &format!("[rig]\n{extra}"), 1)).unwrap();
+        p.to_string_lossy().into_owned()
+    };
+    let p = write("sigma_t_m = 0.002\nsigma_r_deg = 0.1\n");
+    let v = json(&[&p]);
+    // The matrix is printed in full (exact as written): the file's own value only.
+    assert_eq!(v["uncertainty"]["source"], "user");
+    assert_eq!(pitch(&v).2, "undecidable");
+    // The file's value wins over the command line's.
+    let v = json(&[&p, "--sigma-t", "0"]);
+    assert_eq!(pitch(&v).2, "undecidable");
+    let p = write("sigma_t_m = -1\n");
+    let (code, _, err) = run_cli(&[&p]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("sigma_t_m: expected a number in [0, 1]"),
+        "{err}"
+    );
+}
