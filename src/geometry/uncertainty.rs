@@ -471,26 +471,49 @@ pub struct ChainUncertainty {
 /// down and `G_i = -Ad(B^-1 T_i)` for one walked up (`S_i = T_i^-1`), so
 /// `Sigma_T = sum G_i Sigma_i G_i^T` (first order).
 pub fn chain_covariance(steps: &[Step]) -> Matrix6<f64> {
+    chain_covariance_and_product(steps).0
+}
+
+/// [`chain_covariance`] and the product of the steps (the suffix after the
+/// last step walked back is the whole chain).
+fn chain_covariance_and_product(steps: &[Step]) -> (Matrix6<f64>, M3, [f64; 3]) {
     let mut cov = Matrix6::zeros();
-    let mut suffix = Transform::identity(); // B: the product after step i
+    // B = (rb, db): the product after step i.
+    let (mut rb, mut db): (M3, [f64; 3]) = (
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        [0.0; 3],
+    );
     for s in steps.iter().rev() {
+        let ri = m3(s.transform.rotation());
+        let di: [f64; 3] = (*s.transform.translation()).into();
+        let rbt = tr(&rb);
         if s.covariance.iter().any(|x| *x != 0.0) {
-            // The sign of G_i cancels in G Sigma G^T.
-            let x = if s.inverted {
-                suffix.inverse().compose(&s.transform)
+            // X = B^-1 (down) or B^-1 T_i (up); the sign of G_i cancels.
+            let (rx, dx) = if s.inverted {
+                (mul(&rbt, &ri), apply(&rbt, &sub(&di, &db)))
             } else {
-                suffix.inverse()
+                (rbt, apply(&rbt, &sub(&[0.0; 3], &db)))
             };
-            cov += adjoint_congruence(&x, &s.covariance);
+            cov += adjoint_congruence(&rx, &dx, &s.covariance);
         }
-        let factor = if s.inverted {
-            s.transform.inverse()
+        // B <- S_i B with S_i = T_i or T_i^-1.
+        (rb, db) = if s.inverted {
+            let rit = tr(&ri);
+            (mul(&rit, &rb), apply(&rit, &sub(&db, &di)))
         } else {
-            s.transform
+            let t = apply(&ri, &db);
+            (mul(&ri, &rb), [t[0] + di[0], t[1] + di[1], t[2] + di[2]])
         };
-        suffix = factor.compose(&suffix);
     }
-    cov
+    (cov, rb, db)
+}
+
+fn apply(a: &M3, v: &[f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|i| a[i][0] * v[0] + a[i][1] * v[1] + a[i][2] * v[2])
+}
+
+fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 /// A 3x3 block as plain arrays: a chain may hold 100,000 edges and the
@@ -527,13 +550,12 @@ fn put(out: &mut Matrix6<f64>, r: usize, c: usize, m: &M3) {
     }
 }
 
-/// `Ad(X) S Ad(X)^T` by 3x3 blocks (`Ad(X) = [[R, 0], [P R, R]]`,
-/// `P = [p]x`): a rotation of both blocks, then the shear by `P`.
-fn adjoint_congruence(x: &Transform, s: &Matrix6<f64>) -> Matrix6<f64> {
-    let r = m3(x.rotation());
-    let p = m3(&super::se3::skew(x.translation()));
-    let (rt, pt) = (tr(&r), tr(&p));
-    let rot = |m: M3| mul(&mul(&r, &m), &rt);
+/// `Ad(X) S Ad(X)^T` by 3x3 blocks for `X = (r, d)` (`Ad(X) = [[R, 0],
+/// [P R, R]]`, `P = [d]x`): a rotation of both blocks, then the shear by `P`.
+fn adjoint_congruence(r: &M3, d: &[f64; 3], s: &Matrix6<f64>) -> Matrix6<f64> {
+    let p: M3 = [[0.0, -d[2], d[1]], [d[2], 0.0, -d[0]], [-d[1], d[0], 0.0]];
+    let (rt, pt) = (tr(r), tr(&p));
+    let rot = |m: M3| mul(&mul(r, &m), &rt);
     let a = rot(block(s, 0, 0));
     let b = rot(block(s, 0, 3));
     let c = rot(block(s, 3, 3));
@@ -554,8 +576,8 @@ fn adjoint_congruence(x: &Transform, s: &Matrix6<f64>) -> Matrix6<f64> {
 /// the number of steps: [`chain_covariance`], then the outputs' derivatives
 /// by the composed tangent (central differences).
 pub fn propagate(steps: &[Step], e0: Option<&Vector3<f64>>) -> Result<ChainUncertainty> {
-    let nominal = compose_steps(steps, None)?;
-    let tcov = chain_covariance(steps);
+    let (tcov, r, d) = chain_covariance_and_product(steps);
+    let nominal = Transform::from_matrix3(r, d, &mut Vec::new())?;
     let y0 = outputs(&nominal, e0);
     // Rows: lever arm, angle, h, pitch.
     let mut jac = nalgebra::Matrix4x6::<f64>::zeros();
