@@ -211,9 +211,10 @@ pub const XACRO_PACKAGE_SEARCH_UP: usize = 3;
 /// five digits (an error near 1e-6) does not.
 pub const SIGNED_PERMUTATION_TOL: f64 = 1e-9;
 
-/// Default zero-pitch tolerance on `|h|` (m). Published numbers have finite
-/// digits; the report always prints the raw `h` beside the verdict, and
-/// `--pitch-tol` changes it.
+/// Absolute zero-pitch tolerance on `|h|` (m) where no uncertainty is at hand
+/// (the detector's adapted metric, library callers of `analyze`). The reports
+/// default to `--pitch-tol auto` ([`PITCH_K`]); this is also their floor
+/// ([`PITCH_FLOAT_FLOOR_M`]).
 pub const DEFAULT_PITCH_TOL: f64 = 1e-9;
 
 /// Rotation angle (degrees) below which a rig's screw axis is set by calibration
