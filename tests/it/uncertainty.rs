@@ -481,3 +481,26 @@ fn rig_toml_states_its_own_calibration_uncertainty() {
         "{err}"
     );
 }
+
+#[test]
+fn xacro_expressions_are_exact() {
+    let v = json(&[
+        "tests/fixtures/uncertainty/expressions.urdf.xacro",
+        "--from",
+        "base",
+        "--to",
+        "lidar",
+    ]);
+    assert_eq!(v["uncertainty"]["source"], "none");
+    assert_eq!(v["uncertainty"]["edges_without_rounding"], 0);
+    assert_eq!(v["lever_arm_uncertainty_m"], 0.0);
+    assert_eq!(v["rotation"]["angle_uncertainty_rad"], 0.0);
+    let (_, text, _) = run_cli(&[
+        "tests/fixtures/uncertainty/expressions.urdf.xacro",
+        "--from",
+        "base",
+        "--to",
+        "lidar",
+    ]);
+    assert!(text.contains("m (exact as written)"), "{text}");
+}
