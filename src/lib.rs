@@ -16,7 +16,7 @@
 //! ```
 //! use extrinsic_audit::analysis::{analyze, Family};
 //! use extrinsic_audit::formats::LoadOptions;
-//! use extrinsic_audit::geometry::ScrewKind;
+//! use extrinsic_audit::geometry::{PitchTol, ScrewKind};
 //! use extrinsic_audit::pipeline::{self, RigOptions};
 //! use extrinsic_audit::tolerances::{DEFAULT_ELLS, DEFAULT_PITCH_TOL};
 //! use std::path::PathBuf;
@@ -51,14 +51,17 @@
 //! // The same analysis as the typed report `audit` prints (and serialises).
 //! let opts = RigOptions {
 //!     ells: DEFAULT_ELLS.to_vec(),
-//!     pitch_tol: DEFAULT_PITCH_TOL,
+//!     pitch_tol: PitchTol::Auto, // three-way, from the rounding of the digits
+//!     sigma: None,               // no --sigma-t / --sigma-r
 //!     kappa_lambda: None,
 //! };
 //! let report = pipeline::report(&chain, &opts)?;
 //! assert_eq!(
 //!     report.verdict_line(),
-//!     "lever arm 0.391 m, screw translation -0.1422 m: no constant metric is \
-//!      frame-invariant on this rig; only the point-displacement metric is"
+//!     "lever arm 0.391 m, h = -0.1422 +- 4.082e-5 m (rounding), pitch nonzero: \
+//!      no constant metric is frame-invariant on this rig; only the \
+//!      point-displacement metric is. To do: use the point-displacement metric \
+//!      (frame-invariant on every rig); no adapted metric M0 exists for this rig."
 //! );
 //! # Ok(())
 //! # }

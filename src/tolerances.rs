@@ -240,9 +240,10 @@ pub const XACRO_PACKAGE_SEARCH_UP: usize = 3;
 /// five digits (an error near 1e-6) does not.
 pub const SIGNED_PERMUTATION_TOL: f64 = 1e-9;
 
-/// Default zero-pitch tolerance on `|h|` (m). Published numbers have finite
-/// digits; the report always prints the raw `h` beside the verdict, and
-/// `--pitch-tol` changes it.
+/// Absolute zero-pitch tolerance on `|h|` (m) where no uncertainty is at hand
+/// (the detector's adapted metric, library callers of `analyze`). The reports
+/// default to `--pitch-tol auto` ([`PITCH_K`]); this is also their floor
+/// ([`PITCH_FLOAT_FLOOR_M`]).
 pub const DEFAULT_PITCH_TOL: f64 = 1e-9;
 
 /// Rotation angle (degrees) below which a rig's screw axis is set by calibration
@@ -258,6 +259,40 @@ pub const SMALL_ROTATION_DEG: f64 = 5.0;
 /// Angle (rad) within which of a half-turn the table marks `h` (`±`): its sign
 /// follows the rounding of the published numbers.
 pub const NEAR_HALF_TURN_RAD: f64 = 1e-6;
+
+/// `k` of the three-way pitch verdict (`--pitch-tol auto`,
+/// [`crate::geometry::uncertainty`]): `h` is zero when within `k` standard
+/// uncertainties. 3: a uniform rounding never exceeds `sqrt(3)` of its standard
+/// uncertainty, and a Gaussian calibration error exceeds 3 of them 0.3% of the time.
+pub const PITCH_K: f64 = 3.0;
+
+/// Widest `PITCH_K * sigma_h` (m) at which "`h` is consistent with zero" still
+/// means zero pitch: a millimetre, the precision of published LiDAR-IMU
+/// calibrations. Wider, the verdict is `undecidable`.
+pub const PITCH_RESOLUTION_M: f64 = 1e-3;
+
+/// `|h|` (m) at or below which `h` is zero whatever its uncertainty: the old
+/// absolute default, far above the double rounding of a composed chain (about
+/// 1e-16 m per metre of lever arm) and far below any written digit.
+pub const PITCH_FLOAT_FLOOR_M: f64 = DEFAULT_PITCH_TOL;
+
+/// A number literal with this many significant digits or more is the shortest
+/// print of a double (what a xacro expression such as `${pi/2}` writes, 16 or
+/// 17 digits): exact, no rounding of its own.
+pub const EXACT_SIGNIFICANT_DIGITS: usize = 16;
+
+/// Step of the central differences of the uncertainty propagation (rad or m,
+/// relative above 1). The truncation error is of order step^2 = 1e-12 relative;
+/// the cancellation error 1e-16 / 1e-6 = 1e-10 relative.
+pub const UNCERTAINTY_STEP: f64 = 1e-6;
+
+/// Largest `--sigma-t` (m) accepted: a metre of calibration uncertainty is no
+/// calibration; first order is meaningless long before.
+pub const MAX_SIGMA_T_M: f64 = 1.0;
+
+/// Largest `--sigma-r` (degrees) accepted: beyond 10 degrees the first-order
+/// propagation is no longer within 10% of Monte Carlo.
+pub const MAX_SIGMA_R_DEG: f64 = 10.0;
 
 // ---------------------------------------------------------------------------
 // `audit check` drift against a baseline

@@ -82,6 +82,9 @@ pub enum AdaptedReason {
     PureTranslation,
     /// `h != 0`: `Ad(T)` is defective.
     NonzeroPitch,
+    /// `h` within its uncertainty of zero, but the uncertainty is too wide to
+    /// call it zero (`--pitch-tol auto`).
+    UndecidablePitch,
 }
 
 impl AdaptedReason {
@@ -92,6 +95,7 @@ impl AdaptedReason {
             AdaptedReason::ZeroPitch => "zero_pitch",
             AdaptedReason::PureTranslation => "pure_translation",
             AdaptedReason::NonzeroPitch => "nonzero_pitch",
+            AdaptedReason::UndecidablePitch => "undecidable_pitch",
         }
     }
     /// The sentence the report prints (JSON `adapted_metric.reason`).
@@ -112,6 +116,10 @@ impl AdaptedReason {
             AdaptedReason::NonzeroPitch => {
                 "nonzero screw translation h along the rotation axis: Ad(T) is defective \
                  (its powers grow), so no constant metric is invariant"
+            }
+            AdaptedReason::UndecidablePitch => {
+                "screw translation h undecidable at this precision: h is within its \
+                 uncertainty of zero, but that uncertainty is too wide to build M0 on"
             }
         }
     }
@@ -229,6 +237,8 @@ pub enum VerdictReason {
     AdaptedPureTranslation,
     /// Adapted constant metric, `h != 0`: none exists.
     AdaptedNonzeroPitch,
+    /// Adapted constant metric, `h` undecidable at this precision.
+    AdaptedUndecidablePitch,
     /// Point displacement: equivariant, invariant on every rig.
     PointDisplacementEquivariant,
 }
@@ -279,6 +289,10 @@ impl VerdictReason {
             VerdictReason::AdaptedNonzeroPitch => {
                 "nonzero screw translation h along the rotation axis: no adapted constant \
                  metric exists for this rig (Ad(T) is defective)"
+            }
+            VerdictReason::AdaptedUndecidablePitch => {
+                "screw translation h undecidable at this precision: whether an adapted \
+                 constant metric exists depends on digits the file does not give"
             }
             VerdictReason::PointDisplacementEquivariant => {
                 "equivariant rule: M = sum J_i^T J_i transforms by the same congruence as \

@@ -2,12 +2,14 @@
 
 use super::frames::AuditFormat;
 use super::{
-    emit, parse_ell, parse_joint, parse_kappa, parse_lambda, parse_nonneg, print_warnings,
+    emit, parse_ell, parse_joint, parse_kappa, parse_lambda, parse_sigma_r, parse_sigma_t,
+    print_warnings,
 };
 use clap::{Args, ValueEnum};
 use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
 use extrinsic_audit::formats::bag::BagOptions;
 use extrinsic_audit::formats::{Format, LoadOptions};
+use extrinsic_audit::geometry::PitchTol;
 use extrinsic_audit::pipeline::{self, Rename, RigOptions};
 use extrinsic_audit::tolerances::{DEFAULT_ELLS, DEFAULT_MAX_FILE_SIZE};
 use std::io::Write;
@@ -38,9 +40,17 @@ pub struct AuditArgs {
     /// Detector eigenvalue lambda (see --kappa)
     #[arg(long, requires = "kappa", value_parser = parse_lambda, allow_hyphen_values = true)]
     pub lambda: Option<f64>,
-    /// Zero-pitch tolerance on |h| (m); the raw h is always printed beside the verdict
-    #[arg(long, default_value_t = extrinsic_audit::tolerances::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
-    pub pitch_tol: f64,
+    /// Zero-pitch tolerance: `auto` (zero within 3 standard uncertainties of h, the
+    /// rounding of the numbers as written plus --sigma-t/--sigma-r) or |h| in m
+    #[arg(long, default_value = "auto", value_name = "auto|M")]
+    pub pitch_tol: PitchTol,
+    /// The calibration's standard uncertainty per edge, translation (m), added to
+    /// the rounding of the numbers as written (a rig TOML's own value wins)
+    #[arg(long, value_parser = parse_sigma_t, value_name = "M")]
+    pub sigma_t: Option<f64>,
+    /// The same for rotation (degrees)
+    #[arg(long, value_parser = parse_sigma_r, value_name = "DEG")]
+    pub sigma_r: Option<f64>,
     /// Set a movable joint's position (rad or m); repeatable
     #[arg(long = "joint", value_parser = parse_joint, value_name = "NAME=VALUE")]
     pub joints: Vec<(String, f64)>,
@@ -218,6 +228,7 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     let opts = RigOptions {
         ells: args.ell.clone(),
         pitch_tol: args.pitch_tol,
+        sigma: super::user_sigma(args.sigma_t, args.sigma_r),
         kappa_lambda: args.kappa.zip(args.lambda),
     };
     emit(&pipeline::report(&chain, &opts)?, format, out)?;

@@ -5,6 +5,7 @@ use clap::Args;
 use extrinsic_audit::baseline::Tolerances;
 use extrinsic_audit::diagnostic::{Code, Result};
 use extrinsic_audit::formats::LoadOptions;
+use extrinsic_audit::geometry::PitchTol;
 use extrinsic_audit::pipeline::{self, CheckOptions};
 use extrinsic_audit::render::OutputFormat;
 use extrinsic_audit::tolerances::{
@@ -60,9 +61,9 @@ pub struct CheckArgs {
     /// Drift tolerance on rotations against the baseline (deg)
     #[arg(long, default_value_t = DEFAULT_MAX_ROTATION_DRIFT_DEG, value_parser = parse_nonneg, value_name = "DEG")]
     pub max_rotation_drift: f64,
-    /// Zero-pitch tolerance on |h| (m)
-    #[arg(long, default_value_t = extrinsic_audit::tolerances::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
-    pub pitch_tol: f64,
+    /// Zero-pitch tolerance: `auto` (three-way, from the uncertainty of h) or |h| in m
+    #[arg(long, default_value = "auto", value_name = "auto|M")]
+    pub pitch_tol: PitchTol,
     /// Set a movable joint's position (rad or m); repeatable
     #[arg(long = "joint", value_parser = parse_joint, value_name = "NAME=VALUE")]
     pub joints: Vec<(String, f64)>,

@@ -10,7 +10,7 @@ use extrinsic_audit::pipeline::{self, DiffOptions, Rename, RigOptions};
 use extrinsic_audit::render::OutputFormat;
 use extrinsic_audit::report::diff::DiffToleranceJson;
 use extrinsic_audit::tolerances::{
-    DEFAULT_DIFF_ROTATION_TOL_DEG, DEFAULT_DIFF_TRANSLATION_TOL_MM, DEFAULT_ELLS, DEFAULT_PITCH_TOL,
+    DEFAULT_DIFF_ROTATION_TOL_DEG, DEFAULT_DIFF_TRANSLATION_TOL_MM, DEFAULT_ELLS,
 };
 use std::io::Write;
 use std::path::PathBuf;
@@ -50,9 +50,10 @@ pub struct DiffArgs {
     /// Characteristic lengths (m) for the certificate bands
     #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
     pub ell: Vec<f64>,
-    /// Zero-pitch tolerance on |h| (m)
-    #[arg(long, default_value_t = DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
-    pub pitch_tol: f64,
+    /// Zero-pitch tolerance: `auto` (zero within 3 standard uncertainties of h,
+    /// from the rounding of the numbers as written) or |h| in m
+    #[arg(long, default_value = "auto", value_name = "auto|M")]
+    pub pitch_tol: extrinsic_audit::geometry::PitchTol,
     /// Set a movable joint's position (rad or m) in both files; repeatable
     #[arg(long = "joint", value_parser = parse_joint, value_name = "NAME=VALUE")]
     pub joints: Vec<(String, f64)>,
@@ -81,6 +82,7 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
         rig: RigOptions {
             ells: args.ell.clone(),
             pitch_tol: args.pitch_tol,
+            sigma: None,
             kappa_lambda: None,
         },
         tolerance: DiffToleranceJson {

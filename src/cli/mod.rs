@@ -262,6 +262,37 @@ pub fn parse_positive(s: &str) -> std::result::Result<f64, String> {
 }
 
 /// A non-negative, finite number.
+/// `--sigma-t M`: a calibration's standard uncertainty per edge (m).
+pub fn parse_sigma_t(s: &str) -> std::result::Result<f64, String> {
+    let v = parse_nonneg(s)?;
+    let max = extrinsic_audit::tolerances::MAX_SIGMA_T_M;
+    if v > max {
+        return Err(format!("expected at most {max} m, found `{s}`"));
+    }
+    Ok(v)
+}
+
+/// `--sigma-r DEG`: a calibration's standard uncertainty per edge (degrees).
+pub fn parse_sigma_r(s: &str) -> std::result::Result<f64, String> {
+    let v = parse_nonneg(s)?;
+    let max = extrinsic_audit::tolerances::MAX_SIGMA_R_DEG;
+    if v > max {
+        return Err(format!("expected at most {max} deg, found `{s}`"));
+    }
+    Ok(v)
+}
+
+/// `--sigma-t`/`--sigma-r` as one user uncertainty (`None`: neither given).
+pub fn user_sigma(
+    sigma_t: Option<f64>,
+    sigma_r_deg: Option<f64>,
+) -> Option<extrinsic_audit::geometry::UserSigma> {
+    (sigma_t.is_some() || sigma_r_deg.is_some()).then(|| extrinsic_audit::geometry::UserSigma {
+        sigma_t_m: sigma_t.unwrap_or(0.0),
+        sigma_r_rad: sigma_r_deg.unwrap_or(0.0).to_radians(),
+    })
+}
+
 pub fn parse_nonneg(s: &str) -> std::result::Result<f64, String> {
     let v: f64 = s
         .trim()

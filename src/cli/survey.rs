@@ -1,8 +1,9 @@
 //! `audit survey PATHS...`: one row per rig file, then a summary.
 
-use super::{emit, parse_nonneg, print_warnings};
+use super::{emit, parse_sigma_r, parse_sigma_t, print_warnings};
 use clap::Args;
 use extrinsic_audit::diagnostic::Result;
+use extrinsic_audit::geometry::PitchTol;
 use extrinsic_audit::pipeline::{self, SortColumn, SurveyOptions};
 use extrinsic_audit::render::OutputFormat;
 use std::io::Write;
@@ -28,9 +29,16 @@ pub struct SurveyArgs {
     /// Sort rows by this column (ties by id)
     #[arg(long, value_enum, value_name = "COLUMN")]
     pub sort: Option<SortColumn>,
-    /// Zero-pitch tolerance on |h| (m)
-    #[arg(long, default_value_t = extrinsic_audit::tolerances::DEFAULT_PITCH_TOL, value_parser = parse_nonneg, value_name = "M")]
-    pub pitch_tol: f64,
+    /// Zero-pitch tolerance: `auto` (three-way, from the uncertainty of h) or |h| in m
+    #[arg(long, default_value = "auto", value_name = "auto|M")]
+    pub pitch_tol: PitchTol,
+    /// The calibration's standard uncertainty per edge, translation (m), added to
+    /// the rounding of the numbers as written (a rig TOML's own value wins)
+    #[arg(long, value_parser = parse_sigma_t, value_name = "M")]
+    pub sigma_t: Option<f64>,
+    /// The same for rotation (degrees)
+    #[arg(long, value_parser = parse_sigma_r, value_name = "DEG")]
+    pub sigma_r: Option<f64>,
     /// Also list placeholder and duplicate rigs (never counted in the summary)
     #[arg(long)]
     pub all: bool,
@@ -54,6 +62,7 @@ pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
     let (report, warnings) = pipeline::survey(&SurveyOptions {
         paths: args.paths.clone(),
         pitch_tol: args.pitch_tol,
+        sigma: super::user_sigma(args.sigma_t, args.sigma_r),
         all: args.all,
         sort: args.sort,
         pair: args.from.clone().zip(args.to.clone()),

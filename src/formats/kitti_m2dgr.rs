@@ -16,6 +16,7 @@ use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::registry::FormatSpec;
 use crate::formats::{check_metres, locate_warnings, parse_number, Edge, LoadOptions, Loaded};
 use crate::geometry::se3::Transform;
+use crate::geometry::uncertainty::{written_precision, Written};
 use std::path::Path;
 
 fn numbers(s: &str, line: usize, what: &str) -> Result<Vec<f64>> {
@@ -98,8 +99,14 @@ pub fn parse_kitti(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded
             ("source".to_string(), "target".to_string())
         }
     };
-    out.edges
-        .push(Edge::new(b, a, tf, loc, KITTI_CALIB.id, "R: + T:"));
+    let written = Written::Matrix3([[r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[6], r[7], r[8]]]);
+    out.edges.push(
+        Edge::new(b, a, tf, loc, KITTI_CALIB.id, "R: + T:").with_precision(written_precision(
+            written,
+            [t[0], t[1], t[2]],
+            1.0,
+        )),
+    );
     Ok(out)
 }
 
@@ -176,18 +183,29 @@ pub fn parse_m2dgr(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded
                     }
                     check_metres(&[v[3], v[7], v[11]], &name, &loc, &mut ws);
                     locate_warnings(ws, &loc, &mut out.warnings);
-                    out.edges.push(Edge::new(
-                        "velodyne",
-                        if name.is_empty() {
-                            "sensor".to_string()
-                        } else {
-                            name.clone()
-                        },
-                        t,
-                        loc,
-                        M2DGR_TXT.id,
-                        format!("%% {name}: Extrinsic [to LIDAR] data"),
-                    ));
+                    out.edges.push(
+                        Edge::new(
+                            "velodyne",
+                            if name.is_empty() {
+                                "sensor".to_string()
+                            } else {
+                                name.clone()
+                            },
+                            t,
+                            loc,
+                            M2DGR_TXT.id,
+                            format!("%% {name}: Extrinsic [to LIDAR] data"),
+                        )
+                        .with_precision(written_precision(
+                            Written::Matrix3([
+                                [v[0], v[1], v[2]],
+                                [v[4], v[5], v[6]],
+                                [v[8], v[9], v[10]],
+                            ]),
+                            [v[3], v[7], v[11]],
+                            1.0,
+                        )),
+                    );
                 }
             }
             i = j;

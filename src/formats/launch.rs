@@ -52,6 +52,7 @@ use crate::formats::{
     check_metres, line_col, locate_warnings, parse_number, Edge, LoadOptions, Loaded,
 };
 use crate::geometry::se3::{QuatOrder, Transform};
+use crate::geometry::uncertainty::{matrix4_precision, written_precision, Written};
 use crate::sanitize::clip;
 use std::path::Path;
 
@@ -202,7 +203,7 @@ pub fn parse_stp_args(
             )
             .at(loc));
         }
-        let (t, how) = if has_q {
+        let (t, how, written) = if has_q {
             let q = [
                 num("--qx", 0.0, &mut ws)?,
                 num("--qy", 0.0, &mut ws)?,
@@ -213,6 +214,7 @@ pub fn parse_stp_args(
                 Transform::from_quaternion(q, QuatOrder::Xyzw, d, &mut ws)
                     .map_err(|e| e.at(loc))?,
                 "--x --y --z --qx --qy --qz --qw",
+                Written::Quat(q, QuatOrder::Xyzw),
             )
         } else {
             let rpy = [
@@ -223,6 +225,7 @@ pub fn parse_stp_args(
             (
                 Transform::from_rpy(rpy, d).map_err(|e| e.at(loc))?,
                 "--x --y --z --roll --pitch --yaw",
+                Written::Rpy(rpy),
             )
         };
         check_metres(&d, "static_transform_publisher --x --y --z", loc, &mut ws);
@@ -234,6 +237,7 @@ pub fn parse_stp_args(
             format,
             format!("{context}static_transform_publisher {how}"),
         )
+        .with_precision(written_precision(written, d, 1.0))
     } else {
         let nnum = toks
             .iter()
@@ -278,11 +282,19 @@ pub fn parse_stp_args(
             v.push(number_arg(t, i + 1, &mut ws, loc)?);
         }
         let d = [v[0], v[1], v[2]];
-        let t = if nrot == 3 {
-            Transform::from_ypr([v[3], v[4], v[5]], d).map_err(|e| e.at(loc))?
+        let (t, written) = if nrot == 3 {
+            let ypr = [v[3], v[4], v[5]];
+            (
+                Transform::from_ypr(ypr, d).map_err(|e| e.at(loc))?,
+                Written::Ypr(ypr),
+            )
         } else {
-            Transform::from_quaternion([v[3], v[4], v[5], v[6]], QuatOrder::Xyzw, d, &mut ws)
-                .map_err(|e| e.at(loc))?
+            let q = [v[3], v[4], v[5], v[6]];
+            (
+                Transform::from_quaternion(q, QuatOrder::Xyzw, d, &mut ws)
+                    .map_err(|e| e.at(loc))?,
+                Written::Quat(q, QuatOrder::Xyzw),
+            )
         };
         check_metres(&d, "static_transform_publisher x y z", loc, &mut ws);
         Edge::new(
@@ -293,6 +305,7 @@ pub fn parse_stp_args(
             format,
             format!("{context}static_transform_publisher {how}"),
         )
+        .with_precision(written_precision(written, d, 1.0))
     };
     locate_warnings(ws, loc, warnings);
     Ok(edge)
@@ -423,14 +436,17 @@ pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
             .at(&loc),
         );
         check_metres(&[v[3], v[7], v[11]], param, &loc, &mut out.warnings);
-        out.edges.push(Edge::new(
-            "imu",
-            "lidar",
-            t,
-            loc,
-            LIO_LIVOX_LAUNCH.id,
-            format!("<rosparam param=\"{param}\">"),
-        ));
+        out.edges.push(
+            Edge::new(
+                "imu",
+                "lidar",
+                t,
+                loc,
+                LIO_LIVOX_LAUNCH.id,
+                format!("<rosparam param=\"{param}\">"),
+            )
+            .with_precision(matrix4_precision(m, 1.0)),
+        );
     }
     if out.edges.is_empty() {
         return Err(Error::parse(format!(

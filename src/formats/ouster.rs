@@ -16,6 +16,7 @@ use crate::formats::registry::FormatSpec;
 use crate::formats::yaml::{self, Node, Value};
 use crate::formats::{locate_warnings, yaml_dialects, Edge, LoadOptions, Loaded};
 use crate::geometry::se3::Transform;
+use crate::geometry::uncertainty::matrix4_precision;
 use std::path::Path;
 
 fn find<'a>(n: &'a Node, key: &str) -> Option<(&'a Node, &'a Node)> {
@@ -84,14 +85,17 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             })?
             .scaled_translation(1e-3);
         locate_warnings(ws, &loc, &mut out.warnings);
-        out.edges.push(Edge::new(
-            "os_sensor",
-            child,
-            t,
-            loc,
-            SPEC.id,
-            format!("{key} (mm -> m)"),
-        ));
+        out.edges.push(
+            Edge::new(
+                "os_sensor",
+                child,
+                t,
+                loc,
+                SPEC.id,
+                format!("{key} (mm -> m)"),
+            )
+            .with_precision(matrix4_precision(m, 1e-3)),
+        );
     }
     if out.edges.is_empty() {
         // Not Ouster metadata: matrices under T_A_B / A_T_B keys are read as in YAML.

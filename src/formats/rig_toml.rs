@@ -45,6 +45,9 @@ use crate::formats::registry::FormatSpec;
 use crate::formats::source::line_col;
 use crate::formats::{Edge, LoadOptions, Loaded, Provenance, RigMeta};
 use crate::geometry::se3::{QuatOrder, Transform};
+use crate::geometry::uncertainty::{rounding_covariance, tuple_half_units};
+use crate::geometry::{EdgePrecision, UserSigma};
+use crate::tolerances::{MAX_SIGMA_R_DEG, MAX_SIGMA_T_M};
 use serde::Deserialize;
 use std::collections::BTreeSet;
 use std::path::{Component, Path, PathBuf};
@@ -87,6 +90,13 @@ struct RigTable {
     to: String,
     #[serde(default)]
     duplicate_of: Option<String>,
+    /// The calibration's standard uncertainty per edge (m), for every edge of
+    /// this file (`--sigma-t` for the others).
+    #[serde(default)]
+    sigma_t_m: Option<f64>,
+    /// The same for rotation (degrees).
+    #[serde(default)]
+    sigma_r_deg: Option<f64>,
     source: SourceTable,
 }
 
@@ -107,7 +117,7 @@ enum Unit {
     Mm,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct AxisAngle {
     axis: [f64; 3],
@@ -115,7 +125,7 @@ struct AxisAngle {
     angle: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct TransformDef {
     parent: String,
@@ -194,7 +204,12 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
 
     let rig_loc = loc_of(text, path, file.rig.span().start);
     let rig = file.rig.into_inner();
+    let user = user_sigma(&rig, &rig_loc)?;
     let meta = check_rig(rig, &rig_loc)?;
+    // The same file again, each number with its span: the digits as written.
+    let literals: Vec<LiteralSpans> = toml::from_str::<RawFile>(text)
+        .map(|f| f.transform)
+        .unwrap_or_default();
 
     if file.transform.is_empty() && file.include.is_empty() {
         return Err(Error::parse(
@@ -208,7 +223,13 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         let loc = loc_of(text, path, spanned.span().start);
         let def = spanned.into_inner();
         let mut w = Vec::new();
-        let edge = build_edge(i + 1, def, &loc, &mut w).map_err(|e| e.at(&loc))?;
+        let precision = literals
+            .get(i)
+            .map(|l| precision_of(i + 1, &def, l, text))
+            .unwrap_or_default();
+        let edge = build_edge(i + 1, def, &loc, &mut w)
+            .map_err(|e| e.at(&loc))?
+            .with_precision(precision);
         warnings.extend(w.into_iter().map(|x| x.at(&loc)));
         edges.push(edge);
     }
@@ -219,6 +240,11 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         let loaded = load_include(&inc, path, opts, &loc)?;
         warnings.extend(loaded.warnings);
         edges.extend(loaded.edges);
+    }
+    if let Some(u) = user {
+        for e in &mut edges {
+            e.precision.user = Some(u);
+        }
     }
 
     // The survey frames must exist among the edges.
@@ -373,6 +399,7 @@ fn build_edge(
             key,
         },
         joint: None,
+        precision: EdgePrecision::default(),
     })
 }
 
@@ -553,5 +580,167 @@ mod tests {
         assert!(include_path(base, "/etc/passwd", &loc).is_err());
         assert!(include_path(base, "other.toml", &loc).is_err());
         assert!(include_path(base, "", &loc).is_err());
+    }
+}
+
+/// `[rig] sigma_t_m`, `sigma_r_deg`: finite, `>= 0`, within the CLI's limits.
+fn user_sigma(rig: &RigTable, loc: &Location) -> Result<Option<UserSigma>> {
+    if rig.sigma_t_m.is_none() && rig.sigma_r_deg.is_none() {
+        return Ok(None);
+    }
+    let (t, r) = (rig.sigma_t_m.unwrap_or(0.0), rig.sigma_r_deg.unwrap_or(0.0));
+    for (what, v, max) in [
+        ("sigma_t_m", t, MAX_SIGMA_T_M),
+        ("sigma_r_deg", r, MAX_SIGMA_R_DEG),
+    ] {
+        if !(v.is_finite() && (0.0..=max).contains(&v)) {
+            return Err(Error::parse(format!(
+                "rig TOML: [rig] {what}: expected a number in [0, {max}], found {v}"
+            ))
+            .at(loc));
+        }
+    }
+    Ok(Some(UserSigma {
+        sigma_t_m: t,
+        sigma_r_rad: r.to_radians(),
+    }))
+}
+
+/// The numbers of a rig file with their spans (a second, lenient reading).
+#[derive(Debug, Default, Deserialize)]
+struct RawFile {
+    #[serde(default)]
+    transform: Vec<LiteralSpans>,
+}
+
+type Lits = Vec<Spanned<f64>>;
+
+/// The spans of one `[[transform]]`'s numbers.
+#[derive(Debug, Default, Deserialize)]
+struct LiteralSpans {
+    #[serde(default)]
+    translation: Option<Lits>,
+    #[serde(default)]
+    rotation_matrix: Option<Vec<Lits>>,
+    #[serde(default)]
+    quaternion_xyzw: Option<Lits>,
+    #[serde(default)]
+    quaternion_wxyz: Option<Lits>,
+    #[serde(default)]
+    rpy: Option<Lits>,
+    #[serde(default)]
+    ypr: Option<Lits>,
+    #[serde(default)]
+    axis_angle: Option<AxisAngleSpans>,
+    #[serde(default)]
+    matrix4: Option<Vec<Lits>>,
+    #[serde(default)]
+    matrix3x4: Option<Vec<Lits>>,
+}
+
+#[derive(Debug, Deserialize)]
+struct AxisAngleSpans {
+    axis: Lits,
+    angle: Spanned<f64>,
+}
+
+impl LiteralSpans {
+    /// The rotation form's numbers as tuples (one per form; axis-angle two).
+    fn rotation_tuples(&self) -> Vec<Vec<&Spanned<f64>>> {
+        fn flat(m: &Option<Vec<Lits>>) -> Option<Vec<&Spanned<f64>>> {
+            m.as_ref().map(|m| m.iter().flatten().collect())
+        }
+        fn one(v: &Option<Lits>) -> Option<Vec<&Spanned<f64>>> {
+            v.as_ref().map(|v| v.iter().collect())
+        }
+        if let Some(aa) = &self.axis_angle {
+            return vec![aa.axis.iter().collect(), vec![&aa.angle]];
+        }
+        [
+            flat(&self.rotation_matrix),
+            one(&self.quaternion_xyzw),
+            one(&self.quaternion_wxyz),
+            one(&self.rpy),
+            one(&self.ypr),
+            flat(&self.matrix4),
+            flat(&self.matrix3x4),
+        ]
+        .into_iter()
+        .flatten()
+        .collect()
+    }
+}
+
+/// `def` with its numbers replaced by `p`: translation first (when separate),
+/// then the rotation form's numbers in the order written.
+fn with_params(def: &TransformDef, p: &[f64]) -> TransformDef {
+    let mut d = def.clone();
+    let mut it = p.iter().copied();
+    let mut next = || it.next().unwrap_or(0.0);
+    if let Some(t) = &mut d.translation {
+        t.iter_mut().for_each(|x| *x = next());
+    }
+    if let Some(aa) = &mut d.axis_angle {
+        aa.axis.iter_mut().for_each(|x| *x = next());
+        aa.angle = next();
+    }
+    let fields = [
+        d.rotation_matrix.as_mut().map(|m| m.as_flattened_mut()),
+        d.quaternion_xyzw.as_mut().map(|q| &mut q[..]),
+        d.quaternion_wxyz.as_mut().map(|q| &mut q[..]),
+        d.rpy.as_mut().map(|q| &mut q[..]),
+        d.ypr.as_mut().map(|q| &mut q[..]),
+        d.matrix4.as_mut().map(|m| m.as_flattened_mut()),
+        d.matrix3x4.as_mut().map(|m| m.as_flattened_mut()),
+    ];
+    for xs in fields.into_iter().flatten() {
+        xs.iter_mut().for_each(|x| *x = next());
+    }
+    d
+}
+
+/// The rounding of one `[[transform]]`'s numbers as written, propagated
+/// through the same construction as the edge (unit, inversion); `default`
+/// (none recorded) when the spans do not match the numbers.
+fn precision_of(
+    index: usize,
+    def: &TransformDef,
+    lits: &LiteralSpans,
+    text: &str,
+) -> EdgePrecision {
+    let mut tuples: Vec<Vec<&Spanned<f64>>> = Vec::new();
+    if def.translation.is_some() {
+        tuples.push(lits.translation.iter().flatten().collect());
+    }
+    tuples.extend(lits.rotation_tuples());
+    let (mut params, mut halves) = (Vec::new(), Vec::new());
+    for tuple in &tuples {
+        let texts: Vec<&str> = tuple
+            .iter()
+            .map(|s| text.get(s.span()).unwrap_or("").trim_start_matches('+'))
+            .collect();
+        halves.extend(tuple_half_units(&texts));
+        params.extend(tuple.iter().map(|s| *s.get_ref()));
+    }
+    let build = |p: &[f64]| {
+        let d = with_params(def, p);
+        let t = rotation(
+            index,
+            &d,
+            d.translation.unwrap_or([0.0; 3]),
+            &mut Vec::new(),
+        )?;
+        let t = match d.unit {
+            Unit::M => t,
+            Unit::Mm => t.scaled_translation(1e-3),
+        };
+        Ok(if d.invert { t.inverse() } else { t })
+    };
+    match rounding_covariance(&params, &halves, build) {
+        Ok(c) => EdgePrecision {
+            rounding: Some(c),
+            user: None,
+        },
+        Err(_) => EdgePrecision::default(),
     }
 }

@@ -57,6 +57,8 @@ use crate::formats::registry::{FormatSpec, Sniff};
 use crate::formats::yaml::{self, Node, Value};
 use crate::formats::{check_metres, locate_warnings, Edge, LoadOptions, Loaded};
 use crate::geometry::se3::{QuatOrder, Transform};
+use crate::geometry::uncertainty::{matrix4_precision, written_precision, Written};
+use crate::geometry::EdgePrecision;
 use std::path::Path;
 
 /// A non-comment line that starts (after indentation) with `key:`.
@@ -315,14 +317,21 @@ fn parse_tf_echo(docs: &[Node], path: &Path) -> Result<Loaded> {
                 .map_err(|e| e.at(&loc))?;
             check_metres(&d3, "transform.translation", &loc, &mut ws);
             locate_warnings(ws, &loc, &mut out.warnings);
-            out.edges.push(Edge::new(
-                parent.trim_start_matches('/'),
-                child.trim_start_matches('/'),
-                tf,
-                loc,
-                TF_STATIC_ECHO.id,
-                format!("transforms[] {} -> {}", parent, child),
-            ));
+            out.edges.push(
+                Edge::new(
+                    parent.trim_start_matches('/'),
+                    child.trim_start_matches('/'),
+                    tf,
+                    loc,
+                    TF_STATIC_ECHO.id,
+                    format!("transforms[] {} -> {}", parent, child),
+                )
+                .with_precision(written_precision(
+                    Written::Quat(q, QuatOrder::Xyzw),
+                    d3,
+                    1.0,
+                )),
+            );
         }
     }
     Ok(out)
@@ -350,14 +359,17 @@ fn parse_fast_lio(docs: &[Node], path: &Path) -> Result<Loaded> {
     let t = Transform::from_matrix3(mat3(r), d, &mut ws).map_err(|e| e.at(&loc_of(path, rn)))?;
     check_metres(&d, "extrinsic_T", &loc, &mut ws);
     locate_warnings(ws, &loc, &mut out.warnings);
-    out.edges.push(Edge::new(
-        "imu",
-        "lidar",
-        t,
-        loc,
-        FAST_LIO.id,
-        "extrinsic_T + extrinsic_R",
-    ));
+    out.edges.push(
+        Edge::new(
+            "imu",
+            "lidar",
+            t,
+            loc,
+            FAST_LIO.id,
+            "extrinsic_T + extrinsic_R",
+        )
+        .with_precision(written_precision(Written::Matrix3(mat3(r)), d, 1.0)),
+    );
     Ok(out)
 }
 
@@ -402,14 +414,17 @@ fn parse_lio_sam(docs: &[Node], path: &Path) -> Result<Loaded> {
         )
         .at(&loc),
     );
-    out.edges.push(Edge::new(
-        "lidar",
-        "imu",
-        t,
-        loc,
-        LIO_SAM.id,
-        "extrinsicTrans + extrinsicRot",
-    ));
+    out.edges.push(
+        Edge::new(
+            "lidar",
+            "imu",
+            t,
+            loc,
+            LIO_SAM.id,
+            "extrinsicTrans + extrinsicRot",
+        )
+        .with_precision(written_precision(Written::Matrix3(mat3(r)), d, 1.0)),
+    );
     Ok(out)
 }
 
@@ -438,14 +453,21 @@ fn parse_coco_lic(docs: &[Node], path: &Path) -> Result<Loaded> {
                 .map_err(|e| e.at(&loc_of(path, rn)))?;
             check_metres(&dd, "Trans", &loc, &mut ws);
             locate_warnings(ws, &loc, &mut out.warnings);
-            out.edges.push(Edge::new(
-                "imu",
-                name.clone(),
-                t,
-                loc,
-                COCO_LIC.id,
-                format!("{name}.Extrinsics Trans + Rot"),
-            ));
+            out.edges.push(
+                Edge::new(
+                    "imu",
+                    name.clone(),
+                    t,
+                    loc,
+                    COCO_LIC.id,
+                    format!("{name}.Extrinsics Trans + Rot"),
+                )
+                .with_precision(written_precision(
+                    Written::Matrix3(mat3(r)),
+                    dd,
+                    1.0,
+                )),
+            );
         }
     }
     Ok(out)
@@ -495,19 +517,22 @@ fn parse_slict(docs: &[Node], path: &Path) -> Result<Loaded> {
         } else {
             format!("lidar{i}")
         };
-        out.edges.push(Edge::new(
-            "body",
-            child,
-            t,
-            loc.clone(),
-            SLICT.id,
-            format!("lidar_extr[{i}]"),
-        ));
+        out.edges.push(
+            Edge::new(
+                "body",
+                child,
+                t,
+                loc.clone(),
+                SLICT.id,
+                format!("lidar_extr[{i}]"),
+            )
+            .with_precision(written_precision(Written::Matrix3(r), d, 1.0)),
+        );
     }
     Ok(out)
 }
 
-fn rpy_map(v: &Node, name: &str) -> Result<Transform> {
+fn rpy_map(v: &Node, name: &str) -> Result<(Transform, EdgePrecision)> {
     let num = |k: &str| -> Result<f64> {
         match v.get(k) {
             None => Ok(0.0),
@@ -521,7 +546,9 @@ fn rpy_map(v: &Node, name: &str) -> Result<Transform> {
     };
     let d = [num("x")?, num("y")?, num("z")?];
     let rpy = [num("roll")?, num("pitch")?, num("yaw")?];
-    Transform::from_rpy(rpy, d).map_err(|e| e.at_line(v.line.max(1), Some(v.column.max(1))))
+    let t =
+        Transform::from_rpy(rpy, d).map_err(|e| e.at_line(v.line.max(1), Some(v.column.max(1))))?;
+    Ok((t, written_precision(Written::Rpy(rpy), d, 1.0)))
 }
 
 fn parse_tf_tree(docs: &[Node], path: &Path) -> Result<Loaded> {
@@ -545,7 +572,7 @@ fn parse_tf_tree(docs: &[Node], path: &Path) -> Result<Loaded> {
                 );
                 continue;
             };
-            let t = rpy_map(v, &name)?;
+            let (t, precision) = rpy_map(v, &name)?;
             let mut ws = Vec::new();
             check_metres(
                 &[t.translation().x, t.translation().y, t.translation().z],
@@ -554,14 +581,17 @@ fn parse_tf_tree(docs: &[Node], path: &Path) -> Result<Loaded> {
                 &mut ws,
             );
             out.warnings.extend(ws);
-            out.edges.push(Edge::new(
-                p,
-                c,
-                t,
-                loc,
-                TF_TREE_YAML.id,
-                format!("{name} {{x, y, z, roll, pitch, yaw}}"),
-            ));
+            out.edges.push(
+                Edge::new(
+                    p,
+                    c,
+                    t,
+                    loc,
+                    TF_TREE_YAML.id,
+                    format!("{name} {{x, y, z, roll, pitch, yaw}}"),
+                )
+                .with_precision(precision),
+            );
         }
     }
     Ok(out)
@@ -584,8 +614,12 @@ pub fn frames_from_key(key: &str) -> Option<(String, String)> {
     None
 }
 
-/// Read whatever transform shape a node holds.
-fn read_transform(n: &Node, key: &str, ws: &mut Vec<Warning>) -> Result<Transform> {
+/// Read whatever transform shape a node holds, with the rounding of its numbers.
+fn read_transform(
+    n: &Node,
+    key: &str,
+    ws: &mut Vec<Warning>,
+) -> Result<(Transform, EdgePrecision)> {
     // OpenCV {rows, cols, data}
     if let Some(data) = n.get("data") {
         let v = data.numbers(&format!("{key}.data"))?;
@@ -619,8 +653,12 @@ fn read_transform(n: &Node, key: &str, ws: &mut Vec<Warning>) -> Result<Transfor
                     num("qw", 1.0)?,
                 ];
                 let d = [num("x", 0.0)?, num("y", 0.0)?, num("z", 0.0)?];
-                return Transform::from_quaternion(q, QuatOrder::Xyzw, d, ws)
-                    .map_err(|e| e.at_line(n.line.max(1), Some(n.column.max(1))));
+                let t = Transform::from_quaternion(q, QuatOrder::Xyzw, d, ws)
+                    .map_err(|e| e.at_line(n.line.max(1), Some(n.column.max(1))))?;
+                return Ok((
+                    t,
+                    written_precision(Written::Quat(q, QuatOrder::Xyzw), d, 1.0),
+                ));
             }
             return rpy_map(n, key);
         }
@@ -641,18 +679,23 @@ fn read_transform(n: &Node, key: &str, ws: &mut Vec<Warning>) -> Result<Transfor
                 ),
             ));
         }
-        return Transform::from_quaternion(
-            [v[3], v[4], v[5], v[6]],
-            QuatOrder::Xyzw,
-            [v[0], v[1], v[2]],
-            ws,
-        )
-        .map_err(|e| e.at_line(n.line.max(1), Some(n.column.max(1))));
+        let (q, d) = ([v[3], v[4], v[5], v[6]], [v[0], v[1], v[2]]);
+        let t = Transform::from_quaternion(q, QuatOrder::Xyzw, d, ws)
+            .map_err(|e| e.at_line(n.line.max(1), Some(n.column.max(1))))?;
+        return Ok((
+            t,
+            written_precision(Written::Quat(q, QuatOrder::Xyzw), d, 1.0),
+        ));
     }
     matrix_from_numbers(&v, n, key, ws)
 }
 
-fn matrix_from_numbers(v: &[f64], n: &Node, key: &str, ws: &mut Vec<Warning>) -> Result<Transform> {
+fn matrix_from_numbers(
+    v: &[f64],
+    n: &Node,
+    key: &str,
+    ws: &mut Vec<Warning>,
+) -> Result<(Transform, EdgePrecision)> {
     let at = |e: Error| e.at_line(n.line.max(1), Some(n.column.max(1)));
     match v.len() {
         16 => {
@@ -662,12 +705,15 @@ fn matrix_from_numbers(v: &[f64], n: &Node, key: &str, ws: &mut Vec<Warning>) ->
                 [v[8], v[9], v[10], v[11]],
                 [v[12], v[13], v[14], v[15]],
             ];
-            Transform::from_matrix4(m, ws).map_err(|e| at(Error { message: format!("{key}: {}", e.message), ..e }))
+            let t = Transform::from_matrix4(m, ws).map_err(|e| at(Error { message: format!("{key}: {}", e.message), ..e }))?;
+            Ok((t, matrix4_precision(m, 1.0)))
         }
         12 => {
             let r = [[v[0], v[1], v[2]], [v[4], v[5], v[6]], [v[8], v[9], v[10]]];
-            Transform::from_matrix3(r, [v[3], v[7], v[11]], ws)
-                .map_err(|e| at(Error { message: format!("{key}: {}", e.message), ..e }))
+            let d = [v[3], v[7], v[11]];
+            let t = Transform::from_matrix3(r, d, ws)
+                .map_err(|e| at(Error { message: format!("{key}: {}", e.message), ..e }))?;
+            Ok((t, written_precision(Written::Matrix3(r), d, 1.0)))
         }
         4 => Err(err_at(
             n,
@@ -722,9 +768,10 @@ pub(crate) fn matrix_edge(
 ) -> Result<Edge> {
     let loc = loc_of(path, k);
     let mut ws = Vec::new();
-    let mut t = read_transform(v, key, &mut ws)?;
+    let (mut t, mut precision) = read_transform(v, key, &mut ws)?;
     if millimetre_comment(text, k.line) {
         t = t.scaled_translation(1e-3);
+        precision = precision.scaled_translation(1e-3);
         ws.push(Warning::new(
             Code::AssumedConvention,
             format!("{key}: the comment above says millimetres; translation converted to metres"),
@@ -733,14 +780,10 @@ pub(crate) fn matrix_edge(
     let d = *t.translation();
     check_metres(&[d.x, d.y, d.z], key, &loc, &mut ws);
     locate_warnings(ws, &loc, warnings);
-    Ok(Edge::new(
-        frames.0,
-        frames.1,
-        t,
-        loc,
-        MATRIX_YAML.id,
-        key.to_string(),
-    ))
+    Ok(
+        Edge::new(frames.0, frames.1, t, loc, MATRIX_YAML.id, key.to_string())
+            .with_precision(precision),
+    )
 }
 
 pub(crate) fn parse_matrices(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
@@ -789,14 +832,21 @@ fn parse_quaternion(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
             }
             check_metres(&tv, &tname, &loc, &mut ws);
             locate_warnings(ws, &loc, &mut out.warnings);
-            out.edges.push(Edge::new(
-                a,
-                b,
-                t,
-                loc,
-                QUATERNION_YAML.id,
-                format!("{name} (qw qx qy qz) + {tname}"),
-            ));
+            out.edges.push(
+                Edge::new(
+                    a,
+                    b,
+                    t,
+                    loc,
+                    QUATERNION_YAML.id,
+                    format!("{name} (qw qx qy qz) + {tname}"),
+                )
+                .with_precision(written_precision(
+                    Written::Quat(qv, QuatOrder::Wxyz),
+                    tv,
+                    1.0,
+                )),
+            );
         }
     }
     Ok(out)

@@ -3,7 +3,7 @@
 //! format and a format is only a client that adds edges.
 
 use crate::diagnostic::Location;
-use crate::geometry::Transform;
+use crate::geometry::{EdgePrecision, Transform};
 
 /// Where an edge's numbers came from.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,6 +97,10 @@ pub struct Edge {
     pub provenance: Provenance,
     /// `Some` for non-fixed joints.
     pub joint: Option<JointState>,
+    /// The rounding of the numbers as written and the user's uncertainty
+    /// (conventions in [`crate::geometry::uncertainty`]). `Edge::new` records
+    /// none; a reader that keeps the text adds it with [`Edge::with_precision`].
+    pub precision: EdgePrecision,
 }
 
 impl Edge {
@@ -119,12 +123,25 @@ impl Edge {
                 key: key.into(),
             },
             joint: None,
+            precision: EdgePrecision::default(),
         }
+    }
+
+    /// The same edge with its precision as written (see
+    /// [`crate::geometry::uncertainty::rounding_covariance`]).
+    pub fn with_precision(mut self, precision: EdgePrecision) -> Self {
+        self.precision = precision;
+        self
     }
 
     /// The same edge read the other way: child becomes parent, transform inverted.
     pub fn inverted(mut self) -> Self {
         std::mem::swap(&mut self.parent, &mut self.child);
+        // (T Exp(xi))^-1 = T^-1 Exp(-Ad(T) xi): the rounding's covariance follows.
+        if let Some(c) = &mut self.precision.rounding {
+            let a = self.transform.adjoint();
+            *c = a * *c * a.transpose();
+        }
         self.transform = self.transform.inverse();
         self.provenance.key = format!("{} (inverted by --invert)", self.provenance.key);
         self

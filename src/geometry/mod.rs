@@ -4,5 +4,7 @@
 
 pub mod certificate;
 pub mod se3;
+pub mod uncertainty;
 
 pub use se3::{QuatOrder, Screw, ScrewKind, Transform};
+pub use uncertainty::{EdgePrecision, PitchTol, PitchVerdict, UserSigma};

@@ -21,8 +21,11 @@
 //!   "Exact" means `sin(phi) <= HALF_TURN_SIN_TOL`; closer to `pi` than that the
 //!   skew part of `R` carries no reliable sign. Short of it (e.g. `phi = pi - 1e-9`)
 //!   the sign comes from the skew part, `T^-1` gets `-e`, and `h` agrees anyway.
-//! - Zero pitch is decided on the raw `h` with an absolute tolerance in metres
-//!   (`DEFAULT_PITCH_TOL`, configurable); reports print `h` beside the verdict.
+//! - [`Transform::screw`] classifies zero pitch with an absolute tolerance on
+//!   `|h|` in metres. The reports choose it from `h` and its uncertainty
+//!   (`--pitch-tol auto`, the three-way verdict of
+//!   [`crate::geometry::uncertainty`]) or take the user's `--pitch-tol M`, and
+//!   print `h` with its standard uncertainty beside the verdict.
 //! - Below `ANGLE_ZERO_TOL` (1e-9 rad) a rotation counts as none: the transform is
 //!   the identity or a pure translation, with no axis (the angle is still reported).
 

@@ -21,9 +21,9 @@ use crate::baseline::{
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result, Severity, Warning};
 use crate::formats::{self, LoadOptions};
 use crate::frames::FrameGraph;
-use crate::geometry::ScrewKind;
+use crate::geometry::{PitchTol, PitchVerdict, ScrewKind};
 use crate::report::check::BaselineChanges;
-use crate::report::rig::rig_report;
+use crate::report::rig::{rig_report, Judgement};
 use crate::report::CheckReport;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -50,8 +50,8 @@ pub struct CheckOptions {
     pub require_zero_pitch: bool,
     /// Drift tolerances against the baseline.
     pub drift: Tolerances,
-    /// Zero-pitch tolerance on `|h|` (m).
-    pub pitch_tol: f64,
+    /// `--pitch-tol`: `auto` or a tolerance on `|h|` (m).
+    pub pitch_tol: PitchTol,
     /// How files are read (joint values, size cap).
     pub load: LoadOptions,
     /// Codes accepted: reported at severity warning, never a problem.
@@ -347,7 +347,14 @@ impl Checker<'_> {
         for w in &chain.warnings {
             self.warning(file, w);
         }
-        let rep = match rig_report(&chain, &[1.0], self.opts.pitch_tol) {
+        let rep = match rig_report(
+            &chain,
+            &[1.0],
+            &Judgement {
+                pitch_tol: self.opts.pitch_tol,
+                user: None,
+            },
+        ) {
             Ok(r) => r,
             Err(e) => {
                 self.error(file, &e);
@@ -371,18 +378,26 @@ impl Checker<'_> {
                 ),
             );
         }
-        let zero_pitch = matches!(rep.screw.kind, ScrewKind::ZeroPitch | ScrewKind::Identity);
+        // The three-way verdict: `undecidable` does not pass the gate.
+        let zero_pitch = rep.screw.kind == ScrewKind::Identity
+            || rep.screw.pitch_verdict == Some(PitchVerdict::Zero);
         if self.opts.require_zero_pitch && !zero_pitch {
-            let h = rep
-                .screw
-                .translation_along_axis_m
-                .map(|h| format!("screw translation h = {h:.6e} m"))
-                .unwrap_or_else(|| "a pure translation (infinite pitch)".into());
+            let h = match (rep.screw.translation_along_axis_m, rep.screw.pitch_verdict) {
+                (Some(h), Some(v)) => format!(
+                    "screw translation h = {h:.6e} +- {:.1e} m ({}), verdict {}",
+                    rep.screw
+                        .translation_along_axis_uncertainty_m
+                        .unwrap_or(0.0),
+                    rep.uncertainty.source.name(),
+                    v.name()
+                ),
+                _ => "a pure translation (infinite pitch)".into(),
+            };
             self.push(
                 Code::NonzeroPitch,
                 here,
                 format!(
-                    "{from} -> {to}: expected zero screw pitch (|h| <= {:e} m), found {h}",
+                    "{from} -> {to}: expected zero screw pitch (--pitch-tol {}), found {h}",
                     self.opts.pitch_tol
                 ),
             );

@@ -19,7 +19,8 @@ pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, Surve
 use crate::diagnostic::{Error, Result};
 use crate::formats::{self, LoadOptions};
 use crate::frames::{Chain, FrameGraph};
-use crate::report::rig::{kappa_check, rig_report};
+use crate::geometry::{PitchTol, UserSigma};
+use crate::report::rig::{kappa_check, rig_report, Judgement};
 use crate::report::RigReport;
 use std::path::{Path, PathBuf};
 
@@ -191,15 +192,21 @@ impl Loaded {
 pub struct RigOptions {
     /// Characteristic lengths (m) of the certificate bands.
     pub ells: Vec<f64>,
-    /// Zero-pitch tolerance on `|h|` (m).
-    pub pitch_tol: f64,
+    /// `--pitch-tol`: `auto` or a tolerance on `|h|` (m).
+    pub pitch_tol: PitchTol,
+    /// `--sigma-t`/`--sigma-r`: the user's uncertainty per edge.
+    pub sigma: Option<UserSigma>,
     /// `--kappa K --lambda L`: the band check.
     pub kappa_lambda: Option<(f64, f64)>,
 }
 
 /// The rig report of a composed chain.
 pub fn report(chain: &Chain, opts: &RigOptions) -> Result<RigReport> {
-    let mut rep = rig_report(chain, &opts.ells, opts.pitch_tol)?;
+    let how = Judgement {
+        pitch_tol: opts.pitch_tol,
+        user: opts.sigma,
+    };
+    let mut rep = rig_report(chain, &opts.ells, &how)?;
     if let Some((kappa, lambda)) = opts.kappa_lambda {
         rep.kappa_check = Some(kappa_check(&rep, kappa, lambda)?);
     }

@@ -14,8 +14,8 @@ use super::expand_paths;
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::{self, LoadOptions, RigMeta};
 use crate::frames::FrameGraph;
-use crate::geometry::ScrewKind;
-use crate::report::rig::rig_report;
+use crate::geometry::{PitchTol, ScrewKind, UserSigma};
+use crate::report::rig::{rig_report, Judgement};
 use crate::report::survey::{RowMarks, SurveyRigJson};
 use crate::report::SurveyReport;
 use std::path::{Path, PathBuf};
@@ -46,8 +46,10 @@ pub enum SortColumn {
 pub struct SurveyOptions {
     /// Rig files or directories of them.
     pub paths: Vec<PathBuf>,
-    /// Zero-pitch tolerance on `|h|` (m).
-    pub pitch_tol: f64,
+    /// `--pitch-tol`: `auto` or a tolerance on `|h|` (m).
+    pub pitch_tol: PitchTol,
+    /// `--sigma-t`/`--sigma-r` for rigs whose file gives none.
+    pub sigma: Option<UserSigma>,
     /// Also list placeholder and duplicate rigs.
     pub all: bool,
     /// Sort by this column (ties by id).
@@ -153,7 +155,12 @@ fn pair_of(
 type Row = (SurveyRigJson, RowMarks, bool);
 
 /// Load and analyse one file; its warnings go to `warnings`.
-fn survey_one(input: &Input, opts: &SurveyOptions, warnings: &mut Vec<Warning>) -> Result<Row> {
+fn survey_one(
+    input: &Input,
+    opts: &SurveyOptions,
+    how: &Judgement,
+    warnings: &mut Vec<Warning>,
+) -> Result<Row> {
     let path = &input.path;
     let loaded = formats::load_file(path, &LoadOptions::default())?;
     let meta = loaded.rig.clone();
@@ -162,7 +169,7 @@ fn survey_one(input: &Input, opts: &SurveyOptions, warnings: &mut Vec<Warning>) 
     graph.add(loaded)?;
     warnings.extend(graph.warnings().iter().cloned());
     let chain = graph.transform(&from, &to).map_err(|e| e.in_file(path))?;
-    let rep = rig_report(&chain, &[1.0], opts.pitch_tol).map_err(|e| e.in_file(path))?;
+    let rep = rig_report(&chain, &[1.0], how).map_err(|e| e.in_file(path))?;
     // A file that is not a rig file is named by its path.
     let meta = meta.unwrap_or_else(|| RigMeta {
         id: path.display().to_string(),
@@ -179,6 +186,9 @@ fn survey_one(input: &Input, opts: &SurveyOptions, warnings: &mut Vec<Warning>) 
         angle_deg: rep.rotation.angle_deg,
         screw_translation_m: rep.screw.translation_along_axis_m,
         zero_pitch: rep.screw.kind == ScrewKind::ZeroPitch,
+        screw_translation_uncertainty_m: rep.screw.translation_along_axis_uncertainty_m,
+        pitch_verdict: rep.screw.pitch_verdict,
+        uncertainty_source: rep.uncertainty.source,
         sigma_max: rep.adjoint.singular_values[0],
         band_l1: rep.certificate[0].band,
         adapted_metric_exists: rep.adapted_metric.exists,
@@ -228,10 +238,14 @@ pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
             names()
         )));
     }
+    let how = Judgement {
+        pitch_tol: opts.pitch_tol,
+        user: opts.sigma,
+    };
     let mut warnings = Vec::new();
     let mut rows = Vec::new();
     for f in &files {
-        let row = match survey_one(f, opts, &mut warnings) {
+        let row = match survey_one(f, opts, &how, &mut warnings) {
             Ok(row) => row,
             // A folder holds other robots too: a walked file that cannot
             // give the pair is reported, not fatal.

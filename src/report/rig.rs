@@ -8,10 +8,14 @@ use crate::analysis::metric::{self, RigAnalysis};
 use crate::analysis::Family;
 use crate::diagnostic::Result;
 use crate::frames::Chain;
-use crate::geometry::{ScrewKind, Transform};
+use crate::geometry::certificate;
+use crate::geometry::uncertainty::{self, Step, UncertaintySource};
+use crate::geometry::{EdgePrecision, PitchTol, PitchVerdict, ScrewKind, Transform, UserSigma};
 use crate::render::numbers::{fixed, short, vec_str};
 use crate::render::{Block, Document, Report, Table};
-use crate::tolerances::{NEAR_HALF_TURN_RAD, SMALL_ROTATION_DEG};
+use crate::tolerances::{
+    NEAR_HALF_TURN_RAD, PITCH_FLOAT_FLOOR_M, PITCH_K, PITCH_RESOLUTION_M, SMALL_ROTATION_DEG,
+};
 use serde::Serialize;
 
 /// `sources[]`: one per edge used, in chain order.
@@ -49,6 +53,8 @@ pub struct RotationJson {
     pub angle_rad: f64,
     /// The same angle in degrees, `[0, 180]`.
     pub angle_deg: f64,
+    /// First-order standard uncertainty of the angle (rad).
+    pub angle_uncertainty_rad: f64,
     /// Unit axis `e` (right-handed about `e` by `phi`); null when the angle is
     /// below `ANGLE_ZERO_TOL` (no rotation).
     pub axis: Option<[f64; 3]>,
@@ -67,6 +73,35 @@ pub struct ScrewJson {
     /// The point of the screw axis closest to the origin of `from` (m, in
     /// `from` coordinates); null without a rotation.
     pub axis_point_m: Option<[f64; 3]>,
+    /// First-order standard uncertainty of `h` (m); null without a rotation.
+    pub translation_along_axis_uncertainty_m: Option<f64>,
+    /// First-order standard uncertainty of the pitch (m/rad); null without a
+    /// rotation.
+    pub pitch_uncertainty_m_per_rad: Option<f64>,
+    /// `zero`, `nonzero` or `undecidable` (conventions in
+    /// [`crate::geometry::uncertainty`]); null without a rotation.
+    pub pitch_verdict: Option<PitchVerdict>,
+    /// For `undecidable`: the standard uncertainty of `h` (m) below which the
+    /// verdict would be decided; null otherwise.
+    pub deciding_uncertainty_m: Option<f64>,
+}
+
+/// `uncertainty`: where the standard uncertainties come from and how the
+/// pitch verdict was taken.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct UncertaintyJson {
+    /// `none`, `rounding` (of the numbers as written), `user` (`--sigma-t`,
+    /// `--sigma-r`) or `both`.
+    pub source: UncertaintySource,
+    /// `--pitch-tol`: `"auto"` or the tolerance on `|h|` (m) as a string.
+    pub pitch_tol: String,
+    /// `k`: `h` is zero within `k` standard uncertainties (`auto`).
+    pub k: f64,
+    /// Widest `k * sigma_h` (m) at which a zero verdict is given (`auto`).
+    pub resolution_m: f64,
+    /// Edges of the chain whose format recorded no rounding (their numbers
+    /// count as exact).
+    pub edges_without_rounding: usize,
 }
 
 /// `adjoint`: the singular values of `Ad(T)`, in closed form from `||d||`.
@@ -76,6 +111,8 @@ pub struct AdjointJson {
     /// `s_max = ||d||/2 + sqrt(1 + ||d||^2/4)` (`||d||` in metres) and
     /// `s_min = 1/s_max`.
     pub singular_values: [f64; 6],
+    /// First-order standard uncertainty of each singular value.
+    pub singular_values_uncertainty: [f64; 6],
     /// `Ad(T)` is orthogonal: `||d||` within `LENGTH_ZERO_TOL`.
     pub orthogonal: bool,
     /// `||A^T A - I||_F / ||I||_F` (dimensionless, 0 when orthogonal).
@@ -92,6 +129,8 @@ pub struct CertificateJson {
     /// `[s_min^2, s_max^2]` at `delta_eff`: the factors by which the frame
     /// change can multiply an eigenvalue.
     pub band: [f64; 2],
+    /// First-order standard uncertainty of each band edge.
+    pub band_uncertainty: [f64; 2],
 }
 
 /// `adapted_metric`: the constant metric `M0` with `A^T M0 A = M0` for this
@@ -157,6 +196,10 @@ pub struct RigReport {
     pub transform: TransformJson,
     /// Lever arm `||d||` (m).
     pub lever_arm_m: f64,
+    /// First-order standard uncertainty of the lever arm (m).
+    pub lever_arm_uncertainty_m: f64,
+    /// Where the uncertainties come from and how the pitch was judged.
+    pub uncertainty: UncertaintyJson,
     /// Rotation angle and axis.
     pub rotation: RotationJson,
     /// Screw decomposition.
@@ -253,15 +296,114 @@ fn chain_rows(chain: &Chain) -> Vec<ChainRow> {
         .collect()
 }
 
-/// Build the rig report from a composed chain: the analysis is
-/// [`metric::analyze`]; this only arranges it in the schema.
-pub fn rig_report(chain: &Chain, ells: &[f64], pitch_tol: f64) -> Result<RigReport> {
-    let an = metric::analyze(&chain.transform, ells, pitch_tol)?;
-    Ok(report_from_analysis(&an, chain))
+/// How the pitch is judged and what calibration uncertainty the user adds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Judgement {
+    /// `--pitch-tol`: `auto` (three-way) or a length (m).
+    pub pitch_tol: PitchTol,
+    /// `--sigma-t`/`--sigma-r`: for every edge whose file gives none.
+    pub user: Option<UserSigma>,
+}
+
+impl Default for Judgement {
+    fn default() -> Self {
+        Judgement {
+            pitch_tol: PitchTol::Auto,
+            user: None,
+        }
+    }
+}
+
+/// The edges' precisions, the user's uncertainty filled in where the file
+/// gave none.
+fn precisions(chain: &Chain, how: &Judgement) -> Vec<EdgePrecision> {
+    chain
+        .steps
+        .iter()
+        .map(|s| {
+            let mut p = s.edge.precision;
+            if p.user.is_none() {
+                p.user = how.user;
+            }
+            p
+        })
+        .collect()
+}
+
+/// Build the rig report from a composed chain: the uncertainty of the chain
+/// ([`uncertainty::propagate`]) decides the pitch verdict, whose tolerance
+/// the analysis ([`metric::analyze`]) then uses.
+pub fn rig_report(chain: &Chain, ells: &[f64], how: &Judgement) -> Result<RigReport> {
+    let prec = precisions(chain, how);
+    let steps: Vec<Step> = chain
+        .steps
+        .iter()
+        .zip(&prec)
+        .map(|(s, p)| Step {
+            transform: s.edge.transform,
+            inverted: s.inverted,
+            covariance: p.covariance(),
+        })
+        .collect();
+    let nominal = chain.transform.screw(PITCH_FLOAT_FLOOR_M);
+    let unc = uncertainty::propagate(&steps, nominal.axis.as_ref())?;
+    let decision = nominal
+        .translation_along_axis
+        .map(|h| uncertainty::pitch_decision(h, unc.h_m.unwrap_or(0.0), how.pitch_tol));
+    let tol = match (decision, how.pitch_tol) {
+        (Some(d), _) => d.screw_tol,
+        (None, PitchTol::Fixed(t)) => t,
+        (None, PitchTol::Auto) => PITCH_FLOAT_FLOOR_M,
+    };
+    let an = metric::analyze(&chain.transform, ells, tol)?;
+    let mut rep = report_from_analysis(&an, chain);
+    rep.lever_arm_uncertainty_m = unc.lever_arm_m;
+    rep.rotation.angle_uncertainty_rad = unc.angle_rad;
+    rep.screw.translation_along_axis_uncertainty_m = unc.h_m;
+    rep.screw.pitch_uncertainty_m_per_rad = unc.pitch_m_per_rad;
+    rep.screw.pitch_verdict = decision.map(|d| d.verdict);
+    rep.screw.deciding_uncertainty_m = decision.and_then(|d| d.deciding_sigma_m);
+    let lever = an.lever_arm_m;
+    let du = |f: &dyn Fn(f64) -> f64, x: f64| uncertainty::derivative(f, x).abs() * unc.lever_arm_m;
+    let smax_u = du(&certificate::sigma_max, lever);
+    let smin_u = du(&certificate::sigma_min, lever);
+    rep.adjoint.singular_values_uncertainty = [smax_u, smax_u, 0.0, 0.0, smin_u, smin_u];
+    for c in &mut rep.certificate {
+        let ell = c.ell_m;
+        c.band_uncertainty = [
+            du(&|l| certificate::band(l / ell)[0], lever),
+            du(&|l| certificate::band(l / ell)[1], lever),
+        ];
+    }
+    rep.uncertainty = UncertaintyJson {
+        source: UncertaintySource::of(&prec),
+        pitch_tol: how.pitch_tol.to_string(),
+        k: PITCH_K,
+        resolution_m: PITCH_RESOLUTION_M,
+        edges_without_rounding: prec.iter().filter(|p| p.rounding.is_none()).count(),
+    };
+    if decision.map(|d| d.verdict) == Some(PitchVerdict::Undecidable) {
+        mark_undecidable(&mut rep);
+    }
+    Ok(rep)
+}
+
+/// An undecidable pitch: no adapted metric is offered, and the adapted-metric
+/// family says why.
+fn mark_undecidable(rep: &mut RigReport) {
+    rep.adapted_metric.reason = metric::AdaptedReason::UndecidablePitch.text().to_string();
+    for d in &mut rep.detectors {
+        if d.family == Family::AdaptedConstant {
+            d.invariant_on_rig = false;
+            d.reason = metric::VerdictReason::AdaptedUndecidablePitch
+                .text()
+                .to_string();
+        }
+    }
 }
 
 /// Arrange an analysis of `chain.transform` (from [`metric::analyze`]) as the
-/// rig report; `kappa_check` is left empty.
+/// rig report; the uncertainties are zero and `kappa_check` is empty.
 pub fn report_from_analysis(an: &RigAnalysis, chain: &Chain) -> RigReport {
     let s = &an.screw;
     let am = &an.adapted_metric;
@@ -272,9 +414,18 @@ pub fn report_from_analysis(an: &RigAnalysis, chain: &Chain) -> RigReport {
         sources: sources_json(chain),
         transform: transform_json(&an.transform),
         lever_arm_m: an.lever_arm_m,
+        lever_arm_uncertainty_m: 0.0,
+        uncertainty: UncertaintyJson {
+            source: UncertaintySource::None,
+            pitch_tol: an.pitch_tol.to_string(),
+            k: PITCH_K,
+            resolution_m: PITCH_RESOLUTION_M,
+            edges_without_rounding: 0,
+        },
         rotation: RotationJson {
             angle_rad: an.angle_rad,
             angle_deg: an.angle_rad.to_degrees(),
+            angle_uncertainty_rad: 0.0,
             axis: an.axis.map(|e| arr3(&e)),
         },
         screw: ScrewJson {
@@ -282,9 +433,14 @@ pub fn report_from_analysis(an: &RigAnalysis, chain: &Chain) -> RigReport {
             translation_along_axis_m: s.translation_along_axis,
             pitch_m_per_rad: s.pitch,
             axis_point_m: s.axis_point.map(|c| arr3(&c)),
+            translation_along_axis_uncertainty_m: None,
+            pitch_uncertainty_m_per_rad: None,
+            pitch_verdict: None,
+            deciding_uncertainty_m: None,
         },
         adjoint: AdjointJson {
             singular_values: an.adjoint.singular_values,
+            singular_values_uncertainty: [0.0; 6],
             orthogonal: an.adjoint.orthogonal,
             ata_minus_i_rel: an.adjoint.ata_minus_i_rel,
         },
@@ -295,6 +451,7 @@ pub fn report_from_analysis(an: &RigAnalysis, chain: &Chain) -> RigReport {
                 ell_m: c.ell_m,
                 delta_eff: c.delta_eff,
                 band: c.band,
+                band_uncertainty: [0.0; 2],
             })
             .collect(),
         adapted_metric: AdaptedMetricJson {
@@ -376,13 +533,13 @@ impl RigReport {
                 } else {
                     String::new()
                 };
-                format!(
-                    "screw translation {} m{caveat}",
-                    short(self.screw.translation_along_axis_m.unwrap_or(0.0))
-                )
+                format!("{}{caveat}", self.h_with_verdict())
             }
         };
-        let tail = if invariant.len() == self.detectors.len() && !invariant.is_empty() {
+        let undecidable = self.screw.pitch_verdict == Some(PitchVerdict::Undecidable);
+        let tail = if undecidable && invariant == [Family::PointDisplacement] {
+            "whether a constant metric is frame-invariant on this rig is undecidable at this precision; the point-displacement metric is".to_string()
+        } else if invariant.len() == self.detectors.len() && !invariant.is_empty() {
             "every detector family is frame-invariant on this rig".to_string()
         } else if invariant == [Family::PointDisplacement] {
             if self.adapted_metric.exists {
@@ -402,7 +559,59 @@ impl RigReport {
                     .join(", ")
             )
         };
-        format!("{lever}, {screw}: {tail}")
+        format!("{lever}, {screw}: {tail}. {}", self.advice())
+    }
+
+    /// `h = -6.0e-7 +- 5e-5 m (rounding), pitch zero`: `h`, its standard
+    /// uncertainty and source, and the verdict.
+    pub fn h_with_verdict(&self) -> String {
+        let sc = &self.screw;
+        let h = short(sc.translation_along_axis_m.unwrap_or(0.0));
+        let u = match (
+            sc.translation_along_axis_uncertainty_m,
+            self.uncertainty.source,
+        ) {
+            (Some(u), src) if src != UncertaintySource::None => {
+                format!(" +- {} m ({})", short(u), src.name())
+            }
+            _ if self.uncertainty.edges_without_rounding == 0 => {
+                " m (exact as written)".to_string()
+            }
+            _ => " m (no rounding recorded by the format)".to_string(),
+        };
+        let verdict = match (sc.pitch_verdict, sc.deciding_uncertainty_m) {
+            (Some(PitchVerdict::Undecidable), Some(need)) => format!(
+                "pitch undecidable at this precision (decided with sigma_h below {} m)",
+                short(need)
+            ),
+            (Some(v), _) => format!("pitch {}", v.name()),
+            (None, _) => String::new(),
+        };
+        format!("h = {h}{u}, {verdict}")
+    }
+
+    /// The closing "what to do" sentence: which detector metric to use on
+    /// this rig, and when the adapted metric M0 can be used.
+    pub fn advice(&self) -> String {
+        let pd = "use the point-displacement metric (frame-invariant on every rig)";
+        match (self.screw.kind, self.screw.pitch_verdict) {
+            (ScrewKind::Identity, _) => "Every metric is frame-invariant here: use any.".into(),
+            (ScrewKind::PureTranslation, _) => format!(
+                "To do: {pd}; no constant metric is invariant under a pure translation."
+            ),
+            (_, Some(PitchVerdict::Zero)) => format!(
+                "To do: {pd}, or the adapted metric M0 printed below (invariant on this rig at its written precision, residual {})",
+                self.adapted_metric
+                    .invariance_residual
+                    .map(short)
+                    .unwrap_or_else(|| "-".into())
+            ) + ".",
+            (_, Some(PitchVerdict::Undecidable)) => format!(
+                "To do: {pd}; M0 can be used once h is known to {} m (standard uncertainty).",
+                short(self.screw.deciding_uncertainty_m.unwrap_or(0.0))
+            ),
+            _ => format!("To do: {pd}; no adapted metric M0 exists for this rig."),
+        }
     }
 
     fn transform_section(&self, doc: &mut Document) {
@@ -478,28 +687,37 @@ impl RigReport {
         let mut rows = vec![
             vec![
                 "lever arm ||d||".into(),
-                format!("{} m", fixed(self.lever_arm_m, 6)),
+                format!(
+                    "{} +- {} m",
+                    fixed(self.lever_arm_m, 6),
+                    short(self.lever_arm_uncertainty_m)
+                ),
             ],
             vec![
                 "rotation angle".into(),
                 format!(
-                    "{} deg ({} rad)",
+                    "{} deg ({} +- {} rad)",
                     fixed(self.rotation.angle_deg, 6),
-                    short(self.rotation.angle_rad)
+                    short(self.rotation.angle_rad),
+                    short(self.rotation.angle_uncertainty_rad)
                 ),
             ],
             vec!["screw kind".into(), sc.kind.name().replace('_', " ")],
         ];
-        if let Some(h) = sc.translation_along_axis_m {
+        if sc.translation_along_axis_m.is_some() {
             rows.push(vec![
                 "screw translation h = e.d".into(),
-                format!("{} m", short(h)),
+                self.h_with_verdict(),
             ]);
         }
         if let Some(p) = sc.pitch_m_per_rad {
+            let u = sc
+                .pitch_uncertainty_m_per_rad
+                .map(|u| format!(" +- {}", short(u)))
+                .unwrap_or_default();
             rows.push(vec![
                 "screw pitch h/phi".into(),
-                format!("{} m/rad", short(p)),
+                format!("{}{u} m/rad", short(p)),
             ]);
         }
         if let Some(c) = sc.axis_point_m {
@@ -511,7 +729,12 @@ impl RigReport {
         let sv = self.adjoint.singular_values;
         rows.push(vec![
             "Ad(T) singular values".into(),
-            format!("{} (x2), 1 (x2), {} (x2)", fixed(sv[0], 6), fixed(sv[5], 6)),
+            format!(
+                "{} +- {} (x2), 1 (x2), {} (x2)",
+                fixed(sv[0], 6),
+                short(self.adjoint.singular_values_uncertainty[0]),
+                fixed(sv[5], 6)
+            ),
         ]);
         rows.push(vec![
             "Ad(T) orthogonal".into(),
@@ -580,7 +803,7 @@ impl RigReport {
         }
         let opt = |x: Option<f64>| x.map(short).unwrap_or_else(|| "-".into());
         doc.text(format!(
-            "invariance residual {}, off-diagonal block norm {}, ||M0 - I||_F/||I||_F {}",
+            "invariance residual {} (at the values as written), off-diagonal block norm {}, ||M0 - I||_F/||I||_F {}",
             opt(am.invariance_residual),
             opt(am.offdiag_norm),
             opt(am.rel_diff_identity)

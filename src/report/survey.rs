@@ -1,13 +1,16 @@
 //! The survey (`audit survey PATHS`): one row per rig, then a summary; JSON in
 //! `docs/schemas/survey.schema.json`.
 //!
-//! "Nonzero pitch" counts every rig without an adapted constant metric:
-//! general screws and pure translations (a pure translation is a screw of
-//! infinite pitch). Placeholder and duplicate rigs are listed only on request
+//! The summary counts rigs by the three-way pitch verdict
+//! ([`crate::geometry::uncertainty`]): "zero" (identity included), "nonzero"
+//! (pure translations included: a screw of infinite pitch) and "undecidable at
+//! this precision". Placeholder and duplicate rigs are listed only on request
 //! and never counted.
 
 use super::rig::{near_half_turn, small_rotation};
 use super::SCHEMA_VERSION;
+use crate::geometry::uncertainty::UncertaintySource;
+use crate::geometry::PitchVerdict;
 use crate::render::numbers::{fixed, metres_h};
 use crate::render::{Document, Report, Table};
 use crate::tolerances::{NEAR_HALF_TURN_RAD, SMALL_ROTATION_DEG};
@@ -38,6 +41,12 @@ pub struct SurveyRigJson {
     pub screw_translation_m: Option<f64>,
     /// The screw kind is `zero_pitch` (`|h|` within the pitch tolerance).
     pub zero_pitch: bool,
+    /// First-order standard uncertainty of `h` (m); null without a rotation.
+    pub screw_translation_uncertainty_m: Option<f64>,
+    /// `zero`, `nonzero` or `undecidable`; null without a rotation.
+    pub pitch_verdict: Option<PitchVerdict>,
+    /// `none`, `rounding`, `user` or `both`.
+    pub uncertainty_source: UncertaintySource,
     /// Largest singular value of `Ad(T)` (lever arm in metres).
     pub sigma_max: f64,
     /// Certificate band `[s_min^2, s_max^2]` at `l = 1 m`.
@@ -59,8 +68,13 @@ pub struct SurveySummaryJson {
     pub lever_arm_median_m: f64,
     /// Largest lever arm (m); null when no rig is counted.
     pub lever_arm_max_m: f64,
-    /// Counted rigs whose screw kind is not `zero_pitch`.
+    /// Counted rigs with a nonzero pitch: verdict `nonzero`, or a pure
+    /// translation.
     pub nonzero_pitch_count: usize,
+    /// Counted rigs with zero pitch: verdict `zero`, or the identity.
+    pub zero_pitch_count: usize,
+    /// Counted rigs whose pitch is undecidable at their precision.
+    pub undecidable_pitch_count: usize,
 }
 
 /// The survey report.
@@ -111,17 +125,20 @@ impl SurveyReport {
             .filter(|(_, c)| **c)
             .map(|(r, _)| r.0.lever_arm_m)
             .collect();
-        let nonzero = rows
-            .iter()
-            .zip(counted)
-            .filter(|(r, c)| **c && !r.0.zero_pitch)
-            .count();
+        let by_verdict = |v: PitchVerdict| {
+            rows.iter()
+                .zip(counted)
+                .filter(|(r, c)| **c && verdict_of(&r.0) == v)
+                .count()
+        };
         let summary = SurveySummaryJson {
             count: levers.len(),
             lever_arm_min_m: levers.iter().copied().fold(f64::INFINITY, f64::min),
             lever_arm_median_m: median(&levers),
             lever_arm_max_m: levers.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            nonzero_pitch_count: nonzero,
+            nonzero_pitch_count: by_verdict(PitchVerdict::Nonzero),
+            zero_pitch_count: by_verdict(PitchVerdict::Zero),
+            undecidable_pitch_count: by_verdict(PitchVerdict::Undecidable),
         };
         let (rigs, marks) = rows.into_iter().unzip();
         SurveyReport {
@@ -136,14 +153,15 @@ impl SurveyReport {
     pub fn summary_line(&self) -> String {
         let s = &self.summary;
         format!(
-            "{} rigs; lever arm min {} m, median {} m, max {} m; {} of {} with nonzero pitch (no adapted constant metric), {} with zero pitch",
+            "{} rigs; lever arm min {} m, median {} m, max {} m; {} of {} with nonzero pitch (no adapted constant metric), {} with zero pitch, {} undecidable at their precision",
             s.count,
             fixed(s.lever_arm_min_m, 4),
             fixed(s.lever_arm_median_m, 4),
             fixed(s.lever_arm_max_m, 4),
             s.nonzero_pitch_count,
             s.count,
-            s.count - s.nonzero_pitch_count
+            s.zero_pitch_count,
+            s.undecidable_pitch_count
         )
     }
 
@@ -181,6 +199,11 @@ impl SurveyReport {
                     format!("{}", j.band_l1[1]),
                     format!("{}", j.adapted_metric_exists),
                     format!("{}", m.placeholder),
+                    j.screw_translation_uncertainty_m
+                        .map(|u| format!("{u}"))
+                        .unwrap_or_default(),
+                    verdict_of(j).name().to_string(),
+                    j.uncertainty_source.name().to_string(),
                 ]
             })
             .collect();
@@ -198,13 +221,13 @@ const HEADER: [&str; 10] = [
     "lever arm (m)",
     "angle (deg)",
     "screw transl. h (m)",
-    "zero pitch",
+    "pitch",
     "s_max",
     "band at l = 1",
     "adapted metric",
 ];
 
-const CSV_HEADER: [&str; 15] = [
+const CSV_HEADER: [&str; 18] = [
     "id",
     "sensor",
     "platform",
@@ -220,7 +243,20 @@ const CSV_HEADER: [&str; 15] = [
     "band_l1_upper",
     "adapted_metric_exists",
     "placeholder",
+    "screw_translation_uncertainty_m",
+    "pitch_verdict",
+    "uncertainty_source",
 ];
+
+/// The row's pitch verdict; without a rotation, the identity is `zero` and a
+/// pure translation `nonzero` (infinite pitch).
+pub fn verdict_of(j: &SurveyRigJson) -> PitchVerdict {
+    j.pitch_verdict.unwrap_or(if j.lever_arm_m > 0.0 {
+        PitchVerdict::Nonzero
+    } else {
+        PitchVerdict::Zero
+    })
+}
 
 fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
     let mut id = j.id.clone();
@@ -238,8 +274,11 @@ fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
         format!("{}{}", fixed(j.angle_deg, 3), if small { "*" } else { "" }),
         match j.screw_translation_m {
             Some(h) => format!(
-                "{}{}",
+                "{}{}{}",
                 metres_h(h),
+                j.screw_translation_uncertainty_m
+                    .map(|u| format!(" +- {}", metres_h(u)))
+                    .unwrap_or_default(),
                 if near_half_turn(j.angle_deg.to_radians()) {
                     " ±"
                 } else {
@@ -248,7 +287,7 @@ fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
             ),
             None => "- (pure transl.)".into(),
         },
-        if j.zero_pitch { "yes" } else { "no" }.into(),
+        verdict_of(j).name().into(),
         fixed(j.sigma_max, 4),
         format!("[{}, {}]", fixed(j.band_l1[0], 3), fixed(j.band_l1[1], 3)),
         if j.adapted_metric_exists {

@@ -46,4 +46,5 @@ mod rig_toml;
 mod scene_simulate;
 mod scene_tunnel;
 mod survey_any;
+mod uncertainty;
 mod urdf_conformance;

@@ -30,6 +30,7 @@ pub(super) fn edges(
         let key = format!("joint \"{}\" <origin>", j.name);
         let edge = |t: Transform, key: String| {
             Edge::new(&j.parent, &j.child, t, j.loc.clone(), super::SPEC.id, key)
+                .with_precision(j.origin_precision)
         };
         match j.jtype {
             None => {
@@ -59,6 +60,11 @@ pub(super) fn edges(
                     j.origin.compose(&motion),
                     format!("joint \"{}\" <origin> + {} motion", j.name, jt),
                 );
+                // Origin Exp(xi) motion = (origin motion) Exp(Ad(motion^-1) xi).
+                if let Some(c) = &mut e.precision.rounding {
+                    let a = motion.adjoint_inverse();
+                    *c = a * *c * a.transpose();
+                }
                 e.joint = Some(JointState {
                     name: j.name.clone(),
                     joint_type: jt,

@@ -8,7 +8,10 @@ use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::source::LineIndex;
 use crate::formats::{locate_warnings, xml};
 use crate::frames::JointType;
-use crate::geometry::{QuatOrder, Transform};
+use crate::geometry::uncertainty::{
+    rounding_covariance, rounding_std, rpy_covariance, tuple_half_units,
+};
+use crate::geometry::{EdgePrecision, QuatOrder, Transform};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -27,6 +30,63 @@ pub(super) struct Mimic {
     pub master: String,
     pub multiplier: f64,
     pub offset: f64,
+}
+
+/// The rounding of `<origin>`'s numbers as written (conventions in
+/// [`crate::geometry::uncertainty`]): each attribute is one tuple. Called after
+/// [`origin`] accepted the element, so the numbers parse.
+fn origin_precision(o: roxmltree::Node, version: Version) -> EdgePrecision {
+    let tokens = |a: &str| -> Vec<&str> {
+        o.attribute(a)
+            .map(|s| s.split_ascii_whitespace().collect())
+            .unwrap_or_default()
+    };
+    let xyz = tokens("xyz");
+    let (rot, quat) = match (o.attribute("rpy"), version.used >= UrdfVersion::V1_1) {
+        (None, true) if o.attribute("quat_xyzw").is_some() => (tokens("quat_xyzw"), true),
+        _ => (tokens("rpy"), false),
+    };
+    let mut texts = if xyz.is_empty() {
+        vec!["0"; 3]
+    } else {
+        xyz.clone()
+    };
+    let mut halves = tuple_half_units(&texts);
+    let rot = if rot.is_empty() { vec!["0"; 3] } else { rot };
+    halves.extend(tuple_half_units(&rot));
+    texts.extend(rot);
+    let params: Vec<f64> = texts.iter().map(|t| t.parse().unwrap_or(0.0)).collect();
+    if !quat {
+        let u = |i: usize| [0, 1, 2].map(|k| rounding_std(halves[i + k]));
+        let cov = rpy_covariance([params[3], params[4], params[5]], u(0), u(3));
+        return match cov {
+            Ok(c) => EdgePrecision {
+                rounding: Some(c),
+                user: None,
+            },
+            Err(_) => EdgePrecision::default(),
+        };
+    }
+    let build = |p: &[f64]| {
+        let d = [p[0], p[1], p[2]];
+        if quat {
+            Transform::from_quaternion(
+                [p[3], p[4], p[5], p[6]],
+                QuatOrder::Xyzw,
+                d,
+                &mut Vec::new(),
+            )
+        } else {
+            Transform::from_rpy([p[3], p[4], p[5]], d)
+        }
+    };
+    match rounding_covariance(&params, &halves, build) {
+        Ok(c) => EdgePrecision {
+            rounding: Some(c),
+            user: None,
+        },
+        Err(_) => EdgePrecision::default(),
+    }
 }
 
 /// `<limit lower upper>` of a revolute or prismatic joint (urdfdom's defaults:
@@ -84,6 +144,8 @@ pub(super) struct JointRaw<'a> {
     pub parent: String,
     pub child: String,
     pub origin: Transform,
+    /// The rounding of `<origin>`'s numbers as written.
+    pub origin_precision: EdgePrecision,
     pub axis: [f64; 3],
     pub limit: Option<Limit>,
     pub mimic: Option<Mimic>,
@@ -245,9 +307,12 @@ fn joint<'a>(
         let (l, c) = xml::pos_of(idx, n);
         Location::at(path, l, Some(c))
     };
-    let origin = match child_el("origin") {
-        None => Transform::identity(),
-        Some(o) => origin(idx, o, name, version, &loc_of(o), warnings)?,
+    let (origin, origin_precision) = match child_el("origin") {
+        None => (Transform::identity(), EdgePrecision::exact()),
+        Some(o) => (
+            origin(idx, o, name, version, &loc_of(o), warnings)?,
+            origin_precision(o, version),
+        ),
     };
     // As urdfdom: no <axis> is 1 0 0, an <axis> without xyz is 0 0 0 (refused
     // on a movable joint: KDL would divide by its norm).
@@ -284,6 +349,7 @@ fn joint<'a>(
         parent,
         child,
         origin,
+        origin_precision,
         axis,
         limit,
         mimic,
