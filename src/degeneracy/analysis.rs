@@ -29,7 +29,16 @@ pub struct Analysis {
 /// Solve one family on one assembly.
 pub fn analyse(asm: &Assembly, rule: &MetricRule, tau: f64) -> Result<Analysis> {
     let metric = rule.metric(asm)?;
-    let eig = generalized_eigen(&asm.h, &metric, rule.what())?;
+    let eig = if *rule == MetricRule::PointDisplacement {
+        // Equivariant: solved about the centroid, where no offset rounds
+        // away the small eigenvalues, and the eigenvectors moved back
+        // (`v = A v_c`, still `M`-orthonormal since `M = A^-T M_c A^-1`).
+        let mut e = generalized_eigen(&asm.hc, &asm.mc, rule.what())?;
+        e.vectors = asm.center_adjoint() * e.vectors;
+        e
+    } else {
+        generalized_eigen(&asm.h, &metric, rule.what())?
+    };
     let degenerate_count = eig.values.iter().filter(|&&l| l < tau).count();
     Ok(Analysis {
         rule: rule.clone(),

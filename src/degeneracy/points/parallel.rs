@@ -8,7 +8,7 @@ use super::binary::{decode_records, Layout, Run};
 use super::check::{Checker, Stats};
 use super::source::{io_error, Source};
 use super::{detect, pcd, ply, Kind, PointFormat, Sink};
-use crate::degeneracy::{worker_count, Accumulator, Kernel, Sums, BLOCK};
+use crate::degeneracy::{worker_count, Accumulator, Block, Kernel, BLOCK};
 use crate::diagnostic::Result;
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
@@ -122,7 +122,7 @@ fn records(
 
 /// What one range gave: its block sums in order, its point count, its stats.
 struct Part {
-    blocks: Vec<Sums>,
+    blocks: Vec<Block>,
     count: usize,
     stats: Stats,
 }
@@ -130,7 +130,7 @@ struct Part {
 /// Collects block sums instead of adding them up.
 struct BlockSink {
     acc: Accumulator,
-    blocks: Vec<Sums>,
+    blocks: Vec<Block>,
 }
 
 impl Sink for BlockSink {
