@@ -4,19 +4,22 @@
 
 use crate::analysis::metric::adapted_metric_matrix;
 use crate::analysis::Family;
+use crate::degeneracy::normals::{estimate_normals_with, NormalParams};
 use crate::degeneracy::points::PointData;
-use crate::degeneracy::scene::{synthesize, tunnel_exact, Preprocess, SceneKind};
+use crate::degeneracy::scene::{
+    synthesize, tunnel_exact, voxel_downsample, Cloud, Preprocess, SceneKind,
+};
 use crate::degeneracy::threshold::default_threshold;
 use crate::degeneracy::threshold::{calibrate, Calibration};
 use crate::degeneracy::{
-    analyse, canonical_basis, check_transport, correction_difference, reexpress, rel_diff,
-    Analysis, Assembly, MetricRule,
+    analyse, canonical_basis, check_transport, classify_subspace, correction_difference,
+    footprint_flags, footprint_scores, reexpress, rel_diff, Analysis, Assembly, MetricRule,
 };
 use crate::diagnostic::{Error, Result};
 use crate::geometry::Transform;
 use crate::report::detector::{
     CorrectionJson, DegeneracyReport, FamilyComparison, FamilyEigen, FrameJson, FromTo, HmJson,
-    SimulateReport, SubspaceJson, ThresholdReport, TunnelFrameJson, TunnelReport,
+    NormalsJson, SimulateReport, SubspaceJson, ThresholdReport, TunnelFrameJson, TunnelReport,
 };
 use crate::tolerances::DEFAULT_PITCH_TOL;
 use nalgebra::{DMatrix, Vector6};
@@ -31,7 +34,8 @@ fn check_tau(tau: f64) -> Result<()> {
     }
 }
 
-fn frame_json(t: &Transform) -> FrameJson {
+/// A pose as the reports print it.
+pub fn frame_json(t: &Transform) -> FrameJson {
     let d = t.translation();
     FrameJson {
         translation_m: [d.x, d.y, d.z],
@@ -97,18 +101,22 @@ pub fn degeneracy_of(
             },
         });
     }
-    let degenerate_subspace = pd
-        .subspace_screws(&asm.h)
+    let degenerate_subspace = classify_subspace(&asm, &pd)
         .iter()
-        .map(|(q, s)| SubspaceJson::new(*q, s))
+        .map(SubspaceJson::scored)
         .collect();
+    let scores = footprint_scores(&pd.degenerate_vectors());
     Ok(DegeneracyReport {
         schema_version: crate::report::SCHEMA_VERSION,
         points: asm.count,
         frame: frame_json(frame),
         families,
         degenerate_subspace,
-        footprint: pd.footprint(),
+        footprint: footprint_flags(&scores),
+        footprint_scores: scores,
+        matrices: None,
+        normals: None,
+        pair: None,
         warnings: DegeneracyReport::warning_lines(warnings),
     })
 }
@@ -336,5 +344,68 @@ pub fn calibrate_threshold(c: &Calibration) -> Result<ThresholdReport> {
         &c.noise_levels,
         &c.voxel_sizes,
         c.seeds,
+    ))
+}
+
+/// How a raw scan (points without normals) becomes points with normals.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RawScan {
+    /// Voxel edge (m) of the down-sampling (one centroid per voxel, grid
+    /// anchored at the frame's origin); `None`: every point.
+    pub voxel: Option<f64>,
+    /// Normal estimation.
+    pub normals: NormalParams,
+    /// Threads for the normal estimation (0: one per core).
+    pub threads: usize,
+}
+
+/// `H` and `M` of a raw scan in its own frame: voxel grid, PCA normals
+/// toward the viewpoint, unit weights; with what the estimation kept.
+pub fn raw_scan_assembly(points: &[[f64; 3]], raw: &RawScan) -> Result<(Assembly, NormalsJson)> {
+    let (cloud, nj) = raw_scan_cloud(points, raw)?;
+    let asm = Assembly::from_points(&cloud.points, &cloud.normals, None)?;
+    Ok((asm, nj))
+}
+
+/// A raw scan's points with estimated normals (see [`raw_scan_assembly`]).
+pub fn raw_scan_cloud(points: &[[f64; 3]], raw: &RawScan) -> Result<(Cloud, NormalsJson)> {
+    let grid;
+    let pts = match raw.voxel {
+        Some(v) => {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::usage(format!(
+                    "--voxel: expected a positive number of metres, found {v}"
+                )));
+            }
+            grid = voxel_downsample(points, v, [0.0; 3]);
+            &grid[..]
+        }
+        None => points,
+    };
+    let (cloud, st) = estimate_normals_with(pts, &raw.normals, raw.threads)?;
+    if cloud.is_empty() {
+        return Err(Error::invalid(format!(
+            "no point got a normal: {} points, none with {} neighbours within {} m (raise --normal-radius or lower --min-neighbours)",
+            pts.len(),
+            raw.normals.min_neighbours,
+            raw.normals.radius
+        )));
+    }
+    let n = &raw.normals;
+    Ok((
+        cloud,
+        NormalsJson {
+            points_read: points.len(),
+            voxel_m: raw.voxel,
+            points_after_voxel: pts.len(),
+            radius_m: n.radius,
+            knn: n.knn,
+            min_neighbours: n.min_neighbours,
+            min_planarity: n.min_planarity,
+            viewpoint_m: n.viewpoint,
+            kept: st.kept,
+            dropped_sparse: st.sparse,
+            dropped_not_planar: st.not_planar,
+        },
     ))
 }

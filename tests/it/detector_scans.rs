@@ -119,6 +119,55 @@ fn units_do_not_change_the_point_displacement_eigenvalues() {
 }
 
 #[test]
+fn a_synthetic_pair_with_known_overlap_assembles_the_overlap() {
+    use extrinsic_audit::degeneracy::pairs::pair_assembly;
+    use extrinsic_audit::geometry::Transform;
+    use nalgebra::Vector3;
+    // Target: the L corner with exact normals. Source: the target's points
+    // with x < 0 (the overlap) seen from the source frame T (pose in the
+    // target frame), plus points 1 km away that match nothing.
+    let target = synthesize(SceneKind::Corner, &Preprocess::exact(0.1, 0.0, 1)).unwrap();
+    let t = Transform::from_rpy([0.1, -0.05, 0.3], [0.5, -0.2, 0.1]).unwrap();
+    let inv = t.inverse();
+    let overlap: Vec<usize> = (0..target.len())
+        .filter(|&i| target.points[i][0] < 0.0)
+        .collect();
+    let mut source: Vec<[f64; 3]> = overlap
+        .iter()
+        .map(|&i| {
+            let q = inv.apply(&Vector3::from(target.points[i]));
+            [q.x, q.y, q.z]
+        })
+        .collect();
+    source.extend((0..100).map(|k| [1000.0 + k as f64, 0.0, 0.0]));
+    let (asm, st) = pair_assembly(&source, &target, &t, 0.05).unwrap();
+    assert!(overlap.len() > 100 && overlap.len() < target.len());
+    assert_eq!(st.matched, overlap.len());
+    assert_eq!(st.source, overlap.len() + 100);
+    assert!(st.mean_distance < 1e-12);
+    // Closed form: the overlap's own H and M re-expressed in the source
+    // frame, H_s = Ad(T)^T H_t Ad(T).
+    let tp: Vec<[f64; 3]> = overlap.iter().map(|&i| target.points[i]).collect();
+    let tn: Vec<[f64; 3]> = overlap.iter().map(|&i| target.normals[i]).collect();
+    let ht = Assembly::from_points(&tp, &tn, None)
+        .unwrap()
+        .congruence(&t.adjoint());
+    assert!(
+        rel_diff(&asm.h, &ht.h) < 1e-12,
+        "{}",
+        rel_diff(&asm.h, &ht.h)
+    );
+    assert!(
+        rel_diff(&asm.m, &ht.m) < 1e-12,
+        "{}",
+        rel_diff(&asm.m, &ht.m)
+    );
+    // Without any pair within the gate: an error naming the advice.
+    let e = pair_assembly(&source[overlap.len()..], &target, &t, 0.05).unwrap_err();
+    assert!(e.message.contains("no correspondence"), "{}", e.message);
+}
+
+#[test]
 fn kernels_and_threads_agree_with_reference_points() {
     // Several blocks with distinct reference points: serial, parallel and
     // scalar agree to rounding.
@@ -136,4 +185,288 @@ fn kernels_and_threads_agree_with_reference_points() {
     let (x, y) = (a1.finish(), a2.finish());
     assert!(rel_diff(&x.hc, &y.hc) < 1e-12);
     assert!(rel_diff(&x.mc, &y.mc) < 1e-12);
+}
+
+// ---------------------------------------------------------------------------
+// Real scans against the numpy reference (tests/fixtures/detector/scans)
+// ---------------------------------------------------------------------------
+
+mod real {
+    use crate::common::run_cli;
+    use extrinsic_audit::degeneracy::points::read_xyz;
+    use serde_json::Value;
+    use std::path::PathBuf;
+
+    fn dir() -> PathBuf {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/detector/scans")
+    }
+
+    fn expected() -> Value {
+        let text = std::fs::read_to_string(dir().join("expected.json")).unwrap();
+        serde_json::from_str(&text).unwrap()
+    }
+
+    fn case(name: &str) -> Value {
+        expected()["cases"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["name"] == name)
+            .unwrap()
+            .clone()
+    }
+
+    fn nums(v: &Value) -> Vec<f64> {
+        match v {
+            Value::Array(a) => a.iter().flat_map(nums).collect(),
+            Value::Number(n) => vec![n.as_f64().unwrap()],
+            _ => panic!("not numbers: {v}"),
+        }
+    }
+
+    /// `max |a - b| / max |b|`.
+    fn rel(a: &[f64], b: &[f64]) -> f64 {
+        assert_eq!(a.len(), b.len());
+        let s = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        a.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+            / s
+    }
+
+    /// `audit degeneracy FILE --estimate-normals --voxel 0.1 ...` as JSON.
+    fn run(file: &str, extra: &[&str]) -> Value {
+        let path = dir().join(file);
+        let mut args = vec![
+            "degeneracy",
+            path.to_str().unwrap(),
+            "--estimate-normals",
+            "--voxel",
+            "0.1",
+            "--show-matrices",
+            "--format",
+            "json",
+        ];
+        args.extend_from_slice(extra);
+        let (code, out, err) = run_cli(&args);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str(&out).unwrap()
+    }
+
+    /// The report agrees with the reference: counts, H, M, every family's
+    /// eigenvalues, and each family's decision follows from its threshold.
+    fn compare(r: &Value, e: &Value) {
+        let n = &r["normals"];
+        assert_eq!(n["points_read"], e["points_read"]);
+        assert_eq!(n["points_after_voxel"], e["points_after_voxel"]);
+        assert_eq!(n["kept"], e["kept"]);
+        let m = &r["matrices"];
+        let dh = rel(&nums(&m["h"]), &nums(&e["h"]));
+        let dm = rel(&nums(&m["m"]), &nums(&e["m"]));
+        assert!(dh < 1e-9 && dm < 1e-9, "H {dh:e}, M {dm:e}");
+        let centroid = nums(&m["centroid_m"]);
+        assert!(rel(&centroid, &nums(&e["centroid"])) < 1e-9);
+        for f in r["families"].as_array().unwrap() {
+            let key = match f["family"].as_str().unwrap() {
+                "characteristic_length" => format!("l={}", f["ell_m"].as_f64().unwrap()),
+                other => other.to_string(),
+            };
+            let want = nums(&e["eigenvalues"][&key]);
+            let got = nums(&f["eigenvalues"]);
+            for k in 0..6 {
+                let d = (got[k] - want[k]).abs() / want[5].abs();
+                assert!(d < 1e-9, "{key} eigenvalue {k}: {} vs {}", got[k], want[k]);
+            }
+            // The decision of every family follows from the numpy eigenvalues.
+            let t = f["threshold"].as_f64().unwrap();
+            let count = want.iter().filter(|&&l| l < t).count() as u64;
+            assert_eq!(f["degenerate_count"].as_u64(), Some(count), "{key}");
+        }
+    }
+
+    fn pd(r: &Value) -> &Value {
+        r["families"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|f| f["family"] == "point_displacement")
+            .unwrap()
+    }
+
+    #[test]
+    fn full_outdoor_scans_match_numpy_and_are_not_degenerate() {
+        for name in ["251370668", "251371071"] {
+            let r = run(&format!("{name}.pcd"), &[]);
+            compare(&r, &case(name));
+            assert_eq!(pd(&r)["degenerate_count"], 0, "{name}");
+            assert_eq!(
+                r["footprint"],
+                serde_json::json!([false, false, false, false, false, false])
+            );
+        }
+        // With the ground crop's normal settings the full scan stays
+        // non-degenerate.
+        let r = run(
+            "251370668.pcd",
+            &["--normal-radius", "0.5", "--min-planarity", "0.2"],
+        );
+        compare(&r, &case("251370668_gated"));
+        assert_eq!(pd(&r)["degenerate_count"], 0);
+    }
+
+    #[test]
+    fn ground_plane_crop_has_rotation_about_the_vertical_and_two_translations() {
+        let r = run(
+            "ground_crop.pcd",
+            &["--normal-radius", "0.5", "--min-planarity", "0.2"],
+        );
+        let e = case("ground_crop");
+        compare(&r, &e);
+        assert_eq!(pd(&r)["degenerate_count"], 3);
+        // Footprint: rot-z, trans-x, trans-y (scores 0.90, 0.998, 0.998; the
+        // others at most 0.08), scores as numpy's.
+        assert_eq!(
+            r["footprint"],
+            serde_json::json!([false, false, true, true, true, false])
+        );
+        let scores = nums(&r["footprint_scores"]);
+        for (a, b) in scores.iter().zip(nums(&e["footprint_scores"])) {
+            assert!((a - b).abs() < 1e-6, "{scores:?}");
+        }
+        // Screws: the rotation about the vertical (zero pitch), then the two
+        // in-plane translations, with numpy's rotation fractions.
+        let sub = r["degenerate_subspace"].as_array().unwrap();
+        let kinds: Vec<&str> = sub
+            .iter()
+            .map(|s| s["screw"]["kind"].as_str().unwrap())
+            .collect();
+        assert_eq!(
+            kinds,
+            ["zero_pitch", "pure_translation", "pure_translation"]
+        );
+        let axis = nums(&sub[0]["screw"]["axis"]);
+        assert!(axis[2].abs() > 0.99, "{axis:?}");
+        for s in &sub[1..] {
+            let d = nums(&s["screw"]["direction"]);
+            assert!(d[2].abs() < 0.1, "{d:?}");
+        }
+        let mut fr: Vec<f64> = sub
+            .iter()
+            .map(|s| s["rotation_fraction"].as_f64().unwrap())
+            .collect();
+        fr.sort_by(|a, b| b.total_cmp(a));
+        for (a, b) in fr.iter().zip(nums(&e["rotation_fractions"])) {
+            assert!((a - b).abs() < 1e-6, "{fr:?}");
+        }
+    }
+
+    #[test]
+    fn pcl_binary_compressed_reads_like_the_lzf_reference() {
+        // car6.pcd from PCL's test data (x y z, DATA binary_compressed, LZF
+        // as PCL writes it), against python-lzf + numpy.
+        let e = expected();
+        let d = read_xyz(&dir().join("car6_pcl_compressed.pcd")).unwrap();
+        assert_eq!(d.points.len() as u64, e["car6_count"].as_u64().unwrap());
+        let first = nums(&e["car6_first"]);
+        for k in 0..3 {
+            for c in 0..3 {
+                assert_eq!(d.points[k][c], first[3 * k + c]);
+            }
+        }
+        let last = nums(&e["car6_last"]);
+        assert_eq!(d.points.last().unwrap().to_vec(), last);
+        let sum: Vec<f64> = (0..3)
+            .map(|c| d.points.iter().map(|p| p[c]).sum())
+            .collect();
+        assert!(rel(&sum, &nums(&e["car6_sum"])) < 1e-12);
+        // Without normals it is refused for the normal-reading path, naming them.
+        let err = extrinsic_audit::degeneracy::points::read_points(
+            &dir().join("car6_pcl_compressed.pcd"),
+        )
+        .unwrap_err();
+        assert!(
+            err.message.contains("missing normal_x normal_y normal_z"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn real_consecutive_pair_matches_numpy() {
+        // 251371071 (source) against 251370668 (target) with the shipped
+        // relative pose as the initial guess.
+        let d = dir();
+        let target = d.join("251370668.pcd");
+        let guess = d.join("relative.txt");
+        let r = run(
+            "251371071.pcd",
+            &[
+                "--target",
+                target.to_str().unwrap(),
+                "--gate",
+                "0.5",
+                "--initial-guess-file",
+                guess.to_str().unwrap(),
+            ],
+        );
+        let e = &expected()["pair"];
+        let p = &r["pair"];
+        assert_eq!(p["correspondences"], e["matched"]);
+        assert_eq!(p["source_points"], e["source_points"]);
+        assert_eq!(p["target_points"], e["target_points"]);
+        let dd =
+            (p["mean_distance_m"].as_f64().unwrap() - e["mean_distance"].as_f64().unwrap()).abs();
+        assert!(dd < 1e-9, "{dd}");
+        let m = &r["matrices"];
+        let dh = rel(&nums(&m["h"]), &nums(&e["h"]));
+        let dm = rel(&nums(&m["m"]), &nums(&e["m"]));
+        assert!(dh < 1e-9 && dm < 1e-9, "H {dh:e}, M {dm:e}");
+        let got = nums(&pd(&r)["eigenvalues"]);
+        let want = nums(&e["eigenvalues"]["point_displacement"]);
+        for k in 0..6 {
+            assert!(
+                (got[k] - want[k]).abs() < 1e-9 * want[5],
+                "{got:?} vs {want:?}"
+            );
+        }
+        // The consecutive pair is not degenerate.
+        assert_eq!(pd(&r)["degenerate_count"], 0);
+    }
+
+    #[test]
+    fn raw_options_are_checked() {
+        let path = dir().join("ground_crop.pcd");
+        let p = path.to_str().unwrap();
+        for bad in [
+            vec!["degeneracy", p, "--voxel", "0.1"],
+            vec![
+                "degeneracy",
+                p,
+                "--estimate-normals",
+                "--min-neighbours",
+                "2",
+            ],
+            vec!["degeneracy", p, "--estimate-normals", "--knn", "4"],
+            vec![
+                "degeneracy",
+                p,
+                "--estimate-normals",
+                "--min-planarity",
+                "1.5",
+            ],
+            vec!["degeneracy", p, "--estimate-normals", "--voxel", "0"],
+        ] {
+            let (code, _, err) = run_cli(&bad);
+            assert_eq!(code, 2, "{bad:?}: {err}");
+        }
+        // A radius too small for any neighbour: refused with the advice.
+        let (code, _, err) = run_cli(&[
+            "degeneracy",
+            p,
+            "--estimate-normals",
+            "--normal-radius",
+            "0.001",
+        ]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("no point got a normal"), "{err}");
+    }
 }

@@ -57,6 +57,23 @@ fn json_outputs_match_the_committed_schemas() {
             "json",
         ],
     );
+    assert_valid(
+        "degeneracy",
+        &[
+            "degeneracy",
+            "tests/fixtures/detector/scans/ground_crop.pcd",
+            "--estimate-normals",
+            "--voxel",
+            "0.1",
+            "--normal-radius",
+            "0.5",
+            "--min-planarity",
+            "0.2",
+            "--show-matrices",
+            "--format",
+            "json",
+        ],
+    );
 }
 
 #[test]

@@ -23,7 +23,7 @@ pub(super) fn decode_file(
 ) -> Result<(PointFormat, Stats)> {
     match detect(src)? {
         Kind::Ply => {
-            let h = ply::read_header(src)?;
+            let h = ply::read_header(src, false)?;
             if h.format == PointFormat::PlyAscii {
                 return ply::body(src, &h, acc);
             }
@@ -42,8 +42,8 @@ pub(super) fn decode_file(
             Ok((h.format, stats))
         }
         Kind::Pcd => {
-            let h = pcd::read_header(src)?;
-            if h.format == PointFormat::PcdAscii {
+            let h = pcd::read_header(src, false)?;
+            if h.format != PointFormat::PcdBinary {
                 return pcd::body(src, &h, acc);
             }
             let start = src.offset();
@@ -59,7 +59,7 @@ pub(super) fn decode_file(
             )?;
             Ok((h.format, stats))
         }
-        Kind::Csv => super::decode(src, acc),
+        Kind::Csv => super::decode(src, acc, false),
     }
 }
 
