@@ -75,6 +75,8 @@ pub enum Command {
     Degeneracy(detector::DegeneracyArgs),
     // about/long_about come from the Args struct.
     CalibrateThreshold(detector::CalibrateThresholdArgs),
+    // about/long_about come from the Args struct.
+    Sweep(detector::SweepArgs),
     /// Print shell completions (bash, zsh, fish, elvish, powershell)
     #[command(
         long_about = "Print a completion script for your shell to standard output.",
@@ -120,6 +122,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
         Some(Command::Simulate(args)) => detector::simulate(&args, out),
         Some(Command::Degeneracy(args)) => detector::degeneracy(&args, out),
         Some(Command::CalibrateThreshold(args)) => detector::calibrate_threshold(&args, out),
+        Some(Command::Sweep(args)) => detector::sweep(&args, out),
         Some(Command::Completions { shell }) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();
             clap_complete::generate(shell, &mut cmd, "audit", out);

@@ -15,11 +15,13 @@ use crate::degeneracy::{
     analyse, canonical_basis, check_transport, classify_subspace, correction_difference,
     footprint_flags, footprint_scores, reexpress, rel_diff, Analysis, Assembly, MetricRule,
 };
+use crate::degeneracy::{frame_sweep, paper_frame_changes, Arm};
 use crate::diagnostic::{Error, Result};
 use crate::geometry::Transform;
 use crate::report::detector::{
     CorrectionJson, DegeneracyReport, FamilyComparison, FamilyEigen, FrameJson, FromTo, HmJson,
-    NormalsJson, SimulateReport, SubspaceJson, ThresholdReport, TunnelFrameJson, TunnelReport,
+    NormalsJson, RigDecisionJson, SimulateReport, SubspaceJson, SweepFamilyJson, SweepReport,
+    ThresholdReport, TunnelFrameJson, TunnelReport,
 };
 use crate::tolerances::DEFAULT_PITCH_TOL;
 use nalgebra::{DMatrix, Vector6};
@@ -408,4 +410,74 @@ pub fn raw_scan_cloud(points: &[[f64; 3]], raw: &RawScan) -> Result<(Cloud, Norm
             dropped_not_planar: st.not_planar,
         },
     ))
+}
+
+/// Wilson score interval (95 %, `z = 1.96`) of `k` successes in `n` trials;
+/// `[0, 1]` for `n = 0`.
+pub fn wilson95(k: usize, n: usize) -> [f64; 2] {
+    if n == 0 {
+        return [0.0, 1.0];
+    }
+    let (k, n, z) = (k as f64, n as f64, 1.96f64);
+    let z2 = z * z;
+    let centre = (k + z2 / 2.0) / (n + z2);
+    let half = z / (n + z2) * (k * (n - k) / n + z2 / 4.0).sqrt();
+    [(centre - half).max(0.0), (centre + half).min(1.0)]
+}
+
+/// The paper's 861-change frame sweep on the user's assembly, every default
+/// family with its threshold (`tau` for point displacement), and, with `rig`,
+/// the decision of every family in the rig's other frame.
+pub fn sweep(
+    asm: &Assembly,
+    tau: f64,
+    ells: &[f64],
+    seed: u64,
+    rig: Option<&Transform>,
+) -> Result<SweepReport> {
+    check_tau(tau)?;
+    let rules = MetricRule::default_set(ells, None);
+    let taus: Vec<f64> = rules.iter().map(|r| default_threshold(r, tau)).collect();
+    let changes = paper_frame_changes(seed);
+    let rows = frame_sweep(asm, &changes, &rules, &taus)?;
+    let mut families = Vec::new();
+    for (row, rule) in rows.iter().zip(&rules) {
+        let reference = analyse(asm, rule, row.tau)?;
+        let n = row.evaluations;
+        let rig_json = match rig {
+            Some(t) => {
+                let other = analyse(&asm.congruence(&t.adjoint()), rule, row.tau)?;
+                Some(RigDecisionJson {
+                    degenerate_count: other.degenerate_count,
+                    decision_changes: other.degenerate() != reference.degenerate(),
+                })
+            }
+            None => None,
+        };
+        families.push(SweepFamilyJson {
+            family: rule.family(),
+            label: rule.label(),
+            ell_m: rule.ell(asm),
+            threshold: row.tau,
+            degenerate_count: reference.degenerate_count,
+            decision_changes: row.decision_changes,
+            decision_change_rate: row.decision_changes as f64 / n.max(1) as f64,
+            decision_change_wilson95: wilson95(row.decision_changes, n),
+            count_changes: row.count_changes,
+            count_change_rate: row.count_changes as f64 / n.max(1) as f64,
+            count_change_wilson95: wilson95(row.count_changes, n),
+            decision_changes_by_arm: row.decision_changes_by_arm,
+            max_eigenvalue_rel_change: row.max_eigenvalue_change,
+            rig: rig_json,
+        });
+    }
+    Ok(SweepReport {
+        schema_version: crate::report::SCHEMA_VERSION,
+        points: asm.count,
+        seed,
+        frame_changes: changes.len(),
+        arms: Arm::ALL.map(|a| a.name()),
+        rig: rig.map(frame_json),
+        families,
+    })
 }

@@ -160,6 +160,133 @@ pub struct DegeneracyReport {
     pub warnings: Vec<String>,
 }
 
+/// `audit sweep`: the paper's frame sweep on the user's cloud.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SweepReport {
+    /// Version of this JSON layout (1).
+    pub schema_version: u32,
+    /// Points (or correspondences) assembled.
+    pub points: usize,
+    /// Seed of the sweep's random frame changes.
+    pub seed: u64,
+    /// Frame changes evaluated (861).
+    pub frame_changes: usize,
+    /// Names of the arms, in the order of `decision_changes_by_arm`.
+    pub arms: [&'static str; 5],
+    /// The rig's other frame (pose in the cloud's frame), when given.
+    pub rig: Option<FrameJson>,
+    /// One row per family.
+    pub families: Vec<SweepFamilyJson>,
+}
+
+/// One family over the sweep.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SweepFamilyJson {
+    /// The family's JSON name.
+    pub family: Family,
+    /// Table label.
+    #[serde(skip)]
+    pub label: String,
+    /// Characteristic length (m) where the family has one.
+    pub ell_m: Option<f64>,
+    /// Threshold on the generalized eigenvalues.
+    pub threshold: f64,
+    /// Degenerate count in the cloud's own frame.
+    pub degenerate_count: usize,
+    /// Frame changes whose decision (any eigenvalue below the threshold)
+    /// differs from the cloud's frame.
+    pub decision_changes: usize,
+    /// `decision_changes / frame_changes`.
+    pub decision_change_rate: f64,
+    /// Wilson 95 % interval of the rate.
+    pub decision_change_wilson95: [f64; 2],
+    /// Frame changes whose degenerate count differs.
+    pub count_changes: usize,
+    /// `count_changes / frame_changes`.
+    pub count_change_rate: f64,
+    /// Wilson 95 % interval of the rate.
+    pub count_change_wilson95: [f64; 2],
+    /// Decision changes per arm (order of `arms`).
+    pub decision_changes_by_arm: [usize; 5],
+    /// Largest relative eigenvalue change over the sweep.
+    pub max_eigenvalue_rel_change: f64,
+    /// In the rig's other frame, when given.
+    pub rig: Option<RigDecisionJson>,
+}
+
+/// One family's answer in the rig's other frame.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct RigDecisionJson {
+    /// Degenerate count there.
+    pub degenerate_count: usize,
+    /// The decision differs from the cloud's frame.
+    pub decision_changes: bool,
+}
+
+impl Report for SweepReport {
+    fn document(&self) -> Document {
+        let mut doc = Document::new();
+        doc.text(format!(
+            "Frame sweep: {} points, {} frame changes (arms: {}; seed {}); Wilson 95 % intervals",
+            self.points,
+            self.frame_changes,
+            self.arms.join(", "),
+            self.seed
+        ));
+        if let Some(r) = &self.rig {
+            doc.text(format!(
+                "rig frame: translation {} m, rpy {} rad",
+                json_vec(&r.translation_m),
+                json_vec(&r.rpy_rad)
+            ));
+        }
+        let iv = |x: &[f64; 2]| format!("[{:.3}, {:.3}]", x[0], x[1]);
+        let rows = self
+            .families
+            .iter()
+            .map(|f| {
+                vec![
+                    f.label.clone(),
+                    sci(f.threshold, 4),
+                    f.degenerate_count.to_string(),
+                    format!("{} ({:.3})", f.decision_changes, f.decision_change_rate),
+                    iv(&f.decision_change_wilson95),
+                    format!("{} ({:.3})", f.count_changes, f.count_change_rate),
+                    iv(&f.count_change_wilson95),
+                    sci(f.max_eigenvalue_rel_change, 3),
+                    match &f.rig {
+                        Some(r) => format!(
+                            "{}{}",
+                            r.degenerate_count,
+                            if r.decision_changes {
+                                " (decision changes)"
+                            } else {
+                                ""
+                            }
+                        ),
+                        None => "-".into(),
+                    },
+                ]
+            })
+            .collect();
+        doc.table(Table::unwrapped(
+            &[
+                "family",
+                "threshold",
+                "degenerate",
+                "decision changes (rate)",
+                "Wilson 95 %",
+                "count changes (rate)",
+                "Wilson 95 %",
+                "max eigenvalue change",
+                "in the rig frame",
+            ],
+            rows,
+        ));
+        doc
+    }
+}
+
 /// A scan pair's correspondences.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct PairJson {

@@ -433,6 +433,61 @@ mod real {
     }
 
     #[test]
+    fn sweep_on_the_ground_crop_keeps_point_displacement_and_flips_others() {
+        let path = dir().join("ground_crop.pcd");
+        let (code, out, err) = run_cli(&[
+            "sweep",
+            path.to_str().unwrap(),
+            "--estimate-normals",
+            "--voxel",
+            "0.1",
+            "--normal-radius",
+            "0.5",
+            "--min-planarity",
+            "0.2",
+            "--format",
+            "json",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let r: Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(r["frame_changes"], 861);
+        let fams = r["families"].as_array().unwrap();
+        let pd = fams
+            .iter()
+            .find(|f| f["family"] == "point_displacement")
+            .unwrap();
+        assert_eq!(pd["degenerate_count"], 3);
+        assert_eq!(pd["decision_changes"], 0);
+        assert_eq!(pd["count_changes"], 0);
+        // Wilson 95 % of 0 / 861: [0, z^2 / (n + z^2)] = [0, 0.004442].
+        let w = nums(&pd["decision_change_wilson95"]);
+        assert!(
+            w[0] == 0.0 && (w[1] - 3.8416 / 864.8416).abs() < 1e-12,
+            "{w:?}"
+        );
+        assert!(pd["max_eigenvalue_rel_change"].as_f64().unwrap() < 1e-6);
+        // Some frame-dependent family changes its count somewhere.
+        assert!(fams
+            .iter()
+            .any(|f| f["count_changes"].as_u64().unwrap() > 0));
+        let (code, _, err) = run_cli(&["sweep", path.to_str().unwrap(), "--from", "base"]);
+        assert_eq!(code, 2, "{err}");
+    }
+
+    #[test]
+    fn wilson_interval_matches_the_closed_form() {
+        use extrinsic_audit::pipeline::detector::wilson95;
+        let [lo, hi] = wilson95(50, 100);
+        assert!(
+            (lo - 0.403_8).abs() < 1e-4 && (hi - 0.596_2).abs() < 1e-4,
+            "{lo} {hi}"
+        );
+        assert_eq!(wilson95(0, 0), [0.0, 1.0]);
+        let [lo, hi] = wilson95(861, 861);
+        assert!(hi == 1.0 && (lo - 861.0 / 864.8416).abs() < 1e-12);
+    }
+
+    #[test]
     fn raw_options_are_checked() {
         let path = dir().join("ground_crop.pcd");
         let p = path.to_str().unwrap();

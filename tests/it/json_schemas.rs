@@ -74,6 +74,24 @@ fn json_outputs_match_the_committed_schemas() {
             "json",
         ],
     );
+    assert_valid(
+        "degeneracy-sweep",
+        &[
+            "sweep",
+            "tests/fixtures/detector/scans/ground_crop.pcd",
+            "--estimate-normals",
+            "--voxel",
+            "0.1",
+            "--rig",
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--from",
+            "base",
+            "--to",
+            "lidar",
+            "--format",
+            "json",
+        ],
+    );
 }
 
 #[test]
