@@ -525,3 +525,88 @@ mod real {
         assert!(err.contains("no point got a normal"), "{err}");
     }
 }
+
+#[test]
+fn corrupt_compressed_pcd_is_an_error_never_a_panic() {
+    use extrinsic_audit::degeneracy::points::read_xyz;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/detector/scans/car6_pcl_compressed.pcd");
+    let good = std::fs::read(&path).unwrap();
+    let data = good
+        .windows(23)
+        .position(|w| w == b"DATA binary_compressed\n")
+        .unwrap()
+        + 23;
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("bad.pcd");
+    let mut errors = 0;
+    for k in 0..300usize {
+        let mut b = good.clone();
+        let at = data + 8 + (k * 7919) % (good.len() - data - 8);
+        b[at] = b[at].wrapping_add(1 + (k % 200) as u8);
+        std::fs::write(&f, &b).unwrap();
+        errors += usize::from(read_xyz(&f).is_err());
+    }
+    assert!(errors > 0);
+    // Truncated data, and sizes that lie (4 GiB announced): errors that say so.
+    let packed = u32::from_le_bytes(good[data..data + 4].try_into().unwrap()) as usize;
+    std::fs::write(&f, &good[..data + 8 + packed / 2]).unwrap();
+    let e = read_xyz(&f).err().expect("a truncated file is refused");
+    assert!(e.message.contains("compressed data"), "{e}");
+    let mut b = good.clone();
+    b[data + 4..data + 8].copy_from_slice(&u32::MAX.to_le_bytes());
+    std::fs::write(&f, &b).unwrap();
+    let e = read_xyz(&f).err().expect("lying sizes are refused");
+    assert!(e.message.contains("announce"), "{e}");
+}
+
+#[test]
+fn normals_do_not_depend_on_threads_and_knn_covers_the_radius() {
+    use extrinsic_audit::degeneracy::normals::{estimate_normals_with, NormalParams};
+    let c = synthesize(SceneKind::Tunnel, &Preprocess::exact(0.15, 0.01, 5)).unwrap();
+    let prm = NormalParams {
+        radius: 0.3,
+        knn: None,
+        min_neighbours: 8,
+        min_planarity: None,
+        viewpoint: [0.0; 3],
+    };
+    let (a, sa) = estimate_normals_with(&c.points, &prm, 1).unwrap();
+    let (b, sb) = estimate_normals_with(&c.points, &prm, 3).unwrap();
+    assert_eq!(a, b);
+    assert_eq!(sa, sb);
+    assert_eq!(sa.kept + sa.sparse + sa.not_planar, c.len());
+    // On the exact tunnel the normals point at the axis (the viewpoint is on it).
+    for (p, n) in a.points.iter().zip(&a.normals) {
+        let r = (p[0] * p[0] + p[1] * p[1]).sqrt();
+        let radial = -(p[0] * n[0] + p[1] * n[1]) / r;
+        assert!(radial > 0.99, "{p:?} {n:?}");
+    }
+    // k nearest larger than any neighbourhood: the same neighbours.
+    let knn = NormalParams {
+        knn: Some(10_000),
+        ..prm
+    };
+    let (k, _) = estimate_normals_with(&c.points, &knn, 2).unwrap();
+    assert_eq!(k.len(), a.len());
+    for (x, y) in k.normals.iter().zip(&a.normals) {
+        for i in 0..3 {
+            assert!((x[i] - y[i]).abs() < 1e-9, "{x:?} {y:?}");
+        }
+    }
+    // A planarity gate of 1 keeps nothing; 0 keeps everything.
+    let all = NormalParams {
+        min_planarity: Some(0.0),
+        ..prm
+    };
+    assert_eq!(
+        estimate_normals_with(&c.points, &all, 2).unwrap().0.len(),
+        a.len()
+    );
+    let none = NormalParams {
+        min_planarity: Some(1.0),
+        ..prm
+    };
+    let (z, sz) = estimate_normals_with(&c.points, &none, 2).unwrap();
+    assert!(z.is_empty() && sz.not_planar == sa.kept);
+}
