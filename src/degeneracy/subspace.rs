@@ -33,7 +33,8 @@ pub fn footprint(vs: &[Vector6<f64>]) -> [bool; 6] {
 /// (1 for an axis inside the span, 0 for one orthogonal to it).
 pub fn footprint_scores(vs: &[Vector6<f64>]) -> [f64; 6] {
     let q = orthonormal_basis(vs);
-    std::array::from_fn(|k| (0..q.ncols()).map(|j| q[(k, j)] * q[(k, j)]).sum())
+    // fold from +0.0: an empty sum of f64 is -0.0, printed "-0.000".
+    std::array::from_fn(|k| (0..q.ncols()).fold(0.0, |s, j| s + q[(k, j)] * q[(k, j)]))
 }
 
 /// A canonical basis of the span of `vs`: first the rotational twists, then the

@@ -233,7 +233,9 @@ fn compressed_records<R: Read>(src: &mut Source<R>, h: &Header) -> Result<Vec<u8
     let want =
         h.n.checked_mul(h.rec)
             .filter(|&b| b as u64 <= MAX_POINT_FILE_SIZE);
-    if want != Some(unpacked) {
+    // LZF expands at most 264 bytes per 3 input bytes: a larger claim is a lie,
+    // refused before any allocation (memory stays proportional to the data).
+    if want != Some(unpacked) || unpacked / 88 > packed.saturating_add(1) {
         return Err(Error::parse(format!(
             "PCD binary_compressed: header claims {} points of {} bytes, the data announce {unpacked} bytes",
             h.n, h.rec
