@@ -266,7 +266,9 @@ pub const DEFAULT_TAU: f64 = 1e-2;
 /// millimetres. For exactly collinear points the ratio is rounding (`~1e-16`).
 pub const CHOLESKY_REL_TOL: f64 = 1e-10;
 
-/// A projector diagonal entry above this flags the axis in the footprint.
+/// A projector diagonal entry above this flags the axis in the footprint (no
+/// longer used by the footprints, which flag at [`FOOTPRINT_SCORE_TOL`]; kept
+/// for callers of the library).
 pub const FOOTPRINT_TOL: f64 = 1e-6;
 
 /// In the canonical basis of a degenerate subspace, a direction whose rotational

@@ -74,7 +74,9 @@ impl Analysis {
 
     /// Per-axis footprint (frame-dependent): axis `k` flagged when the `k`-th
     /// diagonal entry of the Euclidean projector onto the degenerate subspace
-    /// exceeds [`FOOTPRINT_TOL`](crate::tolerances::FOOTPRINT_TOL).
+    /// is at least [`FOOTPRINT_SCORE_TOL`](crate::tolerances::FOOTPRINT_SCORE_TOL)
+    /// (the absolute 1e-6 of [`FOOTPRINT_TOL`](crate::tolerances::FOOTPRINT_TOL)
+    /// flagged every axis on noisy data).
     pub fn footprint(&self) -> [bool; 6] {
         footprint(&self.degenerate_vectors())
     }

@@ -2,7 +2,7 @@
 
 #![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
 
-use crate::tolerances::{FOOTPRINT_TOL, PURE_TRANSLATION_TOL, TWIST_PITCH_TOL};
+use crate::tolerances::{FOOTPRINT_SCORE_TOL, PURE_TRANSLATION_TOL, TWIST_PITCH_TOL};
 use nalgebra::{DMatrix, Vector3, Vector6};
 
 /// Orthonormal (Euclidean) basis of the span of `vs`, by SVD; rank by
@@ -23,9 +23,11 @@ pub(crate) fn orthonormal_basis(vs: &[Vector6<f64>]) -> DMatrix<f64> {
     DMatrix::from_fn(6, cols.len(), |i, j| u[(i, cols[j])])
 }
 
-/// Per-axis footprint of the span of `vs` (see [`Analysis::footprint`](crate::degeneracy::Analysis::footprint)).
+/// Per-axis footprint of the span of `vs` (see [`Analysis::footprint`](crate::degeneracy::Analysis::footprint)):
+/// an axis whose score ([`footprint_scores`]) is at least
+/// [`FOOTPRINT_SCORE_TOL`], as `audit degeneracy` flags it.
 pub fn footprint(vs: &[Vector6<f64>]) -> [bool; 6] {
-    footprint_scores(vs).map(|d| d > FOOTPRINT_TOL)
+    footprint_scores(vs).map(|d| d >= FOOTPRINT_SCORE_TOL)
 }
 
 /// Per-axis footprint scores of the span of `vs`: the diagonal of the
