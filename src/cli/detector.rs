@@ -432,10 +432,20 @@ fn scan_assembly(args: &DegeneracyArgs) -> Result<ScanAssembly> {
             ));
         }
         // Streamed: H and M without holding the points; the frame by congruence.
-        let acc = accumulate_file(&args.points, Some(&frame))?;
+        let acc = accumulate_file(&args.points, Some(&frame)).map_err(raw_scan_hint)?;
         (acc.assembly, acc.warnings, None)
     };
     Ok((asm, warnings, normals, pair))
+}
+
+/// A file without normal fields is likely a raw scan: say how to read it.
+fn raw_scan_hint(mut e: Error) -> Error {
+    let m = &e.message;
+    if m.contains("missing normal_x") || m.contains("missing nx") || m.contains("6 or 7 columns") {
+        e.message
+            .push_str("; a raw scan (no normals)? add --estimate-normals");
+    }
+    e
 }
 
 /// The initial guess of a pair (identity without one).

@@ -513,6 +513,10 @@ mod real {
             let (code, _, err) = run_cli(&bad);
             assert_eq!(code, 2, "{bad:?}: {err}");
         }
+        // Without --estimate-normals a raw scan is refused with the hint.
+        let (code, _, err) = run_cli(&["degeneracy", p]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("add --estimate-normals"), "{err}");
         // A radius too small for any neighbour: refused with the advice.
         let (code, _, err) = run_cli(&[
             "degeneracy",
