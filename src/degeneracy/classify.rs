@@ -55,6 +55,11 @@ pub fn classify_subspace(asm: &Assembly, an: &Analysis) -> Vec<ScoredScrew> {
         .map(|(u, frac)| {
             let mut vc = u;
             vc.fixed_rows_mut::<3>(0).scale_mut(1.0 / len);
+            // Rotations with |omega| = 1 (rad), as the tunnel's canonical basis.
+            let w = vc.fixed_rows::<3>(0).norm();
+            if w > 0.0 {
+                vc /= w;
+            }
             let rayleigh =
                 (vc.transpose() * asm.hc * vc)[(0, 0)] / (vc.transpose() * asm.mc * vc)[(0, 0)];
             let v = a * vc;
