@@ -340,7 +340,9 @@ pub const DEFAULT_TAU: f64 = 1e-2;
 /// millimetres. For exactly collinear points the ratio is rounding (`~1e-16`).
 pub const CHOLESKY_REL_TOL: f64 = 1e-10;
 
-/// A projector diagonal entry above this flags the axis in the footprint.
+/// A projector diagonal entry above this flags the axis in the footprint (no
+/// longer used by the footprints, which flag at [`FOOTPRINT_SCORE_TOL`]; kept
+/// for callers of the library).
 pub const FOOTPRINT_TOL: f64 = 1e-6;
 
 /// In the canonical basis of a degenerate subspace, a direction whose rotational
@@ -368,6 +370,42 @@ pub const MAX_SIM_NOISE_M: f64 = 1.0;
 /// Accepted voxel sizes `--voxel` of the simulation (m): below 2 cm the
 /// scenes hold millions of points; above 10 m a scene is one voxel.
 pub const SIM_VOXEL_RANGE_M: (f64, f64) = (0.02, 10.0);
+
+/// Footprint of a real scan's degenerate subspace (`audit degeneracy`): an
+/// axis is flagged when its score, the diagonal entry of the Euclidean
+/// projector onto the subspace (in `[0, 1]`, summing to the dimension), is at
+/// least this. On a ground plane the in-plane axes score about 0.996 and the
+/// others below 0.01 (issue 16), where [`FOOTPRINT_TOL`] flagged all six.
+pub const FOOTPRINT_SCORE_TOL: f64 = 0.1;
+
+/// A degenerate direction is a translation when its rotation fraction
+/// `L |omega| / |[L omega; t]|` about the centroid (`L` the cloud's RMS radius)
+/// is at most this: translation-dominated (its rotation moves the points by
+/// at most 0.3 of what the whole twist does). On the ground-plane crop of the
+/// real scan (tests/fixtures/detector/scans) the two in-plane translations
+/// score 0.16 and 0.02 and the rotation about the vertical 1.0; the issue's
+/// "general screws" with pitch 18.5 and 60.5 m/rad scored about 0.26 and 0.08.
+pub const ROTATION_FRACTION_TOL: f64 = 0.3;
+
+/// A degenerate rotation is zero-pitch when `|pitch| <= SCREW_PITCH_REL_TOL * L`
+/// (`L` the cloud's RMS radius): it advances by at most a tenth of the cloud's
+/// size per radian.
+pub const SCREW_PITCH_REL_TOL: f64 = 0.1;
+
+/// Default neighbourhood radius (m) of `audit degeneracy --estimate-normals`:
+/// the synthetic pipeline's 0.30 m (paper).
+pub const RAW_NORMAL_RADIUS_M: f64 = 0.30;
+
+/// Default fewest neighbours (the point itself counted) for a normal of a raw
+/// scan: the synthetic pipeline's 8 (paper).
+pub const RAW_MIN_NEIGHBOURS: usize = 8;
+
+/// Accepted `--voxel` of `audit degeneracy` (m): from a millimetre to 10 m.
+pub const RAW_VOXEL_RANGE_M: (f64, f64) = (1e-3, 10.0);
+
+/// Default correspondence gate of a scan pair (`audit degeneracy --target`,
+/// m): the paper's 1.0 m.
+pub const PAIR_GATE_M: f64 = 1.0;
 
 // ---------------------------------------------------------------------------
 // Point files (`degeneracy::points`)

@@ -3,25 +3,39 @@
 //! `extrinsic_audit::pipeline::detector`.
 
 use super::{emit, parse_ell, parse_noise, parse_positive, parse_voxel};
-use extrinsic_audit::degeneracy::points::accumulate_file;
+use extrinsic_audit::degeneracy::normals::NormalParams;
+use extrinsic_audit::degeneracy::pairs;
+use extrinsic_audit::degeneracy::points::{accumulate_file, read_points, read_xyz};
+use extrinsic_audit::degeneracy::scene::{voxel_downsample, Cloud};
 use extrinsic_audit::degeneracy::scene::{SceneKind, TUNNEL_RADIUS};
 use extrinsic_audit::degeneracy::threshold::{Calibration, SEEDS};
+use extrinsic_audit::degeneracy::Assembly;
 use extrinsic_audit::degeneracy::MetricRule;
+use extrinsic_audit::diagnostic::Warning;
 use extrinsic_audit::diagnostic::{Error, Result};
 use extrinsic_audit::geometry::Transform;
-use extrinsic_audit::pipeline::detector::{self as det, SimulateParams, TunnelParams};
+use extrinsic_audit::pipeline::detector::{self as det, RawScan, SimulateParams, TunnelParams};
 use extrinsic_audit::pipeline::transform_between;
 use extrinsic_audit::render::OutputFormat;
-use extrinsic_audit::tolerances::{DEFAULT_ELLS, DEFAULT_TAU, MAX_SIM_NOISE_M, SIM_VOXEL_RANGE_M};
+use extrinsic_audit::report::detector::{MatricesJson, NormalsJson, PairJson};
+use extrinsic_audit::tolerances::{
+    DEFAULT_ELLS, DEFAULT_TAU, MAX_SIM_NOISE_M, PAIR_GATE_M, RAW_MIN_NEIGHBOURS,
+    RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M, SIM_VOXEL_RANGE_M,
+};
 use nalgebra::Vector6;
 use std::io::Write;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug, Clone)]
 #[command(
-    about = "Degeneracy of your own points with normals, for every detector family",
+    about = "Degeneracy of your own scan (points with normals, or raw with --estimate-normals), for every detector family",
     long_about = "Reads points with unit normals (CSV x,y,z,nx,ny,nz[,w] with or without a header; \
-PLY ascii/binary and PCD ascii/binary with normal fields) expressed in the body frame, optionally \
+PLY ascii/binary and PCD ascii/binary/binary_compressed with normal fields) expressed in the body \
+frame, or a raw scan (x y z ..., the output of a LiDAR driver) with --estimate-normals: optional \
+voxel grid (--voxel), PCA normals within --normal-radius (default 0.3 m) from at least \
+--min-neighbours points (default 8), at most --knn nearest, an optional planarity gate \
+(--min-planarity), oriented toward --viewpoint (default the sensor origin). H and M are \
+assembled about the centroid, so map or UTM coordinates lose no digit. Optionally \
 re-expresses them in another frame, and prints for every detector family the generalized \
 eigenvalues of H v = lambda M v (ascending), the threshold and the number of eigenvalues below \
 it; then the degenerate subspace under the point-displacement metric as screws (axis, pitch, \
@@ -34,7 +48,16 @@ eigenvalues are dimensioned and scale with the number of points, so each baselin
 threshold `audit calibrate-threshold` finds for it on the synthetic corridors (paper's rule: \
 the midpoint of its interval in the 0.10 m voxel, 0.01 m noise configuration); the JSON \
 gives each family's threshold.\n\n\
-Examples:\n  audit degeneracy scan.pcd\n  audit degeneracy scan.ply --shift 1,0,0 --format json\n  \
+--show-matrices prints H and M. The degenerate subspace's screws are classified relative to the \
+cloud's RMS radius L about its centroid: a translation when the rotation fraction is at most 0.3, \
+zero pitch when |pitch| <= 0.1 L; an axis is in the footprint when its score is at least 0.1.\n\n\
+With --target, POINTS is the source of a scan pair: each source point (voxel grid when asked) is \
+moved by --initial-guess (the pose of the source frame in the target frame), paired with its \
+nearest target point within --gate (default 1 m, the paper's), and H and M are assembled from \
+the pairs as point-to-plane ICP does (source point, target normal rotated into the source frame).\n\n\
+Examples:\n  audit degeneracy scan.pcd\n  audit degeneracy raw_scan.pcd --estimate-normals --voxel 0.1\n  \
+audit degeneracy b.pcd --target a.pcd --estimate-normals --voxel 0.1 --initial-guess-file b_in_a.txt\n  \
+audit degeneracy scan.ply --shift 1,0,0 --format json --show-matrices\n  \
 audit degeneracy points.csv --rotate-rpy 0,0,1.5708 --tau 0.005 --ell 0.5,2"
 )]
 pub struct DegeneracyArgs {
@@ -52,9 +75,108 @@ pub struct DegeneracyArgs {
     /// Characteristic lengths (m) for the characteristic-length family, comma-separated.
     #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
     pub ell: Vec<f64>,
+    /// A raw scan: estimate the normals (PCA within --normal-radius, oriented toward --viewpoint) instead of reading them.
+    #[arg(long)]
+    pub estimate_normals: bool,
+    /// With --estimate-normals: voxel grid edge (m) applied first (one centroid per voxel).
+    #[arg(long, value_parser = parse_raw_voxel, allow_hyphen_values = true, value_name = "M")]
+    pub voxel: Option<f64>,
+    /// With --estimate-normals: neighbourhood radius (m).
+    #[arg(long, default_value_t = RAW_NORMAL_RADIUS_M, value_parser = parse_positive, allow_hyphen_values = true, value_name = "M")]
+    pub normal_radius: f64,
+    /// With --estimate-normals: use at most the K nearest neighbours within the radius.
+    #[arg(long, value_name = "K")]
+    pub knn: Option<usize>,
+    /// With --estimate-normals: fewest neighbours (the point counted) for a normal.
+    #[arg(long, default_value_t = RAW_MIN_NEIGHBOURS, value_name = "N")]
+    pub min_neighbours: usize,
+    /// With --estimate-normals: drop points whose neighbourhood planarity (l2-l3)/l1 (eigenvalues descending) is below this, 0 to 1 (planarity gate).
+    #[arg(long, value_parser = parse_positive, allow_hyphen_values = true, value_name = "P")]
+    pub min_planarity: Option<f64>,
+    /// With --estimate-normals: normals point toward this point `x,y,z` (m, input frame; default the sensor origin).
+    #[arg(long, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub viewpoint: Option<String>,
+    /// Print H and M (in the frame and about the centroid).
+    #[arg(long)]
+    pub show_matrices: bool,
+    /// Scan pair: H and M from correspondences of POINTS (the source, raw) with this target (normals from the file, or estimated with --estimate-normals).
+    #[arg(long, value_name = "FILE")]
+    pub target: Option<PathBuf>,
+    /// With --target: correspondence gate (m), nearest target point within it.
+    #[arg(long, default_value_t = PAIR_GATE_M, value_parser = parse_positive, allow_hyphen_values = true, value_name = "M")]
+    pub gate: f64,
+    /// With --target: pose of the source frame in the target frame, `x,y,z,roll,pitch,yaw` (m, rad).
+    #[arg(long, allow_hyphen_values = true, value_name = "X,Y,Z,R,P,Y")]
+    pub initial_guess: Option<String>,
+    /// With --target: the same as a file holding a 4x4 row-major matrix (16 numbers).
+    #[arg(long, value_name = "FILE")]
+    pub initial_guess_file: Option<PathBuf>,
     /// Output format
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
     pub format: OutputFormat,
+}
+
+#[derive(clap::Args, Debug, Clone)]
+#[command(
+    about = "The paper's frame sweep on your own scan: decision and count change rates per detector family",
+    long_about = "Assembles H and M from POINTS exactly as `audit degeneracy` does (every option of it \
+applies: --estimate-normals, --voxel, --target, ...) and applies the paper's 861 frame changes \
+(identity, 20 pure rotations, and pure translation, general and orthogonal-control arms at 14 lever \
+arms from 0 to 20 m, 20 draws each; seeded) to it. For every family it prints how many changes \
+flip the degeneracy decision and the degenerate count, as rates with Wilson 95 % intervals, and \
+the largest relative eigenvalue change. With --rig FILE... --from --to, the decision of every \
+family in your rig's other frame is added.\n\n\
+Examples:\n  audit sweep scan.pcd --estimate-normals --voxel 0.1\n  \
+audit sweep scan.pcd --estimate-normals --rig robot.urdf --from base_link --to lidar --format json"
+)]
+pub struct SweepArgs {
+    /// Everything `audit degeneracy` takes.
+    #[command(flatten)]
+    pub scan: DegeneracyArgs,
+    /// Seed of the random frame changes.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Calibration files that define your rig (URDF, TF, LIO YAML, ...).
+    #[arg(long, num_args = 1.., value_name = "FILE")]
+    pub rig: Vec<PathBuf>,
+    /// With --rig: the cloud's frame.
+    #[arg(long)]
+    pub from: Option<String>,
+    /// With --rig: the other frame.
+    #[arg(long)]
+    pub to: Option<String>,
+}
+
+/// `audit sweep`.
+pub fn sweep(args: &SweepArgs, out: &mut dyn Write) -> Result<i32> {
+    if args.rig.is_empty() && (args.from.is_some() || args.to.is_some()) {
+        return Err(Error::usage("--from/--to apply only with --rig"));
+    }
+    let s = &args.scan;
+    let (asm, _, _, _) = scan_assembly(s)?;
+    let rig = if args.rig.is_empty() {
+        None
+    } else {
+        Some(transform_between(
+            &args.rig,
+            args.from.as_deref(),
+            args.to.as_deref(),
+        )?)
+    };
+    let report = det::sweep(&asm, s.tau, &s.ell, args.seed, rig.as_ref())
+        .map_err(|e| e.in_file(&s.points))?;
+    emit(&report, s.format, out)?;
+    Ok(0)
+}
+
+/// `--voxel` of `degeneracy` within [`RAW_VOXEL_RANGE_M`].
+fn parse_raw_voxel(s: &str) -> std::result::Result<f64, String> {
+    let v = parse_positive(s)?;
+    let (lo, hi) = RAW_VOXEL_RANGE_M;
+    if !(lo..=hi).contains(&v) {
+        return Err(format!("expected {lo} to {hi} m, found `{s}`"));
+    }
+    Ok(v)
 }
 
 #[derive(clap::Args, Debug, Clone)]
@@ -265,13 +387,180 @@ fn frame_from_args(shift: Option<&str>, rpy: Option<&str>) -> Result<Transform> 
 }
 
 pub fn degeneracy(args: &DegeneracyArgs, out: &mut dyn Write) -> Result<i32> {
+    let (asm, warnings, normals, pair) = scan_assembly(args)?;
     let frame = frame_from_args(args.shift.as_deref(), args.rotate_rpy.as_deref())?;
-    // Streamed: H and M without holding the points; the frame by congruence.
-    let acc = accumulate_file(&args.points, Some(&frame))?;
-    let report = det::degeneracy_of(&acc.assembly, &acc.warnings, &frame, args.tau, &args.ell)
+    let mut report = det::degeneracy_of(&asm, &warnings, &frame, args.tau, &args.ell)
         .map_err(|e| e.in_file(&args.points))?;
+    report.normals = normals;
+    report.pair = pair;
+    if args.show_matrices {
+        report.matrices = Some(MatricesJson::new(&asm));
+    }
     emit(&report, args.format, out)?;
     Ok(0)
+}
+
+/// What a scan gives: its assembly in the requested frame, the file's
+/// warnings, the normal estimation and the pair, when asked.
+type ScanAssembly = (
+    Assembly,
+    Vec<Warning>,
+    Option<NormalsJson>,
+    Option<PairJson>,
+);
+
+/// The assembly `audit degeneracy` (and `audit sweep`) analyses.
+fn scan_assembly(args: &DegeneracyArgs) -> Result<ScanAssembly> {
+    let frame = frame_from_args(args.shift.as_deref(), args.rotate_rpy.as_deref())?;
+    let pair_only = args.initial_guess.is_some() || args.initial_guess_file.is_some();
+    if pair_only && args.target.is_none() {
+        return Err(Error::usage(
+            "--initial-guess and --initial-guess-file apply only with --target",
+        ));
+    }
+    let mut pair = None;
+    let (asm, warnings, normals) = if let Some(target) = &args.target {
+        let (asm, w, n, p) = pair_assembly(args, target, &frame)?;
+        pair = Some(p);
+        (asm, w, n)
+    } else if args.estimate_normals {
+        raw_assembly(args, &frame)?
+    } else {
+        if args.voxel.is_some() || args.viewpoint.is_some() || args.knn.is_some() {
+            return Err(Error::usage(
+                "--voxel, --viewpoint and --knn apply only with --estimate-normals",
+            ));
+        }
+        // Streamed: H and M without holding the points; the frame by congruence.
+        let acc = accumulate_file(&args.points, Some(&frame)).map_err(raw_scan_hint)?;
+        (acc.assembly, acc.warnings, None)
+    };
+    Ok((asm, warnings, normals, pair))
+}
+
+/// A file without normal fields is likely a raw scan: say how to read it.
+fn raw_scan_hint(mut e: Error) -> Error {
+    let m = &e.message;
+    if m.contains("missing normal_x") || m.contains("missing nx") || m.contains("6 or 7 columns") {
+        e.message
+            .push_str("; a raw scan (no normals)? add --estimate-normals");
+    }
+    e
+}
+
+/// The initial guess of a pair (identity without one).
+fn initial_guess(args: &DegeneracyArgs, warnings: &mut Vec<Warning>) -> Result<Transform> {
+    match (&args.initial_guess, &args.initial_guess_file) {
+        (Some(_), Some(_)) => Err(Error::usage(
+            "give --initial-guess or --initial-guess-file, not both",
+        )),
+        (Some(s), None) => {
+            let v = parse_update(s).map_err(|_| {
+                Error::usage(format!(
+                    "--initial-guess: expected six numbers x,y,z,roll,pitch,yaw, found {s:?}"
+                ))
+            })?;
+            Transform::from_rpy([v[3], v[4], v[5]], [v[0], v[1], v[2]])
+        }
+        (None, Some(f)) => {
+            let text = std::fs::read_to_string(f).map_err(|e| Error::io(f, &e))?;
+            let v: Vec<f64> = text
+                .split_whitespace()
+                .map(|t| t.trim_matches(',').parse::<f64>())
+                .collect::<std::result::Result<_, _>>()
+                .map_err(|_| {
+                    Error::parse("expected 16 numbers (a 4x4 row-major matrix)").in_file(f)
+                })?;
+            if v.len() != 16 {
+                return Err(Error::parse(format!(
+                    "expected 16 numbers (a 4x4 row-major matrix), found {}",
+                    v.len()
+                ))
+                .in_file(f));
+            }
+            let m: [[f64; 4]; 4] = std::array::from_fn(|i| std::array::from_fn(|j| v[4 * i + j]));
+            Transform::from_matrix4(m, warnings).map_err(|e| e.in_file(f))
+        }
+        (None, None) => Ok(Transform::identity()),
+    }
+}
+
+/// A scan pair's assembly in `frame`: the source's points (raw, voxel grid
+/// when asked), the target with normals (read, or estimated as a raw scan).
+fn pair_assembly(
+    args: &DegeneracyArgs,
+    target: &std::path::Path,
+    frame: &Transform,
+) -> Result<(Assembly, Vec<Warning>, Option<NormalsJson>, PairJson)> {
+    let mut warnings = Vec::new();
+    let guess = initial_guess(args, &mut warnings)?;
+    let src = read_xyz(&args.points)?;
+    let source = match args.voxel {
+        Some(v) => voxel_downsample(&src.points, v, [0.0; 3]),
+        None => src.points,
+    };
+    warnings.extend(src.warnings);
+    let (cloud, normals) = if args.estimate_normals {
+        let data = read_xyz(target)?;
+        warnings.extend(data.warnings);
+        let (c, nj) =
+            det::raw_scan_cloud(&data.points, &raw_params(args)?).map_err(|e| e.in_file(target))?;
+        (c, Some(nj))
+    } else {
+        let data = read_points(target)?;
+        warnings.extend(data.warnings);
+        (
+            Cloud {
+                points: data.points,
+                normals: data.normals,
+            },
+            None,
+        )
+    };
+    let (asm, st) = pairs::pair_assembly(&source, &cloud, &guess, args.gate)
+        .map_err(|e| e.in_file(&args.points))?;
+    let pj = PairJson {
+        target: target.display().to_string(),
+        gate_m: args.gate,
+        initial_guess: det::frame_json(&guess),
+        source_points: st.source,
+        target_points: st.target,
+        correspondences: st.matched,
+        mean_distance_m: st.mean_distance,
+    };
+    Ok((asm.congruence(&frame.adjoint()), warnings, normals, pj))
+}
+
+/// The raw-scan options of the arguments.
+fn raw_params(args: &DegeneracyArgs) -> Result<RawScan> {
+    let viewpoint = match args.viewpoint.as_deref() {
+        Some(s) => parse_triple(s, "--viewpoint")?,
+        None => [0.0; 3],
+    };
+    Ok(RawScan {
+        voxel: args.voxel,
+        normals: NormalParams {
+            radius: args.normal_radius,
+            knn: args.knn,
+            min_neighbours: args.min_neighbours,
+            min_planarity: args.min_planarity,
+            viewpoint,
+        },
+        threads: 0,
+    })
+}
+
+/// A raw scan's assembly in `frame`: points read (normals not required),
+/// voxel grid, PCA normals in the input frame, then the frame by congruence.
+fn raw_assembly(
+    args: &DegeneracyArgs,
+    frame: &Transform,
+) -> Result<(Assembly, Vec<Warning>, Option<NormalsJson>)> {
+    let data = read_xyz(&args.points)?;
+    let raw = raw_params(args)?;
+    let (asm, nj) =
+        det::raw_scan_assembly(&data.points, &raw).map_err(|e| e.in_file(&args.points))?;
+    Ok((asm.congruence(&frame.adjoint()), data.warnings, Some(nj)))
 }
 
 pub fn tunnel(args: &TunnelArgs, out: &mut dyn Write) -> Result<i32> {

@@ -81,6 +81,7 @@ pub enum Command {
     CalibrateThreshold(detector::CalibrateThresholdArgs),
     // about/long_about come from the Args struct.
     Diff(diff::DiffArgs),
+    Sweep(detector::SweepArgs),
     /// Print shell completions (bash, zsh, fish, elvish, powershell)
     #[command(
         long_about = "Print a completion script for your shell to standard output.",
@@ -127,6 +128,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
         Some(Command::Degeneracy(args)) => detector::degeneracy(&args, out),
         Some(Command::CalibrateThreshold(args)) => detector::calibrate_threshold(&args, out),
         Some(Command::Diff(args)) => diff::run(&args, out),
+        Some(Command::Sweep(args)) => detector::sweep(&args, out),
         Some(Command::Completions { shell }) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();
             clap_complete::generate(shell, &mut cmd, "audit", out);

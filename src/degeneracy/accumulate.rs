@@ -17,6 +17,21 @@
 //! accumulators and inputs fit in the 16 vector registers: no spills, no
 //! shuffles, one fused multiply-add per product. It agrees with the scalar
 //! reference to rounding (tested to 1e-12 relative to the largest entry).
+//!
+//! # Reference points (exact anywhere)
+//!
+//! Each block sums its points about its own first point `o_b` (`q = p - o_b`),
+//! so the products stay of the size of the data's extent whatever the
+//! coordinates (map or UTM frames at 1e6 m lose no digit). A closed block is
+//! moved to the total's reference `o` (the first block's) exactly: with
+//! `delta = o_b - o`, `a' = B a` for `B = [[I, [delta]x], [0, I]]`, so
+//! `H' = B H B^T`, and `s' = s + W delta`,
+//! `S' = S + s delta^T + delta s^T + W delta delta^T`. [`Accumulator::finish`]
+//! moves the sums to the centroid the same way and keeps that pair
+//! ([`Assembly::hc`], [`Assembly::mc`]); the pair about the frame's origin is
+//! the centred pair moved once more, by the centroid itself. The subtraction
+//! is three operations per point in the copy into the chunk, so the kernels
+//! are unchanged.
 
 #![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
 
@@ -35,6 +50,77 @@ pub const BLOCK: usize = 1 << 16;
 
 /// Running sums of one block or of the total.
 pub(crate) type Sums = [f64; NSUM];
+
+/// A closed block's sums about its reference point (its first point).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Block {
+    pub(crate) sums: Sums,
+    pub(crate) origin: [f64; 3],
+}
+
+/// Move sums about reference `o` to reference `o - delta` (points `q + delta`),
+/// exactly in exact arithmetic (see the module notes).
+pub(crate) fn shift_sums(s: &Sums, delta: &[f64; 3]) -> Sums {
+    let h = h_of(s);
+    let mut b = Matrix6::identity();
+    b.fixed_view_mut::<3, 3>(0, 3)
+        .copy_from(&skew(&Vector3::from(*delta)));
+    let h2 = b * h * b.transpose();
+    let mut out = [0.0; NSUM];
+    let mut idx = 0;
+    for i in 0..6 {
+        for j in i..6 {
+            out[idx] = h2[(i, j)];
+            idx += 1;
+        }
+    }
+    let w = s[21];
+    out[21] = w;
+    let sp = [s[22], s[23], s[24]];
+    for k in 0..3 {
+        out[22 + k] = sp[k] + w * delta[k];
+    }
+    let mut idx = 25;
+    for i in 0..3 {
+        for j in i..3 {
+            out[idx] = s[idx] + sp[i] * delta[j] + delta[i] * sp[j] + w * delta[i] * delta[j];
+            idx += 1;
+        }
+    }
+    out
+}
+
+/// `H` from the 21 product sums.
+fn h_of(s: &Sums) -> Matrix6<f64> {
+    let mut h = Matrix6::zeros();
+    let mut idx = 0;
+    for i in 0..6 {
+        for j in i..6 {
+            h[(i, j)] = s[idx];
+            h[(j, i)] = s[idx];
+            idx += 1;
+        }
+    }
+    h
+}
+
+/// `M = [[tr(S) I - S, [s]x], [-[s]x, W I]]` from the moment sums.
+fn m_of(s: &Sums) -> Matrix6<f64> {
+    let w = s[21];
+    let sp = Vector3::new(s[22], s[23], s[24]);
+    let spp = Matrix3::new(
+        s[25], s[26], s[27], s[26], s[28], s[29], s[27], s[29], s[30],
+    );
+    let mut m = Matrix6::zeros();
+    let rr = Matrix3::identity() * spp.trace() - spp;
+    m.fixed_view_mut::<3, 3>(0, 0).copy_from(&rr);
+    let k = skew(&sp);
+    m.fixed_view_mut::<3, 3>(0, 3).copy_from(&k);
+    m.fixed_view_mut::<3, 3>(3, 0).copy_from(&(-k));
+    m.fixed_view_mut::<3, 3>(3, 3)
+        .copy_from(&(Matrix3::identity() * w));
+    m
+}
 
 /// Index of the product `a_i a_j` (`i <= j`) in the sums.
 const fn hidx(i: usize, j: usize) -> usize {
@@ -80,6 +166,8 @@ impl Kernel {
 struct Chunk {
     cols: [[f64; CHUNK]; 7],
     len: usize,
+    /// The open block's reference point, subtracted from every point copied in.
+    origin: [f64; 3],
     /// Some weight differs from 1 (otherwise the cheaper unweighted pass runs;
     /// with unit weights both give the same bits).
     weighted: bool,
@@ -90,6 +178,7 @@ impl Chunk {
         Chunk {
             cols: [[0.0; CHUNK]; 7],
             len: 0,
+            origin: [0.0; 3],
             weighted: false,
         }
     }
@@ -98,9 +187,10 @@ impl Chunk {
     fn push(&mut self, p: &[f64; 3], n: &[f64; 3], w: f64) {
         let i = self.len;
         if i < CHUNK {
-            self.cols[0][i] = p[0];
-            self.cols[1][i] = p[1];
-            self.cols[2][i] = p[2];
+            let o = self.origin;
+            self.cols[0][i] = p[0] - o[0];
+            self.cols[1][i] = p[1] - o[1];
+            self.cols[2][i] = p[2] - o[2];
             self.cols[3][i] = n[0];
             self.cols[4][i] = n[1];
             self.cols[5][i] = n[2];
@@ -116,6 +206,7 @@ impl Chunk {
         let k = (CHUNK - start).min(p.len()).min(n.len());
         let [c0, c1, c2, c3, c4, c5, c6] = &mut self.cols;
         let range = start..start + k;
+        let o = self.origin;
         for (j, (pi, ni)) in p[..k].iter().zip(n).enumerate() {
             // Fetch the next chunk's points while this one is copied, so that
             // memory keeps streaming while the kernel folds this chunk.
@@ -124,9 +215,9 @@ impl Chunk {
                 prefetch(n, j + CHUNK);
             }
             let i = start + j;
-            c0[i] = pi[0];
-            c1[i] = pi[1];
-            c2[i] = pi[2];
+            c0[i] = pi[0] - o[0];
+            c1[i] = pi[1] - o[1];
+            c2[i] = pi[2] - o[2];
             c3[i] = ni[0];
             c4[i] = ni[1];
             c5[i] = ni[2];
@@ -447,8 +538,12 @@ mod avx2 {
 /// beyond one chunk of 256 points.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Accumulator {
-    /// Sums of the completed blocks, added in order.
+    /// Sums of the completed blocks, added in order, about `origin`.
     total: Sums,
+    /// Reference point of `total` (the first block's; `None` before one).
+    origin: Option<[f64; 3]>,
+    /// The open block has a reference point (its first point).
+    started: bool,
     /// Sums of the current block (flushed chunks only).
     block: Sums,
     chunk: Box<Chunk>,
@@ -476,6 +571,8 @@ impl Accumulator {
     pub fn with_kernel(kernel: Kernel) -> Self {
         Accumulator {
             total: [0.0; NSUM],
+            origin: None,
+            started: false,
             block: [0.0; NSUM],
             chunk: Box::new(Chunk::new()),
             in_block: 0,
@@ -501,6 +598,7 @@ impl Accumulator {
     /// record-by-record path; whole batches go through `push_slices`).
     #[inline(always)]
     pub(crate) fn push_point(&mut self, p: &[f64; 3], n: &[f64; 3], w: f64) {
+        self.start_block(p);
         self.chunk.push(p, n, w);
         self.count += 1;
         if self.chunk.is_full() {
@@ -525,17 +623,42 @@ impl Accumulator {
         self.add_block(&b);
     }
 
-    /// Close the current block and return its sums (not added to the total).
-    pub(crate) fn take_block(&mut self) -> Sums {
-        self.chunk.flush(self.kernel, &mut self.block);
-        self.in_block = 0;
-        std::mem::replace(&mut self.block, [0.0; NSUM])
+    /// The first point of a block is its reference point.
+    #[inline(always)]
+    fn start_block(&mut self, p: &[f64; 3]) {
+        if !self.started {
+            self.chunk.origin = *p;
+            self.started = true;
+        }
     }
 
-    /// Add a closed block's sums to the total (after any block of this one).
-    pub(crate) fn add_block(&mut self, b: &Sums) {
+    /// Close the current block and return its sums (not added to the total).
+    pub(crate) fn take_block(&mut self) -> Block {
+        self.chunk.flush(self.kernel, &mut self.block);
+        self.in_block = 0;
+        self.started = false;
+        Block {
+            sums: std::mem::replace(&mut self.block, [0.0; NSUM]),
+            origin: self.chunk.origin,
+        }
+    }
+
+    /// Add a closed block's sums to the total (after any block of this one),
+    /// moved to the total's reference point.
+    pub(crate) fn add_block(&mut self, b: &Block) {
+        // An empty block adds nothing and must not set the reference point.
+        if b.sums.iter().all(|&x| x == 0.0) {
+            return;
+        }
+        let o = *self.origin.get_or_insert(b.origin);
+        let delta = [b.origin[0] - o[0], b.origin[1] - o[1], b.origin[2] - o[2]];
+        let s = if delta == [0.0; 3] {
+            b.sums
+        } else {
+            shift_sums(&b.sums, &delta)
+        };
         for k in 0..NSUM {
-            self.total[k] += b[k];
+            self.total[k] += s[k];
         }
     }
 
@@ -621,6 +744,9 @@ impl Accumulator {
 
     /// Into the open block, a chunk at a time (no block is closed).
     fn push_batch(&mut self, b: &Batch) {
+        if let Some(p) = b.points.first() {
+            self.start_block(p);
+        }
         let mut i = 0;
         while i < b.points.len() {
             let k = self
@@ -640,8 +766,7 @@ impl Accumulator {
     /// Combine two partial accumulations (`other` after `self`).
     pub fn merge(&mut self, other: &Accumulator) {
         self.end_block();
-        let o = other.sums();
-        self.add_block(&o);
+        self.add_block(&other.sums());
         self.count += other.count;
     }
 
@@ -650,46 +775,42 @@ impl Accumulator {
         self.count
     }
 
-    /// Total sums, the open block and chunk included (`self` unchanged).
-    fn sums(&self) -> Sums {
-        let mut b = self.block;
-        let mut chunk = self.chunk.clone();
-        chunk.flush(self.kernel, &mut b);
-        let mut s = self.total;
-        for k in 0..NSUM {
-            s[k] += b[k];
+    /// Total sums about their reference point, the open block and chunk
+    /// included (`self` unchanged).
+    fn sums(&self) -> Block {
+        let mut me = self.clone();
+        if me.started {
+            let b = me.take_block();
+            me.add_block(&b);
         }
-        s
+        Block {
+            sums: me.total,
+            origin: me.origin.unwrap_or([0.0; 3]),
+        }
     }
 
-    /// Form `H` and `M` from the running sums.
+    /// Form `H` and `M` from the running sums: about the centroid first, then
+    /// moved to the frame's origin (see the module notes).
     pub fn finish(&self) -> Assembly {
-        let s = self.sums();
-        let mut h = Matrix6::zeros();
-        let mut idx = 0;
-        for i in 0..6 {
-            for j in i..6 {
-                h[(i, j)] = s[idx];
-                h[(j, i)] = s[idx];
-                idx += 1;
-            }
-        }
+        let Block { sums: s, origin: o } = self.sums();
         let w = s[21];
-        let sp = Vector3::new(s[22], s[23], s[24]);
-        let spp = Matrix3::new(
-            s[25], s[26], s[27], s[26], s[28], s[29], s[27], s[29], s[30],
-        );
-        let mut m = Matrix6::zeros();
-        let rr = Matrix3::identity() * spp.trace() - spp;
-        m.fixed_view_mut::<3, 3>(0, 0).copy_from(&rr);
-        let k = skew(&sp);
-        m.fixed_view_mut::<3, 3>(0, 3).copy_from(&k);
-        m.fixed_view_mut::<3, 3>(3, 0).copy_from(&(-k));
-        m.fixed_view_mut::<3, 3>(3, 3)
-            .copy_from(&(Matrix3::identity() * w));
+        // Centroid offset from the reference; none without weight.
+        let mean = if w > 0.0 {
+            [s[22] / w, s[23] / w, s[24] / w]
+        } else {
+            [0.0; 3]
+        };
+        let mut sc = shift_sums(&s, &[-mean[0], -mean[1], -mean[2]]);
+        // About the centroid the first moment is zero by definition.
+        sc[22..25].fill(0.0);
+        let center = [o[0] + mean[0], o[1] + mean[1], o[2] + mean[2]];
+        let raw = shift_sums(&sc, &center);
         Assembly {
-            h,
-            m,
+            h: h_of(&raw),
+            m: m_of(&raw),
+            hc: h_of(&sc),
+            mc: m_of(&sc),
+            center,
             count: self.count,
             weight_sum: w,
         }
@@ -726,14 +847,14 @@ pub(crate) fn worker_count(requested: usize, blocks: usize, points: usize) -> us
 
 /// The sums of each block of `body` (a whole number of blocks), in order: the
 /// blocks are split into `threads` contiguous runs, one per scoped thread.
-fn assemble_blocks_parallel(body: &Batch, kernel: Kernel, threads: usize) -> Vec<Sums> {
+fn assemble_blocks_parallel(body: &Batch, kernel: Kernel, threads: usize) -> Vec<Block> {
     let blocks = body.points.len() / BLOCK;
     let per = blocks.div_ceil(threads.max(1));
     let runs: Vec<Batch> = (0..blocks)
         .step_by(per.max(1))
         .map(|b0| body.slice(b0 * BLOCK, ((b0 + per).min(blocks)) * BLOCK))
         .collect();
-    let run_blocks = |run: &Batch| -> Vec<Sums> {
+    let run_blocks = |run: &Batch| -> Vec<Block> {
         let mut acc = Accumulator::with_kernel(kernel).threads(1);
         (0..run.points.len() / BLOCK)
             .map(|b| {
@@ -774,6 +895,15 @@ pub struct Assembly {
     pub h: Matrix6<f64>,
     /// Point-displacement metric `sum w J^T J`.
     pub m: Matrix6<f64>,
+    /// `H` about the centroid (axes of the frame): `H = B hc B^T` with
+    /// `B = [[I, [center]x], [0, I]]`. Its generalized eigenvalues with
+    /// [`Assembly::mc`] are those of `(H, M)`, free of the offset's rounding.
+    pub hc: Matrix6<f64>,
+    /// `M` about the centroid: `[[tr(S) I - S, 0], [0, W I]]`.
+    pub mc: Matrix6<f64>,
+    /// Weighted centroid of the points in the frame (m; the origin when the
+    /// weights sum to zero).
+    pub center: [f64; 3],
     /// Points assembled.
     pub count: usize,
     /// `sum w` (the point count with unit weights).
@@ -793,13 +923,64 @@ impl Assembly {
     }
 
     /// The same data described about another body frame: `H' = A^T H A`,
-    /// `M' = A^T M A` with `A = Ad(T)`.
+    /// `M' = A^T M A` with `A = Ad(T)`. The centred pair turns with `R` only
+    /// and the centroid becomes `R^T (c - d)` (`R`, `d` read from `A`). For an
+    /// `A` that is not an adjoint (the sweep's orthogonal control) there is no
+    /// centroid: the centred pair is the transformed pair about the origin.
     pub fn congruence(&self, a: &Matrix6<f64>) -> Assembly {
+        let h = a.transpose() * self.h * a;
+        let m = a.transpose() * self.m * a;
+        let r: Matrix3<f64> = a.fixed_view::<3, 3>(0, 0).into_owned();
+        let adjoint = a.fixed_view::<3, 3>(0, 3).iter().all(|&x| x == 0.0)
+            && a.fixed_view::<3, 3>(3, 3).into_owned() == r
+            && (r.transpose() * r - Matrix3::identity()).amax() < 1e-12;
+        if !adjoint {
+            return Assembly {
+                h,
+                m,
+                hc: h,
+                mc: m,
+                center: [0.0; 3],
+                count: self.count,
+                weight_sum: self.weight_sum,
+            };
+        }
+        let dx: Matrix3<f64> = a.fixed_view::<3, 3>(3, 0) * r.transpose();
+        let d = Vector3::new(dx[(2, 1)], dx[(0, 2)], dx[(1, 0)]);
+        let mut q = Matrix6::zeros();
+        q.fixed_view_mut::<3, 3>(0, 0).copy_from(&r);
+        q.fixed_view_mut::<3, 3>(3, 3).copy_from(&r);
+        let c = r.transpose() * (Vector3::from(self.center) - d);
         Assembly {
-            h: a.transpose() * self.h * a,
-            m: a.transpose() * self.m * a,
+            h,
+            m,
+            hc: q.transpose() * self.hc * q,
+            mc: q.transpose() * self.mc * q,
+            center: [c.x, c.y, c.z],
             count: self.count,
             weight_sum: self.weight_sum,
+        }
+    }
+
+    /// `Ad` of the centroid frame `(I, center)`: a twist about the centroid
+    /// `xi_c` is `xi = A xi_c` in this frame.
+    pub fn center_adjoint(&self) -> Matrix6<f64> {
+        let mut a = Matrix6::identity();
+        a.fixed_view_mut::<3, 3>(3, 0)
+            .copy_from(&skew(&Vector3::from(self.center)));
+        a
+    }
+
+    /// RMS distance of the points from their centroid (m):
+    /// `sqrt(tr(S_c) / W)`, the length that makes a rotation and a
+    /// translation comparable on this cloud (0 without weight).
+    pub fn rms_radius(&self) -> f64 {
+        let w = self.mc[(3, 3)];
+        let tr = self.mc[(0, 0)] + self.mc[(1, 1)] + self.mc[(2, 2)];
+        if w > 0.0 && tr > 0.0 {
+            (0.5 * tr / w).sqrt()
+        } else {
+            0.0
         }
     }
 }

@@ -29,7 +29,16 @@ pub struct Analysis {
 /// Solve one family on one assembly.
 pub fn analyse(asm: &Assembly, rule: &MetricRule, tau: f64) -> Result<Analysis> {
     let metric = rule.metric(asm)?;
-    let eig = generalized_eigen(&asm.h, &metric, rule.what())?;
+    let eig = if *rule == MetricRule::PointDisplacement {
+        // Equivariant: solved about the centroid, where no offset rounds
+        // away the small eigenvalues, and the eigenvectors moved back
+        // (`v = A v_c`, still `M`-orthonormal since `M = A^-T M_c A^-1`).
+        let mut e = generalized_eigen(&asm.hc, &asm.mc, rule.what())?;
+        e.vectors = asm.center_adjoint() * e.vectors;
+        e
+    } else {
+        generalized_eigen(&asm.h, &metric, rule.what())?
+    };
     let degenerate_count = eig.values.iter().filter(|&&l| l < tau).count();
     Ok(Analysis {
         rule: rule.clone(),
@@ -65,7 +74,9 @@ impl Analysis {
 
     /// Per-axis footprint (frame-dependent): axis `k` flagged when the `k`-th
     /// diagonal entry of the Euclidean projector onto the degenerate subspace
-    /// exceeds [`FOOTPRINT_TOL`](crate::tolerances::FOOTPRINT_TOL).
+    /// is at least [`FOOTPRINT_SCORE_TOL`](crate::tolerances::FOOTPRINT_SCORE_TOL)
+    /// (the absolute 1e-6 of [`FOOTPRINT_TOL`](crate::tolerances::FOOTPRINT_TOL)
+    /// flagged every axis on noisy data).
     pub fn footprint(&self) -> [bool; 6] {
         footprint(&self.degenerate_vectors())
     }

@@ -24,7 +24,10 @@
 
 mod accumulate;
 mod analysis;
+mod classify;
 mod eigen;
+pub mod normals;
+pub mod pairs;
 pub mod points;
 mod rules;
 pub mod scene;
@@ -35,6 +38,7 @@ mod transport;
 
 pub use accumulate::*;
 pub use analysis::*;
+pub use classify::*;
 pub use eigen::*;
 pub use rules::*;
 pub use subspace::*;

@@ -2,7 +2,7 @@
 
 #![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
 
-use crate::tolerances::{FOOTPRINT_TOL, PURE_TRANSLATION_TOL, TWIST_PITCH_TOL};
+use crate::tolerances::{FOOTPRINT_SCORE_TOL, PURE_TRANSLATION_TOL, TWIST_PITCH_TOL};
 use nalgebra::{DMatrix, Vector3, Vector6};
 
 /// Orthonormal (Euclidean) basis of the span of `vs`, by SVD; rank by
@@ -23,15 +23,20 @@ pub(crate) fn orthonormal_basis(vs: &[Vector6<f64>]) -> DMatrix<f64> {
     DMatrix::from_fn(6, cols.len(), |i, j| u[(i, cols[j])])
 }
 
-/// Per-axis footprint of the span of `vs` (see [`Analysis::footprint`](crate::degeneracy::Analysis::footprint)).
+/// Per-axis footprint of the span of `vs` (see [`Analysis::footprint`](crate::degeneracy::Analysis::footprint)):
+/// an axis whose score ([`footprint_scores`]) is at least
+/// [`FOOTPRINT_SCORE_TOL`], as `audit degeneracy` flags it.
 pub fn footprint(vs: &[Vector6<f64>]) -> [bool; 6] {
+    footprint_scores(vs).map(|d| d >= FOOTPRINT_SCORE_TOL)
+}
+
+/// Per-axis footprint scores of the span of `vs`: the diagonal of the
+/// Euclidean projector onto it, each in `[0, 1]`, summing to its dimension
+/// (1 for an axis inside the span, 0 for one orthogonal to it).
+pub fn footprint_scores(vs: &[Vector6<f64>]) -> [f64; 6] {
     let q = orthonormal_basis(vs);
-    let mut f = [false; 6];
-    for (k, fk) in f.iter_mut().enumerate() {
-        let d: f64 = (0..q.ncols()).map(|j| q[(k, j)] * q[(k, j)]).sum();
-        *fk = d > FOOTPRINT_TOL;
-    }
-    f
+    // fold from +0.0: an empty sum of f64 is -0.0, printed "-0.000".
+    std::array::from_fn(|k| (0..q.ncols()).fold(0.0, |s, j| s + q[(k, j)] * q[(k, j)]))
 }
 
 /// A canonical basis of the span of `vs`: first the rotational twists, then the
@@ -46,6 +51,17 @@ pub fn footprint(vs: &[Vector6<f64>]) -> [bool; 6] {
 /// unit and signed the same way. The span is frame-covariant (`v = A v'`); this
 /// representative is a coordinate choice.
 pub fn canonical_basis(vs: &[Vector6<f64>]) -> Vec<Vector6<f64>> {
+    canonical_basis_scored(vs, PURE_TRANSLATION_TOL)
+        .into_iter()
+        .map(|(v, _)| v)
+        .collect()
+}
+
+/// [`canonical_basis`] with the pure-translation tolerance `tol` on the
+/// rotational singular values, each twist paired with its singular value
+/// (the norm of the rotational part of the unit direction it came from: its
+/// rotation fraction, in the units the caller scaled `vs` to).
+pub fn canonical_basis_scored(vs: &[Vector6<f64>], tol: f64) -> Vec<(Vector6<f64>, f64)> {
     let q = orthonormal_basis(vs);
     let k = q.ncols();
     if k == 0 {
@@ -74,37 +90,37 @@ pub fn canonical_basis(vs: &[Vector6<f64>]) -> Vec<Vector6<f64>> {
         DMatrix::from_fn(k, k, |r, c| svd2.eigenvectors[(r, idx[c])])
     };
     let mut rot = Vec::new();
-    let mut trans: Vec<Vector3<f64>> = Vec::new();
+    let mut trans: Vec<(Vector3<f64>, f64)> = Vec::new();
     for j in 0..k {
         let x = &q * v_full.column(j);
         let xi = Vector6::from_fn(|i, _| x[i]);
-        if sv[j] <= PURE_TRANSLATION_TOL {
+        if sv[j] <= tol {
             let t = Vector3::new(xi[3], xi[4], xi[5]);
             let n = t.norm();
             if n > 0.0 {
-                trans.push(t / n);
+                trans.push((t / n, sv[j]));
             }
         } else {
-            rot.push(xi);
+            rot.push((xi, sv[j]));
         }
     }
     // Orthonormalise the translation directions (Gram-Schmidt).
-    let mut tdirs: Vec<Vector3<f64>> = Vec::new();
-    for t in trans {
+    let mut tdirs: Vec<(Vector3<f64>, f64)> = Vec::new();
+    for (t, s) in trans {
         let mut u = t;
-        for e in &tdirs {
+        for (e, _) in &tdirs {
             u -= *e * e.dot(&u);
         }
         let n = u.norm();
         if n > 1e-12 {
-            tdirs.push(u / n);
+            tdirs.push((u / n, s));
         }
     }
     let mut out = Vec::new();
-    for xi in rot {
+    for (xi, s) in rot {
         let om = Vector3::new(xi[0], xi[1], xi[2]);
         let mut t = Vector3::new(xi[3], xi[4], xi[5]);
-        for e in &tdirs {
+        for (e, _) in &tdirs {
             t -= *e * e.dot(&t);
         }
         let n = om.norm();
@@ -112,14 +128,14 @@ pub fn canonical_basis(vs: &[Vector6<f64>]) -> Vec<Vector6<f64>> {
         if largest_component(&Vector3::new(v[0], v[1], v[2])) < 0.0 {
             v = -v;
         }
-        out.push(v);
+        out.push((v, s));
     }
-    for e in tdirs {
+    for (e, s) in tdirs {
         let mut e = e;
         if largest_component(&e) < 0.0 {
             e = -e;
         }
-        out.push(Vector6::new(0.0, 0.0, 0.0, e.x, e.y, e.z));
+        out.push((Vector6::new(0.0, 0.0, 0.0, e.x, e.y, e.z), s));
     }
     out
 }

@@ -4,19 +4,24 @@
 
 use crate::analysis::metric::adapted_metric_matrix;
 use crate::analysis::Family;
+use crate::degeneracy::normals::{estimate_normals_with, NormalParams};
 use crate::degeneracy::points::PointData;
-use crate::degeneracy::scene::{synthesize, tunnel_exact, Preprocess, SceneKind};
+use crate::degeneracy::scene::{
+    synthesize, tunnel_exact, voxel_downsample, Cloud, Preprocess, SceneKind,
+};
 use crate::degeneracy::threshold::default_threshold;
 use crate::degeneracy::threshold::{calibrate, Calibration};
 use crate::degeneracy::{
-    analyse, canonical_basis, check_transport, correction_difference, reexpress, rel_diff,
-    Analysis, Assembly, MetricRule,
+    analyse, canonical_basis, check_transport, classify_subspace, correction_difference,
+    footprint_flags, footprint_scores, reexpress, rel_diff, Analysis, Assembly, MetricRule,
 };
+use crate::degeneracy::{frame_sweep, paper_frame_changes, Arm};
 use crate::diagnostic::{Error, Result};
 use crate::geometry::Transform;
 use crate::report::detector::{
     CorrectionJson, DegeneracyReport, FamilyComparison, FamilyEigen, FrameJson, FromTo, HmJson,
-    SimulateReport, SubspaceJson, ThresholdReport, TunnelFrameJson, TunnelReport,
+    NormalsJson, RigDecisionJson, SimulateReport, SubspaceJson, SweepFamilyJson, SweepReport,
+    ThresholdReport, TunnelFrameJson, TunnelReport,
 };
 use crate::tolerances::DEFAULT_PITCH_TOL;
 use nalgebra::{DMatrix, Vector6};
@@ -31,7 +36,8 @@ fn check_tau(tau: f64) -> Result<()> {
     }
 }
 
-fn frame_json(t: &Transform) -> FrameJson {
+/// A pose as the reports print it.
+pub fn frame_json(t: &Transform) -> FrameJson {
     let d = t.translation();
     FrameJson {
         translation_m: [d.x, d.y, d.z],
@@ -97,18 +103,22 @@ pub fn degeneracy_of(
             },
         });
     }
-    let degenerate_subspace = pd
-        .subspace_screws(&asm.h)
+    let degenerate_subspace = classify_subspace(&asm, &pd)
         .iter()
-        .map(|(q, s)| SubspaceJson::new(*q, s))
+        .map(SubspaceJson::scored)
         .collect();
+    let scores = footprint_scores(&pd.degenerate_vectors());
     Ok(DegeneracyReport {
         schema_version: crate::report::SCHEMA_VERSION,
         points: asm.count,
         frame: frame_json(frame),
         families,
         degenerate_subspace,
-        footprint: pd.footprint(),
+        footprint: footprint_flags(&scores),
+        footprint_scores: scores,
+        matrices: None,
+        normals: None,
+        pair: None,
         warnings: DegeneracyReport::warning_lines(warnings),
     })
 }
@@ -337,4 +347,137 @@ pub fn calibrate_threshold(c: &Calibration) -> Result<ThresholdReport> {
         &c.voxel_sizes,
         c.seeds,
     ))
+}
+
+/// How a raw scan (points without normals) becomes points with normals.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RawScan {
+    /// Voxel edge (m) of the down-sampling (one centroid per voxel, grid
+    /// anchored at the frame's origin); `None`: every point.
+    pub voxel: Option<f64>,
+    /// Normal estimation.
+    pub normals: NormalParams,
+    /// Threads for the normal estimation (0: one per core).
+    pub threads: usize,
+}
+
+/// `H` and `M` of a raw scan in its own frame: voxel grid, PCA normals
+/// toward the viewpoint, unit weights; with what the estimation kept.
+pub fn raw_scan_assembly(points: &[[f64; 3]], raw: &RawScan) -> Result<(Assembly, NormalsJson)> {
+    let (cloud, nj) = raw_scan_cloud(points, raw)?;
+    let asm = Assembly::from_points(&cloud.points, &cloud.normals, None)?;
+    Ok((asm, nj))
+}
+
+/// A raw scan's points with estimated normals (see [`raw_scan_assembly`]).
+pub fn raw_scan_cloud(points: &[[f64; 3]], raw: &RawScan) -> Result<(Cloud, NormalsJson)> {
+    let grid;
+    let pts = match raw.voxel {
+        Some(v) => {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::usage(format!(
+                    "--voxel: expected a positive number of metres, found {v}"
+                )));
+            }
+            grid = voxel_downsample(points, v, [0.0; 3]);
+            &grid[..]
+        }
+        None => points,
+    };
+    let (cloud, st) = estimate_normals_with(pts, &raw.normals, raw.threads)?;
+    if cloud.is_empty() {
+        return Err(Error::invalid(format!(
+            "no point got a normal: {} points, none with {} neighbours within {} m (raise --normal-radius or lower --min-neighbours)",
+            pts.len(),
+            raw.normals.min_neighbours,
+            raw.normals.radius
+        )));
+    }
+    let n = &raw.normals;
+    Ok((
+        cloud,
+        NormalsJson {
+            points_read: points.len(),
+            voxel_m: raw.voxel,
+            points_after_voxel: pts.len(),
+            radius_m: n.radius,
+            knn: n.knn,
+            min_neighbours: n.min_neighbours,
+            min_planarity: n.min_planarity,
+            viewpoint_m: n.viewpoint,
+            kept: st.kept,
+            dropped_sparse: st.sparse,
+            dropped_not_planar: st.not_planar,
+        },
+    ))
+}
+
+/// Wilson score interval (95 %, `z = 1.96`) of `k` successes in `n` trials;
+/// `[0, 1]` for `n = 0`.
+pub fn wilson95(k: usize, n: usize) -> [f64; 2] {
+    if n == 0 {
+        return [0.0, 1.0];
+    }
+    let (k, n, z) = (k as f64, n as f64, 1.96f64);
+    let z2 = z * z;
+    let centre = (k + z2 / 2.0) / (n + z2);
+    let half = z / (n + z2) * (k * (n - k) / n + z2 / 4.0).sqrt();
+    [(centre - half).max(0.0), (centre + half).min(1.0)]
+}
+
+/// The paper's 861-change frame sweep on the user's assembly, every default
+/// family with its threshold (`tau` for point displacement), and, with `rig`,
+/// the decision of every family in the rig's other frame.
+pub fn sweep(
+    asm: &Assembly,
+    tau: f64,
+    ells: &[f64],
+    seed: u64,
+    rig: Option<&Transform>,
+) -> Result<SweepReport> {
+    check_tau(tau)?;
+    let rules = MetricRule::default_set(ells, None);
+    let taus: Vec<f64> = rules.iter().map(|r| default_threshold(r, tau)).collect();
+    let changes = paper_frame_changes(seed);
+    let rows = frame_sweep(asm, &changes, &rules, &taus)?;
+    let mut families = Vec::new();
+    for (row, rule) in rows.iter().zip(&rules) {
+        let reference = analyse(asm, rule, row.tau)?;
+        let n = row.evaluations;
+        let rig_json = match rig {
+            Some(t) => {
+                let other = analyse(&asm.congruence(&t.adjoint()), rule, row.tau)?;
+                Some(RigDecisionJson {
+                    degenerate_count: other.degenerate_count,
+                    decision_changes: other.degenerate() != reference.degenerate(),
+                })
+            }
+            None => None,
+        };
+        families.push(SweepFamilyJson {
+            family: rule.family(),
+            label: rule.label(),
+            ell_m: rule.ell(asm),
+            threshold: row.tau,
+            degenerate_count: reference.degenerate_count,
+            decision_changes: row.decision_changes,
+            decision_change_rate: row.decision_changes as f64 / n.max(1) as f64,
+            decision_change_wilson95: wilson95(row.decision_changes, n),
+            count_changes: row.count_changes,
+            count_change_rate: row.count_changes as f64 / n.max(1) as f64,
+            count_change_wilson95: wilson95(row.count_changes, n),
+            decision_changes_by_arm: row.decision_changes_by_arm,
+            max_eigenvalue_rel_change: row.max_eigenvalue_change,
+            rig: rig_json,
+        });
+    }
+    Ok(SweepReport {
+        schema_version: crate::report::SCHEMA_VERSION,
+        points: asm.count,
+        seed,
+        frame_changes: changes.len(),
+        arms: Arm::ALL.map(|a| a.name()),
+        rig: rig.map(frame_json),
+        families,
+    })
 }

@@ -4,7 +4,7 @@
 
 use crate::analysis::Family;
 use crate::degeneracy::threshold::{FamilyResult, Interval};
-use crate::degeneracy::{TwistScrew, AXIS_NAMES};
+use crate::degeneracy::{Assembly, ScoredScrew, TwistScrew, AXIS_NAMES};
 use crate::diagnostic::Warning;
 use crate::render::numbers::{sci, sci_vec};
 use crate::render::{Document, Report, Table};
@@ -91,13 +91,25 @@ pub struct SubspaceJson {
     pub twist: [f64; 6],
     /// The twist read as a screw.
     pub screw: ScrewJson,
+    /// Rotation fraction about the centroid, `L |omega| / |[L omega; t]|`
+    /// (`L` the cloud's RMS radius): at most 0.3 for a translation.
+    pub rotation_fraction: f64,
 }
 
 impl SubspaceJson {
-    /// From a Rayleigh quotient and its screw.
+    /// From a classified screw.
+    pub fn scored(s: &ScoredScrew) -> Self {
+        let mut j = Self::new(s.rayleigh, &s.screw);
+        j.rotation_fraction = s.rotation_fraction;
+        j
+    }
+
+    /// From a Rayleigh quotient and its screw (rotation fraction 1 for a
+    /// rotation, 0 for a translation).
     pub fn new(q: f64, s: &TwistScrew) -> Self {
         let v3 = |v: Option<nalgebra::Vector3<f64>>| v.map(|v| [v.x, v.y, v.z]);
         SubspaceJson {
+            rotation_fraction: if s.axis.is_some() { 1.0 } else { 0.0 },
             eigenvalue: q,
             twist: std::array::from_fn(|i| s.twist[i]),
             screw: ScrewJson {
@@ -128,10 +140,232 @@ pub struct DegeneracyReport {
     /// empty when nothing is degenerate.
     pub degenerate_subspace: Vec<SubspaceJson>,
     /// Per axis (`rot-x, rot-y, rot-z, trans-x, trans-y, trans-z`): the
-    /// point-displacement degenerate subspace reaches it. Depends on the frame.
+    /// point-displacement degenerate subspace reaches it (its score is at
+    /// least 0.1, `FOOTPRINT_SCORE_TOL`). Depends on the frame.
     pub footprint: [bool; 6],
+    /// Per axis, the diagonal entry of the Euclidean projector onto the
+    /// degenerate subspace (in `[0, 1]`, summing to its dimension).
+    pub footprint_scores: [f64; 6],
+    /// `H` and `M` (`--show-matrices`); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub matrices: Option<MatricesJson>,
+    /// How the normals were estimated (`--estimate-normals`); absent when the
+    /// file had them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normals: Option<NormalsJson>,
+    /// The scan pair (`--target`); absent for one cloud.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pair: Option<PairJson>,
     /// The point file's warnings, as text.
     pub warnings: Vec<String>,
+}
+
+/// `audit sweep`: the paper's frame sweep on the user's cloud.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SweepReport {
+    /// Version of this JSON layout (1).
+    pub schema_version: u32,
+    /// Points (or correspondences) assembled.
+    pub points: usize,
+    /// Seed of the sweep's random frame changes.
+    pub seed: u64,
+    /// Frame changes evaluated (861).
+    pub frame_changes: usize,
+    /// Names of the arms, in the order of `decision_changes_by_arm`.
+    pub arms: [&'static str; 5],
+    /// The rig's other frame (pose in the cloud's frame), when given.
+    pub rig: Option<FrameJson>,
+    /// One row per family.
+    pub families: Vec<SweepFamilyJson>,
+}
+
+/// One family over the sweep.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SweepFamilyJson {
+    /// The family's JSON name.
+    pub family: Family,
+    /// Table label.
+    #[serde(skip)]
+    pub label: String,
+    /// Characteristic length (m) where the family has one.
+    pub ell_m: Option<f64>,
+    /// Threshold on the generalized eigenvalues.
+    pub threshold: f64,
+    /// Degenerate count in the cloud's own frame.
+    pub degenerate_count: usize,
+    /// Frame changes whose decision (any eigenvalue below the threshold)
+    /// differs from the cloud's frame.
+    pub decision_changes: usize,
+    /// `decision_changes / frame_changes`.
+    pub decision_change_rate: f64,
+    /// Wilson 95 % interval of the rate.
+    pub decision_change_wilson95: [f64; 2],
+    /// Frame changes whose degenerate count differs.
+    pub count_changes: usize,
+    /// `count_changes / frame_changes`.
+    pub count_change_rate: f64,
+    /// Wilson 95 % interval of the rate.
+    pub count_change_wilson95: [f64; 2],
+    /// Decision changes per arm (order of `arms`).
+    pub decision_changes_by_arm: [usize; 5],
+    /// Largest relative eigenvalue change over the sweep.
+    pub max_eigenvalue_rel_change: f64,
+    /// In the rig's other frame, when given.
+    pub rig: Option<RigDecisionJson>,
+}
+
+/// One family's answer in the rig's other frame.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct RigDecisionJson {
+    /// Degenerate count there.
+    pub degenerate_count: usize,
+    /// The decision differs from the cloud's frame.
+    pub decision_changes: bool,
+}
+
+impl Report for SweepReport {
+    fn document(&self) -> Document {
+        let mut doc = Document::new();
+        doc.text(format!(
+            "Frame sweep: {} points, {} frame changes (arms: {}; seed {}); Wilson 95 % intervals",
+            self.points,
+            self.frame_changes,
+            self.arms.join(", "),
+            self.seed
+        ));
+        if let Some(r) = &self.rig {
+            doc.text(format!(
+                "rig frame: translation {} m, rpy {} rad",
+                json_vec(&r.translation_m),
+                json_vec(&r.rpy_rad)
+            ));
+        }
+        let iv = |x: &[f64; 2]| format!("[{:.3}, {:.3}]", x[0], x[1]);
+        let rows = self
+            .families
+            .iter()
+            .map(|f| {
+                vec![
+                    f.label.clone(),
+                    sci(f.threshold, 4),
+                    f.degenerate_count.to_string(),
+                    format!("{} ({:.3})", f.decision_changes, f.decision_change_rate),
+                    iv(&f.decision_change_wilson95),
+                    format!("{} ({:.3})", f.count_changes, f.count_change_rate),
+                    iv(&f.count_change_wilson95),
+                    sci(f.max_eigenvalue_rel_change, 3),
+                    match &f.rig {
+                        Some(r) => format!(
+                            "{}{}",
+                            r.degenerate_count,
+                            if r.decision_changes {
+                                " (decision changes)"
+                            } else {
+                                ""
+                            }
+                        ),
+                        None => "-".into(),
+                    },
+                ]
+            })
+            .collect();
+        doc.table(Table::unwrapped(
+            &[
+                "family",
+                "threshold",
+                "degenerate",
+                "decision changes (rate)",
+                "Wilson 95 %",
+                "count changes (rate)",
+                "Wilson 95 %",
+                "max eigenvalue change",
+                "in the rig frame",
+            ],
+            rows,
+        ));
+        doc
+    }
+}
+
+/// A scan pair's correspondences.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct PairJson {
+    /// The target file.
+    pub target: String,
+    /// Correspondence gate (m).
+    pub gate_m: f64,
+    /// Pose of the source frame in the target frame.
+    pub initial_guess: FrameJson,
+    /// Source points searched (after the voxel grid).
+    pub source_points: usize,
+    /// Target points with normals.
+    pub target_points: usize,
+    /// Source points paired (the points of H and M).
+    pub correspondences: usize,
+    /// Mean distance of the pairs (m).
+    pub mean_distance_m: f64,
+}
+
+/// `H` and `M` in the report's frame and about the centroid (rows of 6,
+/// twist order `[omega; t]`).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct MatricesJson {
+    /// Information matrix `H = sum w a a^T` in the frame.
+    pub h: [[f64; 6]; 6],
+    /// Point-displacement metric `M = sum w J^T J` in the frame.
+    pub m: [[f64; 6]; 6],
+    /// Weighted centroid of the points in the frame (m).
+    pub centroid_m: [f64; 3],
+    /// RMS distance of the points from the centroid (m).
+    pub rms_radius_m: f64,
+    /// `H` about the centroid (axes of the frame).
+    pub h_centroid: [[f64; 6]; 6],
+    /// `M` about the centroid.
+    pub m_centroid: [[f64; 6]; 6],
+}
+
+impl MatricesJson {
+    /// From an assembly.
+    pub fn new(asm: &Assembly) -> Self {
+        let rows = |x: &nalgebra::Matrix6<f64>| {
+            std::array::from_fn(|i| std::array::from_fn(|j| x[(i, j)]))
+        };
+        MatricesJson {
+            h: rows(&asm.h),
+            m: rows(&asm.m),
+            centroid_m: asm.center,
+            rms_radius_m: asm.rms_radius(),
+            h_centroid: rows(&asm.hc),
+            m_centroid: rows(&asm.mc),
+        }
+    }
+}
+
+/// Normal estimation of a raw scan.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct NormalsJson {
+    /// Points read (finite).
+    pub points_read: usize,
+    /// Voxel edge (m) of the down-sampling; null without.
+    pub voxel_m: Option<f64>,
+    /// Points after the voxel grid.
+    pub points_after_voxel: usize,
+    /// Neighbourhood radius (m).
+    pub radius_m: f64,
+    /// At most this many nearest neighbours; null: all within the radius.
+    pub knn: Option<usize>,
+    /// Fewest neighbours for a normal (the point counted).
+    pub min_neighbours: usize,
+    /// Planarity gate, least `(l2 - l3) / l1`; null: none.
+    pub min_planarity: Option<f64>,
+    /// Normals point toward this point (m, input frame).
+    pub viewpoint_m: [f64; 3],
+    /// Points given a normal.
+    pub kept: usize,
+    /// Dropped: too few neighbours.
+    pub dropped_sparse: usize,
+    /// Dropped by the planarity gate.
+    pub dropped_not_planar: usize,
 }
 
 impl DegeneracyReport {
@@ -167,9 +401,30 @@ impl Report for DegeneracyReport {
                     eig,
                     sci(f.threshold, 4),
                     f.degenerate_count.map_or("null".into(), |c| c.to_string()),
+                    match f.degenerate_count {
+                        Some(0) => "not degenerate".to_string(),
+                        Some(_) => "DEGENERATE".to_string(),
+                        None => "no answer".to_string(),
+                    },
                 ]
             })
             .collect();
+        if let Some(n) = &self.normals {
+            doc.text(n.line());
+        }
+        if let Some(p) = &self.pair {
+            doc.text(format!(
+                "scan pair: target {}, {} of {} source points paired within {} m (mean distance {} m) with {} target points; initial guess translation {} m, rpy {} rad",
+                p.target,
+                p.correspondences,
+                p.source_points,
+                p.gate_m,
+                sci(p.mean_distance_m, 3),
+                p.target_points,
+                json_vec(&p.initial_guess.translation_m),
+                json_vec(&p.initial_guess.rpy_rad)
+            ));
+        }
         doc.table(Table::unwrapped(
             &[
                 "family",
@@ -177,6 +432,7 @@ impl Report for DegeneracyReport {
                 "eigenvalues (ascending)",
                 "threshold",
                 "degenerate",
+                "decision",
             ],
             rows,
         ));
@@ -187,9 +443,16 @@ impl Report for DegeneracyReport {
             doc.table(self.subspace_table());
         }
         doc.text(format!(
-            "Per-axis footprint (depends on the frame): {}",
-            axes(&self.footprint)
+            "Per-axis footprint (depends on the frame; flagged at score >= 0.1): {}; scores {}",
+            axes(&self.footprint),
+            (0..6)
+                .map(|k| format!("{} {:.3}", AXIS_NAMES[k], self.footprint_scores[k]))
+                .collect::<Vec<_>>()
+                .join(", ")
         ));
+        if let Some(m) = &self.matrices {
+            m.to_doc(&mut doc);
+        }
         for w in &self.warnings {
             doc.text(w.clone());
         }
@@ -217,6 +480,7 @@ impl DegeneracyReport {
                     sci(s.eigenvalue, 4),
                     sci_vec(&s.twist, 3),
                     sc.kind.to_string(),
+                    format!("{:.3}", s.rotation_fraction),
                     dir,
                     opt(sc.pitch_m_per_rad, 4),
                     arr(&sc.axis_point_m),
@@ -228,11 +492,55 @@ impl DegeneracyReport {
                 "Rayleigh quotient",
                 "twist [w; t]",
                 "kind",
+                "rotation fraction",
                 "axis / direction",
                 "pitch (m/rad)",
                 "axis point (m)",
             ],
             rows,
+        )
+    }
+}
+
+impl MatricesJson {
+    fn to_doc(&self, doc: &mut Document) {
+        for (name, x) in [
+            ("H (frame)", &self.h),
+            ("M (frame)", &self.m),
+            ("H (about the centroid)", &self.h_centroid),
+            ("M (about the centroid)", &self.m_centroid),
+        ] {
+            doc.text(format!("{name}:"));
+            let rows = x
+                .iter()
+                .map(|r| r.iter().map(|v| sci(*v, 6)).collect())
+                .collect();
+            doc.table(Table::unwrapped(&AXIS_NAMES, rows));
+        }
+        doc.text(format!(
+            "centroid {} m, RMS radius {} m",
+            sci_vec(&self.centroid_m, 6),
+            sci(self.rms_radius_m, 4)
+        ));
+    }
+}
+
+impl NormalsJson {
+    fn line(&self) -> String {
+        format!(
+            "normals estimated: {} points read, {} after the voxel grid ({}), radius {} m{}, at least {} neighbours{}, toward {} m: {} kept, {} dropped (sparse), {} dropped (not planar)",
+            self.points_read,
+            self.points_after_voxel,
+            self.voxel_m.map_or("none".to_string(), |v| format!("{v} m")),
+            self.radius_m,
+            self.knn.map_or(String::new(), |k| format!(", {k} nearest")),
+            self.min_neighbours,
+            self.min_planarity
+                .map_or(String::new(), |s| format!(", planarity >= {s}")),
+            json_vec(&self.viewpoint_m),
+            self.kept,
+            self.dropped_sparse,
+            self.dropped_not_planar
         )
     }
 }

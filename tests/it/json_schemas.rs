@@ -57,6 +57,41 @@ fn json_outputs_match_the_committed_schemas() {
             "json",
         ],
     );
+    assert_valid(
+        "degeneracy",
+        &[
+            "degeneracy",
+            "tests/fixtures/detector/scans/ground_crop.pcd",
+            "--estimate-normals",
+            "--voxel",
+            "0.1",
+            "--normal-radius",
+            "0.5",
+            "--min-planarity",
+            "0.2",
+            "--show-matrices",
+            "--format",
+            "json",
+        ],
+    );
+    assert_valid(
+        "degeneracy-sweep",
+        &[
+            "sweep",
+            "tests/fixtures/detector/scans/ground_crop.pcd",
+            "--estimate-normals",
+            "--voxel",
+            "0.1",
+            "--rig",
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--from",
+            "base",
+            "--to",
+            "lidar",
+            "--format",
+            "json",
+        ],
+    );
 }
 
 #[test]

@@ -16,6 +16,7 @@ mod core_edges;
 mod core_fixtures;
 mod core_props;
 mod detector_core;
+mod detector_scans;
 mod detector_threshold;
 mod diff;
 mod formats_bad_inputs;

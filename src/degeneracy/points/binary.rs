@@ -243,7 +243,8 @@ impl Batch {
         };
         for (i, b) in bytes.chunks_exact(rec).take(BATCH).enumerate() {
             self.p[i] = [g(b, 0, 0.0), g(b, 1, 0.0), g(b, 2, 0.0)];
-            self.n[i] = [g(b, 3, 0.0), g(b, 4, 0.0), g(b, 5, 0.0)];
+            // Without normal fields (a raw scan) the normal is a placeholder +z.
+            self.n[i] = [g(b, 3, 0.0), g(b, 4, 0.0), g(b, 5, 1.0)];
             self.w[i] = g(b, 6, 1.0);
         }
     }

@@ -16,9 +16,17 @@ fn split_fields(line: &str) -> Vec<&str> {
 /// Columns of each role (`None` for an absent weight) from the first row:
 /// positional when it is numeric (`Ok((cols, true))`: the row is data),
 /// named otherwise.
-fn columns(fields: &[&str], lineno: usize) -> Result<([Option<usize>; 7], bool)> {
+fn columns(fields: &[&str], lineno: usize, xyz_only: bool) -> Result<([Option<usize>; 7], bool)> {
     let mut cols = [None; 7];
-    if fields.iter().all(|f| f.parse::<f64>().is_ok()) {
+    let numeric = fields.iter().all(|f| f.parse::<f64>().is_ok());
+    if numeric && xyz_only && fields.len() >= 3 {
+        // A raw scan: x, y, z first; the rest (intensity, ring, ...) unused.
+        for (k, c) in cols.iter_mut().enumerate().take(3) {
+            *c = Some(k);
+        }
+        return Ok((cols, true));
+    }
+    if numeric {
         if fields.len() != 6 && fields.len() != 7 {
             return Err(Error::parse(format!(
                 "CSV: expected 6 or 7 columns x,y,z,nx,ny,nz[,w], found {}",
@@ -42,7 +50,7 @@ fn columns(fields: &[&str], lineno: usize) -> Result<([Option<usize>; 7], bool)>
             cols[role] = Some(k);
         }
     }
-    let missing = missing_roles(&cols, ["x", "y", "z", "nx", "ny", "nz"]);
+    let missing = missing_roles(&cols, ["x", "y", "z", "nx", "ny", "nz"], xyz_only);
     if !missing.is_empty() {
         return Err(Error::parse(format!(
             "CSV header: expected columns x,y,z,nx,ny,nz[,w], missing {} (found {:?})",
@@ -68,7 +76,8 @@ fn row(
         ))
         .at_line(lineno, None));
     }
-    let mut v = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+    // Without normal columns (a raw scan) the normal is a placeholder +z.
+    let mut v = [0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0];
     for (role, c) in cols.iter().enumerate() {
         if let Some(k) = c {
             let f = fields[*k];
@@ -87,6 +96,7 @@ fn row(
 pub(super) fn decode<R: Read, S: Sink>(
     src: &mut Source<R>,
     sink: &mut S,
+    xyz_only: bool,
 ) -> Result<(PointFormat, Stats)> {
     let mut layout: Option<([Option<usize>; 7], usize)> = None;
     let mut ck: Option<Checker<S>> = None;
@@ -110,7 +120,7 @@ pub(super) fn decode<R: Read, S: Sink>(
         }
         let fields = split_fields(text);
         if layout.is_none() {
-            let (cols, data) = columns(&fields, lineno)?;
+            let (cols, data) = columns(&fields, lineno, xyz_only)?;
             layout = Some((cols, fields.len()));
             if let Some(s) = sink.take() {
                 ck = Some(Checker::new(s, cols[6].is_some(), 0));

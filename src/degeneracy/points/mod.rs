@@ -9,8 +9,8 @@
 //!   or `weight`), any numeric type. Elements before `vertex` must have scalar
 //!   properties only (they are skipped); elements after it are ignored.
 //! - PCD (0.7): `FIELDS x y z normal_x normal_y normal_z` (or `nx ny nz`), with
-//!   `SIZE`/`TYPE`/`COUNT`, `DATA ascii` or `binary`. `binary_compressed` is
-//!   refused (decompress it with `pcl_convert_pcd_ascii_binary`).
+//!   `SIZE`/`TYPE`/`COUNT`, `DATA ascii`, `binary` or `binary_compressed`
+//!   (LZF, decompressed in memory).
 //!
 //! Checks: a file claiming more points than it holds is an error (pre-allocation
 //! is capped, never taken from the header); a zero normal is an error naming the
@@ -38,6 +38,7 @@
 mod binary;
 mod check;
 mod csv;
+mod lzf;
 mod parallel;
 mod pcd;
 mod ply;
@@ -73,6 +74,8 @@ pub enum PointFormat {
     PcdAscii,
     /// PCD, binary.
     PcdBinary,
+    /// PCD, binary_compressed (LZF).
+    PcdBinaryCompressed,
 }
 
 impl PointFormat {
@@ -85,6 +88,7 @@ impl PointFormat {
             PointFormat::PlyBinaryBigEndian => "ply-binary-big-endian",
             PointFormat::PcdAscii => "pcd-ascii",
             PointFormat::PcdBinary => "pcd-binary",
+            PointFormat::PcdBinaryCompressed => "pcd-binary-compressed",
         }
     }
 }
@@ -195,10 +199,25 @@ fn check_size(path: &Path) -> Result<std::fs::Metadata> {
 /// Read a point file, detecting the format from its content (`ply` magic, a PCD
 /// header) and otherwise reading CSV.
 pub fn read_points(path: &Path) -> Result<PointData> {
+    read_path(path, false)
+}
+
+/// Read the points of a raw scan (x y z; normal fields, when present, are
+/// read but not required: absent ones are the placeholder `+z`). Positional
+/// CSV takes the first three columns as x, y, z.
+pub fn read_xyz(path: &Path) -> Result<PointData> {
+    read_path(path, true)
+}
+
+fn read_path(path: &Path, xyz_only: bool) -> Result<PointData> {
+    if crate::input::is_stdin(path) {
+        let r = crate::input::Capped::new(std::io::stdin().lock(), MAX_POINT_FILE_SIZE);
+        return read_mode(r, xyz_only).map_err(|e| e.in_file("<stdin>"));
+    }
     check_size(path)?;
     // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
     let f = crate::input::open_regular(path)?;
-    read_from(f).map_err(|e| e.in_file(path))
+    read_mode(f, xyz_only).map_err(|e| e.in_file(path))
 }
 
 /// Parse a point file held in memory.
@@ -208,9 +227,13 @@ pub fn parse_points(bytes: &[u8]) -> Result<PointData> {
 
 /// Read a point file from any reader, holding the points.
 pub fn read_from<R: Read>(r: R) -> Result<PointData> {
+    read_mode(r, false)
+}
+
+fn read_mode<R: Read>(r: R, xyz_only: bool) -> Result<PointData> {
     let mut sink = Collect::default();
     let mut src = Source::new(r);
-    let (format, stats) = decode(&mut src, &mut sink)?;
+    let (format, stats) = decode(&mut src, &mut sink, xyz_only)?;
     Ok(PointData {
         points: sink.points,
         normals: sink.normals,
@@ -239,7 +262,7 @@ pub fn accumulate_file(path: &Path, frame: Option<&Transform>) -> Result<Accumul
     let (format, stats) = if meta.is_file() {
         parallel::decode_file(path, meta.len(), &mut src, &mut acc)
     } else {
-        decode(&mut src, &mut acc)
+        decode(&mut src, &mut acc, false)
     }
     .map_err(|e| e.in_file(path))?;
     Ok(finish(&acc, format, stats, frame))
@@ -250,7 +273,7 @@ pub fn accumulate_file(path: &Path, frame: Option<&Transform>) -> Result<Accumul
 pub fn accumulate_reader<R: Read>(r: R, frame: Option<&Transform>) -> Result<Accumulated> {
     let mut acc = Accumulator::new();
     let mut src = Source::new(r);
-    let (format, stats) = decode(&mut src, &mut acc)?;
+    let (format, stats) = decode(&mut src, &mut acc, false)?;
     Ok(finish(&acc, format, stats, frame))
 }
 
@@ -298,18 +321,23 @@ fn detect<R: Read>(src: &mut Source<R>) -> Result<Kind> {
     )
 }
 
-/// Decode a whole stream into `sink` on this thread.
-fn decode<R: Read, S: Sink>(src: &mut Source<R>, sink: &mut S) -> Result<(PointFormat, Stats)> {
+/// Decode a whole stream into `sink` on this thread. `xyz_only`: normals are
+/// not required (a raw scan; absent normals read as the placeholder `+z`).
+fn decode<R: Read, S: Sink>(
+    src: &mut Source<R>,
+    sink: &mut S,
+    xyz_only: bool,
+) -> Result<(PointFormat, Stats)> {
     match detect(src)? {
         Kind::Ply => {
-            let h = ply::read_header(src)?;
+            let h = ply::read_header(src, xyz_only)?;
             ply::body(src, &h, sink)
         }
         Kind::Pcd => {
-            let h = pcd::read_header(src)?;
+            let h = pcd::read_header(src, xyz_only)?;
             pcd::body(src, &h, sink)
         }
-        Kind::Csv => csv::decode(src, sink),
+        Kind::Csv => csv::decode(src, sink, xyz_only),
     }
 }
 
@@ -329,11 +357,13 @@ fn looks_like_pcd(head: &[u8]) -> bool {
     false
 }
 
-/// The names of the six required roles (x y z and the normal) that `roles`
-/// has not found, in order.
-fn missing_roles<'a, T>(roles: &[Option<T>], names: [&'a str; 6]) -> Vec<&'a str> {
+/// The names of the six required roles (x y z and the normal; x y z only
+/// when `xyz_only`) that `roles` has not found, in order.
+fn missing_roles<'a, T>(roles: &[Option<T>], names: [&'a str; 6], xyz_only: bool) -> Vec<&'a str> {
+    let need = if xyz_only { 3 } else { 6 };
     names
         .into_iter()
+        .take(need)
         .zip(roles)
         .filter(|(_, r)| r.is_none())
         .map(|(n, _)| n)

@@ -8,7 +8,7 @@ use super::binary::{decode_records, Layout, Run};
 use super::check::{Checker, Stats};
 use super::source::{io_error, Source};
 use super::{detect, pcd, ply, Kind, PointFormat, Sink};
-use crate::degeneracy::{worker_count, Accumulator, Kernel, Sums, BLOCK};
+use crate::degeneracy::{worker_count, Accumulator, Block, Kernel, BLOCK};
 use crate::diagnostic::Result;
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
@@ -23,7 +23,7 @@ pub(super) fn decode_file(
 ) -> Result<(PointFormat, Stats)> {
     match detect(src)? {
         Kind::Ply => {
-            let h = ply::read_header(src)?;
+            let h = ply::read_header(src, false)?;
             if h.format == PointFormat::PlyAscii {
                 return ply::body(src, &h, acc);
             }
@@ -42,8 +42,8 @@ pub(super) fn decode_file(
             Ok((h.format, stats))
         }
         Kind::Pcd => {
-            let h = pcd::read_header(src)?;
-            if h.format == PointFormat::PcdAscii {
+            let h = pcd::read_header(src, false)?;
+            if h.format != PointFormat::PcdBinary {
                 return pcd::body(src, &h, acc);
             }
             let start = src.offset();
@@ -59,7 +59,7 @@ pub(super) fn decode_file(
             )?;
             Ok((h.format, stats))
         }
-        Kind::Csv => super::decode(src, acc),
+        Kind::Csv => super::decode(src, acc, false),
     }
 }
 
@@ -122,7 +122,7 @@ fn records(
 
 /// What one range gave: its block sums in order, its point count, its stats.
 struct Part {
-    blocks: Vec<Sums>,
+    blocks: Vec<Block>,
     count: usize,
     stats: Stats,
 }
@@ -130,7 +130,7 @@ struct Part {
 /// Collects block sums instead of adding them up.
 struct BlockSink {
     acc: Accumulator,
-    blocks: Vec<Sums>,
+    blocks: Vec<Block>,
 }
 
 impl Sink for BlockSink {

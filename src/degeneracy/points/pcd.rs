@@ -1,11 +1,14 @@
-//! PCD 0.7: `DATA ascii` and `binary` (`binary_compressed` is refused).
+//! PCD 0.7: `DATA ascii`, `binary` and `binary_compressed` (LZF, fields stored
+//! one after the other; decompressed in memory, then read as `binary`).
 
 use super::binary::{decode_records, Layout, Run, Scalar};
 use super::check::{Checker, Stats};
 use super::source::{header_lines, Source};
 use super::{column_role, missing_roles, PointFormat, Sink};
-use crate::diagnostic::{Code, Error, Result};
-use crate::tolerances::{MAX_PCD_COUNT, MAX_POINT_RECORD_BYTES};
+use crate::diagnostic::{Error, Result};
+use crate::tolerances::{
+    MAX_PCD_COUNT, MAX_POINT_FILE_SIZE, MAX_POINT_RECORD_BYTES, POINT_READ_BUFFER,
+};
 use std::io::Read;
 
 /// What the header says.
@@ -19,6 +22,8 @@ pub(super) struct Header {
     roles: [Option<(usize, usize, Scalar)>; 7],
     /// Bytes per binary record.
     rec: usize,
+    /// (byte offset in a record, bytes) of every field, in order.
+    fields: Vec<(usize, usize)>,
 }
 
 /// The header's fields, as written.
@@ -101,7 +106,7 @@ fn check_fields(h: &mut Fields) -> Result<()> {
     Ok(())
 }
 
-pub(super) fn read_header<R: Read>(src: &mut Source<R>) -> Result<Header> {
+pub(super) fn read_header<R: Read>(src: &mut Source<R>, xyz_only: bool) -> Result<Header> {
     let lines = header_lines(src, &|l| l.trim_start().starts_with("DATA"), "PCD")?;
     let mut h = Fields::default();
     for (i, l) in lines.iter().enumerate() {
@@ -119,6 +124,7 @@ pub(super) fn read_header<R: Read>(src: &mut Source<R>) -> Result<Header> {
         }
     };
     let mut roles = [None; 7];
+    let mut fields = Vec::with_capacity(h.fields.len());
     let (mut elem, mut byte) = (0usize, 0usize);
     for k in 0..h.fields.len() {
         let Some(s) = Scalar::pcd(&h.types[k], h.sizes[k]) else {
@@ -130,10 +136,12 @@ pub(super) fn read_header<R: Read>(src: &mut Source<R>) -> Result<Header> {
         if let Some(r) = column_role(&h.fields[k]) {
             roles[r] = Some((elem, byte, s));
         }
+        fields.push((byte, h.counts[k] * h.sizes[k]));
         elem += h.counts[k];
         byte += h.counts[k] * h.sizes[k];
     }
-    let missing = missing_roles(&roles, ["x", "y", "z", "normal_x", "normal_y", "normal_z"]);
+    let names = ["x", "y", "z", "normal_x", "normal_y", "normal_z"];
+    let missing = missing_roles(&roles, names, xyz_only);
     if !missing.is_empty() {
         return Err(Error::parse(format!(
             "PCD: expected FIELDS x y z normal_x normal_y normal_z, missing {} (found {})",
@@ -144,13 +152,14 @@ pub(super) fn read_header<R: Read>(src: &mut Source<R>) -> Result<Header> {
     let format = match h.data.as_str() {
         "ascii" => PointFormat::PcdAscii,
         "binary" => PointFormat::PcdBinary,
-        "binary_compressed" => return Err(Error::new(
-            Code::Parse,
-            "PCD: DATA binary_compressed is not supported; convert the file to ascii or binary first (e.g. `pcl_convert_pcd_ascii_binary in.pcd out.pcd 1`)",
-        )),
-        other => return Err(Error::parse(format!("PCD: expected DATA ascii, binary or binary_compressed, found {other:?}"))),
+        "binary_compressed" => PointFormat::PcdBinaryCompressed,
+        other => {
+            return Err(Error::parse(format!(
+                "PCD: expected DATA ascii, binary or binary_compressed, found {other:?}"
+            )))
+        }
     };
-    if format == PointFormat::PcdBinary && byte > MAX_POINT_RECORD_BYTES {
+    if format != PointFormat::PcdAscii && byte > MAX_POINT_RECORD_BYTES {
         return Err(Error::limit(format!(
             "PCD: expected records of at most {MAX_POINT_RECORD_BYTES} bytes, found {byte}"
         )));
@@ -161,6 +170,7 @@ pub(super) fn read_header<R: Read>(src: &mut Source<R>) -> Result<Header> {
         elems: elem,
         roles,
         rec: byte,
+        fields,
     })
 }
 
@@ -196,9 +206,67 @@ pub(super) fn body<R: Read, S: Sink>(
     let mut ck = Checker::new(sink, h.roles[6].is_some(), h.n);
     match h.format {
         PointFormat::PcdAscii => ascii(src, h, &mut ck)?,
+        PointFormat::PcdBinaryCompressed => {
+            let records = compressed_records(src, h)?;
+            let mut mem = Source::new(&records[..]);
+            decode_records(&mut mem, &layout(h), &run(h, 0, h.n), &mut ck)?
+        }
         _ => decode_records(src, &layout(h), &run(h, 0, h.n), &mut ck)?,
     }
     Ok((h.format, ck.stats))
+}
+
+/// `binary_compressed`: two little-endian `u32` (compressed and decompressed
+/// sizes), the LZF data, which decompress to every field's values for all
+/// points, field after field; returned as records (`binary` layout).
+fn compressed_records<R: Read>(src: &mut Source<R>, h: &Header) -> Result<Vec<u8>> {
+    src.fill(8)?;
+    let d = src.data();
+    if d.len() < 8 {
+        return Err(Error::parse(
+            "PCD binary_compressed: expected the two sizes after DATA, found the end of the file",
+        ));
+    }
+    let size = |k: usize| u32::from_le_bytes([d[k], d[k + 1], d[k + 2], d[k + 3]]) as usize;
+    let (packed, unpacked) = (size(0), size(4));
+    src.consume(8);
+    let want =
+        h.n.checked_mul(h.rec)
+            .filter(|&b| b as u64 <= MAX_POINT_FILE_SIZE);
+    // LZF expands at most 264 bytes per 3 input bytes: a larger claim is a lie,
+    // refused before any allocation (memory stays proportional to the data).
+    if want != Some(unpacked) || unpacked / 88 > packed.saturating_add(1) {
+        return Err(Error::parse(format!(
+            "PCD binary_compressed: header claims {} points of {} bytes, the data announce {unpacked} bytes",
+            h.n, h.rec
+        )));
+    }
+    // Read in bounded pieces: memory grows with the data, not with the claim.
+    let mut lzf = Vec::new();
+    while lzf.len() < packed {
+        src.fill(POINT_READ_BUFFER)?;
+        let d = src.data();
+        if d.is_empty() {
+            return Err(Error::parse(format!(
+                "PCD binary_compressed: expected {packed} bytes of compressed data, found {}",
+                lzf.len()
+            )));
+        }
+        let k = d.len().min(packed - lzf.len());
+        lzf.extend_from_slice(&d[..k]);
+        src.consume(k);
+    }
+    let soa = super::lzf::decompress(&lzf, unpacked)?;
+    let mut aos = vec![0u8; unpacked];
+    let mut at = 0;
+    for &(off, len) in &h.fields {
+        for (i, rec) in aos.chunks_exact_mut(h.rec.max(1)).enumerate() {
+            let from = at + i * len;
+            rec[off..off + len].copy_from_slice(&soa[from..from + len]);
+        }
+        at += h.n * len;
+    }
+    Ok(aos)
 }
 
 fn ascii<R: Read, S: Sink>(src: &mut Source<R>, h: &Header, ck: &mut Checker<S>) -> Result<()> {
@@ -225,7 +293,8 @@ fn ascii<R: Read, S: Sink>(src: &mut Source<R>, h: &Header, ck: &mut Checker<S>)
             ))
             .at_line(lineno, None));
         }
-        let mut v = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+        // Without normal fields (a raw scan) the normal is a placeholder +z.
+        let mut v = [0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0];
         for (r, c) in h.roles.iter().enumerate() {
             if let Some((e, _, _)) = c {
                 let tok = f[*e];

@@ -91,7 +91,7 @@ fn header_line(
     Ok(())
 }
 
-pub(super) fn read_header<R: Read>(src: &mut Source<R>) -> Result<Header> {
+pub(super) fn read_header<R: Read>(src: &mut Source<R>, xyz_only: bool) -> Result<Header> {
     let lines = header_lines(src, &|l| l.trim() == "end_header", "PLY")?;
     let mut format = None;
     let mut elements: Vec<PlyElement> = Vec::new();
@@ -122,7 +122,7 @@ pub(super) fn read_header<R: Read>(src: &mut Source<R>) -> Result<Header> {
             roles[r] = Some(k);
         }
     }
-    let missing = missing_roles(&roles, ["x", "y", "z", "nx", "ny", "nz"]);
+    let missing = missing_roles(&roles, ["x", "y", "z", "nx", "ny", "nz"], xyz_only);
     if !missing.is_empty() {
         return Err(Error::parse(format!(
             "PLY: expected vertex properties x y z nx ny nz, missing {}",
@@ -237,7 +237,8 @@ fn ascii<R: Read, S: Sink>(src: &mut Source<R>, h: &Header, ck: &mut Checker<S>)
             ))
             .at_line(lineno, None));
         }
-        let mut v = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+        // Without normal properties (a raw scan) the normal is a placeholder +z.
+        let mut v = [0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0];
         for (r, c) in h.roles.iter().enumerate() {
             if let Some(c) = c {
                 v[r] = f[*c].parse::<f64>().map_err(|_| {

@@ -1,0 +1,265 @@
+//! Raw scans: voxel down-sampling and normals by PCA, as the synthetic
+//! pipeline does, with the options a real scan needs.
+//!
+//! A point's neighbourhood is every point within `radius` (itself included),
+//! optionally only its `k` nearest of those; with fewer than `min_neighbours`
+//! it gets no normal and is dropped. The normal is the eigenvector of the
+//! smallest eigenvalue of the neighbourhood covariance (offsets from the query
+//! point, one pass), oriented toward the viewpoint (`n . (v - p) >= 0`). The
+//! planarity gate drops points whose neighbourhood planarity
+//! `(lambda_2 - lambda_3) / lambda_1` (eigenvalues descending; Demantke et
+//! al. 2011: 1 on a plane, 0 on a line or an isotropic blob) is below
+//! `min_planarity`. On a spinning LiDAR's ground the neighbourhoods of sparse
+//! rings are lines whose smallest-eigenvalue direction is arbitrary about
+//! the ring; the gate drops them. The work is split over
+//! threads by contiguous point ranges; the output keeps the input order, so it
+//! does not depend on the thread count.
+
+use super::scene::Cloud;
+use crate::diagnostic::{Error, Result};
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use std::num::NonZero;
+
+/// How normals are estimated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalParams {
+    /// Neighbourhood radius (m).
+    pub radius: f64,
+    /// At most this many nearest neighbours within the radius (itself
+    /// included); `None`: all of them.
+    pub knn: Option<usize>,
+    /// Fewest neighbours (itself included) for a normal.
+    pub min_neighbours: usize,
+    /// Planarity gate: least `(lambda_2 - lambda_3) / lambda_1`; `None`: no gate.
+    pub min_planarity: Option<f64>,
+    /// Normals point toward this point (the sensor origin by default).
+    pub viewpoint: [f64; 3],
+}
+
+/// What normal estimation kept and dropped.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NormalStats {
+    /// Points given a normal.
+    pub kept: usize,
+    /// Dropped: fewer than `min_neighbours` neighbours.
+    pub sparse: usize,
+    /// Dropped by the planarity gate.
+    pub not_planar: usize,
+}
+
+impl NormalParams {
+    fn check(&self) -> Result<()> {
+        if !(self.radius.is_finite() && self.radius > 0.0) {
+            return Err(Error::usage(format!(
+                "normal radius: expected a positive number of metres, found {}",
+                self.radius
+            )));
+        }
+        if self.min_neighbours < 3 {
+            return Err(Error::usage(format!(
+                "minimum neighbours: expected at least 3 (a plane needs three points), found {}",
+                self.min_neighbours
+            )));
+        }
+        if let Some(k) = self.knn {
+            if k < self.min_neighbours {
+                return Err(Error::usage(format!(
+                    "k nearest: expected at least the minimum neighbours ({}), found {k}",
+                    self.min_neighbours
+                )));
+            }
+        }
+        if let Some(s) = self.min_planarity {
+            if !(s.is_finite() && (0.0..=1.0).contains(&s)) {
+                return Err(Error::usage(format!(
+                    "minimum planarity: expected a number from 0 to 1, found {s}"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One point's neighbourhood moments: count, sum and outer-product sum of the
+/// offsets from the query point.
+fn moments(
+    tree: &ImmutableKdTree<f64, 3>,
+    points: &[[f64; 3]],
+    p: &[f64; 3],
+    prm: &NormalParams,
+) -> (usize, [f64; 3], [f64; 6]) {
+    let mut count = 0usize;
+    let mut sum = [0.0f64; 3];
+    let mut sxx = [0.0f64; 6];
+    let mut add = |q: [f64; 3]| {
+        let d = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+        count += 1;
+        for k in 0..3 {
+            sum[k] += d[k];
+        }
+        sxx[0] += d[0] * d[0];
+        sxx[1] += d[0] * d[1];
+        sxx[2] += d[0] * d[2];
+        sxx[3] += d[1] * d[1];
+        sxx[4] += d[1] * d[2];
+        sxx[5] += d[2] * d[2];
+    };
+    let r2 = prm.radius * prm.radius;
+    match prm.knn.and_then(NonZero::new) {
+        Some(k) => {
+            let found = tree
+                .query(p)
+                .nearest_n::<SquaredEuclidean<f64>>(k)
+                .within(r2)
+                .execute();
+            for nb in found {
+                if let Some(q) = points.get(nb.item as usize) {
+                    add(*q);
+                }
+            }
+        }
+        None => {
+            tree.query(p)
+                .within::<SquaredEuclidean<f64>>(r2)
+                .unsorted()
+                .with_points()
+                .visit(|q| add([q.point[0], q.point[1], q.point[2]]));
+        }
+    }
+    (count, sum, sxx)
+}
+
+/// Why a point got no normal.
+enum Drop {
+    Sparse,
+    NotPlanar,
+}
+
+fn normal_at(
+    tree: &ImmutableKdTree<f64, 3>,
+    all: &[[f64; 3]],
+    p: &[f64; 3],
+    prm: &NormalParams,
+) -> std::result::Result<[f64; 3], Drop> {
+    let (count, sum, sxx) = moments(tree, all, p, prm);
+    if count < prm.min_neighbours {
+        return Err(Drop::Sparse);
+    }
+    let nf = count as f64;
+    let m = Vector3::new(sum[0] / nf, sum[1] / nf, sum[2] / nf);
+    let s = Matrix3::new(
+        sxx[0], sxx[1], sxx[2], sxx[1], sxx[3], sxx[4], sxx[2], sxx[4], sxx[5],
+    );
+    let cov = s / nf - m * m.transpose();
+    if !cov.iter().all(|x| x.is_finite()) {
+        return Err(Drop::Sparse);
+    }
+    let eig = SymmetricEigen::new(cov);
+    let mut imin = 0;
+    for k in 1..3 {
+        if eig.eigenvalues[k] < eig.eigenvalues[imin] {
+            imin = k;
+        }
+    }
+    if let Some(gate) = prm.min_planarity {
+        let mut l = [0usize, 1, 2].map(|k| eig.eigenvalues[k].max(0.0));
+        l.sort_by(|a, b| b.total_cmp(a));
+        let planarity = if l[0] > 0.0 {
+            (l[1] - l[2]) / l[0]
+        } else {
+            0.0
+        };
+        if planarity < gate {
+            return Err(Drop::NotPlanar);
+        }
+    }
+    let mut n: Vector3<f64> = eig.eigenvectors.column(imin).into_owned();
+    let nn = n.norm();
+    if !nn.is_finite() || nn <= 0.0 {
+        return Err(Drop::Sparse);
+    }
+    n /= nn;
+    if n.dot(&(Vector3::from(prm.viewpoint) - Vector3::from(*p))) < 0.0 {
+        n = -n;
+    }
+    Ok([n.x, n.y, n.z])
+}
+
+/// Normals of `points` (a range of `all`) against the whole tree.
+fn estimate_range(
+    tree: &ImmutableKdTree<f64, 3>,
+    all: &[[f64; 3]],
+    points: &[[f64; 3]],
+    prm: &NormalParams,
+) -> (Cloud, NormalStats) {
+    let mut out = Cloud::default();
+    let mut st = NormalStats::default();
+    for p in points {
+        match normal_at(tree, all, p, prm) {
+            Ok(n) => {
+                out.points.push(*p);
+                out.normals.push(n);
+                st.kept += 1;
+            }
+            Err(Drop::Sparse) => st.sparse += 1,
+            Err(Drop::NotPlanar) => st.not_planar += 1,
+        }
+    }
+    (out, st)
+}
+
+/// Normals by PCA (see the module notes), on up to `threads` threads (0: one
+/// per core).
+pub fn estimate_normals_with(
+    points: &[[f64; 3]],
+    prm: &NormalParams,
+    threads: usize,
+) -> Result<(Cloud, NormalStats)> {
+    prm.check()?;
+    if points.is_empty() {
+        return Ok((Cloud::default(), NormalStats::default()));
+    }
+    let tree = ImmutableKdTree::<f64, 3>::new_from_slice(points)
+        .map_err(|e| Error::invalid(format!("normal estimation: cannot index the points ({e})")))?;
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let t = if threads == 0 { cores } else { threads };
+    let t = t.clamp(1, 64).min(points.len().div_ceil(4096));
+    let per = points.len().div_ceil(t.max(1));
+    let parts: Vec<(Cloud, NormalStats)> = if t <= 1 {
+        vec![estimate_range(&tree, points, points, prm)]
+    } else {
+        let tree = &tree;
+        std::thread::scope(|s| {
+            let chunks: Vec<&[[f64; 3]]> = points.chunks(per).collect();
+            let handles: Vec<_> = chunks[1..]
+                .iter()
+                .map(|c| {
+                    let c = *c;
+                    std::thread::Builder::new()
+                        .spawn_scoped(s, move || estimate_range(tree, points, c, prm))
+                })
+                .collect();
+            let mut out = vec![estimate_range(tree, points, chunks[0], prm)];
+            for (h, c) in handles.into_iter().zip(&chunks[1..]) {
+                out.push(match h {
+                    Ok(h) => h
+                        .join()
+                        .unwrap_or_else(|_| estimate_range(tree, points, c, prm)),
+                    Err(_) => estimate_range(tree, points, c, prm),
+                });
+            }
+            out
+        })
+    };
+    let mut cloud = Cloud::default();
+    let mut st = NormalStats::default();
+    for (c, s) in parts {
+        cloud.points.extend(c.points);
+        cloud.normals.extend(c.normals);
+        st.kept += s.kept;
+        st.sparse += s.sparse;
+        st.not_planar += s.not_planar;
+    }
+    Ok((cloud, st))
+}
