@@ -50,9 +50,12 @@ pub fn annotation(d: &Diagnostic) -> String {
     )
 }
 
-/// Escape a workflow-command value (`%`, CR, LF; and in properties `:` `,`).
+/// Escape a workflow-command value (`%`, CR, LF; and in properties `:` `,`),
+/// after showing control and bidirectional characters as escapes
+/// ([`crate::sanitize::visible`]): an ESC or U+202E from a file must not reach
+/// the log raw. A message's own line breaks stay (as `%0A`).
 pub fn escape(s: &str, property: bool) -> String {
-    let mut o = s
+    let mut o = crate::sanitize::visible(s, !property)
         .replace('%', "%25")
         .replace('\r', "%0D")
         .replace('\n', "%0A");
@@ -60,4 +63,17 @@ pub fn escape(s: &str, property: bool) -> String {
         o = o.replace(':', "%3A").replace(',', "%2C");
     }
     o
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn control_and_bidi_characters_are_shown_not_passed_through() {
+        let m = escape("frame \u{1b}[31mred\u{202e} 50%\nnext", false);
+        assert_eq!(m, "frame \\x1b[31mred\\u{202e} 50%25%0Anext");
+        let p = escape("a\nb:c,d\u{7}", true);
+        assert_eq!(p, "a\\nb%3Ac%2Cd\\x07");
+    }
 }
