@@ -8,6 +8,7 @@
 mod audit;
 mod check;
 mod detector;
+mod display;
 mod survey;
 
 use clap::{Parser, Subcommand};
@@ -59,6 +60,8 @@ pub struct Cli {
     pub command: Option<Command>,
     #[command(flatten)]
     pub audit: audit::AuditArgs,
+    #[command(flatten)]
+    pub display: display::DisplayArgs,
 }
 
 #[derive(Debug, Subcommand)]
@@ -96,6 +99,7 @@ pub fn main() -> ExitCode {
             return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
         }
     };
+    display::set(cli.display.clone());
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let code = match run(cli, &mut out) {
@@ -103,7 +107,12 @@ pub fn main() -> ExitCode {
         Err(e) => {
             let _ = out.flush();
             let msg = sanitize::line(&e.to_string());
-            to_stderr(&format!("{}: {msg}", Style::stderr().error("error")));
+            let line = display::stderr_fit(&format!("error: {msg}"));
+            let rest = line.strip_prefix("error:").unwrap_or(&line);
+            to_stderr(&format!(
+                "{}:{rest}",
+                display::stderr_style().error("error")
+            ));
             e.exit_code()
         }
     };
@@ -132,11 +141,11 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
 /// Render `report` in `format` to `out` (colour for tables on a terminal).
 pub fn emit<R: Report>(report: &R, format: OutputFormat, out: &mut dyn Write) -> Result<()> {
     let style = if format == OutputFormat::Table {
-        Style::stdout()
+        display::stdout_style()
     } else {
         Style::plain()
     };
-    let text = render::render(report, format, style)?;
+    let text = render::render_laid(report, format, style, &display::stdout_layout())?;
     write_output(out, &text)
 }
 
@@ -159,9 +168,9 @@ fn to_stderr(line: &str) {
 /// Print warnings to stderr, one per line, with their names (escaped: a
 /// warning quotes names from files).
 pub fn print_warnings(warnings: &[Warning]) {
-    let st = Style::stderr();
+    let st = display::stderr_style();
     for w in warnings {
-        let text = sanitize::line(&w.to_string());
+        let text = display::stderr_fit(&sanitize::line(&w.to_string()));
         match text.split_once(": ") {
             Some((head, rest)) => to_stderr(&format!("{}: {rest}", st.bad(head))),
             None => to_stderr(&st.bad(&text)),

@@ -9,6 +9,7 @@
 mod csv;
 mod document;
 mod github;
+pub mod layout;
 mod markdown;
 pub mod numbers;
 mod sarif;
@@ -16,7 +17,8 @@ mod style;
 mod text;
 
 pub use document::{Block, Document, Table};
-pub use style::Style;
+pub use layout::Layout;
+pub use style::{ColorChoice, Style};
 
 use crate::diagnostic::{Code, Error, Result};
 use serde::Serialize;
@@ -46,8 +48,20 @@ pub trait Report: Serialize {
     fn document(&self) -> Document;
 }
 
-/// Render a report in a format; `style` colours terminal text.
+/// Render a report in a format; `style` colours terminal text. Tables have
+/// every column and no wrapping (see [`render_laid`] for a terminal).
 pub fn render<R: Report>(report: &R, format: OutputFormat, style: Style) -> Result<String> {
+    render_laid(report, format, style, &Layout::default())
+}
+
+/// Render a report in a format, terminal text fitted to `layout`
+/// (`--columns` naming no column of the report is a usage error).
+pub fn render_laid<R: Report>(
+    report: &R,
+    format: OutputFormat,
+    style: Style,
+    layout: &Layout,
+) -> Result<String> {
     Ok(match format {
         OutputFormat::Json => {
             let mut s = serde_json::to_string_pretty(report).map_err(|e| {
@@ -59,7 +73,21 @@ pub fn render<R: Report>(report: &R, format: OutputFormat, style: Style) -> Resu
             s.push('\n');
             s
         }
-        OutputFormat::Table => text::render(&report.document(), style),
+        OutputFormat::Table => {
+            let doc = report.document();
+            if !layout.columns.is_empty() {
+                let tables: Vec<&Table> = doc
+                    .blocks
+                    .iter()
+                    .filter_map(|b| match b {
+                        Block::Table(t) if !t.data_only => Some(t),
+                        _ => None,
+                    })
+                    .collect();
+                layout::check_columns(&tables, &layout.columns)?;
+            }
+            text::render_laid(&doc, style, layout)
+        }
         OutputFormat::Markdown => markdown::render(&report.document()),
         OutputFormat::Github => github::render(&report.document()),
         OutputFormat::Csv => csv::render(&report.document()),

@@ -170,7 +170,7 @@ impl Report for DegeneracyReport {
                 ]
             })
             .collect();
-        doc.table(Table::unwrapped(
+        doc.table(Table::new(
             &[
                 "family",
                 "l (m)",
@@ -223,7 +223,7 @@ impl DegeneracyReport {
                 ]
             })
             .collect();
-        Table::unwrapped(
+        Table::new(
             &[
                 "Rayleigh quotient",
                 "twist [w; t]",
@@ -353,7 +353,7 @@ impl Report for TunnelReport {
                 axes(&f2.footprint),
             ],
         ];
-        doc.table(Table::unwrapped(
+        doc.table(Table::new(
             &["quantity", "origin on the axis", "origin at shift"],
             rows,
         ));
@@ -513,7 +513,7 @@ impl Report for SimulateReport {
                 ]
             })
             .collect();
-        doc.table(Table::unwrapped(
+        doc.table(Table::new(
             &[
                 "family",
                 "threshold",
@@ -741,7 +741,7 @@ impl Report for ThresholdReport {
             })
             .collect();
         let header: Vec<&str> = header.iter().map(String::as_str).collect();
-        doc.table(Table::unwrapped(&header, rows));
+        doc.table(Table::new(&header, rows));
         doc.text("Column nS vV: range noise S m, voxel V m. 'none (k/3)': no single tau reproduces all three counts; k is the most scenes one tau reproduces together.\nPaper: point displacement [5.3e-3, 8.3e-2] (1.20 decades); every other family empty.");
         doc
     }

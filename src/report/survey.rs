@@ -154,7 +154,11 @@ impl SurveyReport {
             .zip(&self.marks)
             .map(|(j, m)| display_row(j, m))
             .collect();
-        Table::new(&HEADER, rows).bounded(&[(1, 28), (2, 28)])
+        // A narrow terminal: one line per rig (id, lever arm, angle, h, zero
+        // pitch, band, metric); `--wide` adds sensor, platform and s_max.
+        Table::new(&HEADER, rows)
+            .bounded(&[(1, 28), (2, 28)])
+            .compact(&[0, 3, 4, 5, 6, 8, 9])
     }
 
     fn data_table(&self) -> Table {
