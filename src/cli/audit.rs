@@ -1,11 +1,11 @@
 //! `audit FILE... --from A --to B`: the rig report.
 
 use super::{
-    emit, parse_ell, parse_joint, parse_kappa, parse_lambda, parse_nonneg, print_warnings,
-    write_output,
+    emit_warned, format_name, parse_ell, parse_joint, parse_kappa, parse_lambda, parse_nonneg,
+    print_warnings, write_output,
 };
 use clap::{Args, ValueEnum};
-use extrinsic_audit::diagnostic::Result;
+use extrinsic_audit::diagnostic::{Error, Result};
 use extrinsic_audit::formats::{Format, LoadOptions};
 use extrinsic_audit::pipeline::{self, Rename, RigOptions};
 use extrinsic_audit::render::OutputFormat;
@@ -147,6 +147,12 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     print_warnings(loaded.graph.warnings());
     loaded.check_joint_names(args.joints.iter().map(|(n, _)| n.as_str()))?;
     if args.frames {
+        if args.format != OutputFormat::Table {
+            return Err(Error::usage(format!(
+                "--frames prints the frame tree as text; expected --format text with --frames, found --format {}",
+                format_name(args.format)
+            )));
+        }
         // Names cannot hold a line break (refused when loaded); the rest of
         // what could act on a terminal or a CI log is escaped.
         let tree = sanitize::block(&loaded.graph.tree());
@@ -161,6 +167,18 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
         pitch_tol: args.pitch_tol,
         kappa_lambda: args.kappa.zip(args.lambda),
     };
-    emit(&pipeline::report(&chain, &opts)?, args.format, out)?;
+    let warnings: Vec<_> = loaded
+        .graph
+        .warnings()
+        .iter()
+        .chain(&chain.warnings)
+        .cloned()
+        .collect();
+    emit_warned(
+        &pipeline::report(&chain, &opts)?,
+        &warnings,
+        args.format,
+        out,
+    )?;
     Ok(0)
 }

@@ -140,6 +140,19 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
 
 /// Render `report` in `format` to `out` (colour for tables on a terminal).
 pub fn emit<R: Report>(report: &R, format: OutputFormat, out: &mut dyn Write) -> Result<()> {
+    emit_warned(report, &[], format, out)
+}
+
+/// [`emit`], the JSON carrying `warnings` (already printed on stderr).
+pub fn emit_warned<R: Report>(
+    report: &R,
+    warnings: &[Warning],
+    format: OutputFormat,
+    out: &mut dyn Write,
+) -> Result<()> {
+    if format == OutputFormat::Json {
+        return write_output(out, &render::json(report, warnings)?);
+    }
     let style = if format == OutputFormat::Table {
         display::stdout_style()
     } else {
@@ -147,6 +160,12 @@ pub fn emit<R: Report>(report: &R, format: OutputFormat, out: &mut dyn Write) ->
     };
     let text = render::render_laid(report, format, style, &display::stdout_layout())?;
     write_output(out, &text)
+}
+
+/// The name `--format` takes for a format.
+pub fn format_name(f: OutputFormat) -> String {
+    clap::ValueEnum::to_possible_value(&f)
+        .map_or_else(|| format!("{f:?}"), |v| v.get_name().to_string())
 }
 
 /// Write `text` to standard output. A closed pipe (`audit ... | head -1`) ends

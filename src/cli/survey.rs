@@ -1,6 +1,6 @@
 //! `audit survey PATHS...`: one row per rig file, then a summary.
 
-use super::{emit, parse_nonneg, print_warnings};
+use super::{emit_warned, parse_nonneg, print_warnings};
 use clap::Args;
 use extrinsic_audit::diagnostic::Result;
 use extrinsic_audit::pipeline::{self, SortColumn, SurveyOptions};
@@ -43,6 +43,6 @@ pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
         sort: args.sort,
     })?;
     print_warnings(&warnings);
-    emit(&report, args.format, out)?;
+    emit_warned(&report, &warnings, args.format, out)?;
     Ok(0)
 }
