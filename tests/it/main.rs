@@ -43,3 +43,4 @@ mod rig_toml;
 mod scene_simulate;
 mod scene_tunnel;
 mod urdf_conformance;
+mod widths;
