@@ -6,7 +6,7 @@ use crate::analysis::Family;
 use crate::degeneracy::threshold::{FamilyResult, Interval};
 use crate::degeneracy::{TwistScrew, AXIS_NAMES};
 use crate::diagnostic::Warning;
-use crate::render::numbers::{sci, sci_vec};
+use crate::render::numbers::{degrees, metres, sci, sci_vec, unit, vector};
 use crate::render::{Document, Report, Table};
 use serde::Serialize;
 
@@ -155,10 +155,7 @@ impl Report for DegeneracyReport {
             .iter()
             .map(|f| {
                 let eig = match (&f.eigenvalues, &f.error) {
-                    (Some(e), _) => format!(
-                        "[{}]",
-                        e.iter().map(|x| sci(*x, 4)).collect::<Vec<_>>().join(" ")
-                    ),
+                    (Some(e), _) => sci_vec(e, 4),
                     (None, e) => format!("error: {}", e.as_deref().unwrap_or("")),
                 };
                 vec![
@@ -324,8 +321,8 @@ impl Report for TunnelReport {
         let rows = vec![
             vec![
                 "origin (m)".to_string(),
-                sci_vec(&f1.origin_m, 3),
-                sci_vec(&f2.origin_m, 3),
+                vector(&f1.origin_m, metres),
+                vector(&f2.origin_m, metres),
             ],
             vec![
                 "eigenvalues".to_string(),
@@ -363,12 +360,14 @@ impl Report for TunnelReport {
         ));
         if let Some(a) = self.rotational_tuple_angle_deg {
             doc.text(format!(
-                "angle between the two twist tuples: {a:.2} deg (a coordinate diagnostic)"
+                "angle between the two twist tuples: {} deg (a coordinate diagnostic)",
+                degrees(a)
             ));
         }
         if let Some(a) = self.transported_subspace_angle_deg {
             doc.text(format!(
-                "subspace angle after transport v = A v': {a:.3e} deg"
+                "subspace angle after transport v = A v': {} deg",
+                degrees(a)
             ));
         }
         doc.text(format!(
@@ -470,8 +469,8 @@ impl Report for SimulateReport {
             self.points,
             self.noise_m,
             self.seed,
-            sci_vec(&self.transform.translation_m, 4),
-            sci_vec(&self.transform.rpy_rad, 4),
+            vector(&self.transform.translation_m, metres),
+            vector(&self.transform.rpy_rad, unit),
             self.lever_arm_m,
             self.tau
         ));
@@ -504,11 +503,11 @@ impl Report for SimulateReport {
                             ""
                         }
                     ),
-                    r.subspace_angle_deg
-                        .map_or("-".into(), |a| format!("{a:.3e}")),
+                    r.subspace_angle_deg.map_or("-".into(), degrees),
                     format!(
-                        "{:.3e} / {:.3e}",
-                        r.correction_difference.rotation_rad, r.correction_difference.translation_m
+                        "{} / {}",
+                        sci(r.correction_difference.rotation_rad, 3),
+                        sci(r.correction_difference.translation_m, 3)
                     ),
                 ]
             })

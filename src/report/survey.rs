@@ -8,7 +8,7 @@
 
 use super::rig::{near_half_turn, small_rotation};
 use super::SCHEMA_VERSION;
-use crate::render::numbers::{fixed, metres_h};
+use crate::render::numbers::{degrees, fixed, metres, ratio, vector};
 use crate::render::{Document, Report, Table};
 use crate::tolerances::{NEAR_HALF_TURN_RAD, SMALL_ROTATION_DEG};
 use serde::Serialize;
@@ -238,12 +238,12 @@ fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
         id,
         j.sensor.clone(),
         j.platform.clone(),
-        fixed(j.lever_arm_m, 4),
-        format!("{}{}", fixed(j.angle_deg, 3), if small { "*" } else { "" }),
+        metres(j.lever_arm_m),
+        format!("{}{}", degrees(j.angle_deg), if small { "*" } else { "" }),
         match j.screw_translation_m {
             Some(h) => format!(
                 "{}{}",
-                metres_h(h),
+                metres(h),
                 if near_half_turn(j.angle_deg.to_radians()) {
                     " ±"
                 } else {
@@ -253,8 +253,8 @@ fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
             None => "- (pure transl.)".into(),
         },
         if j.zero_pitch { "yes" } else { "no" }.into(),
-        fixed(j.sigma_max, 4),
-        format!("[{}, {}]", fixed(j.band_l1[0], 3), fixed(j.band_l1[1], 3)),
+        ratio(j.sigma_max),
+        vector(&j.band_l1, ratio),
         if j.adapted_metric_exists {
             "exists"
         } else {

@@ -162,7 +162,7 @@ fn the_survey_is_compact_on_a_terminal_and_full_in_a_pipe() {
         "0.691*",
         "-0.0403",
         "no",
-        "[0.958, 1.044]",
+        "[0.9579, 1.044]",
         "none",
     ] {
         assert!(row.contains(cell), "{row}");
@@ -185,7 +185,7 @@ fn the_survey_is_compact_on_a_terminal_and_full_in_a_pipe() {
         .find(|l| l.contains("fusionportable"))
         .unwrap();
     assert!(
-        row.contains("Ouster OS1-128") && row.contains("[0.958, 1.044]"),
+        row.contains("Ouster OS1-128") && row.contains("[0.9579, 1.044]"),
         "{row}"
     );
     assert!(!piped.contains("--wide"));
