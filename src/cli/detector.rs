@@ -371,6 +371,11 @@ pub fn calibration_from_args(args: &CalibrateThresholdArgs) -> Result<Calibratio
 
 pub fn calibrate_threshold(args: &CalibrateThresholdArgs, out: &mut dyn Write) -> Result<i32> {
     let c = calibration_from_args(args)?;
-    emit(&det::calibrate_threshold(&c)?, args.format, out)?;
+    let progress = super::display::TermProgress::new();
+    emit(
+        &det::calibrate_threshold_with(&c, &progress)?,
+        args.format,
+        out,
+    )?;
     Ok(0)
 }

@@ -83,3 +83,39 @@ pub fn stderr_fit(line: &str) -> String {
         _ => line.to_string(),
     }
 }
+
+/// A progress bar on standard error, drawn only when standard error is a
+/// terminal (a pipe, a file or CI logs get nothing).
+pub struct TermProgress {
+    bar: indicatif::ProgressBar,
+}
+
+impl TermProgress {
+    pub fn new() -> Self {
+        let bar = if std::io::stderr().is_terminal() {
+            indicatif::ProgressBar::new(0)
+        } else {
+            indicatif::ProgressBar::hidden()
+        };
+        let style =
+            indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} ({eta} left)")
+                .map(|s| s.progress_chars("=> "));
+        if let Ok(style) = style {
+            bar.set_style(style);
+        }
+        TermProgress { bar }
+    }
+}
+
+impl extrinsic_audit::progress::Progress for TermProgress {
+    fn start(&self, total: u64, what: &str) {
+        self.bar.set_length(total);
+        self.bar.set_message(what.to_string());
+    }
+    fn advance(&self, n: u64) {
+        self.bar.inc(n);
+    }
+    fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}

@@ -42,5 +42,6 @@ mod readme;
 mod rig_toml;
 mod scene_simulate;
 mod scene_tunnel;
+mod snapshots;
 mod urdf_conformance;
 mod widths;

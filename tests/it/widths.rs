@@ -89,10 +89,19 @@ pub fn have_pty() -> bool {
 /// Run `audit ARGS` on a pseudo-terminal `cols` wide; its output (stdout and
 /// stderr as the terminal shows them) without carriage returns.
 pub fn pty_run(cols: usize, args: &[&str]) -> String {
+    pty_run_with(cols, args, "")
+}
+
+/// [`pty_run`] with standard error left out (a progress bar is drawn in time).
+pub fn pty_run_stdout(cols: usize, args: &[&str]) -> String {
+    pty_run_with(cols, args, " 2>/dev/null")
+}
+
+fn pty_run_with(cols: usize, args: &[&str], redirect: &str) -> String {
     let quote = |s: &str| format!("'{}'", s.replace('\'', r"'\''"));
     let bin = env!("CARGO_BIN_EXE_audit");
     let cmd = format!(
-        "stty cols {cols} rows 50; {} {}",
+        "stty cols {cols} rows 50; {} {}{redirect}",
         quote(bin),
         args.iter().map(|a| quote(a)).collect::<Vec<_>>().join(" ")
     );
@@ -103,17 +112,20 @@ pub fn pty_run(cols: usize, args: &[&str]) -> String {
         .env_remove("NO_COLOR")
         .output()
         .expect("script runs");
-    String::from_utf8_lossy(&out.stdout).replace('\r', "")
+    // A lone carriage return (a progress bar redrawn) starts a line again.
+    String::from_utf8_lossy(&out.stdout)
+        .replace("\r\n", "\n")
+        .replace('\r', "\n")
 }
 
-/// Display width of a line, colour sequences left out.
+/// Display width of a line, terminal control sequences (`ESC [ ... letter`) left out.
 fn width(line: &str) -> usize {
     let mut n = 0;
     let mut esc = false;
     for c in line.chars() {
         match (esc, c) {
             (false, '\x1b') => esc = true,
-            (true, 'm') => esc = false,
+            (true, c) if c.is_ascii_alphabetic() => esc = false,
             (true, _) => {}
             (false, _) => n += 1,
         }
@@ -219,6 +231,29 @@ fn columns_picks_table_columns_by_header() {
         err.contains("--columns: expected one of the columns of this report (id, sensor,"),
         "{err}"
     );
+}
+
+/// calibrate-threshold draws its progress bar on a terminal's stderr only.
+#[test]
+fn the_progress_bar_is_drawn_on_a_terminal_only() {
+    let args = [
+        "calibrate-threshold",
+        "--seeds",
+        "1",
+        "--noise",
+        "0",
+        "--voxel",
+        "0.1",
+    ];
+    let (code, _, err) = run_cli(&args);
+    assert_eq!(code, 0);
+    assert!(err.is_empty(), "{err}");
+    if !have_pty() {
+        return;
+    }
+    let out = pty_run(80, &args);
+    assert!(out.contains("simulated scenes ["), "{out}");
+    assert!(!pty_run_stdout(80, &args).contains("simulated scenes ["));
 }
 
 #[test]
