@@ -59,11 +59,11 @@ fn word_min(word: &str) -> usize {
     }
 }
 
-/// A name with hyphens (`ouster-os1-128-fw2.3`) that is no number and no
-/// path or place.
+/// A name with hyphens (`ouster-os1-128-fw2.3`): it starts with a letter
+/// (no number, no vector entry `[-1.0,`) and is no path or place.
 fn hyphen_breakable(word: &str) -> bool {
     word.contains('-')
-        && !word.starts_with('-')
+        && word.starts_with(|c: char| c.is_alphabetic())
         && !word.contains(['/', '\\', ':'])
         && word.parse::<f64>().is_err()
 }
@@ -235,6 +235,15 @@ fn column_min(t: &Table, c: usize) -> usize {
         .max(1)
 }
 
+/// The widest word of a column's cells, uncut.
+fn column_longest_word(t: &Table, c: usize) -> usize {
+    cells(t, c)
+        .flat_map(|s| s.split(['\n', ' ']))
+        .map(width_of)
+        .max()
+        .unwrap_or(0)
+}
+
 /// Fit a table to a layout (cells already escaped).
 pub fn fit(t: &Table, layout: &Layout) -> Fitted {
     let width = layout.width().filter(|_| t.wrap);
@@ -304,6 +313,17 @@ fn share(t: &Table, cols: &[usize], width: usize) -> Vec<usize> {
     if max.iter().sum::<usize>() + frame <= width {
         return max;
     }
+    // Whole words where they fit: start each column at its longest word.
+    let words: Vec<usize> = cols
+        .iter()
+        .zip(&max)
+        .map(|(&c, &m)| column_longest_word(t, c).min(m))
+        .zip(&w)
+        .map(|(a, &b)| a.max(b))
+        .collect();
+    if words.iter().sum::<usize>() + frame <= width {
+        w = words;
+    }
     let mut room = width.saturating_sub(w.iter().sum::<usize>() + frame);
     while room > 0 {
         let Some(k) = (0..cols.len())
@@ -339,6 +359,7 @@ mod tests {
         assert_eq!(wrap("a b\nc", 80), ["a b", "c"]);
         assert_eq!(wrap("ouster-os1-128", 8), ["ouster-", "os1-128"]);
         assert_eq!(wrap("1.5e-05 -0.0403", 4), ["1.5e-05", "-0.0403"]);
+        assert_eq!(wrap("[-1.000, 0]", 4), ["[-1.000,", "0]"]);
     }
 
     #[test]

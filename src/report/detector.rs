@@ -147,8 +147,8 @@ impl Report for DegeneracyReport {
         doc.text(format!(
             "{} points; frame: translation {} m, rpy {} rad",
             self.points,
-            json_vec(&self.frame.translation_m),
-            json_vec(&self.frame.rpy_rad)
+            vector(&self.frame.translation_m, metres),
+            vector(&self.frame.rpy_rad, unit)
         ));
         let rows = self
             .families
@@ -159,7 +159,7 @@ impl Report for DegeneracyReport {
                     (None, e) => format!("error: {}", e.as_deref().unwrap_or("")),
                 };
                 vec![
-                    f.family.name().to_string(),
+                    f.family.label().to_string(),
                     opt(f.ell_m, 4),
                     eig,
                     sci(f.threshold, 4),
@@ -232,12 +232,6 @@ impl DegeneracyReport {
             rows,
         )
     }
-}
-
-/// A vector as serde_json prints it (`[1.0,0.0,0.0]`), for the table header
-/// line.
-fn json_vec(v: &[f64]) -> String {
-    serde_json::to_string(v).unwrap_or_default()
 }
 
 // ---------------------------------------------------------------------------
