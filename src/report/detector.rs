@@ -213,7 +213,7 @@ impl DegeneracyReport {
                 vec![
                     sci(s.eigenvalue, 4),
                     sci_vec(&s.twist, 3),
-                    sc.kind.to_string(),
+                    sc.kind.to_string().replace('_', " "),
                     dir,
                     opt(sc.pitch_m_per_rad, 4),
                     arr(&sc.axis_point_m),

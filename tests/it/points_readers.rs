@@ -248,7 +248,7 @@ fn degeneracy_command_runs_and_reports_errors() {
     assert_eq!(code, 0);
     assert!(s.contains("point displacement"), "{s}");
     assert!(
-        s.contains("zero_pitch") && s.contains("pure_translation"),
+        s.contains("zero pitch") && s.contains("pure translation"),
         "{s}"
     );
     let mut a = base.to_vec();
