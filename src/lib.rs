@@ -78,6 +78,7 @@ pub mod frames;
 pub mod geometry;
 pub mod input;
 pub mod pipeline;
+pub mod progress;
 pub mod render;
 pub mod report;
 pub mod sanitize;

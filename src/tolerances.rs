@@ -442,3 +442,33 @@ pub const MAX_POINT_LINE_BYTES: usize = 1 << 20;
 
 /// Largest binary record of a point file (bytes; PCD descriptors use < 2 KiB).
 pub const MAX_POINT_RECORD_BYTES: usize = 1 << 20;
+
+// ---------------------------------------------------------------------------
+// Output for people (`render`)
+// ---------------------------------------------------------------------------
+
+/// Narrowest terminal the tables are laid out for (columns): below it the
+/// layout of this width is printed and the terminal wraps it.
+pub const MIN_TERMINAL_WIDTH: usize = 40;
+
+/// Narrowest a plain word (no digit, no path separator) is cut to when a
+/// table column is too narrow for it; numbers and `file:line` are never cut.
+pub const SOFT_WORD_MIN_WIDTH: usize = 10;
+
+/// A translation or length printed for people has this resolution (m): 0.1 mm,
+/// finer than any published extrinsic calibration. Smaller magnitudes print 0.
+pub const PRINT_LENGTH_RES_M: f64 = 1e-4;
+
+/// An angle printed for people has this resolution (deg); smaller print 0.
+pub const PRINT_ANGLE_RES_DEG: f64 = 1e-3;
+
+/// Significant digits of a ratio printed for people (band edges, singular
+/// values, eigenvalue ratios).
+pub const PRINT_RATIO_DIGITS: usize = 4;
+
+/// A ratio or dimensionless value below this magnitude prints 0 (rounding of
+/// a composed chain, e.g. `1.1102e-16`); the exact value stays in JSON.
+pub const PRINT_RATIO_ZERO: f64 = 1e-12;
+
+/// Point count from which `degeneracy` shows a progress bar (on a terminal).
+pub const PROGRESS_MIN_POINTS: usize = 1 << 20;

@@ -47,10 +47,11 @@ pub struct FamilySpec {
     pub family: Family,
     /// The JSON name (`point_displacement`).
     pub name: &'static str,
-    /// The name reports print (`point displacement sum J^T J`).
+    /// The family's one name in text, markdown and help (`point
+    /// displacement`): the JSON name's words.
     pub label: &'static str,
-    /// The short name of the detector tables (`point displacement`, `I6`).
-    pub short_label: &'static str,
+    /// Its metric, for documentation (`sum J^T J`, `diag(l^2 I, I)`).
+    pub formula: &'static str,
     /// Whether the rule transforms by the same congruence as `H`.
     pub equivariant: bool,
     /// Its calibrated threshold.
@@ -62,16 +63,16 @@ pub const FAMILIES: [FamilySpec; 6] = [
     FamilySpec {
         family: Family::Unnormalized,
         name: "unnormalized",
-        label: "unnormalized spectrum (I6)",
-        short_label: "I6",
+        label: "unnormalized",
+        formula: "I6",
         equivariant: false,
         calibrated: Calibrated::Fixed(114.62),
     },
     FamilySpec {
         family: Family::CharacteristicLength,
         name: "characteristic_length",
-        label: "characteristic length diag(l^2 I, I)",
-        short_label: "l=",
+        label: "characteristic length",
+        formula: "diag(l^2 I, I)",
         equivariant: false,
         calibrated: Calibrated::PerEll(&[
             (0.25, 464.42),
@@ -83,24 +84,24 @@ pub const FAMILIES: [FamilySpec; 6] = [
     FamilySpec {
         family: Family::BlockScaling,
         name: "block_scaling",
-        label: "block scaling (l from H)",
-        short_label: "block scaling",
+        label: "block scaling",
+        formula: "diag(l^2 I, I), l from H",
         equivariant: false,
         calibrated: Calibrated::Fixed(81.14),
     },
     FamilySpec {
         family: Family::Jacobi,
         name: "jacobi",
-        label: "Jacobi diag(H)",
-        short_label: "Jacobi",
+        label: "Jacobi",
+        formula: "diag(H)",
         equivariant: false,
         calibrated: Calibrated::Fixed(0.8619),
     },
     FamilySpec {
         family: Family::AdaptedConstant,
         name: "adapted_constant",
-        label: "adapted constant M0",
-        short_label: "adapted constant",
+        label: "adapted constant",
+        formula: "M0",
         equivariant: false,
         // Same scale as I6 (a constant metric near the identity).
         calibrated: Calibrated::Fixed(114.62),
@@ -108,8 +109,8 @@ pub const FAMILIES: [FamilySpec; 6] = [
     FamilySpec {
         family: Family::PointDisplacement,
         name: "point_displacement",
-        label: "point displacement sum J^T J",
-        short_label: "point displacement",
+        label: "point displacement",
+        formula: "sum J^T J",
         equivariant: true,
         calibrated: Calibrated::Tau,
     },

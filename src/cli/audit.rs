@@ -2,7 +2,7 @@
 
 use super::frames::AuditFormat;
 use super::{
-    emit, parse_ell, parse_joint, parse_kappa, parse_lambda, parse_sigma_r, parse_sigma_t,
+    emit_warned, parse_ell, parse_joint, parse_kappa, parse_lambda, parse_sigma_r, parse_sigma_t,
     print_warnings,
 };
 use clap::{Args, ValueEnum};
@@ -231,6 +231,13 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
         sigma: super::user_sigma(args.sigma_t, args.sigma_r),
         kappa_lambda: args.kappa.zip(args.lambda),
     };
-    emit(&pipeline::report(&chain, &opts)?, format, out)?;
+    let warnings: Vec<_> = loaded
+        .graph
+        .warnings()
+        .iter()
+        .chain(&chain.warnings)
+        .cloned()
+        .collect();
+    emit_warned(&pipeline::report(&chain, &opts)?, &warnings, format, out)?;
     Ok(0)
 }

@@ -38,12 +38,12 @@ voxel grid (--voxel), PCA normals within --normal-radius (default 0.3 m) from at
 assembled about the centroid, so map or UTM coordinates lose no digit. Optionally \
 re-expresses them in another frame, and prints for every detector family the generalized \
 eigenvalues of H v = lambda M v (ascending), the threshold and the number of eigenvalues below \
-it; then the degenerate subspace under the point-displacement metric as screws (axis, pitch, \
+it; then the degenerate subspace under the point displacement metric as screws (axis, pitch, \
 axis point; or a translation direction) and its per-axis footprint, which depends on the frame.\n\n\
 --shift x,y,z and --rotate-rpy r,p,y give the new frame's pose T = (R, d) in the input frame \
-(R = Rz(y) Ry(p) Rx(r)), so p_new = R^T (p - d) and n_new = R^T n. The point-displacement \
+(R = Rz(y) Ry(p) Rx(r)), so p_new = R^T (p - d) and n_new = R^T n. The point displacement \
 eigenvalues do not change under either; the other families' may.\n\n\
---tau is the point-displacement threshold (dimensionless, default 1e-2). The baselines' \
+--tau is the point displacement threshold (dimensionless, default 1e-2). The baselines' \
 eigenvalues are dimensioned and scale with the number of points, so each baseline uses the \
 threshold `audit calibrate-threshold` finds for it on the synthetic corridors (paper's rule: \
 the midpoint of its interval in the 0.10 m voxel, 0.01 m noise configuration); the JSON \
@@ -72,7 +72,7 @@ pub struct DegeneracyArgs {
     /// Orientation of the new frame in the input frame, `roll,pitch,yaw` (rad).
     #[arg(long, allow_hyphen_values = true)]
     pub rotate_rpy: Option<String>,
-    /// Characteristic lengths (m) for the characteristic-length family, comma-separated.
+    /// Characteristic lengths (m) for the characteristic length family, comma-separated.
     #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
     pub ell: Vec<f64>,
     /// A raw scan: estimate the normals (PCA within --normal-radius, oriented toward --viewpoint) instead of reading them.
@@ -183,7 +183,7 @@ fn parse_raw_voxel(s: &str) -> std::result::Result<f64, String> {
 #[command(
     about = "Reproduce the paper's circular-tunnel example (footprint changes, eigenvalues do not)",
     long_about = "Builds a noise-free circular tunnel (radius 2.85 m about z, exact radial \
-normals), solves H v = lambda M v with the point-displacement metric with the body origin \
+normals), solves H v = lambda M v with the point displacement metric with the body origin \
 on the axis and again in a frame shifted off the axis, and prints the eigenvalues, the \
 nullity, the per-axis footprint of the degenerate subspace (frame-dependent) and the \
 rotational degenerate twist as a coordinate tuple.\n\n\
@@ -209,7 +209,7 @@ pub struct TunnelArgs {
     /// Origin of the second frame in the first, `x,y,z` (m); no rotation.
     #[arg(long, default_value = "1,0,0", allow_hyphen_values = true)]
     pub shift: String,
-    /// Degeneracy threshold on the point-displacement eigenvalues.
+    /// Degeneracy threshold on the point displacement eigenvalues.
     #[arg(long, default_value_t = DEFAULT_TAU, value_parser = parse_positive, allow_hyphen_values = true)]
     pub tau: f64,
     /// Output format
@@ -292,11 +292,11 @@ right-angle L corner: 0) under nine preprocessing configurations (range noise 0,
 voxel 0.05, 0.10, 0.20 m; eight seeds each; 216 instances) and reports, per metric family, the \
 interval lo < tau <= hi in which the count of eigenvalues below tau equals the analytic count for \
 every instance of a configuration, and the intersection across configurations.\n\n\
-The paper reports [5.3e-3, 8.3e-2] for the point-displacement metric and empty intersections for \
+The paper reports [5.3e-3, 8.3e-2] for the point displacement metric and empty intersections for \
 every other family; with the defaults this gives (5.1e-3, 7.0e-2] for point displacement, empty \
-intersections for I6, l=0.25, l=10 and Jacobi, and non-empty ones for l=2.85 and block scaling. \
+intersections for unnormalized, characteristic length l=0.25 and l=10 and Jacobi, and non-empty ones for characteristic length l=2.85 and block scaling. \
 Differences from the paper's setup: the noise levels (0.05 m chosen as the highest because at \
-0.03 m I6 and l=10 kept a threshold where the paper reports them failing), the two finer voxel \
+0.03 m unnormalized and characteristic length l=10 kept a threshold where the paper reports them failing), the two finer voxel \
 sizes, the corridor dimensions (3.0 m x 2.5 m, 12 m long) and the sampling (regular grid at half \
 the voxel with a random phase) are our choices, as the paper does not give them; the residuals come \
 from one cloud with its own estimated normals (no source/target pair, no correspondence gating, \
@@ -660,6 +660,11 @@ pub fn calibration_from_args(args: &CalibrateThresholdArgs) -> Result<Calibratio
 
 pub fn calibrate_threshold(args: &CalibrateThresholdArgs, out: &mut dyn Write) -> Result<i32> {
     let c = calibration_from_args(args)?;
-    emit(&det::calibrate_threshold(&c)?, args.format, out)?;
+    let progress = super::display::TermProgress::new();
+    emit(
+        &det::calibrate_threshold_with(&c, &progress)?,
+        args.format,
+        out,
+    )?;
     Ok(0)
 }

@@ -9,6 +9,7 @@ mod audit;
 mod check;
 mod detector;
 mod diff;
+mod display;
 mod frames;
 mod survey;
 
@@ -63,6 +64,8 @@ pub struct Cli {
     pub command: Option<Command>,
     #[command(flatten)]
     pub audit: audit::AuditArgs,
+    #[command(flatten)]
+    pub display: display::DisplayArgs,
 }
 
 #[derive(Debug, Subcommand)]
@@ -103,6 +106,7 @@ pub fn main() -> ExitCode {
             return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
         }
     };
+    display::set(cli.display.clone());
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let code = match run(cli, &mut out) {
@@ -110,7 +114,12 @@ pub fn main() -> ExitCode {
         Err(e) => {
             let _ = out.flush();
             let msg = sanitize::line(&e.to_string());
-            to_stderr(&format!("{}: {msg}", Style::stderr().error("error")));
+            let line = display::stderr_fit(&format!("error: {msg}"));
+            let rest = line.strip_prefix("error:").unwrap_or(&line);
+            to_stderr(&format!(
+                "{}:{rest}",
+                display::stderr_style().error("error")
+            ));
             e.exit_code()
         }
     };
@@ -140,12 +149,25 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
 
 /// Render `report` in `format` to `out` (colour for tables on a terminal).
 pub fn emit<R: Report>(report: &R, format: OutputFormat, out: &mut dyn Write) -> Result<()> {
+    emit_warned(report, &[], format, out)
+}
+
+/// [`emit`], the JSON carrying `warnings` (already printed on stderr).
+pub fn emit_warned<R: Report>(
+    report: &R,
+    warnings: &[Warning],
+    format: OutputFormat,
+    out: &mut dyn Write,
+) -> Result<()> {
+    if format == OutputFormat::Json {
+        return write_output(out, &render::json(report, warnings)?);
+    }
     let style = if format == OutputFormat::Table {
-        Style::stdout()
+        display::stdout_style()
     } else {
         Style::plain()
     };
-    let text = render::render(report, format, style)?;
+    let text = render::render_laid(report, format, style, &display::stdout_layout())?;
     write_output(out, &text)
 }
 
@@ -168,9 +190,9 @@ fn to_stderr(line: &str) {
 /// Print warnings to stderr, one per line, with their names (escaped: a
 /// warning quotes names from files).
 pub fn print_warnings(warnings: &[Warning]) {
-    let st = Style::stderr();
+    let st = display::stderr_style();
     for w in warnings {
-        let text = sanitize::line(&w.to_string());
+        let text = display::stderr_fit(&sanitize::line(&w.to_string()));
         match text.split_once(": ") {
             Some((head, rest)) => to_stderr(&format!("{}: {rest}", st.bad(head))),
             None => to_stderr(&st.bad(&text)),

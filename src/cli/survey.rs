@@ -1,6 +1,6 @@
 //! `audit survey PATHS...`: one row per rig file, then a summary.
 
-use super::{emit, parse_sigma_r, parse_sigma_t, print_warnings};
+use super::{emit_warned, parse_sigma_r, parse_sigma_t, print_warnings};
 use clap::Args;
 use extrinsic_audit::diagnostic::Result;
 use extrinsic_audit::geometry::PitchTol;
@@ -71,6 +71,6 @@ pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
     if let Some(plot) = &args.plot {
         pipeline::write_survey_plot(plot, &args.paths, &report)?;
     }
-    emit(&report, args.format, out)?;
+    emit_warned(&report, &warnings, args.format, out)?;
     Ok(0)
 }

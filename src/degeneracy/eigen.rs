@@ -128,7 +128,8 @@ pub fn generalized_eigen_raw(
 }
 
 /// [`generalized_eigen_raw`] with a named error. `what` names the metric in the
-/// message ("point-displacement" gets the collinear-points explanation).
+/// message (the point-displacement family's name, or `point-displacement`,
+/// gets the collinear-points explanation).
 pub fn generalized_eigen(h: &Matrix6<f64>, m: &Matrix6<f64>, what: &str) -> Result<GenEigen> {
     if !h.iter().all(|x| x.is_finite()) || !m.iter().all(|x| x.is_finite()) {
         return Err(Error::invalid(
@@ -136,7 +137,8 @@ pub fn generalized_eigen(h: &Matrix6<f64>, m: &Matrix6<f64>, what: &str) -> Resu
         ));
     }
     generalized_eigen_raw(h, m).map_err(|pivot| {
-        if what == "point-displacement" {
+        let pd = crate::analysis::family::Family::PointDisplacement.label();
+        if what == "point-displacement" || what == pd {
             Error::invalid(format!(
                 "points are collinear (or fewer than two distinct points): the point-displacement metric is singular (Cholesky pivot {pivot}, axis {}, below {CHOLESKY_REL_TOL:e} of its diagonal)",
                 AXIS_NAMES[pivot]

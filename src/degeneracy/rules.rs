@@ -42,11 +42,12 @@ impl MetricRule {
         }
     }
 
-    /// Short label for tables, e.g. `I6`, `l=2.85`, `point displacement`.
+    /// The family's name (the family table's), with `l` for a
+    /// characteristic length: `unnormalized`, `characteristic length l=2.85`.
     pub fn label(&self) -> String {
         match self {
-            MetricRule::CharacteristicLength(l) => format!("l={l}"),
-            _ => self.family().spec().short_label.to_string(),
+            MetricRule::CharacteristicLength(l) => format!("{} l={l}", self.family().label()),
+            _ => self.family().label().to_string(),
         }
     }
 
@@ -144,13 +145,6 @@ impl MetricRule {
     }
 
     pub(crate) fn what(&self) -> &'static str {
-        match self {
-            MetricRule::PointDisplacement => "point-displacement",
-            MetricRule::Unnormalized => "unnormalized (I6)",
-            MetricRule::CharacteristicLength(_) => "characteristic-length",
-            MetricRule::BlockScaling => "block-scaling",
-            MetricRule::Jacobi => "Jacobi",
-            MetricRule::AdaptedConstant(_) => "adapted constant",
-        }
+        self.family().label()
     }
 }

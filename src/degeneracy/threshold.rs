@@ -193,6 +193,14 @@ type InstanceResult = (usize, usize, Vec<[f64; 6]>);
 
 /// Run the sweep.
 pub fn calibrate(c: &Calibration) -> Result<Vec<FamilyResult>> {
+    calibrate_with(c, &crate::progress::NoProgress)
+}
+
+/// Run the sweep, one step of `progress` per simulated scene.
+pub fn calibrate_with(
+    c: &Calibration,
+    progress: &dyn crate::progress::Progress,
+) -> Result<Vec<FamilyResult>> {
     let mut configs = Vec::new();
     for &noise in &c.noise_levels {
         for &voxel in &c.voxel_sizes {
@@ -209,6 +217,7 @@ pub fn calibrate(c: &Calibration) -> Result<Vec<FamilyResult>> {
         }
     }
     let threads = c.threads.max(1);
+    progress.start(jobs.len() as u64, "simulated scenes");
     let results: Vec<Result<Vec<InstanceResult>>> = std::thread::scope(|s| {
         let handles: Vec<_> = (0..threads)
             .map(|t| {
@@ -222,6 +231,7 @@ pub fn calibrate(c: &Calibration) -> Result<Vec<FamilyResult>> {
                             continue;
                         }
                         let ev = instance(SceneKind::ALL[si], configs[ci], seed, rules)?;
+                        progress.advance(1);
                         out.push((ci, si, ev));
                     }
                     Ok(out)
@@ -239,6 +249,7 @@ pub fn calibrate(c: &Calibration) -> Result<Vec<FamilyResult>> {
             })
             .collect()
     });
+    progress.finish();
     // per_scene[rule][config][scene]
     let nr = c.rules.len();
     let mut per = vec![vec![[Interval::ALL; 3]; configs.len()]; nr];

@@ -10,7 +10,7 @@ use crate::degeneracy::scene::{
     synthesize, tunnel_exact, voxel_downsample, Cloud, Preprocess, SceneKind,
 };
 use crate::degeneracy::threshold::default_threshold;
-use crate::degeneracy::threshold::{calibrate, Calibration};
+use crate::degeneracy::threshold::Calibration;
 use crate::degeneracy::{
     analyse, canonical_basis, check_transport, classify_subspace, correction_difference,
     footprint_flags, footprint_scores, reexpress, rel_diff, Analysis, Assembly, MetricRule,
@@ -340,7 +340,15 @@ pub fn simulate(p: &SimulateParams, t: &Transform) -> Result<SimulateReport> {
 
 /// The threshold calibration over the synthetic corridors.
 pub fn calibrate_threshold(c: &Calibration) -> Result<ThresholdReport> {
-    let res = calibrate(c)?;
+    calibrate_threshold_with(c, &crate::progress::NoProgress)
+}
+
+/// [`calibrate_threshold`], reporting the sweep's progress.
+pub fn calibrate_threshold_with(
+    c: &Calibration,
+    progress: &dyn crate::progress::Progress,
+) -> Result<ThresholdReport> {
+    let res = crate::degeneracy::threshold::calibrate_with(c, progress)?;
     Ok(ThresholdReport::new(
         &res,
         &c.noise_levels,

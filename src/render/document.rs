@@ -52,6 +52,9 @@ pub struct Table {
     /// A machine table: rendered only as CSV (the display tables are skipped
     /// there when the document has one).
     pub data_only: bool,
+    /// The columns a narrow terminal shows by default (empty: all); `--wide`
+    /// shows the rest, piped output always has every column.
+    pub compact: Vec<usize>,
 }
 
 impl Table {
@@ -74,6 +77,11 @@ impl Table {
     /// With upper bounds on some columns' widths.
     pub fn bounded(mut self, bounds: &[(usize, u16)]) -> Self {
         self.bounds = bounds.to_vec();
+        self
+    }
+    /// With the columns a narrow terminal shows by default.
+    pub fn compact(mut self, columns: &[usize]) -> Self {
+        self.compact = columns.to_vec();
         self
     }
 }

@@ -15,11 +15,16 @@ pub fn render(doc: &Document) -> String {
             Block::Headline { text, .. } => {
                 s.push_str(&format!("**{}**\n", inline(text)));
             }
-            Block::Section(t) => s.push_str(&format!("\n### {}\n\n", inline(t))),
+            Block::Section(t) => {
+                paragraph_break(&mut s);
+                s.push_str(&format!("### {}\n\n", inline(t)));
+            }
             Block::Note { markdown, .. } => {
                 if let Some(m) = markdown {
-                    // The note's own markdown, but it may quote names.
-                    s.push_str(&crate::sanitize::block(m));
+                    // The note's own markdown, but it may quote names: `<`
+                    // outside code spans is escaped (GitHub drops raw tags).
+                    paragraph_break(&mut s);
+                    s.push_str(&escape_tags(&crate::sanitize::block(m)));
                     s.push_str("\n\n");
                 }
             }
@@ -29,7 +34,12 @@ pub fn render(doc: &Document) -> String {
                 s.push_str(&lines.join("  \n"));
                 s.push('\n');
             }
-            Block::Table(t) if !t.data_only => s.push_str(&table(t)),
+            Block::Table(t) if !t.data_only => {
+                paragraph_break(&mut s);
+                s.push_str(&table(t));
+                // A blank line: the next line must not read as a table row.
+                s.push('\n');
+            }
             Block::Table(_) => {}
             Block::Diagnostics(ds) if !ds.is_empty() => {
                 paragraph_break(&mut s);
@@ -59,6 +69,21 @@ fn inline(s: &str) -> String {
     crate::sanitize::visible(s, false)
         .replace('|', "\\|")
         .replace('<', "&lt;")
+}
+
+/// `<` outside code spans as `&lt;` (inside a code span GitHub shows it as is).
+fn escape_tags(m: &str) -> String {
+    m.split('`')
+        .enumerate()
+        .map(|(i, part)| {
+            if i % 2 == 0 {
+                part.replace('<', "&lt;")
+            } else {
+                part.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("`")
 }
 
 fn paragraph_break(s: &mut String) {

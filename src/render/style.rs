@@ -2,6 +2,18 @@
 
 use std::io::IsTerminal;
 
+/// `--color`: when to colour terminal output.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum ColorChoice {
+    /// On a terminal, unless `NO_COLOR` is set.
+    #[default]
+    Auto,
+    /// Always (also into a pipe or a file).
+    Always,
+    /// Never.
+    Never,
+}
+
 /// Whether to colour, and the ANSI sequences for the few styles used.
 #[derive(Debug, Clone, Copy)]
 pub struct Style {
@@ -23,6 +35,15 @@ impl Style {
     /// For standard error.
     pub fn stderr() -> Self {
         Self::detect(std::io::stderr().is_terminal())
+    }
+    /// Colour as `--color` asks: `always` and `never` override the terminal
+    /// and `NO_COLOR`; `auto` colours a terminal unless `NO_COLOR` is set.
+    pub fn chosen(choice: ColorChoice, is_tty: bool) -> Self {
+        match choice {
+            ColorChoice::Always => Style { color: true },
+            ColorChoice::Never => Style { color: false },
+            ColorChoice::Auto => Self::detect(is_tty),
+        }
     }
     /// No colour.
     pub fn plain() -> Self {

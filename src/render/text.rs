@@ -7,41 +7,51 @@
 //! diagnostics are one line each.
 
 use super::document::{Block, Document, Table};
+use super::layout::{self, Layout};
 use super::Style;
 use crate::diagnostic::{Diagnostic, Severity};
 use crate::sanitize::{block, line, visible};
 
-/// Render a document for a terminal (or a log).
+/// Render a document for a terminal (or a log), every column, nothing wrapped.
 pub fn render(doc: &Document, st: Style) -> String {
+    render_laid(doc, st, &Layout::default())
+}
+
+/// Render a document fitted to a layout (the terminal's width, `--wide`,
+/// `--columns`): text wrapped at spaces, tables cut to their columns.
+pub fn render_laid(doc: &Document, st: Style, lay: &Layout) -> String {
     let mut s = String::new();
+    let para = |t: &str| paragraph(&relative(&block(t), lay), lay);
     for b in &doc.blocks {
         match b {
             Block::Headline { text, good } => {
-                let text = &block(text);
+                let text = &para(text);
                 s.push_str(&if *good { st.good(text) } else { st.bad(text) });
                 s.push('\n');
             }
             Block::Section(t) => {
                 s.push('\n');
-                s.push_str(&st.bold(&block(t)));
+                s.push_str(&st.bold(&para(t)));
                 s.push('\n');
             }
             Block::Note { text, .. } => {
-                s.push_str(&st.dim(&block(text)));
+                s.push_str(&st.dim(&para(text)));
                 s.push('\n');
             }
             Block::Text(t) => {
-                s.push_str(&block(t));
+                s.push_str(&para(t));
                 s.push('\n');
             }
             Block::Table(t) if !t.data_only => {
-                s.push_str(&table(t));
+                s.push_str(&table_laid(t, st, lay));
                 s.push('\n');
             }
             Block::Table(_) => {}
             Block::Diagnostics(ds) => {
                 for d in ds {
-                    s.push_str(&diagnostic_line(d));
+                    let l = relative(&diagnostic_line(d), lay);
+                    // On a terminal a long diagnostic continues indented.
+                    s.push_str(&paragraph_indented(&l, lay));
                     s.push('\n');
                 }
             }
@@ -50,27 +60,69 @@ pub fn render(doc: &Document, st: Style) -> String {
     s
 }
 
-/// A table through comfy-table.
-pub fn table(t: &Table) -> String {
+/// Paths under the current directory shown relative to it.
+fn relative(s: &str, lay: &Layout) -> String {
+    match lay.cwd.as_ref().and_then(|c| c.to_str()) {
+        Some(c) if !c.is_empty() && c != "/" => {
+            let c = c.trim_end_matches('/');
+            s.replace(&format!("{c}/"), "")
+        }
+        _ => s.to_string(),
+    }
+}
+
+fn paragraph(t: &str, lay: &Layout) -> String {
+    match lay.width() {
+        Some(w) => layout::wrap(t, w).join("\n"),
+        None => t.to_string(),
+    }
+}
+
+fn paragraph_indented(t: &str, lay: &Layout) -> String {
+    match lay.width() {
+        Some(w) if layout::width_of(t) > w => {
+            let first = layout::wrap(t, w);
+            let rest = first[1..].join(" ");
+            let mut out = vec![first[0].clone()];
+            out.extend(layout::wrap(&format!("    {rest}"), w));
+            out.join("\n")
+        }
+        _ => t.to_string(),
+    }
+}
+
+/// A table fitted to a layout; a dim line says how many columns are hidden.
+pub fn table_laid(t: &Table, st: Style, lay: &Layout) -> String {
+    // Cells keep their own line breaks; inside the borders no cell starts a line.
+    let cell = |c: &String| relative(&visible(c, true), lay);
+    let escaped = Table {
+        header: t.header.iter().map(cell).collect(),
+        rows: t
+            .rows
+            .iter()
+            .map(|r| r.iter().map(cell).collect())
+            .collect(),
+        ..t.clone()
+    };
+    let fitted = layout::fit(&escaped, lay);
     let mut ct = comfy_table::Table::new();
     ct.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
-    if t.wrap {
-        ct.set_content_arrangement(comfy_table::ContentArrangement::Dynamic);
+    ct.set_content_arrangement(comfy_table::ContentArrangement::Disabled);
+    ct.set_header(fitted.header);
+    for r in fitted.rows {
+        ct.add_row(r);
     }
-    // Cells keep their own line breaks; inside the borders no cell starts a line.
-    let cell = |c: &String| visible(c, true).into_owned();
-    ct.set_header(t.header.iter().map(cell));
-    for r in &t.rows {
-        ct.add_row(r.iter().map(cell));
+    let mut s = ct.to_string();
+    if fitted.hidden > 0 {
+        let note = format!(
+            "{} more column{} with --wide (or --columns NAME,...)",
+            fitted.hidden,
+            if fitted.hidden == 1 { "" } else { "s" }
+        );
+        s.push('\n');
+        s.push_str(&st.dim(&note));
     }
-    for &(i, w) in &t.bounds {
-        if let Some(c) = ct.column_mut(i) {
-            c.set_constraint(comfy_table::ColumnConstraint::UpperBoundary(
-                comfy_table::Width::Fixed(w),
-            ));
-        }
-    }
-    ct.to_string()
+    s
 }
 
 /// `file:line: severity[code]: message`, the place omitted when unknown; one

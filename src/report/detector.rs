@@ -6,7 +6,7 @@ use crate::analysis::Family;
 use crate::degeneracy::threshold::{FamilyResult, Interval};
 use crate::degeneracy::{Assembly, ScoredScrew, TwistScrew, AXIS_NAMES};
 use crate::diagnostic::Warning;
-use crate::render::numbers::{sci, sci_vec};
+use crate::render::numbers::{degrees, metres, sci, sci_vec, unit, vector};
 use crate::render::{Document, Report, Table};
 use serde::Serialize;
 
@@ -381,22 +381,19 @@ impl Report for DegeneracyReport {
         doc.text(format!(
             "{} points; frame: translation {} m, rpy {} rad",
             self.points,
-            json_vec(&self.frame.translation_m),
-            json_vec(&self.frame.rpy_rad)
+            vector(&self.frame.translation_m, metres),
+            vector(&self.frame.rpy_rad, unit)
         ));
         let rows = self
             .families
             .iter()
             .map(|f| {
                 let eig = match (&f.eigenvalues, &f.error) {
-                    (Some(e), _) => format!(
-                        "[{}]",
-                        e.iter().map(|x| sci(*x, 4)).collect::<Vec<_>>().join(" ")
-                    ),
+                    (Some(e), _) => sci_vec(e, 4),
                     (None, e) => format!("error: {}", e.as_deref().unwrap_or("")),
                 };
                 vec![
-                    f.family.name().to_string(),
+                    f.family.label().to_string(),
                     opt(f.ell_m, 4),
                     eig,
                     sci(f.threshold, 4),
@@ -425,7 +422,7 @@ impl Report for DegeneracyReport {
                 json_vec(&p.initial_guess.rpy_rad)
             ));
         }
-        doc.table(Table::unwrapped(
+        doc.table(Table::new(
             &[
                 "family",
                 "l (m)",
@@ -479,7 +476,7 @@ impl DegeneracyReport {
                 vec![
                     sci(s.eigenvalue, 4),
                     sci_vec(&s.twist, 3),
-                    sc.kind.to_string(),
+                    sc.kind.to_string().replace('_', " "),
                     format!("{:.3}", s.rotation_fraction),
                     dir,
                     opt(sc.pitch_m_per_rad, 4),
@@ -487,7 +484,7 @@ impl DegeneracyReport {
                 ]
             })
             .collect();
-        Table::unwrapped(
+        Table::new(
             &[
                 "Rayleigh quotient",
                 "twist [w; t]",
@@ -545,10 +542,9 @@ impl NormalsJson {
     }
 }
 
-/// A vector as serde_json prints it (`[1.0,0.0,0.0]`), for the table header
-/// line.
+/// A vector in the one vector style (`[a, b, c]`, metres at 0.1 mm).
 fn json_vec(v: &[f64]) -> String {
-    serde_json::to_string(v).unwrap_or_default()
+    crate::render::numbers::vector(v, crate::render::numbers::metres)
 }
 
 // ---------------------------------------------------------------------------
@@ -632,8 +628,8 @@ impl Report for TunnelReport {
         let rows = vec![
             vec![
                 "origin (m)".to_string(),
-                sci_vec(&f1.origin_m, 3),
-                sci_vec(&f2.origin_m, 3),
+                vector(&f1.origin_m, metres),
+                vector(&f2.origin_m, metres),
             ],
             vec![
                 "eigenvalues".to_string(),
@@ -661,7 +657,7 @@ impl Report for TunnelReport {
                 axes(&f2.footprint),
             ],
         ];
-        doc.table(Table::unwrapped(
+        doc.table(Table::new(
             &["quantity", "origin on the axis", "origin at shift"],
             rows,
         ));
@@ -671,12 +667,14 @@ impl Report for TunnelReport {
         ));
         if let Some(a) = self.rotational_tuple_angle_deg {
             doc.text(format!(
-                "angle between the two twist tuples: {a:.2} deg (a coordinate diagnostic)"
+                "angle between the two twist tuples: {} deg (a coordinate diagnostic)",
+                degrees(a)
             ));
         }
         if let Some(a) = self.transported_subspace_angle_deg {
             doc.text(format!(
-                "subspace angle after transport v = A v': {a:.3e} deg"
+                "subspace angle after transport v = A v': {} deg",
+                degrees(a)
             ));
         }
         doc.text(format!(
@@ -778,8 +776,8 @@ impl Report for SimulateReport {
             self.points,
             self.noise_m,
             self.seed,
-            sci_vec(&self.transform.translation_m, 4),
-            sci_vec(&self.transform.rpy_rad, 4),
+            vector(&self.transform.translation_m, metres),
+            vector(&self.transform.rpy_rad, unit),
             self.lever_arm_m,
             self.tau
         ));
@@ -812,16 +810,16 @@ impl Report for SimulateReport {
                             ""
                         }
                     ),
-                    r.subspace_angle_deg
-                        .map_or("-".into(), |a| format!("{a:.3e}")),
+                    r.subspace_angle_deg.map_or("-".into(), degrees),
                     format!(
-                        "{:.3e} / {:.3e}",
-                        r.correction_difference.rotation_rad, r.correction_difference.translation_m
+                        "{} / {}",
+                        sci(r.correction_difference.rotation_rad, 3),
+                        sci(r.correction_difference.translation_m, 3)
                     ),
                 ]
             })
             .collect();
-        doc.table(Table::unwrapped(
+        doc.table(Table::new(
             &[
                 "family",
                 "threshold",
@@ -1049,7 +1047,7 @@ impl Report for ThresholdReport {
             })
             .collect();
         let header: Vec<&str> = header.iter().map(String::as_str).collect();
-        doc.table(Table::unwrapped(&header, rows));
+        doc.table(Table::new(&header, rows));
         doc.text("Column nS vV: range noise S m, voxel V m. 'none (k/3)': no single tau reproduces all three counts; k is the most scenes one tau reproduces together.\nPaper: point displacement [5.3e-3, 8.3e-2] (1.20 decades); every other family empty.");
         doc
     }

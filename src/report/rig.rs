@@ -11,7 +11,7 @@ use crate::frames::Chain;
 use crate::geometry::certificate;
 use crate::geometry::uncertainty::{self, Step, UncertaintySource};
 use crate::geometry::{EdgePrecision, PitchTol, PitchVerdict, ScrewKind, Transform, UserSigma};
-use crate::render::numbers::{fixed, short, vec_str};
+use crate::render::numbers::{degrees, fixed, metres, ratio, short, unit, vector};
 use crate::render::{Block, Document, Report, Table};
 use crate::tolerances::{
     NEAR_HALF_TURN_RAD, PITCH_FLOAT_FLOOR_M, PITCH_K, PITCH_RESOLUTION_M, SMALL_ROTATION_DEG,
@@ -620,31 +620,31 @@ impl RigReport {
         let (angle_deg, axis) = (self.rotation.angle_deg, self.rotation.axis);
         let mut rows = vec![vec![
             "translation (m)".into(),
-            vec_str(&tf.translation_m, 9),
+            vector(&tf.translation_m, metres),
         ]];
         for (i, r) in tf.rotation_matrix.iter().enumerate() {
             rows.push(vec![
                 format!("rotation matrix row {}", i + 1),
-                vec_str(r, 9),
+                vector(r, unit),
             ]);
         }
         rows.push(vec![
             "quaternion [x, y, z, w]".into(),
-            vec_str(&tf.quaternion_xyzw, 9),
+            vector(&tf.quaternion_xyzw, unit),
         ]);
         rows.push(vec![
             "URDF rpy (rad)".into(),
             format!(
                 "{}  = {} deg",
-                vec_str(&tf.rpy_rad, 9),
-                vec_str(&tf.rpy_rad.map(f64::to_degrees), 6)
+                vector(&tf.rpy_rad, unit),
+                vector(&tf.rpy_rad.map(f64::to_degrees), degrees)
             ),
         ]);
         rows.push(vec![
             "axis-angle".into(),
             match axis {
-                Some(e) => format!("{} deg about {}", fixed(angle_deg, 6), vec_str(&e, 6)),
-                None => format!("{} deg (no axis)", fixed(angle_deg, 6)),
+                Some(e) => format!("{} deg about {}", degrees(angle_deg), vector(&e, unit)),
+                None => format!("{} deg (no axis)", degrees(angle_deg)),
             },
         ]);
         let (a, b) = (&self.from, &self.to);
@@ -689,7 +689,7 @@ impl RigReport {
                 "lever arm ||d||".into(),
                 format!(
                     "{} +- {} m",
-                    fixed(self.lever_arm_m, 6),
+                    metres(self.lever_arm_m),
                     short(self.lever_arm_uncertainty_m)
                 ),
             ],
@@ -697,8 +697,8 @@ impl RigReport {
                 "rotation angle".into(),
                 format!(
                     "{} deg ({} +- {} rad)",
-                    fixed(self.rotation.angle_deg, 6),
-                    short(self.rotation.angle_rad),
+                    degrees(self.rotation.angle_deg),
+                    unit(self.rotation.angle_rad),
                     short(self.rotation.angle_uncertainty_rad)
                 ),
             ],
@@ -717,13 +717,13 @@ impl RigReport {
                 .unwrap_or_default();
             rows.push(vec![
                 "screw pitch h/phi".into(),
-                format!("{}{u} m/rad", short(p)),
+                format!("{}{u} m/rad", metres(p)),
             ]);
         }
         if let Some(c) = sc.axis_point_m {
             rows.push(vec![
                 "screw axis point (closest to origin)".into(),
-                format!("{} m", vec_str(&c, 6)),
+                format!("{} m", vector(&c, metres)),
             ]);
         }
         let sv = self.adjoint.singular_values;
@@ -731,9 +731,9 @@ impl RigReport {
             "Ad(T) singular values".into(),
             format!(
                 "{} +- {} (x2), 1 (x2), {} (x2)",
-                fixed(sv[0], 6),
+                ratio(sv[0]),
                 short(self.adjoint.singular_values_uncertainty[0]),
-                fixed(sv[5], 6)
+                ratio(sv[5])
             ),
         ]);
         rows.push(vec![
@@ -746,7 +746,7 @@ impl RigReport {
         ]);
         rows.push(vec![
             "||A^T A - I||_F / ||I||_F".into(),
-            fixed(self.adjoint.ata_minus_i_rel, 6),
+            ratio(self.adjoint.ata_minus_i_rel),
         ]);
         doc.table(Table::new(&["quantity", "value"], rows));
     }
@@ -760,9 +760,9 @@ impl RigReport {
             .map(|(i, c)| {
                 let mut r = vec![
                     short(c.ell_m),
-                    fixed(c.delta_eff, 6),
-                    fixed(c.band[0], 6),
-                    fixed(c.band[1], 6),
+                    ratio(c.delta_eff),
+                    ratio(c.band[0]),
+                    ratio(c.band[1]),
                 ];
                 if let Some(k) = &self.kappa_check {
                     r.push(if k.certified[i] { "yes" } else { "no" }.into());
@@ -781,7 +781,7 @@ impl RigReport {
                 "lambda/kappa = {} / {} = {}",
                 short(k.lambda),
                 short(k.kappa),
-                short(k.ratio)
+                ratio(k.ratio)
             ));
         }
     }
@@ -797,7 +797,7 @@ impl RigReport {
         if let Some(m) = &am.matrix {
             let rows = m
                 .iter()
-                .map(|r| r.iter().map(|x| fixed(*x, 6)).collect())
+                .map(|r| r.iter().map(|x| ratio(*x)).collect())
                 .collect();
             doc.table(Table::new(&["wx", "wy", "wz", "tx", "ty", "tz"], rows));
         }

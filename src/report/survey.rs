@@ -11,7 +11,7 @@ use super::rig::{near_half_turn, small_rotation};
 use super::SCHEMA_VERSION;
 use crate::geometry::uncertainty::UncertaintySource;
 use crate::geometry::PitchVerdict;
-use crate::render::numbers::{fixed, metres_h};
+use crate::render::numbers::{degrees, fixed, metres, metres_h, ratio, vector};
 use crate::render::{Document, Report, Table};
 use crate::tolerances::{NEAR_HALF_TURN_RAD, SMALL_ROTATION_DEG};
 use serde::Serialize;
@@ -172,7 +172,11 @@ impl SurveyReport {
             .zip(&self.marks)
             .map(|(j, m)| display_row(j, m))
             .collect();
-        Table::new(&HEADER, rows).bounded(&[(1, 28), (2, 28)])
+        // A narrow terminal: one line per rig (id, lever arm, angle, h, zero
+        // pitch, band, metric); `--wide` adds sensor, platform and s_max.
+        Table::new(&HEADER, rows)
+            .bounded(&[(1, 28), (2, 28)])
+            .compact(&[0, 3, 4, 5, 6, 8, 9])
     }
 
     fn data_table(&self) -> Table {
@@ -270,8 +274,8 @@ fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
         id,
         j.sensor.clone(),
         j.platform.clone(),
-        fixed(j.lever_arm_m, 4),
-        format!("{}{}", fixed(j.angle_deg, 3), if small { "*" } else { "" }),
+        metres(j.lever_arm_m),
+        format!("{}{}", degrees(j.angle_deg), if small { "*" } else { "" }),
         match j.screw_translation_m {
             Some(h) => format!(
                 "{}{}{}",
@@ -288,8 +292,8 @@ fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
             None => "- (pure transl.)".into(),
         },
         verdict_of(j).name().into(),
-        fixed(j.sigma_max, 4),
-        format!("[{}, {}]", fixed(j.band_l1[0], 3), fixed(j.band_l1[1], 3)),
+        ratio(j.sigma_max),
+        vector(&j.band_l1, ratio),
         if j.adapted_metric_exists {
             "exists"
         } else {

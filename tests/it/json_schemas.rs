@@ -94,6 +94,103 @@ fn json_outputs_match_the_committed_schemas() {
     );
 }
 
+/// The detector commands' JSON (the calibration on a reduced sweep), each
+/// with `schema_version` and a `warnings` array like every other command.
+#[test]
+fn detector_json_outputs_match_their_schemas() {
+    assert_valid("tunnel", &["tunnel", "--format", "json"]);
+    assert_valid(
+        "tunnel",
+        &["tunnel", "--shift", "0,2,0", "--format", "json"],
+    );
+    assert_valid(
+        "simulate",
+        &[
+            "simulate",
+            "--shift",
+            "0.3,0,0.2",
+            "--rotate-rpy",
+            "0,0,1.57",
+            "--scene",
+            "tunnel",
+            "--format",
+            "json",
+        ],
+    );
+    assert_valid(
+        "calibrate-threshold",
+        &[
+            "calibrate-threshold",
+            "--seeds",
+            "1",
+            "--noise",
+            "0",
+            "--voxel",
+            "0.1",
+            "--format",
+            "json",
+        ],
+    );
+}
+
+/// Every command's JSON carries `schema_version` 1 and a `warnings` array
+/// (a count in the check report, whose findings list every warning).
+#[test]
+fn every_json_output_has_a_version_and_warnings() {
+    let runs: [&[&str]; 5] = [
+        &ANYMAL_JSON,
+        &["survey", "calibrations/", "--format", "json"],
+        &["tunnel", "--format", "json"],
+        &[
+            "simulate", "--shift", "0.3,0,0", "--scene", "corridor", "--format", "json",
+        ],
+        &[
+            "degeneracy",
+            "tests/fixtures/detector/tunnel_small_le.ply",
+            "--format",
+            "json",
+        ],
+    ];
+    for args in runs {
+        let (_, out, _) = run_cli(args);
+        let v: Value = serde_json::from_str(&out).expect("JSON output");
+        assert_eq!(v["schema_version"], 1, "{args:?}");
+        assert!(v["warnings"].is_array(), "{args:?}");
+    }
+    // The survey's warnings (GEODE's four-digit rotation matrices) reach the JSON.
+    let (_, out, err) = run_cli(&["survey", "calibrations/", "--format", "json"]);
+    let v: Value = serde_json::from_str(&out).unwrap();
+    let ws = v["warnings"].as_array().unwrap();
+    assert!(ws.iter().any(|w| w
+        .as_str()
+        .unwrap()
+        .contains("geode-alpha-vlp16.toml:23:1: rotation matrix is orthonormal only")));
+    assert_eq!(ws.len(), err.lines().count(), "{err}");
+}
+
+/// A format a command cannot produce is an error, not other output.
+#[test]
+fn an_unsupported_format_is_refused() {
+    let (code, out, err) = run_cli(&[
+        "tests/fixtures/urdf/anymal_c.urdf",
+        "--frames",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 2, "{out}");
+    assert!(out.is_empty());
+    assert!(
+        err.contains("expected --format text with --frames, found --format json"),
+        "{err}"
+    );
+    let (code, out, err) = run_cli(&["tunnel", "--format", "sarif"]);
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        err.contains("--format sarif lists the findings of `audit check`"),
+        "{err}"
+    );
+}
+
 #[test]
 fn the_schemas_refuse_a_wrong_report() {
     // A validator that accepts anything would make the test above worthless.

@@ -46,6 +46,8 @@ mod readme;
 mod rig_toml;
 mod scene_simulate;
 mod scene_tunnel;
+mod snapshots;
 mod survey_any;
 mod uncertainty;
 mod urdf_conformance;
+mod widths;

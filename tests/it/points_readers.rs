@@ -247,9 +247,9 @@ fn degeneracy_command_runs_and_reports_errors() {
     ];
     let (code, s, _) = run_cli(&base);
     assert_eq!(code, 0);
-    assert!(s.contains("point_displacement"), "{s}");
+    assert!(s.contains("point displacement"), "{s}");
     assert!(
-        s.contains("zero_pitch") && s.contains("pure_translation"),
+        s.contains("zero pitch") && s.contains("pure translation"),
         "{s}"
     );
     let mut a = base.to_vec();

@@ -71,9 +71,9 @@ fn tunnel_command_prints_the_numbers() {
     assert_eq!(code, 0);
     assert!(s.contains("rot-z + trans-z"), "{s}");
     assert!(s.contains("rot-z + trans-y + trans-z"), "{s}");
-    assert!(s.contains("[0.000 0.000 1.000 0.000 1.000 0.000]"), "{s}");
+    assert!(s.contains("[0, 0, 1.000, 0, 1.000, 0]"), "{s}");
     assert!(
-        s.contains("angle between the two twist tuples: 45.00 deg"),
+        s.contains("angle between the two twist tuples: 45.000 deg"),
         "{s}"
     );
     let (code, out, _) = run_cli(&["tunnel", "--format", "json"]);
