@@ -175,12 +175,12 @@ fn an_unsupported_format_is_refused() {
         "tests/fixtures/urdf/anymal_c.urdf",
         "--frames",
         "--format",
-        "json",
+        "sarif",
     ]);
     assert_eq!(code, 2, "{out}");
     assert!(out.is_empty());
     assert!(
-        err.contains("expected --format text with --frames, found --format json"),
+        err.contains("--frames --format sarif: expected text, json, dot, mermaid, svg or markdown"),
         "{err}"
     );
     let (code, out, err) = run_cli(&["tunnel", "--format", "sarif"]);
