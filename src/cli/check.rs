@@ -106,29 +106,33 @@ fn parse_pair(s: &str) -> std::result::Result<(String, String), String> {
 }
 
 pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
-    let report = pipeline::check(&CheckOptions {
-        paths: args.paths.clone(),
-        baseline: args.baseline.clone(),
-        write_baseline: args.write_baseline.clone(),
-        prune: args.prune,
-        exclude: args.exclude.clone(),
-        pairs: args.pairs.clone(),
-        max_lever_arm: args.max_lever_arm,
-        require_zero_pitch: args.require_zero_pitch,
-        drift: Tolerances {
-            translation_m: args.max_translation_drift,
-            rotation_deg: args.max_rotation_drift,
+    let progress = super::display::TermProgress::new();
+    let report = pipeline::check_with(
+        &CheckOptions {
+            paths: args.paths.clone(),
+            baseline: args.baseline.clone(),
+            write_baseline: args.write_baseline.clone(),
+            prune: args.prune,
+            exclude: args.exclude.clone(),
+            pairs: args.pairs.clone(),
+            max_lever_arm: args.max_lever_arm,
+            require_zero_pitch: args.require_zero_pitch,
+            drift: Tolerances {
+                translation_m: args.max_translation_drift,
+                rotation_deg: args.max_rotation_drift,
+            },
+            pitch_tol: args.pitch_tol,
+            load: LoadOptions {
+                joints: args.joints.iter().cloned().collect(),
+                max_file_size: args.max_file_size,
+                ..LoadOptions::default()
+            },
+            allow: args.allow.clone(),
+            deny: args.deny.clone(),
+            deny_warnings: args.deny_warnings,
         },
-        pitch_tol: args.pitch_tol,
-        load: LoadOptions {
-            joints: args.joints.iter().cloned().collect(),
-            max_file_size: args.max_file_size,
-            ..LoadOptions::default()
-        },
-        allow: args.allow.clone(),
-        deny: args.deny.clone(),
-        deny_warnings: args.deny_warnings,
-    })?;
+        &progress,
+    )?;
     emit(&report, args.format, out)?;
     Ok(report.exit_code())
 }

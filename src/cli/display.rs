@@ -109,8 +109,8 @@ impl TermProgress {
 
 impl extrinsic_audit::progress::Progress for TermProgress {
     fn start(&self, total: u64, what: &str) {
-        self.bar.set_length(total);
         self.bar.set_message(what.to_string());
+        self.bar.set_length(total);
     }
     fn advance(&self, n: u64) {
         self.bar.inc(n);

@@ -22,6 +22,7 @@ use crate::diagnostic::{Code, Diagnostic, Error, Location, Result, Severity, War
 use crate::formats::{self, LoadOptions};
 use crate::frames::FrameGraph;
 use crate::geometry::{PitchTol, PitchVerdict, ScrewKind};
+use crate::progress::{NoProgress, Progress};
 use crate::report::check::BaselineChanges;
 use crate::report::rig::{rig_report, Judgement};
 use crate::report::CheckReport;
@@ -161,6 +162,8 @@ struct Checker<'a> {
     opts: &'a CheckOptions,
     findings: Vec<Diagnostic>,
     pairs_found: Vec<bool>,
+    /// One step per file read.
+    progress: &'a dyn Progress,
 }
 
 fn loc_of(l: &Location) -> Location {
@@ -193,6 +196,7 @@ impl Checker<'_> {
         f: &Found,
         acc: &mut RobotGraph,
     ) -> Result<Option<FileState>> {
+        self.progress.advance(1);
         let index = acc.states;
         if launch_without_transforms(f, self.opts.load.max_file_size) {
             self.findings.push(
@@ -594,6 +598,12 @@ fn write_baseline(path: &Path, b: &Baseline) -> Result<()> {
 /// Run the check; writes the baseline when asked (after refusing a target
 /// that is an input or not a regular baseline file, before reading anything).
 pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
+    check_with(opts, &NoProgress)
+}
+
+/// [`check`], reporting one step per file read to `progress` (a large
+/// directory takes seconds).
+pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckReport> {
     let mut walked = walk(&opts.paths, &opts.exclude)?;
     walked.files.retain(|f| {
         !opts
@@ -640,11 +650,19 @@ pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
         opts,
         findings: std::mem::take(&mut walked.findings),
         pairs_found: vec![false; opts.pairs.len()],
+        progress,
     };
+    let total: usize = robots.iter().map(|r| r.files.len()).sum();
+    progress.start(total as u64, "files checked");
     let mut states = Vec::new();
     for r in &robots {
-        states.extend(ck.check_robot(r)?);
+        let s = ck.check_robot(r);
+        if s.is_err() {
+            progress.finish();
+        }
+        states.extend(s?);
     }
+    progress.finish();
     for (i, found) in ck.pairs_found.clone().iter().enumerate() {
         if !found {
             let (a, b) = &opts.pairs[i];

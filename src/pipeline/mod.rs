@@ -11,7 +11,7 @@ pub mod manifest;
 mod survey;
 pub mod walk;
 
-pub use check::{check, CheckOptions, Robot};
+pub use check::{check, check_with, CheckOptions, Robot};
 pub use diff::{diff, DiffOptions};
 pub use files::{expand_paths, write_atomic};
 pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};

@@ -256,6 +256,20 @@ fn the_progress_bar_is_drawn_on_a_terminal_only() {
     assert!(!pty_run_stdout(80, &args).contains("simulated scenes ["));
 }
 
+/// `check` over a directory counts the files it reads on a terminal's
+/// standard error, and nothing reaches a pipe.
+#[test]
+fn check_shows_its_progress_on_a_terminal_only() {
+    let args = ["check", "calibrations/"];
+    let (_, _, err) = run_cli(&args);
+    assert!(!err.contains("files checked ["), "{err}");
+    if !have_pty() {
+        return;
+    }
+    let out = pty_run(80, &args);
+    assert!(out.contains("files checked ["), "{out}");
+}
+
 #[test]
 fn color_is_chosen_by_the_flag_then_the_terminal() {
     let args = [
