@@ -1,22 +1,26 @@
 //! The check report (`audit check`): every finding as a diagnostic, and the
 //! counts; JSON in `docs/schemas/check.schema.json`.
 
-use super::SCHEMA_VERSION;
 use crate::diagnostic::{Diagnostic, Severity};
 use crate::render::{Block, Document, Report};
 use serde::Serialize;
 
+/// Version of the check report's JSON: 2 since `warnings` became the array of
+/// warning lines every other report carries (it was their count in 1).
+pub const CHECK_SCHEMA_VERSION: u32 = 2;
+
 /// What `audit check` found.
 #[derive(Debug, Clone, Serialize)]
 pub struct CheckReport {
-    /// Always 1.
+    /// [`CHECK_SCHEMA_VERSION`].
     pub schema_version: u32,
     /// Files read.
     pub files_checked: usize,
     /// Findings of severity `error` (the gate fails when non-zero).
     pub problems: usize,
-    /// Findings of severity `warning`.
-    pub warnings: usize,
+    /// Findings of severity `warning`, one line each (`warning[code]: file:line:
+    /// message`), as in every report's JSON; the findings hold them in full.
+    pub warnings: Vec<String>,
     /// Every finding, in the order found.
     pub findings: Vec<Diagnostic>,
     /// What `--write-baseline` changed (`null` when no baseline was written).
@@ -70,11 +74,16 @@ impl CheckReport {
             .iter()
             .filter(|f| f.severity == Severity::Error)
             .count();
+        let warnings = findings
+            .iter()
+            .filter(|f| f.severity == Severity::Warning)
+            .map(|f| f.to_string())
+            .collect();
         CheckReport {
-            schema_version: SCHEMA_VERSION,
+            schema_version: CHECK_SCHEMA_VERSION,
             files_checked,
             problems,
-            warnings: findings.len() - problems,
+            warnings,
             findings,
             baseline_written: None,
         }
@@ -92,7 +101,7 @@ impl CheckReport {
             "checked {}: {}, {}",
             plural(self.files_checked, "file"),
             plural(self.problems, "problem"),
-            plural(self.warnings, "warning")
+            plural(self.warnings.len(), "warning")
         )
     }
 }

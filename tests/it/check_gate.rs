@@ -152,7 +152,11 @@ fn shipped_calibrations_pass_the_gate() {
     let (code, j, err) = check_json(&["calibrations/"]);
     assert_eq!(code, 0, "{j}{err}");
     assert_eq!(j["problems"], 0);
-    assert_eq!(j["warnings"], 4, "GEODE's and M3DGR's rounded matrices");
+    assert_eq!(
+        j["warnings"].as_array().map(Vec::len),
+        Some(4),
+        "GEODE's and M3DGR's rounded matrices"
+    );
     let (code, j, err) = check_json(&["calibrations/", "--baseline", "calibrations/baseline.json"]);
     assert_eq!(code, 0, "{j}{err}");
     assert_eq!(j["problems"], 0);

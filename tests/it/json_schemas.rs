@@ -157,6 +157,21 @@ fn every_json_output_has_a_version_and_warnings() {
         assert_eq!(v["schema_version"], 1, "{args:?}");
         assert!(v["warnings"].is_array(), "{args:?}");
     }
+    // The check report moved to version 2 when its `warnings` count became
+    // the array every other report has.
+    let (_, out, _) = run_cli(&["check", "calibrations/", "--format", "json"]);
+    let v: Value = serde_json::from_str(&out).expect("JSON output");
+    assert_eq!(v["schema_version"], 2);
+    let ws = v["warnings"].as_array().expect("an array");
+    let findings = v["findings"].as_array().expect("findings");
+    assert_eq!(
+        ws.len(),
+        findings
+            .iter()
+            .filter(|f| f["severity"] == "warning")
+            .count()
+    );
+    assert!(schema("check").is_valid(&v));
     // The survey's warnings (GEODE's four-digit rotation matrices) reach the JSON.
     let (_, out, err) = run_cli(&["survey", "calibrations/", "--format", "json"]);
     let v: Value = serde_json::from_str(&out).unwrap();
