@@ -116,7 +116,7 @@ pub enum XacroMode {
 }
 
 /// `--arg NAME=VALUE` (the value is text, as `xacro NAME:=VALUE` takes it).
-fn parse_xacro_arg(s: &str) -> std::result::Result<(String, String), String> {
+pub(super) fn parse_xacro_arg(s: &str) -> std::result::Result<(String, String), String> {
     let (name, value) = s
         .split_once('=')
         .ok_or_else(|| format!("expected NAME=VALUE, found `{s}`"))?;

@@ -53,6 +53,12 @@ pub struct SurveyArgs {
     /// characteristic length) to this SVG file
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
+    /// Where xacro `$(find pkg)` looks first (as for `audit`); repeatable
+    #[arg(long = "package-path", value_name = "DIR")]
+    pub package_paths: Vec<PathBuf>,
+    /// xacro and launch-file `$(arg NAME)` value (as for `audit`); repeatable
+    #[arg(long = "arg", value_parser = super::audit::parse_xacro_arg, value_name = "NAME=VALUE")]
+    pub xacro_args: Vec<(String, String)>,
 }
 
 pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
@@ -66,6 +72,11 @@ pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
         all: args.all,
         sort: args.sort,
         pair: args.from.clone().zip(args.to.clone()),
+        load: extrinsic_audit::formats::LoadOptions {
+            package_paths: args.package_paths.clone(),
+            xacro_args: args.xacro_args.iter().cloned().collect(),
+            ..Default::default()
+        },
     })?;
     print_warnings(&warnings);
     if let Some(plot) = &args.plot {

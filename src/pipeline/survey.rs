@@ -56,6 +56,9 @@ pub struct SurveyOptions {
     pub sort: Option<SortColumn>,
     /// `--from`/`--to`: the pair for files that are not rig files.
     pub pair: Option<(String, String)>,
+    /// How the files are read (`--package-path`, `--arg` for xacro and launch
+    /// files).
+    pub load: LoadOptions,
 }
 
 /// One file to survey.
@@ -162,7 +165,7 @@ fn survey_one(
     warnings: &mut Vec<Warning>,
 ) -> Result<Row> {
     let path = &input.path;
-    let loaded = formats::load_file(path, &LoadOptions::default())?;
+    let loaded = formats::load_file(path, &opts.load)?;
     let meta = loaded.rig.clone();
     let (from, to) = pair_of(input, meta.as_ref(), opts.pair.as_ref())?;
     let mut graph = FrameGraph::new();

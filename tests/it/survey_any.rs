@@ -254,3 +254,35 @@ fn hostile_rig_ids_stay_text_in_the_plot() {
     let texts = svg_texts(&std::fs::read_to_string(&plot).unwrap());
     assert!(texts.contains("<b>&amp;\"x\\u{202e}"), "{texts:?}");
 }
+
+/// A xacro whose `$(find pkg)` needs `--package-path` is surveyed like any
+/// file once the path is given (the same flag as `audit`): base_link -> lidar
+/// is the VLP-16 macro's mount origin (0.1, 0, 0.25), turned by pi/2 about z,
+/// plus its 0.0377 m scan offset along z, so the lever arm is
+/// sqrt(0.1^2 + 0.2877^2) in closed form.
+#[test]
+fn a_xacro_with_find_is_surveyed_with_package_path() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input = dir.path().join("rig.urdf.xacro");
+    std::fs::write(
+        &input,
+        r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:include filename="$(find velodyne_description)/urdf/VLP-16.urdf.xacro"/>
+  <link name="base_link"/>
+  <xacro:VLP-16 parent="base_link" name="lidar">
+    <origin xyz="0.1 0 ${0.5 / 2}" rpy="0 0 ${pi / 2}"/>
+  </xacro:VLP-16>
+</robot>
+"#,
+    )
+    .expect("write");
+    let target = format!("{}:base_link:lidar", input.display());
+    let (code, _, err) = run_cli(&["survey", &target, "--format", "json"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--package-path"), "{err}");
+    let pkg = "tests/fixtures/xacro/velodyne_simulator";
+    let (v, err) = survey_json(&[&target, "--package-path", pkg]);
+    let r = row(&v, &input.display().to_string());
+    close(&r["lever_arm_m"], 0.1f64.hypot(0.25 + 0.0377), 1e-12);
+    assert!(err.is_empty() || !err.contains("error"), "{err}");
+}
