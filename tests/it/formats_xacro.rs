@@ -220,19 +220,7 @@ fn find_uses_the_package_path() {
     assert_eq!(e.location.line, Some(372), "{e}");
 
     let dir = tempfile::tempdir().expect("tempdir");
-    let input = dir.path().join("rig.urdf.xacro");
-    std::fs::write(
-        &input,
-        r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
-  <xacro:include filename="$(find velodyne_description)/urdf/VLP-16.urdf.xacro"/>
-  <link name="base_link"/>
-  <xacro:VLP-16 parent="base_link" name="lidar">
-    <origin xyz="0.1 0 ${0.5 / 2}" rpy="0 0 ${pi / 2}"/>
-  </xacro:VLP-16>
-</robot>
-"#,
-    )
-    .expect("write");
+    let input = crate::common::vlp16_rig_xacro(dir.path());
     let e = load_file(&input, &LoadOptions::default()).expect_err("not found");
     assert!(e.message.contains("$(find velodyne_description)"), "{e}");
     let opts = LoadOptions {

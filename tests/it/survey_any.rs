@@ -263,19 +263,7 @@ fn hostile_rig_ids_stay_text_in_the_plot() {
 #[test]
 fn a_xacro_with_find_is_surveyed_with_package_path() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let input = dir.path().join("rig.urdf.xacro");
-    std::fs::write(
-        &input,
-        r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
-  <xacro:include filename="$(find velodyne_description)/urdf/VLP-16.urdf.xacro"/>
-  <link name="base_link"/>
-  <xacro:VLP-16 parent="base_link" name="lidar">
-    <origin xyz="0.1 0 ${0.5 / 2}" rpy="0 0 ${pi / 2}"/>
-  </xacro:VLP-16>
-</robot>
-"#,
-    )
-    .expect("write");
+    let input = crate::common::vlp16_rig_xacro(dir.path());
     let target = format!("{}:base_link:lidar", input.display());
     let (code, _, err) = run_cli(&["survey", &target, "--format", "json"]);
     assert_eq!(code, 2, "{err}");

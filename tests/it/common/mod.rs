@@ -21,3 +21,24 @@ pub fn run_cli(args: &[&str]) -> (i32, String, String) {
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+
+/// A rig xacro in `dir` that includes `$(find velodyne_description)`'s VLP-16
+/// macro (base_link -> lidar, mount origin (0.1, 0, 0.25) turned by pi/2 about
+/// z): in a temporary directory the upward package search cannot find the
+/// package, so `--package-path` is needed.
+pub fn vlp16_rig_xacro(dir: &std::path::Path) -> std::path::PathBuf {
+    let input = dir.join("rig.urdf.xacro");
+    std::fs::write(
+        &input,
+        r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:include filename="$(find velodyne_description)/urdf/VLP-16.urdf.xacro"/>
+  <link name="base_link"/>
+  <xacro:VLP-16 parent="base_link" name="lidar">
+    <origin xyz="0.1 0 ${0.5 / 2}" rpy="0 0 ${pi / 2}"/>
+  </xacro:VLP-16>
+</robot>
+"#,
+    )
+    .expect("write");
+    input
+}
