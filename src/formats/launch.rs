@@ -863,7 +863,8 @@ fn py_conditions(text: &str, call: usize, open: usize, close: usize) -> Result<V
     Ok(conds)
 }
 
-/// ROS 2 Python launch files: literal argument lists only.
+/// ROS 2 Python launch files: literal argument lists, launch configurations
+/// and conditions (see the module docs).
 pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let src = text.as_bytes();
     let args = LaunchArgs::from_decls(py_arg_decls(text), &opts.xacro_args);
@@ -1028,7 +1029,7 @@ pub const LAUNCH_YAML: FormatSpec = FormatSpec {
 /// ROS 2 Python launch.
 pub const LAUNCH_PY: FormatSpec = FormatSpec {
     id: "launch-py",
-    description: "ROS 2 Python launch: literal `arguments=[...]` of static_transform_publisher Nodes; anything not literal is refused",
+    description: "ROS 2 Python launch: `arguments=[...]` of static_transform_publisher Nodes (literals and `LaunchConfiguration` of a `DeclareLaunchArgument` or `--arg`), `IfCondition`/`UnlessCondition` decided; anything else is refused",
     extensions: &["py", "launch.py"],
     walk: &[".launch.py"],
     sniff: |s| s.head.contains("LaunchDescription").then_some(60),
