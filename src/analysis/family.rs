@@ -28,7 +28,9 @@ pub enum Family {
 }
 
 /// A threshold calibrated on the synthetic corridors (see
-/// `degeneracy::threshold::default_threshold`).
+/// `degeneracy::threshold::default_threshold`): per point (`lambda / sum w`)
+/// for the families marked [`FamilySpec::per_point`], on the eigenvalues as
+/// they are for the others.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Calibrated {
     /// One value.
@@ -55,6 +57,9 @@ pub struct FamilySpec {
     pub equivariant: bool,
     /// Its calibrated threshold.
     pub calibrated: Calibrated,
+    /// Whether its eigenvalues add up over points, so that thresholds compare
+    /// them per point (`lambda / sum w`; see `degeneracy::threshold`).
+    pub per_point: bool,
 }
 
 /// The family table, in report order.
@@ -65,7 +70,8 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "unnormalized spectrum (I6)",
         short_label: "I6",
         equivariant: false,
-        calibrated: Calibrated::Fixed(114.62),
+        per_point: true,
+        calibrated: Calibrated::Fixed(0.04582),
     },
     FamilySpec {
         family: Family::CharacteristicLength,
@@ -73,11 +79,12 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "characteristic length diag(l^2 I, I)",
         short_label: "l=",
         equivariant: false,
+        per_point: true,
         calibrated: Calibrated::PerEll(&[
-            (0.25, 464.42),
-            (1.0, 114.62),
-            (2.85, 96.55),
-            (10.0, 17.13),
+            (0.25, 0.02157),
+            (1.0, 0.04582),
+            (2.85, 0.01462),
+            (10.0, 0.001202),
         ]),
     },
     FamilySpec {
@@ -86,7 +93,8 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "block scaling (l from H)",
         short_label: "block scaling",
         equivariant: false,
-        calibrated: Calibrated::Fixed(81.14),
+        per_point: true,
+        calibrated: Calibrated::Fixed(0.01221),
     },
     FamilySpec {
         family: Family::Jacobi,
@@ -94,6 +102,8 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "Jacobi diag(H)",
         short_label: "Jacobi",
         equivariant: false,
+        // diag(H) grows with H: count-free.
+        per_point: false,
         calibrated: Calibrated::Fixed(0.8619),
     },
     FamilySpec {
@@ -102,8 +112,9 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "adapted constant M0",
         short_label: "adapted constant",
         equivariant: false,
+        per_point: true,
         // Same scale as I6 (a constant metric near the identity).
-        calibrated: Calibrated::Fixed(114.62),
+        calibrated: Calibrated::Fixed(0.04582),
     },
     FamilySpec {
         family: Family::PointDisplacement,
@@ -111,6 +122,8 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "point displacement sum J^T J",
         short_label: "point displacement",
         equivariant: true,
+        // sum J^T J grows with H: count-free.
+        per_point: false,
         calibrated: Calibrated::Tau,
     },
 ];

@@ -50,9 +50,15 @@ pub struct FamilyEigen {
     /// Generalized eigenvalues of `H v = lambda M v`, ascending; null when the
     /// family's metric could not be factored (see `error`).
     pub eigenvalues: Option<[f64; 6]>,
-    /// The threshold applied: `--tau` for point displacement, the calibrated
-    /// default for the other families.
+    /// The threshold on `eigenvalues`: `--tau` for point displacement, the
+    /// calibrated default for the other families, times `sum w` for the
+    /// families compared per point (`threshold_per_point`).
     pub threshold: f64,
+    /// The calibrated per-point threshold (`lambda / sum w < tau`) of the
+    /// families whose eigenvalues add up over points; absent for Jacobi and
+    /// point displacement, whose eigenvalues are count-free.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub threshold_per_point: Option<f64>,
     /// Number of eigenvalues below `threshold`; null with `error`.
     pub degenerate_count: Option<usize>,
     /// Why this family has no answer (e.g. a singular metric); absent when it
@@ -718,8 +724,9 @@ pub struct FamilyComparison {
     /// (the same in both), recomputed from each frame's `H` for
     /// `block_scaling`; null for the other families.
     pub ell_m: [Option<f64>; 2],
-    /// The threshold applied: `--tau` for point displacement, the calibrated
-    /// default for the other families.
+    /// The threshold on the eigenvalues: `--tau` for point displacement, the
+    /// calibrated default for the other families, times `sum w` where the
+    /// family is compared per point.
     pub threshold: f64,
     /// Generalized eigenvalues, ascending, in each frame.
     pub eigenvalues: FromTo<[f64; 6]>,

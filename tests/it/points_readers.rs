@@ -172,7 +172,11 @@ fn degeneracy_json_has_the_design_schema() {
     }
     // Point displacement uses --tau; the baselines their calibrated thresholds.
     assert_eq!(fams[7]["threshold"].as_f64(), Some(1e-2));
-    assert_eq!(fams[0]["threshold"].as_f64(), Some(114.62));
+    // I6 per point: the threshold on its eigenvalues is 0.04582 x the points.
+    assert_eq!(fams[0]["threshold_per_point"].as_f64(), Some(0.04582));
+    let n = v["points"].as_f64().unwrap();
+    assert!((fams[0]["threshold"].as_f64().unwrap() - 0.04582 * n).abs() < 1e-9 * n);
+    assert!(fams[7].get("threshold_per_point").is_none());
     assert_eq!(fams[1]["ell_m"].as_f64(), Some(0.25));
     let pd = fams.last().unwrap();
     assert_eq!(pd["degenerate_count"], 2);

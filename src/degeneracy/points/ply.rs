@@ -302,11 +302,7 @@ type NextLine<'a, R> = dyn FnMut(&mut Source<R>) -> Result<Option<(usize, String
 
 /// After the vertices of an ascii file: one line per item of the later
 /// elements, then nothing but blank lines.
-fn ascii_tail<R: Read>(
-    src: &mut Source<R>,
-    h: &Header,
-    next: &mut NextLine<'_, R>,
-) -> Result<()> {
+fn ascii_tail<R: Read>(src: &mut Source<R>, h: &Header, next: &mut NextLine<'_, R>) -> Result<()> {
     for e in &h.elements[h.vi + 1..] {
         for _ in 0..e.count {
             if next(src)?.is_none() {
