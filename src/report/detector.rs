@@ -442,6 +442,19 @@ impl Report for DegeneracyReport {
             ],
             rows,
         ));
+        if let Some(tp) = self
+            .families
+            .iter()
+            .find_map(|f| f.threshold_per_point.map(|tp| (tp, f.threshold)))
+        {
+            // threshold = per-point threshold x sum w (the same for every such family).
+            let w = if tp.0 > 0.0 { tp.1 / tp.0 } else { 0.0 };
+            let w = format!("{w:.6}");
+            doc.text(format!(
+                "thresholds: per point (x {} = sum of weights) for the families whose eigenvalues add up over points; Jacobi and point displacement as they are",
+                w.trim_end_matches('0').trim_end_matches('.')
+            ));
+        }
         if self.degenerate_subspace.is_empty() {
             doc.text("Degenerate subspace (point displacement): none");
         } else {
