@@ -195,7 +195,8 @@ pub struct SweepFamilyJson {
     pub label: String,
     /// Characteristic length (m) where the family has one.
     pub ell_m: Option<f64>,
-    /// Threshold on the generalized eigenvalues.
+    /// Threshold on the generalized eigenvalues: the calibrated per-point one
+    /// times `sum w` where the family is compared per point.
     pub threshold: f64,
     /// Degenerate count in the cloud's own frame.
     pub degenerate_count: usize,
