@@ -28,7 +28,9 @@ pub enum Family {
 }
 
 /// A threshold calibrated on the synthetic corridors (see
-/// `degeneracy::threshold::default_threshold`).
+/// `degeneracy::threshold::default_threshold`): per point (`lambda / sum w`)
+/// for the families marked [`FamilySpec::per_point`], on the eigenvalues as
+/// they are for the others.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Calibrated {
     /// One value.
@@ -56,6 +58,9 @@ pub struct FamilySpec {
     pub equivariant: bool,
     /// Its calibrated threshold.
     pub calibrated: Calibrated,
+    /// Whether its eigenvalues add up over points, so that thresholds compare
+    /// them per point (`lambda / sum w`; see `degeneracy::threshold`).
+    pub per_point: bool,
 }
 
 /// The family table, in report order.
@@ -66,7 +71,8 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "unnormalized",
         formula: "I6",
         equivariant: false,
-        calibrated: Calibrated::Fixed(114.62),
+        per_point: true,
+        calibrated: Calibrated::Fixed(0.04582),
     },
     FamilySpec {
         family: Family::CharacteristicLength,
@@ -74,11 +80,12 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "characteristic length",
         formula: "diag(l^2 I, I)",
         equivariant: false,
+        per_point: true,
         calibrated: Calibrated::PerEll(&[
-            (0.25, 464.42),
-            (1.0, 114.62),
-            (2.85, 96.55),
-            (10.0, 17.13),
+            (0.25, 0.02157),
+            (1.0, 0.04582),
+            (2.85, 0.01462),
+            (10.0, 0.001202),
         ]),
     },
     FamilySpec {
@@ -87,7 +94,8 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "block scaling",
         formula: "diag(l^2 I, I), l from H",
         equivariant: false,
-        calibrated: Calibrated::Fixed(81.14),
+        per_point: true,
+        calibrated: Calibrated::Fixed(0.01221),
     },
     FamilySpec {
         family: Family::Jacobi,
@@ -95,6 +103,8 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "Jacobi",
         formula: "diag(H)",
         equivariant: false,
+        // diag(H) grows with H: count-free.
+        per_point: false,
         calibrated: Calibrated::Fixed(0.8619),
     },
     FamilySpec {
@@ -103,8 +113,9 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "adapted constant",
         formula: "M0",
         equivariant: false,
+        per_point: true,
         // Same scale as I6 (a constant metric near the identity).
-        calibrated: Calibrated::Fixed(114.62),
+        calibrated: Calibrated::Fixed(0.04582),
     },
     FamilySpec {
         family: Family::PointDisplacement,
@@ -112,6 +123,8 @@ pub const FAMILIES: [FamilySpec; 6] = [
         label: "point displacement",
         formula: "sum J^T J",
         equivariant: true,
+        // sum J^T J grows with H: count-free.
+        per_point: false,
         calibrated: Calibrated::Tau,
     },
 ];

@@ -20,9 +20,13 @@ pub struct Analysis {
     pub metric: Matrix6<f64>,
     /// `H v = lambda M v`: eigenvalues ascending, `M`-orthonormal eigenvectors.
     pub eig: GenEigen,
-    /// Degeneracy threshold on the generalized eigenvalues (dimensionless).
+    /// Degeneracy threshold on the normalised eigenvalues `lambda / scale`
+    /// (per point for the count-scaling families, see
+    /// [`MetricRule::count_scale`]).
     pub tau: f64,
-    /// Number of eigenvalues `< tau` (they are the first ones).
+    /// The normaliser: `sum w` or 1 ([`MetricRule::count_scale`]).
+    pub scale: f64,
+    /// Number of eigenvalues with `lambda / scale < tau` (the first ones).
     pub degenerate_count: usize,
 }
 
@@ -39,17 +43,24 @@ pub fn analyse(asm: &Assembly, rule: &MetricRule, tau: f64) -> Result<Analysis> 
     } else {
         generalized_eigen(&asm.h, &metric, rule.what())?
     };
-    let degenerate_count = eig.values.iter().filter(|&&l| l < tau).count();
+    let scale = rule.count_scale(asm)?;
+    let degenerate_count = eig.values.iter().filter(|&&l| l / scale < tau).count();
     Ok(Analysis {
         rule: rule.clone(),
         metric,
         eig,
         tau,
+        scale,
         degenerate_count,
     })
 }
 
 impl Analysis {
+    /// The threshold on the raw eigenvalues `eig.values`: `tau * scale`.
+    pub fn raw_threshold(&self) -> f64 {
+        self.tau * self.scale
+    }
+
     /// Whether anything is declared degenerate.
     pub fn degenerate(&self) -> bool {
         self.degenerate_count > 0

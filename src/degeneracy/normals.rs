@@ -187,26 +187,29 @@ fn normal_at(
 }
 
 /// Normals of `points` (a range of `all`) against the whole tree.
+/// With each kept point's index in `points`, offset by `first`.
 fn estimate_range(
     tree: &ImmutableKdTree<f64, 3>,
     all: &[[f64; 3]],
-    points: &[[f64; 3]],
+    (first, points): (usize, &[[f64; 3]]),
     prm: &NormalParams,
-) -> (Cloud, NormalStats) {
+) -> (Cloud, NormalStats, Vec<usize>) {
     let mut out = Cloud::default();
     let mut st = NormalStats::default();
-    for p in points {
+    let mut kept = Vec::new();
+    for (i, p) in points.iter().enumerate() {
         match normal_at(tree, all, p, prm) {
             Ok(n) => {
                 out.points.push(*p);
                 out.normals.push(n);
+                kept.push(first + i);
                 st.kept += 1;
             }
             Err(Drop::Sparse) => st.sparse += 1,
             Err(Drop::NotPlanar) => st.not_planar += 1,
         }
     }
-    (out, st)
+    (out, st, kept)
 }
 
 /// Normals by PCA (see the module notes), on up to `threads` threads (0: one
@@ -216,9 +219,19 @@ pub fn estimate_normals_with(
     prm: &NormalParams,
     threads: usize,
 ) -> Result<(Cloud, NormalStats)> {
+    estimate_normals_indexed(points, prm, threads).map(|(c, s, _)| (c, s))
+}
+
+/// As [`estimate_normals_with`], with the index in `points` of every point
+/// kept (ascending), to carry per-point data such as weights along.
+pub fn estimate_normals_indexed(
+    points: &[[f64; 3]],
+    prm: &NormalParams,
+    threads: usize,
+) -> Result<(Cloud, NormalStats, Vec<usize>)> {
     prm.check()?;
     if points.is_empty() {
-        return Ok((Cloud::default(), NormalStats::default()));
+        return Ok((Cloud::default(), NormalStats::default(), Vec::new()));
     }
     let tree = ImmutableKdTree::<f64, 3>::new_from_slice(points)
         .map_err(|e| Error::invalid(format!("normal estimation: cannot index the points ({e})")))?;
@@ -226,12 +239,16 @@ pub fn estimate_normals_with(
     let t = if threads == 0 { cores } else { threads };
     let t = t.clamp(1, 64).min(points.len().div_ceil(4096));
     let per = points.len().div_ceil(t.max(1));
-    let parts: Vec<(Cloud, NormalStats)> = if t <= 1 {
-        vec![estimate_range(&tree, points, points, prm)]
+    let parts: Vec<(Cloud, NormalStats, Vec<usize>)> = if t <= 1 {
+        vec![estimate_range(&tree, points, (0, points), prm)]
     } else {
         let tree = &tree;
         std::thread::scope(|s| {
-            let chunks: Vec<&[[f64; 3]]> = points.chunks(per).collect();
+            let chunks: Vec<(usize, &[[f64; 3]])> = points
+                .chunks(per)
+                .enumerate()
+                .map(|(k, c)| (k * per, c))
+                .collect();
             let handles: Vec<_> = chunks[1..]
                 .iter()
                 .map(|c| {
@@ -245,8 +262,8 @@ pub fn estimate_normals_with(
                 out.push(match h {
                     Ok(h) => h
                         .join()
-                        .unwrap_or_else(|_| estimate_range(tree, points, c, prm)),
-                    Err(_) => estimate_range(tree, points, c, prm),
+                        .unwrap_or_else(|_| estimate_range(tree, points, *c, prm)),
+                    Err(_) => estimate_range(tree, points, *c, prm),
                 });
             }
             out
@@ -254,12 +271,14 @@ pub fn estimate_normals_with(
     };
     let mut cloud = Cloud::default();
     let mut st = NormalStats::default();
-    for (c, s) in parts {
+    let mut kept = Vec::new();
+    for (c, s, k) in parts {
         cloud.points.extend(c.points);
         cloud.normals.extend(c.normals);
+        kept.extend(k);
         st.kept += s.kept;
         st.sparse += s.sparse;
         st.not_planar += s.not_planar;
     }
-    Ok((cloud, st))
+    Ok((cloud, st, kept))
 }

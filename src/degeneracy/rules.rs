@@ -64,6 +64,27 @@ impl MetricRule {
         }
     }
 
+    /// What the eigenvalues are divided by before the threshold compares them
+    /// (see `degeneracy::threshold`, "Thresholds that transfer"): `sum w` (the
+    /// point count with unit weights) for the families whose metric does not
+    /// grow with the data (I6, characteristic length, block scaling, adapted
+    /// constant: their eigenvalues add up over points), 1 for the families
+    /// whose metric grows with `H` (Jacobi `diag(H)`, point displacement
+    /// `sum w J^T J`: their eigenvalues are already count-free).
+    pub fn count_scale(&self, asm: &Assembly) -> Result<f64> {
+        if !self.family().spec().per_point {
+            return Ok(1.0);
+        }
+        let w = asm.weight_sum;
+        if !(w.is_finite() && w > 0.0) {
+            return Err(Error::invalid(format!(
+                "{} threshold: expected a positive sum of weights to normalise the eigenvalues per point, found {w}",
+                self.what()
+            )));
+        }
+        Ok(w)
+    }
+
     /// `l` used (fixed, or from `H` for block scaling).
     pub fn ell(&self, asm: &Assembly) -> Option<f64> {
         match self {

@@ -460,6 +460,20 @@ pub fn add_range_noise(points: &mut [[f64; 3]], sigma: f64, rng: &mut SceneRng) 
 /// `voxel`, the grid shifted by `origin`. Output sorted by voxel index, so it is
 /// deterministic.
 pub fn voxel_downsample(points: &[[f64; 3]], voxel: f64, origin: [f64; 3]) -> Vec<[f64; 3]> {
+    voxel_downsample_weighted(points, None, voxel, origin).0
+}
+
+/// [`voxel_downsample`] with per-point weights: each voxel's point is still
+/// the plain mean of its points (the grid evens out density; the weights say
+/// how much each point counts, not where the surface is) and its weight the
+/// mean of their weights, so that a column of ones gives the unweighted
+/// result. Weights are returned when given (same order as the points).
+pub fn voxel_downsample_weighted(
+    points: &[[f64; 3]],
+    weights: Option<&[f64]>,
+    voxel: f64,
+    origin: [f64; 3],
+) -> (Vec<[f64; 3]>, Option<Vec<f64>>) {
     // Sort (voxel key, point index) and average runs of equal keys: faster than
     // a hash map at these sizes and deterministic by construction.
     let mut keyed: Vec<((i64, i64, i64), usize)> = points
@@ -478,23 +492,29 @@ pub fn voxel_downsample(points: &[[f64; 3]], voxel: f64, origin: [f64; 3]) -> Ve
         .collect();
     keyed.sort_unstable();
     let mut out = Vec::new();
+    let mut wout = Vec::new();
     let mut i = 0;
     while i < keyed.len() {
         let key = keyed[i].0;
         let mut s = [0.0f64; 3];
+        let mut sw = 0.0;
         let mut n = 0usize;
         while i < keyed.len() && keyed[i].0 == key {
             let p = points[keyed[i].1];
             s[0] += p[0];
             s[1] += p[1];
             s[2] += p[2];
+            if let Some(w) = weights {
+                sw += w.get(keyed[i].1).copied().unwrap_or(1.0);
+            }
             n += 1;
             i += 1;
         }
         let nf = n as f64;
         out.push([s[0] / nf, s[1] / nf, s[2] / nf]);
+        wout.push(sw / nf);
     }
-    out
+    (out, weights.map(|_| wout))
 }
 
 /// Normals by PCA within `radius` (a k-d tree radius search): the eigenvector of

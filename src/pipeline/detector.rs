@@ -4,10 +4,10 @@
 
 use crate::analysis::metric::adapted_metric_matrix;
 use crate::analysis::Family;
-use crate::degeneracy::normals::{estimate_normals_with, NormalParams};
+use crate::degeneracy::normals::{estimate_normals_indexed, NormalParams};
 use crate::degeneracy::points::PointData;
 use crate::degeneracy::scene::{
-    synthesize, tunnel_exact, voxel_downsample, Cloud, Preprocess, SceneKind,
+    synthesize, tunnel_exact, voxel_downsample_weighted, Cloud, Preprocess, SceneKind,
 };
 use crate::degeneracy::threshold::default_threshold;
 use crate::degeneracy::threshold::Calibration;
@@ -87,7 +87,8 @@ pub fn degeneracy_of(
                 family: rule.family(),
                 ell_m: rule.ell(&asm),
                 eigenvalues: Some(a.eig.values),
-                threshold: a.tau,
+                threshold: a.raw_threshold(),
+                threshold_per_point: rule.family().spec().per_point.then_some(a.tau),
                 degenerate_count: Some(a.degenerate_count),
                 error: None,
                 label: rule.label(),
@@ -96,7 +97,8 @@ pub fn degeneracy_of(
                 family: rule.family(),
                 ell_m: rule.ell(&asm).filter(|x| x.is_finite()),
                 eigenvalues: None,
-                threshold,
+                threshold: threshold * rule.count_scale(&asm).unwrap_or(1.0),
+                threshold_per_point: rule.family().spec().per_point.then_some(threshold),
                 degenerate_count: None,
                 error: Some(e.message),
                 label: rule.label(),
@@ -305,7 +307,7 @@ pub fn simulate(p: &SimulateParams, t: &Transform) -> Result<SimulateReport> {
         families.push(FamilyComparison {
             family: rule.family(),
             ell_m: [rule.ell(&asm_a), rule.ell(&asm_b)],
-            threshold: tau,
+            threshold: an_a.raw_threshold(),
             eigenvalues: FromTo {
                 from: an_a.eig.values,
                 to: an_b.eig.values,
@@ -370,29 +372,49 @@ pub struct RawScan {
 }
 
 /// `H` and `M` of a raw scan in its own frame: voxel grid, PCA normals
-/// toward the viewpoint, unit weights; with what the estimation kept.
-pub fn raw_scan_assembly(points: &[[f64; 3]], raw: &RawScan) -> Result<(Assembly, NormalsJson)> {
-    let (cloud, nj) = raw_scan_cloud(points, raw)?;
-    let asm = Assembly::from_points(&cloud.points, &cloud.normals, None)?;
+/// toward the viewpoint, the file's weights (the mean per voxel, see
+/// [`voxel_downsample_weighted`]) or unit weights; with what the estimation kept.
+pub fn raw_scan_assembly(
+    points: &[[f64; 3]],
+    weights: Option<&[f64]>,
+    raw: &RawScan,
+) -> Result<(Assembly, NormalsJson)> {
+    let (cloud, w, nj) = raw_scan_weighted(points, weights, raw)?;
+    let asm = Assembly::from_points(&cloud.points, &cloud.normals, w.as_deref())?;
     Ok((asm, nj))
 }
 
 /// A raw scan's points with estimated normals (see [`raw_scan_assembly`]).
 pub fn raw_scan_cloud(points: &[[f64; 3]], raw: &RawScan) -> Result<(Cloud, NormalsJson)> {
+    raw_scan_weighted(points, None, raw).map(|(c, _, nj)| (c, nj))
+}
+
+/// [`raw_scan_cloud`] with the weights of the points kept (when given).
+fn raw_scan_weighted(
+    points: &[[f64; 3]],
+    weights: Option<&[f64]>,
+    raw: &RawScan,
+) -> Result<(Cloud, Option<Vec<f64>>, NormalsJson)> {
     let grid;
-    let pts = match raw.voxel {
+    let (pts, wts) = match raw.voxel {
         Some(v) => {
             if !(v.is_finite() && v > 0.0) {
                 return Err(Error::usage(format!(
                     "--voxel: expected a positive number of metres, found {v}"
                 )));
             }
-            grid = voxel_downsample(points, v, [0.0; 3]);
-            &grid[..]
+            let (g, w) = voxel_downsample_weighted(points, weights, v, [0.0; 3]);
+            grid = g;
+            (&grid[..], w)
         }
-        None => points,
+        None => (points, weights.map(<[f64]>::to_vec)),
     };
-    let (cloud, st) = estimate_normals_with(pts, &raw.normals, raw.threads)?;
+    let (cloud, st, kept) = estimate_normals_indexed(pts, &raw.normals, raw.threads)?;
+    let wts = wts.map(|w| {
+        kept.iter()
+            .map(|&i| w.get(i).copied().unwrap_or(1.0))
+            .collect()
+    });
     if cloud.is_empty() {
         return Err(Error::invalid(format!(
             "no point got a normal: {} points, none with {} neighbours within {} m (raise --normal-radius or lower --min-neighbours)",
@@ -404,6 +426,7 @@ pub fn raw_scan_cloud(points: &[[f64; 3]], raw: &RawScan) -> Result<(Cloud, Norm
     let n = &raw.normals;
     Ok((
         cloud,
+        wts,
         NormalsJson {
             points_read: points.len(),
             voxel_m: raw.voxel,
@@ -466,7 +489,7 @@ pub fn sweep(
             family: rule.family(),
             label: rule.label(),
             ell_m: rule.ell(asm),
-            threshold: row.tau,
+            threshold: reference.raw_threshold(),
             degenerate_count: reference.degenerate_count,
             decision_changes: row.decision_changes,
             decision_change_rate: row.decision_changes as f64 / n.max(1) as f64,

@@ -50,9 +50,15 @@ pub struct FamilyEigen {
     /// Generalized eigenvalues of `H v = lambda M v`, ascending; null when the
     /// family's metric could not be factored (see `error`).
     pub eigenvalues: Option<[f64; 6]>,
-    /// The threshold applied: `--tau` for point displacement, the calibrated
-    /// default for the other families.
+    /// The threshold on `eigenvalues`: `--tau` for point displacement, the
+    /// calibrated default for the other families, times `sum w` for the
+    /// families compared per point (`threshold_per_point`).
     pub threshold: f64,
+    /// The calibrated per-point threshold (`lambda / sum w < tau`) of the
+    /// families whose eigenvalues add up over points; absent for Jacobi and
+    /// point displacement, whose eigenvalues are count-free.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub threshold_per_point: Option<f64>,
     /// Number of eigenvalues below `threshold`; null with `error`.
     pub degenerate_count: Option<usize>,
     /// Why this family has no answer (e.g. a singular metric); absent when it
@@ -189,7 +195,8 @@ pub struct SweepFamilyJson {
     pub label: String,
     /// Characteristic length (m) where the family has one.
     pub ell_m: Option<f64>,
-    /// Threshold on the generalized eigenvalues.
+    /// Threshold on the generalized eigenvalues: the calibrated per-point one
+    /// times `sum w` where the family is compared per point.
     pub threshold: f64,
     /// Degenerate count in the cloud's own frame.
     pub degenerate_count: usize,
@@ -433,6 +440,19 @@ impl Report for DegeneracyReport {
             ],
             rows,
         ));
+        if let Some(tp) = self
+            .families
+            .iter()
+            .find_map(|f| f.threshold_per_point.map(|tp| (tp, f.threshold)))
+        {
+            // threshold = per-point threshold x sum w (the same for every such family).
+            let w = if tp.0 > 0.0 { tp.1 / tp.0 } else { 0.0 };
+            let w = format!("{w:.6}");
+            doc.text(format!(
+                "thresholds: per point (x {} = sum of weights) for the families whose eigenvalues add up over points; Jacobi and point displacement as they are",
+                w.trim_end_matches('0').trim_end_matches('.')
+            ));
+        }
         if self.degenerate_subspace.is_empty() {
             doc.text("Degenerate subspace (point displacement): none");
         } else {
@@ -716,8 +736,9 @@ pub struct FamilyComparison {
     /// (the same in both), recomputed from each frame's `H` for
     /// `block_scaling`; null for the other families.
     pub ell_m: [Option<f64>; 2],
-    /// The threshold applied: `--tau` for point displacement, the calibrated
-    /// default for the other families.
+    /// The threshold on the eigenvalues: `--tau` for point displacement, the
+    /// calibrated default for the other families, times `sum w` where the
+    /// family is compared per point.
     pub threshold: f64,
     /// Generalized eigenvalues, ascending, in each frame.
     pub eigenvalues: FromTo<[f64; 6]>,

@@ -277,11 +277,27 @@ mod real {
                 let d = (got[k] - want[k]).abs() / want[5].abs();
                 assert!(d < 1e-9, "{key} eigenvalue {k}: {} vs {}", got[k], want[k]);
             }
-            // The decision of every family follows from the numpy eigenvalues.
+            // The decision of every family follows from the numpy eigenvalues
+            // and is numpy's (per point where the family adds up over points).
             let t = f["threshold"].as_f64().unwrap();
             let count = want.iter().filter(|&&l| l < t).count() as u64;
             assert_eq!(f["degenerate_count"].as_u64(), Some(count), "{key}");
+            assert_eq!(f["degenerate_count"], e["decisions"][&key], "{key}");
+            if let Some(tp) = f["threshold_per_point"].as_f64() {
+                let n = e["kept"].as_f64().unwrap();
+                assert!((t - tp * n).abs() <= 1e-12 * t, "{key}: {t} vs {tp} x {n}");
+            }
         }
+    }
+
+    /// Every family's degenerate count, in report order.
+    fn counts(r: &Value) -> Vec<u64> {
+        r["families"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["degenerate_count"].as_u64().unwrap())
+            .collect()
     }
 
     fn pd(r: &Value) -> &Value {
@@ -299,6 +315,11 @@ mod real {
             let r = run(&format!("{name}.pcd"), &[]);
             compare(&r, &case(name));
             assert_eq!(pd(&r)["degenerate_count"], 0, "{name}");
+            // Per point, one calibrated threshold per family: no family but
+            // Jacobi (count-free, no interval on the corridors either) calls
+            // the full scan degenerate. Order: I6, l=0.25, 1, 2.85, 10, block
+            // scaling, Jacobi, point displacement.
+            assert_eq!(counts(&r), [0, 0, 0, 0, 0, 0, 2, 0], "{name}");
             assert_eq!(
                 r["footprint"],
                 serde_json::json!([false, false, false, false, false, false])
@@ -323,6 +344,9 @@ mod real {
         let e = case("ground_crop");
         compare(&r, &e);
         assert_eq!(pd(&r)["degenerate_count"], 3);
+        // Every family's decision (numpy's too, in `compare`): l=2.85 and
+        // block scaling find the three as well; I6 mixes units and finds two.
+        assert_eq!(counts(&r), [2, 2, 2, 3, 1, 3, 4, 3]);
         // Footprint: rot-z, trans-x, trans-y (scores 0.90, 0.998, 0.998; the
         // others at most 0.08), scores as numpy's.
         assert_eq!(
@@ -358,6 +382,41 @@ mod real {
         for (a, b) in fr.iter().zip(nums(&e["rotation_fractions"])) {
             assert!((a - b).abs() < 1e-6, "{fr:?}");
         }
+    }
+
+    #[test]
+    fn weights_of_a_raw_scan_survive_the_voxel_grid_as_the_mean_per_voxel() {
+        // The ground crop with a `w` column (make_reference.py): each voxel's
+        // weight is the mean of its points' weights, then H = sum w a a^T and
+        // M = sum w J^T J over the points that got a normal.
+        let r = run(
+            "ground_crop_weighted.csv",
+            &["--normal-radius", "0.5", "--min-planarity", "0.2"],
+        );
+        let e = &expected()["weighted"];
+        assert_eq!(r["normals"]["kept"], e["kept"]);
+        let m = &r["matrices"];
+        let dh = rel(&nums(&m["h"]), &nums(&e["h"]));
+        let dm = rel(&nums(&m["m"]), &nums(&e["m"]));
+        assert!(dh < 1e-9 && dm < 1e-9, "H {dh:e}, M {dm:e}");
+        let got = nums(&pd(&r)["eigenvalues"]);
+        let want = nums(&e["eigenvalues"]["point_displacement"]);
+        for k in 0..6 {
+            assert!(
+                (got[k] - want[k]).abs() < 1e-9 * want[5],
+                "{got:?} vs {want:?}"
+            );
+        }
+        // The weights changed the answer: unweighted H differs by far more.
+        let plain = case("ground_crop");
+        assert!(rel(&nums(&plain["h"]), &nums(&e["h"])) > 0.01);
+        // I6 is compared per unit of weight: its threshold is the per-point
+        // one times the weight sum.
+        let i6 = &r["families"][0];
+        let ws = e["weight_sum"].as_f64().unwrap();
+        let t = i6["threshold"].as_f64().unwrap();
+        let tp = i6["threshold_per_point"].as_f64().unwrap();
+        assert!((t - tp * ws).abs() < 1e-9 * t, "{t} vs {tp} x {ws}");
     }
 
     #[test]

@@ -172,7 +172,11 @@ fn degeneracy_json_has_the_design_schema() {
     }
     // Point displacement uses --tau; the baselines their calibrated thresholds.
     assert_eq!(fams[7]["threshold"].as_f64(), Some(1e-2));
-    assert_eq!(fams[0]["threshold"].as_f64(), Some(114.62));
+    // I6 per point: the threshold on its eigenvalues is 0.04582 x the points.
+    assert_eq!(fams[0]["threshold_per_point"].as_f64(), Some(0.04582));
+    let n = v["points"].as_f64().unwrap();
+    assert!((fams[0]["threshold"].as_f64().unwrap() - 0.04582 * n).abs() < 1e-9 * n);
+    assert!(fams[7].get("threshold_per_point").is_none());
     assert_eq!(fams[1]["ell_m"].as_f64(), Some(0.25));
     let pd = fams.last().unwrap();
     assert_eq!(pd["degenerate_count"], 2);
@@ -265,4 +269,169 @@ fn degeneracy_command_runs_and_reports_errors() {
     assert!(err.contains("collinear.csv"), "{err}");
     assert_eq!(run_cli(&["degeneracy", pcd, "--shift", "1,2"]).0, 2);
     assert_eq!(run_cli(&["degeneracy", pcd, "--tau=-1"]).0, 2);
+}
+
+/// A fixture with `from` replaced by `to` (once, in the header), written to
+/// `dir/name`.
+fn edited(dir: &tempfile::TempDir, fixture_name: &str, from: &str, to: &str, name: &str) -> String {
+    let bytes = std::fs::read(fixture(fixture_name)).unwrap();
+    let at = bytes
+        .windows(from.len())
+        .position(|w| w == from.as_bytes())
+        .unwrap();
+    let mut out = bytes[..at].to_vec();
+    out.extend_from_slice(to.as_bytes());
+    out.extend_from_slice(&bytes[at + from.len()..]);
+    let p = dir.path().join(name);
+    std::fs::write(&p, out).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+/// `audit degeneracy` (streamed, several threads for binary files) and
+/// `--estimate-normals` (read into memory, one thread) on `path`: exit 2 and
+/// both messages contain every piece of `want`.
+fn refused_both_ways(path: &str, want: &[&str]) {
+    for extra in [&[][..], &["--estimate-normals"][..]] {
+        let mut a = vec!["degeneracy", path];
+        a.extend_from_slice(extra);
+        let (code, out, err) = run_cli(&a);
+        assert_eq!(code, 2, "{a:?}: {out}{err}");
+        for w in want {
+            assert!(err.contains(w), "{a:?}: expected {w:?} in {err}");
+        }
+    }
+}
+
+#[test]
+fn header_count_mismatch_is_an_error_naming_file_and_line() {
+    let d = tempfile::tempdir().unwrap();
+    // ascii PLY: 11 header lines, vertex k on line 12 + k; `element vertex` on line 4.
+    let p = edited(
+        &d,
+        "tunnel_small_ascii.ply",
+        "vertex 408",
+        "vertex 407",
+        "fewer.ply",
+    );
+    refused_both_ways(
+        &p,
+        &[
+            "fewer.ply:419",
+            "header line 4 claims 407 vertices",
+            "line 419 is past them",
+        ],
+    );
+    let p = edited(
+        &d,
+        "tunnel_small_ascii.ply",
+        "vertex 408",
+        "vertex 409",
+        "more.ply",
+    );
+    refused_both_ways(
+        &p,
+        &[
+            "more.ply:4",
+            "header line 4 claims 409 vertices, the file holds 408",
+        ],
+    );
+    // binary PLY (48-byte records): one record too many in the file.
+    let p = edited(
+        &d,
+        "tunnel_small_le.ply",
+        "vertex 408",
+        "vertex 407",
+        "fewer_le.ply",
+    );
+    refused_both_ways(
+        &p,
+        &[
+            "fewer_le.ply:4",
+            "header line 4 claims 407 vertices of 48 bytes, the file holds 48 more bytes",
+        ],
+    );
+    let p = edited(
+        &d,
+        "tunnel_small_le.ply",
+        "vertex 408",
+        "vertex 409",
+        "more_le.ply",
+    );
+    refused_both_ways(
+        &p,
+        &[
+            "more_le.ply:4",
+            "claims 409 vertices of 48 bytes, the file holds 408",
+        ],
+    );
+    // binary PCD (32-byte records), POINTS on line 10.
+    let p = edited(
+        &d,
+        "tunnel_small_bin.pcd",
+        "POINTS 408",
+        "POINTS 400",
+        "fewer.pcd",
+    );
+    refused_both_ways(
+        &p,
+        &[
+            "fewer.pcd:10",
+            "header line 10 claims 400 points of 32 bytes, the file holds 256 more bytes",
+        ],
+    );
+    // ascii PCD.
+    let p = edited(
+        &d,
+        "tunnel_small_ascii.pcd",
+        "POINTS 408",
+        "POINTS 407",
+        "fewer_ascii.pcd",
+    );
+    refused_both_ways(
+        &p,
+        &["fewer_ascii.pcd:", "claims 407 points, the file holds more"],
+    );
+    let p = edited(
+        &d,
+        "tunnel_small_ascii.pcd",
+        "POINTS 408",
+        "POINTS 409",
+        "more_ascii.pcd",
+    );
+    refused_both_ways(
+        &p,
+        &["more_ascii.pcd:", "claims 409 points, the file holds 408"],
+    );
+    // The unedited files still read.
+    for f in [
+        "tunnel_small_ascii.ply",
+        "tunnel_small_le.ply",
+        "tunnel_small_bin.pcd",
+        "tunnel_small_ascii.pcd",
+    ] {
+        let f = fixture(f);
+        assert_eq!(run_cli(&["degeneracy", f.to_str().unwrap()]).0, 0, "{f:?}");
+    }
+}
+
+#[test]
+fn duplicate_ply_property_or_pcd_field_is_an_error_naming_both_lines() {
+    let d = tempfile::tempdir().unwrap();
+    // `property double x` is on line 5; a second one after nz (line 10) is line 11.
+    let p = edited(
+        &d,
+        "tunnel_small_ascii.ply",
+        "property double nz\n",
+        "property double nz\nproperty double x\n",
+        "dup.ply",
+    );
+    refused_both_ways(
+        &p,
+        &[
+            "dup.ply:11",
+            "declares property \"x\" twice, at header lines 5 and 11",
+        ],
+    );
+    let p = edited(&d, "tunnel_small_bin.pcd", "curvature\n", "x\n", "dup.pcd");
+    refused_both_ways(&p, &["dup.pcd:3", "FIELDS declares \"x\" twice"]);
 }

@@ -338,26 +338,29 @@ fn a_header_that_lies_about_the_count_is_one_error_however_the_file_is_read() {
         assert_eq!(e.message, whole.message, "{name}");
         assert!(e.to_string().contains(name), "{e}");
     }
-    // A header claiming fewer points: exactly the first ones are used.
+    // A header claiming fewer points than the file holds is the same error
+    // however the file is read (it used the first ones silently; issue 12).
     let fewer = lie(
         write_ply(&p, &nn, Encoding::BinaryLittleEndian),
         "vertex 300",
         "vertex 120",
     );
-    let head = Assembly::from_points(&p[..120], &nn[..120], None).unwrap();
-    // (normals renormalised by the reader: compare with the reader's own points)
-    let d = parse_points(&write_ply(
-        &p[..120],
-        &nn[..120],
-        Encoding::BinaryLittleEndian,
-    ))
-    .unwrap();
-    let read_head = Assembly::from_points(&d.points, &d.normals, None).unwrap();
+    let whole = parse_points(&fewer).unwrap_err();
+    assert!(
+        whole
+            .message
+            .contains("claims 120 vertices of 48 bytes, the file holds 8640 more bytes"),
+        "{whole}"
+    );
     for step in [3, 4096] {
-        let a = accumulate_reader(trickle(&fewer, step), None).unwrap();
-        same_bits(&read_head, &a.assembly, "fewer");
-        assert!(rel_diff(&a.assembly.m, &head.m) < 1e-15);
+        let e = accumulate_reader(trickle(&fewer, step), None).unwrap_err();
+        assert_eq!(e.message, whole.message, "step {step}");
     }
+    let path = dir.path().join("fewer.ply");
+    std::fs::write(&path, &fewer).unwrap();
+    let e = accumulate_file(&path, None).unwrap_err();
+    assert_eq!(e.message, whole.message);
+    assert!(e.to_string().contains("fewer.ply"), "{e}");
 }
 
 /// `max |a - b| / max |b|` over H and M.

@@ -105,6 +105,8 @@ pub(crate) struct Run {
     pub total: usize,
     /// "PLY", "vertex", "vertices" (for messages).
     pub names: [&'static str; 3],
+    /// Header line that claims `total`.
+    pub line: usize,
 }
 
 impl Run {
@@ -112,9 +114,22 @@ impl Run {
     pub(crate) fn truncated(&self, rec: usize, k: usize) -> Error {
         let [fmt, _, items] = self.names;
         Error::parse(format!(
-            "{fmt}: header claims {} {items} of {rec} bytes, the file holds {k}",
-            self.total
+            "{fmt}: header line {} claims {} {items} of {rec} bytes, the file holds {k}",
+            self.line, self.total
         ))
+        .at_line(self.line, None)
+    }
+
+    /// The error when `extra` bytes follow the records (and whatever the
+    /// header declares after them) from byte `offset`: the header claims fewer
+    /// records than the file holds (issue 12).
+    pub(crate) fn excess(&self, rec: usize, extra: u64, offset: u64) -> Error {
+        let [fmt, _, items] = self.names;
+        Error::parse(format!(
+            "{fmt}: header line {} claims {} {items} of {rec} bytes, the file holds {extra} more bytes after them (from byte offset {offset}); expected the count to match the data",
+            self.line, self.total
+        ))
+        .at_line(self.line, None)
     }
 
     /// "vertex 12 (byte offset 345)".

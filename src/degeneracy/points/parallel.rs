@@ -32,7 +32,7 @@ pub(super) fn decode_file(
             let total = h.count();
             let stats = records(
                 path,
-                len,
+                (len, ply::tail_bytes(&h)),
                 start,
                 &layout,
                 &|a, b| ply::run(&h, a, b),
@@ -50,7 +50,7 @@ pub(super) fn decode_file(
             let layout = pcd::layout(&h);
             let stats = records(
                 path,
-                len,
+                (len, Some(0)),
                 start,
                 &layout,
                 &|a, b| pcd::run(&h, a, b),
@@ -63,10 +63,12 @@ pub(super) fn decode_file(
     }
 }
 
-/// `total` records of `layout` from byte `start` of the file.
+/// `total` records of `layout` from byte `start` of the file, which is
+/// `len` bytes long and holds `tail` bytes after the records (`None`: not
+/// known, e.g. PLY faces after the vertices).
 fn records(
     path: &Path,
-    len: u64,
+    (len, tail): (u64, Option<u64>),
     start: u64,
     layout: &Layout,
     run: &(dyn Fn(usize, usize) -> Run + Sync),
@@ -77,6 +79,19 @@ fn records(
     let avail = len.saturating_sub(start) / layout.rec as u64;
     if avail < total as u64 {
         return Err(run(0, total).truncated(layout.rec, avail as usize));
+    }
+    // ... and a header that claims fewer records than the file holds (issue 12).
+    let end = (total as u64)
+        .saturating_mul(layout.rec as u64)
+        .saturating_add(start);
+    if let Some(extra) = tail.and_then(|t| len.saturating_sub(end).checked_sub(t)) {
+        if extra > 0 {
+            return Err(run(0, total).excess(
+                layout.rec,
+                extra,
+                end.saturating_add(tail.unwrap_or(0)),
+            ));
+        }
     }
     let blocks = total.div_ceil(BLOCK);
     let threads = worker_count(0, blocks, total);

@@ -16,6 +16,8 @@ pub(super) struct Header {
     pub format: PointFormat,
     /// Points claimed.
     pub n: usize,
+    /// Header line of the claim (POINTS, else WIDTH).
+    line: usize,
     /// Values per ascii line.
     elems: usize,
     /// (element index, byte offset, type) of each role.
@@ -37,6 +39,9 @@ struct Fields {
     width: Option<usize>,
     height: Option<usize>,
     data: String,
+    /// Header lines of POINTS and WIDTH.
+    points_line: usize,
+    width_line: usize,
 }
 
 fn header_line(t: &[&str], lineno: usize, h: &mut Fields) -> Result<()> {
@@ -57,13 +62,30 @@ fn header_line(t: &[&str], lineno: usize, h: &mut Fields) -> Result<()> {
         None => {}
         Some(s) if s.starts_with('#') => {}
         Some("VERSION") | Some("VIEWPOINT") => {}
-        Some("FIELDS") => h.fields = t[1..].iter().map(|s| s.to_string()).collect(),
+        Some("FIELDS") => {
+            h.fields = t[1..].iter().map(|s| s.to_string()).collect();
+            // A second field of the same name would silently win (issue 12).
+            for (k, f) in h.fields.iter().enumerate() {
+                if h.fields[..k].contains(f) {
+                    return Err(Error::parse(format!(
+                        "PCD: FIELDS declares {f:?} twice; expected distinct field names"
+                    ))
+                    .at_line(lineno, None));
+                }
+            }
+        }
         Some("SIZE") => h.sizes = nums("SIZE")?,
         Some("TYPE") => h.types = t[1..].iter().map(|s| s.to_string()).collect(),
         Some("COUNT") => h.counts = nums("COUNT")?,
-        Some("WIDTH") => h.width = nums("WIDTH")?.first().copied(),
+        Some("WIDTH") => {
+            h.width = nums("WIDTH")?.first().copied();
+            h.width_line = lineno;
+        }
         Some("HEIGHT") => h.height = nums("HEIGHT")?.first().copied(),
-        Some("POINTS") => h.points = nums("POINTS")?.first().copied(),
+        Some("POINTS") => {
+            h.points = nums("POINTS")?.first().copied();
+            h.points_line = lineno;
+        }
         Some("DATA") => h.data = t.get(1).copied().unwrap_or("").to_string(),
         Some(other) => {
             return Err(Error::parse(format!(
@@ -114,9 +136,9 @@ pub(super) fn read_header<R: Read>(src: &mut Source<R>, xyz_only: bool) -> Resul
         header_line(&t, i + 1, &mut h)?;
     }
     check_fields(&mut h)?;
-    let n = match (h.points, h.width, h.height) {
-        (Some(p), _, _) => p,
-        (None, Some(w), Some(hh)) => w.saturating_mul(hh),
+    let (n, line) = match (h.points, h.width, h.height) {
+        (Some(p), _, _) => (p, h.points_line),
+        (None, Some(w), Some(hh)) => (w.saturating_mul(hh), h.width_line),
         _ => {
             return Err(Error::parse(
                 "PCD: expected POINTS (or WIDTH and HEIGHT) in the header, found neither",
@@ -167,6 +189,7 @@ pub(super) fn read_header<R: Read>(src: &mut Source<R>, xyz_only: bool) -> Resul
     Ok(Header {
         format,
         n,
+        line,
         elems: elem,
         roles,
         rec: byte,
@@ -194,6 +217,7 @@ pub(super) fn run(h: &Header, first: usize, count: usize) -> Run {
         count,
         total: h.n,
         names: ["PCD", "point", "points"],
+        line: h.line,
     }
 }
 
@@ -211,7 +235,15 @@ pub(super) fn body<R: Read, S: Sink>(
             let mut mem = Source::new(&records[..]);
             decode_records(&mut mem, &layout(h), &run(h, 0, h.n), &mut ck)?
         }
-        _ => decode_records(src, &layout(h), &run(h, 0, h.n), &mut ck)?,
+        _ => {
+            decode_records(src, &layout(h), &run(h, 0, h.n), &mut ck)?;
+            // A header that claims fewer points than the file holds (issue 12).
+            let at = src.offset();
+            if src.has_more()? {
+                let extra = src.skip(u64::MAX)?;
+                return Err(run(h, 0, h.n).excess(h.rec, extra, at));
+            }
+        }
     }
     Ok((h.format, ck.stats))
 }
@@ -275,9 +307,10 @@ fn ascii<R: Read, S: Sink>(src: &mut Source<R>, h: &Header, ck: &mut Checker<S>)
     while k < h.n {
         if src.read_line(&mut buf)?.is_none() {
             return Err(Error::parse(format!(
-                "PCD: header claims {} points, the file holds {k}",
-                h.n
-            )));
+                "PCD: header line {} claims {} points, the file holds {k}",
+                h.line, h.n
+            ))
+            .at_line(h.line, None));
         }
         let line = String::from_utf8_lossy(&buf);
         if line.trim().is_empty() {
@@ -311,6 +344,13 @@ fn ascii<R: Read, S: Sink>(src: &mut Source<R>, h: &Header, ck: &mut Checker<S>)
         ck.record(&v)
             .map_err(|f| f.error(format!("point {k}"), Some(lineno)))?;
         k += 1;
+    }
+    if let Some(extra) = src.next_nonblank()? {
+        return Err(Error::parse(format!(
+            "PCD: header line {} claims {} points, the file holds more: line {extra} is past them; expected the count to match the data",
+            h.line, h.n
+        ))
+        .at_line(extra, None));
     }
     Ok(())
 }

@@ -13,6 +13,8 @@ struct PlyElement {
     count: usize,
     /// (name, type); `None` type for a list property.
     props: Vec<(String, Option<Scalar>)>,
+    /// Header line of each property (for a duplicate's message).
+    prop_lines: Vec<usize>,
     line: usize,
 }
 
@@ -65,6 +67,7 @@ fn header_line(
                 name: name.to_string(),
                 count,
                 props: Vec::new(),
+                prop_lines: Vec::new(),
                 line: lineno,
             });
         }
@@ -72,8 +75,8 @@ fn header_line(
             let Some(el) = elements.last_mut() else {
                 return Err(Error::parse("PLY: property before any element").at_line(lineno, None));
             };
-            if t.get(1) == Some(&"list") {
-                el.props.push((t.get(4).unwrap_or(&"").to_string(), None));
+            let (name, ty) = if t.get(1) == Some(&"list") {
+                (t.get(4).unwrap_or(&"").to_string(), None)
             } else {
                 let (Some(ty), Some(name)) = (t.get(1), t.get(2)) else {
                     return Err(Error::parse(format!("PLY: expected `property TYPE NAME`, found {l:?}")).at_line(lineno, None));
@@ -81,8 +84,18 @@ fn header_line(
                 let Some(s) = Scalar::ply(ty) else {
                     return Err(Error::parse(format!("PLY: unknown property type {ty:?}")).at_line(lineno, None));
                 };
-                el.props.push((name.to_string(), Some(s)));
+                (name.to_string(), Some(s))
+            };
+            // A second declaration would silently win over the first (issue 12).
+            if let Some(k) = el.props.iter().position(|(n, _)| *n == name) {
+                return Err(Error::parse(format!(
+                    "PLY: element `{}` declares property {name:?} twice, at header lines {} and {lineno}",
+                    el.name, el.prop_lines[k]
+                ))
+                .at_line(lineno, None));
             }
+            el.props.push((name, ty));
+            el.prop_lines.push(lineno);
         }
         Some(other) => {
             return Err(Error::parse(format!("PLY: unexpected header line starting with {other:?}")).at_line(lineno, None))
@@ -156,8 +169,36 @@ pub(super) fn body<R: Read, S: Sink>(
             }
         }
         decode_records(src, &layout, &run(h, 0, h.count()), &mut ck)?;
+        binary_tail(src, h, layout.rec)?;
     }
     Ok((h.format, ck.stats))
+}
+
+/// Bytes of the elements after the vertices, when all are scalar (a list
+/// element, e.g. faces, has no fixed size: `None`, and the end is not checked).
+pub(super) fn tail_bytes(h: &Header) -> Option<u64> {
+    h.elements[h.vi + 1..]
+        .iter()
+        .try_fold(0u64, |acc, e| acc.checked_add(element_bytes(e).ok()?))
+}
+
+/// After the vertices of a binary file: the later elements, then nothing (a
+/// header that claims fewer vertices than the file holds is an error).
+fn binary_tail<R: Read>(src: &mut Source<R>, h: &Header, rec: usize) -> Result<()> {
+    let Some(tail) = tail_bytes(h) else {
+        return Ok(());
+    };
+    let got = src.skip(tail)?;
+    if got < tail {
+        let e = h.elements[h.vi + 1..].iter().last();
+        return Err(e.map_or_else(|| ends_before(&h.elements[h.vi]), ends_before));
+    }
+    let at = src.offset();
+    if src.has_more()? {
+        let extra = src.skip(u64::MAX)?;
+        return Err(run(h, 0, h.count()).excess(rec, extra, at));
+    }
+    Ok(())
 }
 
 /// The records `first .. first + count` of the vertex element.
@@ -167,6 +208,7 @@ pub(super) fn run(h: &Header, first: usize, count: usize) -> Run {
         count,
         total: h.count(),
         names: ["PLY", "vertex", "vertices"],
+        line: h.elements[h.vi].line,
     }
 }
 
@@ -224,10 +266,12 @@ fn ascii<R: Read, S: Sink>(src: &mut Source<R>, h: &Header, ck: &mut Checker<S>)
     let nprops = h.elements[h.vi].props.len();
     for k in 0..h.count() {
         let Some((lineno, line)) = next(src)? else {
+            let vline = h.elements[h.vi].line;
             return Err(Error::parse(format!(
-                "PLY: header claims {} vertices, the file holds {k}",
+                "PLY: header line {vline} claims {} vertices, the file holds {k}",
                 h.count()
-            )));
+            ))
+            .at_line(vline, None));
         };
         let f: Vec<&str> = line.split_whitespace().collect();
         if f.len() < nprops {
@@ -249,6 +293,31 @@ fn ascii<R: Read, S: Sink>(src: &mut Source<R>, h: &Header, ck: &mut Checker<S>)
         }
         ck.record(&v)
             .map_err(|f| f.error(format!("vertex {k}"), Some(lineno)))?;
+    }
+    ascii_tail(src, h, &mut next)
+}
+
+/// The next non-empty data line, with its line number.
+type NextLine<'a, R> = dyn FnMut(&mut Source<R>) -> Result<Option<(usize, String)>> + 'a;
+
+/// After the vertices of an ascii file: one line per item of the later
+/// elements, then nothing but blank lines.
+fn ascii_tail<R: Read>(src: &mut Source<R>, h: &Header, next: &mut NextLine<'_, R>) -> Result<()> {
+    for e in &h.elements[h.vi + 1..] {
+        for _ in 0..e.count {
+            if next(src)?.is_none() {
+                return Err(ends_before(e).at_line(e.line, None));
+            }
+        }
+    }
+    if let Some(extra) = src.next_nonblank()? {
+        let vert = &h.elements[h.vi];
+        let later: usize = h.elements[h.vi + 1..].iter().map(|e| e.count).sum();
+        return Err(Error::parse(format!(
+            "PLY: header line {} claims {} vertices ({later} items of later elements), the file holds more: line {extra} is past them; expected the count to match the data",
+            vert.line, vert.count
+        ))
+        .at_line(extra, None));
     }
     Ok(())
 }

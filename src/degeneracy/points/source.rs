@@ -136,6 +136,26 @@ impl<R: Read> Source<R> {
     }
 }
 
+impl<R: Read> Source<R> {
+    /// Whether any byte is left (a binary file after its last record).
+    pub(crate) fn has_more(&mut self) -> Result<bool> {
+        self.fill(1)?;
+        Ok(!self.data().is_empty())
+    }
+
+    /// The line number of the next non-blank line, if any (an ascii file after
+    /// its last record).
+    pub(crate) fn next_nonblank(&mut self) -> Result<Option<usize>> {
+        let mut buf = Vec::new();
+        while self.read_line(&mut buf)?.is_some() {
+            if !buf.iter().all(u8::is_ascii_whitespace) {
+                return Ok(Some(self.lines));
+            }
+        }
+        Ok(None)
+    }
+}
+
 fn trim_cr(v: &mut Vec<u8>) {
     if v.last() == Some(&b'\r') {
         v.pop();
