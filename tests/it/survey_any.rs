@@ -272,5 +272,7 @@ fn a_xacro_with_find_is_surveyed_with_package_path() {
     let (v, err) = survey_json(&[&target, "--package-path", pkg]);
     let r = row(&v, &input.display().to_string());
     close(&r["lever_arm_m"], 0.1f64.hypot(0.25 + 0.0377), 1e-12);
-    assert!(err.is_empty() || !err.contains("error"), "{err}");
+    // The mount turns by pi/2 about z: the rotation angle is 90 deg.
+    close(&r["angle_deg"], 90.0, 1e-9);
+    assert!(!err.contains("error"), "{err}");
 }

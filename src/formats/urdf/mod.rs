@@ -101,12 +101,14 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         let edges = joints::edges(&idx, &raw, opts, &mut warnings)?;
         (edges, link_frames(&idx, &links, path))
     };
-    // The joints must form a tree: check now, with the file's positions.
-    let mut g = FrameGraph::new();
-    for e in &edges {
-        g.add_edge(e.clone())?;
+    // The joints must form a tree: check now, with the file's positions (the
+    // graph is dropped at once; the pipeline builds its own).
+    {
+        let mut g = FrameGraph::new();
+        for e in &edges {
+            g.add_edge(e.clone())?;
+        }
     }
-    drop(g);
     root_links(&edges, &frames, path, &mut warnings);
     Ok(Loaded {
         edges,
