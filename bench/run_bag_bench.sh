@@ -22,9 +22,17 @@ ls -l "$bag"
 cargo build --release --bin audit
 audit=target/release/audit
 "$audit" "$bag" --frames
-hyperfine -N --warmup 3 --runs 30 \
+# The peer in the same run: the mcap library's seeking reader + rosbags' CDR
+# decoder printing the same transforms (bench/bag_python.py).
+hyperfine -N --warmup 3 --runs 30 --export-json "$work/hyperfine.json" \
     "$audit $bag --frames" \
-    "$audit $bag --from base_link --to lidar --format json"
+    "$audit $bag --from base_link --to lidar --format json" \
+    "$venv/bin/python bench/bag_python.py $bag"
+python3 - "$work/hyperfine.json" <<'PY'
+import json, sys
+for r in json.load(open(sys.argv[1]))["results"]:
+    print(f"{r['min']*1e3:.2f} / {r['median']*1e3:.2f} / {r['max']*1e3:.2f} ms  {r['command']}")
+PY
 if command -v strace >/dev/null; then
     # -y prints the path behind each descriptor: sum what was read from the bag.
     strace -f -y -e trace=read,pread64 -o "$work/strace.txt" "$audit" "$bag" --frames >/dev/null
