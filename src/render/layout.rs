@@ -309,8 +309,14 @@ pub fn fit(t: &Table, layout: &Layout) -> Fitted {
 /// `width`: a line too wide has its bracket moved to the next line, under
 /// the name, the branches continued; the bracket is wrapped at its words.
 pub fn fit_tree(text: &str, width: usize) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    let tree_chars = |l: &str| {
+        l.chars()
+            .take_while(|c| matches!(c, '│' | '├' | '└' | '─' | ' '))
+            .count()
+    };
     let mut out = Vec::new();
-    for line in text.lines() {
+    for (i, line) in lines.iter().enumerate() {
         let split = line.find("  [").filter(|_| width_of(line) > width);
         let Some(at) = split else {
             out.push(line.to_string());
@@ -318,18 +324,22 @@ pub fn fit_tree(text: &str, width: usize) -> String {
         };
         let (head, tail) = (&line[..at], line[at..].trim_start());
         out.push(head.to_string());
+        let depth = tree_chars(head);
         let branch: String = head
             .chars()
-            .take_while(|c| matches!(c, '│' | '├' | '└' | '─' | ' '))
+            .take(depth)
             .map(|c| match c {
                 '├' | '│' => '│',
                 _ => ' ',
             })
             .collect();
+        // The frame's children hang from its name's first column.
+        let kids = lines.get(i + 1).is_some_and(|n| tree_chars(n) > depth);
+        let under = format!("{branch}{}", if kids { "│ " } else { "  " });
         // Under the name, or as far left as the bracket's longest word needs.
         let longest = tail.split(' ').map(width_of).max().unwrap_or(0);
-        let keep = (width_of(&branch) + 2).min(width.saturating_sub(longest));
-        let indent: String = format!("{branch}  ").chars().take(keep).collect();
+        let keep = width_of(&under).min(width.saturating_sub(longest));
+        let indent: String = under.chars().take(keep).collect();
         let room = width.saturating_sub(width_of(&indent));
         out.extend(wrap(tail, room).into_iter().map(|l| format!("{indent}{l}")));
     }
@@ -782,10 +792,10 @@ mod tests {
 
     #[test]
     fn a_tree_line_too_wide_puts_its_place_below() {
-        let tree = "base\n├── lidar_link  [robot.urdf:10:5]\n│   └── x  [a.urdf:1:1]\n";
+        let tree = "base\n├── lidar_link  [robot.urdf:10:5]\n│   └── x  [a.urdf:1:1]\n└── imu_link  [robot.urdf:20:5]\n";
         assert_eq!(
             fit_tree(tree, 24),
-            "base\n├── lidar_link\n│     [robot.urdf:10:5]\n│   └── x  [a.urdf:1:1]\n"
+            "base\n├── lidar_link\n│   │ [robot.urdf:10:5]\n│   └── x  [a.urdf:1:1]\n└── imu_link\n      [robot.urdf:20:5]\n"
         );
         assert_eq!(fit_tree(tree, 80), tree);
     }

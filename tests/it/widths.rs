@@ -8,7 +8,7 @@ use crate::common::run_cli;
 use std::process::Command;
 
 /// The commands a person runs, with arguments that finish in seconds.
-pub const COMMANDS: [(&str, &[&str]); 9] = [
+pub const COMMANDS: [(&str, &[&str]); 11] = [
     (
         "rig-report",
         &[
@@ -53,6 +53,21 @@ pub const COMMANDS: [(&str, &[&str]); 9] = [
             "0",
             "--voxel",
             "0.1",
+        ],
+    ),
+    (
+        "sweep",
+        &["sweep", "tests/fixtures/detector/tunnel_small_le.ply"],
+    ),
+    (
+        "frames",
+        &[
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--frames",
+            "--from",
+            "base",
+            "--to",
+            "lidar",
         ],
     ),
     (
