@@ -845,19 +845,24 @@ impl Report for SimulateReport {
                 ]
             })
             .collect();
-        doc.table(Table::new(
-            &[
-                "family",
-                "threshold",
-                "eigenvalues A / B",
-                "decision",
-                "count A -> B",
-                "footprint A / B (frame-dependent)",
-                "subspace angle (deg)",
-                "|Delta| rot (rad) / trans (m)",
-            ],
-            rows,
-        ));
+        // A narrow terminal: the decision and what it rests on; --wide adds
+        // the frame-dependent footprint and the subspace diagnostics.
+        doc.table(
+            Table::new(
+                &[
+                    "family",
+                    "threshold",
+                    "eigenvalues A / B",
+                    "decision",
+                    "count A -> B",
+                    "footprint A / B (frame-dependent)",
+                    "subspace angle (deg)",
+                    "|Delta| rot (rad) / trans (m)",
+                ],
+                rows,
+            )
+            .compact(&[0, 1, 2, 3, 4]),
+        );
         doc
     }
 }
