@@ -483,7 +483,13 @@ pub const BORDERLESS_GAP: usize = 2;
 /// Largest table (cells, the header included) whose column widths are tuned
 /// for the fewest lines on a terminal; a bigger one keeps the first share
 /// (the tuning tries every move between two columns, per cell).
-pub const LAYOUT_REFINE_MAX_CELLS: usize = 1000;
+pub const LAYOUT_REFINE_MAX_CELLS: usize = 400;
+
+/// Cells read, at most, while tuning one table's column widths (every layout
+/// tried reads each cell once), after which the best layout found so far is
+/// kept (the tuning of a 75-row table of five prose columns takes 0.3 s in a
+/// debug build, most of it wrapping every cell at every width once).
+pub const LAYOUT_REFINE_BUDGET: usize = 5_000_000;
 
 /// Widest table (columns) whose tuning also tries moving width from one
 /// column to two others at once (the cost grows with the cube of the count).

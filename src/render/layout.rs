@@ -16,7 +16,7 @@
 use super::document::Table;
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::{
-    BORDERLESS_GAP, CUT_WORD_COST, ELIDE_MIN_WIDTH, LAYOUT_REFINE_MAX_CELLS,
+    BORDERLESS_GAP, CUT_WORD_COST, ELIDE_MIN_WIDTH, LAYOUT_REFINE_BUDGET, LAYOUT_REFINE_MAX_CELLS,
     LAYOUT_REFINE_MAX_COLUMNS, MIN_TERMINAL_WIDTH, SOFT_WORD_MIN_WIDTH,
 };
 use unicode_width::UnicodeWidthStr;
@@ -607,9 +607,16 @@ fn fewer_lines(
     };
     let n = cols.len();
     let mut best = height(&w);
+    // Each layout tried reads every cell once; the search stops when the
+    // budget is spent, with the best found so far (a big table stays quick).
+    let mut budget = LAYOUT_REFINE_BUDGET / (n_rows * n).max(1);
     loop {
         let mut found: Option<(Vec<usize>, usize)> = None;
         let mut try_move = |v: Vec<usize>| {
+            if budget == 0 {
+                return;
+            }
+            budget -= 1;
             let h = height(&v);
             if h < found.as_ref().map_or(best, |f| f.1) {
                 found = Some((v, h));
@@ -798,5 +805,29 @@ mod tests {
             "base\n├── lidar_link\n│   │ [robot.urdf:10:5]\n│   └── x  [a.urdf:1:1]\n└── imu_link\n      [robot.urdf:20:5]\n"
         );
         assert_eq!(fit_tree(tree, 80), tree);
+    }
+
+    #[test]
+    fn a_big_table_of_prose_is_laid_out_within_the_width() {
+        // 75 rows of five prose columns (under LAYOUT_REFINE_MAX_CELLS): the
+        // tuning's budget bounds the work.
+        let prose = "a fairly long sentence of words that has to wrap";
+        let rows = (0..75)
+            .map(|i| (0..5).map(|k| format!("{i} {k} {prose}")).collect())
+            .collect();
+        let t = Table::new(&["a", "b", "c", "d", "e"], rows);
+        let lay = Layout {
+            width: Some(80),
+            ..Layout::default()
+        };
+        let start = std::time::Instant::now();
+        let f = fit(&t, &lay);
+        eprintln!("laid out in {:?}", start.elapsed());
+        assert_eq!(f.hidden, 0);
+        let widest = |s: &str| s.lines().map(width_of).max().unwrap_or(0);
+        let total: usize = (0..5)
+            .map(|k| widest(&f.rows[0][k]).max(widest(&f.header[k])))
+            .sum();
+        assert!(total + 16 <= 80, "{total}");
     }
 }
