@@ -388,56 +388,30 @@ pub fn records(f: &Fitted, width: usize) -> Vec<String> {
 /// A one-line-per-row table ([`Table::one_line`]) drawn borderless: the
 /// header (wrapped at its words, bottom-aligned), a rule, then one line per
 /// row, columns [`BORDERLESS_GAP`] apart; the table's elided column is cut in
-/// its middle with an ellipsis to fit. `None`, and the caller draws the
-/// bordered table, when not on a terminal, with `--wide`, when the bordered
-/// table fits unwrapped, when a cell holds a line break, or when the elided
-/// column would fall below [`ELIDE_MIN_WIDTH`] or two of its cells would read
-/// the same.
+/// its middle with an ellipsis to fit, and columns left out from the right
+/// on a terminal narrower than the table's compact set. `None`, and the
+/// caller draws the bordered table, when not on a terminal, with `--wide`,
+/// when the bordered table fits unwrapped, when a cell holds a line break, or
+/// when even two columns do not fit ([`one_line_cells`]).
 pub fn borderless(t: &Table, layout: &Layout) -> Option<(Vec<String>, usize)> {
     let elide = t.one_line?;
     let w = layout.width().filter(|_| t.wrap && !layout.wide)?;
-    let cols = chosen_columns(t, layout, Some(w));
+    let mut cols = chosen_columns(t, layout, Some(w));
     if natural_width(t, &cols) <= w || t.rows.iter().flatten().any(|c| c.contains('\n')) {
         return None;
     }
-    let head = |c: usize| {
-        t.header[c]
-            .split(['\n', ' '])
-            .map(width_of)
-            .max()
-            .unwrap_or(0)
+    // A terminal narrower than 80: columns go from the right (never the
+    // elided one) until the rest fits, unless `--columns` named them.
+    let (widths, rows) = loop {
+        if let Some(fitted) = one_line_cells(t, &cols, elide, w) {
+            break fitted;
+        }
+        if !layout.columns.is_empty() || cols.len() <= 2 {
+            return None;
+        }
+        let last = cols.len() - 1 - usize::from(cols[cols.len() - 1] == elide);
+        cols.remove(last);
     };
-    let mut widths: Vec<usize> = cols
-        .iter()
-        .map(|&c| column_max(t, c).max(head(c)))
-        .collect();
-    let total = widths.iter().sum::<usize>() + BORDERLESS_GAP * (cols.len() - 1);
-    let mut rows: Vec<Vec<String>> = t
-        .rows
-        .iter()
-        .map(|r| {
-            cols.iter()
-                .map(|&c| r.get(c).cloned().unwrap_or_default())
-                .collect()
-        })
-        .collect();
-    if total > w {
-        let k = cols.iter().position(|&c| c == elide)?;
-        let room = widths[k].checked_sub(total - w)?;
-        if room < ELIDE_MIN_WIDTH.max(head(elide)) {
-            return None;
-        }
-        widths[k] = room;
-        let before: std::collections::HashSet<&String> = rows.iter().map(|r| &r[k]).collect();
-        let cut: Vec<String> = rows.iter().map(|r| ellipsize(&r[k], room)).collect();
-        let after: std::collections::HashSet<&String> = cut.iter().collect();
-        if after.len() < before.len() {
-            return None;
-        }
-        for (r, c) in rows.iter_mut().zip(cut) {
-            r[k] = c;
-        }
-    }
     let heads: Vec<Vec<String>> = cols
         .iter()
         .zip(&widths)
@@ -477,6 +451,58 @@ pub fn borderless(t: &Table, layout: &Layout) -> Option<(Vec<String>, usize)> {
         out.push(line(&r.iter().map(String::as_str).collect::<Vec<_>>()));
     }
     Some((out, t.header.len() - cols.len()))
+}
+
+/// The widest word of a header (it wraps at its words).
+fn header_word(t: &Table, c: usize) -> usize {
+    t.header[c]
+        .split(['\n', ' '])
+        .map(width_of)
+        .max()
+        .unwrap_or(0)
+}
+
+/// The columns' widths and the rows' cells of a borderless table `w` wide,
+/// the `elide` column cut to fit; `None` when it would fall below
+/// [`ELIDE_MIN_WIDTH`] or two of its cells would then read the same.
+fn one_line_cells(
+    t: &Table,
+    cols: &[usize],
+    elide: usize,
+    w: usize,
+) -> Option<(Vec<usize>, Vec<Vec<String>>)> {
+    let mut widths: Vec<usize> = cols
+        .iter()
+        .map(|&c| column_max(t, c).max(header_word(t, c)))
+        .collect();
+    let total = widths.iter().sum::<usize>() + BORDERLESS_GAP * cols.len().saturating_sub(1);
+    let mut rows: Vec<Vec<String>> = t
+        .rows
+        .iter()
+        .map(|r| {
+            cols.iter()
+                .map(|&c| r.get(c).cloned().unwrap_or_default())
+                .collect()
+        })
+        .collect();
+    if total > w {
+        let k = cols.iter().position(|&c| c == elide)?;
+        let room = widths[k].checked_sub(total - w)?;
+        if room < ELIDE_MIN_WIDTH.max(header_word(t, elide)) {
+            return None;
+        }
+        widths[k] = room;
+        let before: std::collections::HashSet<&String> = rows.iter().map(|r| &r[k]).collect();
+        let cut: Vec<String> = rows.iter().map(|r| ellipsize(&r[k], room)).collect();
+        let after: std::collections::HashSet<&String> = cut.iter().collect();
+        if after.len() < before.len() {
+            return None;
+        }
+        for (r, c) in rows.iter_mut().zip(cut) {
+            r[k] = c;
+        }
+    }
+    Some((widths, rows))
 }
 
 /// `s` cut to `w` columns by an ellipsis in its middle (ids differ at both

@@ -364,6 +364,12 @@ fn the_survey_is_one_line_per_rig_at_80_columns() {
     // h without its uncertainty (it stays in --wide and JSON).
     assert!(!out.contains("+-") && !out.contains("2.9e-4"), "{out}");
     assert!(out.contains("4 more columns with --wide"), "{out}");
+    // Narrower still: columns go from the right, still a line per rig.
+    for cols in [50, 60] {
+        let out = pty_run_stdout(cols, &["survey", "calibrations/", "--color", "never"]);
+        assert!(out.lines().all(|l| width(l) <= cols), "{out}");
+        assert_eq!(survey_rows(&out).len(), rigs.len(), "{out}");
+    }
 }
 
 /// `--wide` on a narrow terminal: a whole word wider than its column turns
