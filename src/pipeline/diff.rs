@@ -10,7 +10,7 @@ use crate::frames::{Edge, FrameGraph};
 use crate::geometry::Transform;
 use crate::report::diff::{
     BandDiffJson, ChainDiffJson, DiffReport, DiffToleranceJson, EdgeDiffJson, EdgeStatus,
-    FamilyDiffJson, OldNew,
+    FamilyDiffJson, OldNew, ReadJson,
 };
 use crate::report::RigReport;
 use crate::report::SCHEMA_VERSION;
@@ -52,6 +52,15 @@ pub struct SideRead {
     pub key: Option<String>,
     /// `--invert-old`/`--invert-new`.
     pub invert: bool,
+}
+
+impl SideRead {
+    fn json(&self) -> ReadJson {
+        ReadJson {
+            key: self.key.clone(),
+            inverted: self.invert,
+        }
+    }
 }
 
 /// One file loaded: its graph and the frame pair it declares (a rig file).
@@ -340,6 +349,8 @@ pub fn diff(opts: &DiffOptions) -> Result<(DiffReport, Vec<Warning>)> {
         schema_version: SCHEMA_VERSION,
         old: opts.old.display().to_string(),
         new: opts.new.display().to_string(),
+        old_read: opts.old_read.json(),
+        new_read: opts.new_read.json(),
         from,
         to,
         tolerance: opts.tolerance,

@@ -409,6 +409,12 @@ fn key_new_reads_one_matrix_of_a_file_with_several() {
     );
     assert_eq!(v["edges"].as_array().unwrap().len(), 1, "{v}");
     assert_eq!(edge(&v, "IMU", "LiDAR")["status"], "unchanged");
+    // The report says how each file was read (nothing for a plain one).
+    assert_eq!(
+        v["new_read"],
+        serde_json::json!({"key": "T_IMU_LiDAR", "inverted": false})
+    );
+    assert!(v.get("old_read").is_none(), "{v}");
     // Without the key every matrix is read: the camera pair is an added edge,
     // and the twice-given key is reported.
     let (_, _, err) = run_cli(&["diff", GEODE_TOML, GEODE_YAML, "--key-new", "T_IMU_LiDAR"]);
@@ -474,6 +480,19 @@ fn invert_new_reads_the_other_direction() {
         1e-12,
     );
     assert_eq!(edge(&v, "IMU", "LiDAR")["status"], "changed");
+    assert_eq!(v["new_read"]["inverted"], true);
+    let (_, text, _) = run_cli(&[
+        "diff",
+        GEODE_TOML,
+        GEODE_YAML,
+        "--key-new",
+        "T_IMU_LiDAR",
+        "--invert-new",
+    ]);
+    assert!(
+        text.contains(&format!("new: {GEODE_YAML} (key T_IMU_LiDAR, inverted)\n")),
+        "{text}"
+    );
     // Inverting both sides of the same numbers changes nothing.
     let (code, v) = diff_json(&[
         GEODE_YAML,
