@@ -472,3 +472,30 @@ pub const PRINT_RATIO_ZERO: f64 = 1e-12;
 
 /// Point count from which `degeneracy` shows a progress bar (on a terminal).
 pub const PROGRESS_MIN_POINTS: usize = 1 << 20;
+
+/// Narrowest a column of a one-line-per-row table (the survey's id) is
+/// shortened to, an ellipsis in its middle: below it the table wraps instead.
+pub const ELIDE_MIN_WIDTH: usize = 12;
+
+/// Spaces between the columns of a borderless table.
+pub const BORDERLESS_GAP: usize = 2;
+
+/// Largest table (cells, the header included) whose column widths are tuned
+/// for the fewest lines on a terminal; a bigger one keeps the first share
+/// (the tuning tries every move between two columns, per cell).
+pub const LAYOUT_REFINE_MAX_CELLS: usize = 400;
+
+/// Cells read, at most, while tuning one table's column widths (every layout
+/// tried reads each cell once), after which the best layout found so far is
+/// kept (the tuning of a 75-row table of five prose columns takes 0.3 s in a
+/// debug build, most of it wrapping every cell at every width once).
+pub const LAYOUT_REFINE_BUDGET: usize = 5_000_000;
+
+/// Widest table (columns) whose tuning also tries moving width from one
+/// column to two others at once (the cost grows with the cube of the count).
+pub const LAYOUT_REFINE_MAX_COLUMNS: usize = 5;
+
+/// A word cut across lines in a table cell costs as much as this many more
+/// lines when the column widths are tuned: a whole name (`unnormalized`) is
+/// worth a few more lines of wrapped prose beside it.
+pub const CUT_WORD_COST: usize = 8;

@@ -6,7 +6,7 @@ use super::{emit, parse_ell, parse_joint, parse_nonneg, print_warnings};
 use clap::Args;
 use extrinsic_audit::diagnostic::Result;
 use extrinsic_audit::formats::LoadOptions;
-use extrinsic_audit::pipeline::{self, DiffOptions, Rename, RigOptions};
+use extrinsic_audit::pipeline::{self, DiffOptions, Rename, RigOptions, SideRead};
 use extrinsic_audit::render::OutputFormat;
 use extrinsic_audit::report::diff::DiffToleranceJson;
 use extrinsic_audit::tolerances::{
@@ -25,8 +25,11 @@ R_old^T R_new), the edges only in one file, and for the --from -> --to chain the
 of lever arm, screw translation, certificate bands and every detector family's \
 verdict.\n\nExit status: 1 when the chain or a common edge moved beyond --tolerance, \
 or a verdict changed (screw kind, adapted metric, a family); 0 otherwise; 2 on bad \
-input. Edges in only one file are listed but do not by themselves fail.",
-    after_long_help = "Examples:\n  audit diff old/robot.urdf new/robot.urdf --from base_link --to lidar\n  audit diff robot.urdf kalibr.yaml --from imu_link --to lidar --rename kalibr.yaml:imu0=imu_link --rename kalibr.yaml:lidar0=lidar\n  audit diff calibrations/anymal-d.urdf calibrations/anymal-d-lidar-imu.toml --format markdown\n  audit diff a.urdf b.urdf --from base --to lidar --tolerance 0.5,0.01"
+input. Edges in only one file are listed but do not by themselves fail.\n\nEach file is \
+read as the rig report reads it; per side, --key-old/--key-new pick one key of a YAML/JSON \
+file with several transforms (--key: the same key in both), and --invert-old/--invert-new \
+read a file whose numbers are the pose of the parent in the child.",
+    after_long_help = "Examples:\n  audit diff old/robot.urdf new/robot.urdf --from base_link --to lidar\n  audit diff robot.urdf kalibr.yaml --from imu_link --to lidar --rename kalibr.yaml:imu0=imu_link --rename kalibr.yaml:lidar0=lidar\n  audit diff calibrations/anymal-d.urdf calibrations/anymal-d-lidar-imu.toml --format markdown\n  audit diff a.urdf b.urdf --from base --to lidar --tolerance 0.5,0.01\n  audit diff calibrations/geode-gamma-avia.toml gamma_config.yaml --key-new T_IMU_LiDAR\n  audit diff run1/camchain-imucam.yaml run2/camchain-imucam.yaml --key cam0 --from imu --to cam0"
 )]
 pub struct DiffArgs {
     /// The old calibration file
@@ -57,6 +60,23 @@ pub struct DiffArgs {
     /// Set a movable joint's position (rad or m) in both files; repeatable
     #[arg(long = "joint", value_parser = parse_joint, value_name = "NAME=VALUE")]
     pub joints: Vec<(String, f64)>,
+    /// Read only this key of both files (YAML/JSON with several transforms,
+    /// e.g. T_imu_lidar); see --key-old, --key-new
+    #[arg(long, value_name = "NAME", conflicts_with_all = ["key_old", "key_new"])]
+    pub key: Option<String>,
+    /// Read only this key of the old file
+    #[arg(long, value_name = "NAME")]
+    pub key_old: Option<String>,
+    /// Read only this key of the new file
+    #[arg(long, value_name = "NAME")]
+    pub key_new: Option<String>,
+    /// The old file stores the other direction (the pose of the parent in the
+    /// child): invert its transforms as they are read
+    #[arg(long)]
+    pub invert_old: bool,
+    /// The same for the new file
+    #[arg(long)]
+    pub invert_new: bool,
     /// Output format (text, markdown for a pull-request comment, json)
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
     pub format: OutputFormat,
@@ -78,6 +98,14 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
         load: LoadOptions {
             joints: args.joints.iter().cloned().collect(),
             ..LoadOptions::default()
+        },
+        old_read: SideRead {
+            key: args.key.clone().or_else(|| args.key_old.clone()),
+            invert: args.invert_old,
+        },
+        new_read: SideRead {
+            key: args.key.clone().or_else(|| args.key_new.clone()),
+            invert: args.invert_new,
         },
         rig: RigOptions {
             ells: args.ell.clone(),

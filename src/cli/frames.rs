@@ -86,6 +86,10 @@ pub fn run(
         // what could act on a terminal or a CI log is escaped.
         AuditFormat::Table => {
             let mut t = sanitize::block(&rep.tree_text);
+            // On a terminal a frame's place goes under it rather than past the width.
+            if let Some(w) = super::display::stdout_layout().width() {
+                t = extrinsic_audit::render::layout::fit_tree(&t, w);
+            }
             if let Some(c) = &rep.chain {
                 t.push_str(&format!(
                     "chain: {}\n",

@@ -16,7 +16,7 @@ translation, zero pitch, s_max, band at l = 1, adapted metric), then a summary: 
 lever-arm min / median / max, and how many rigs have nonzero pitch (general screws and pure \
 translations: no adapted constant metric exists for them).\n\nRotations below 1 degree are \
 marked `*`: their screw axis is set by calibration noise, so read h with the angle beside it.",
-    after_long_help = "Examples:\n  audit survey calibrations/\n  audit survey calibrations/ --sort lever-arm --format markdown\n  audit survey calibrations/geode-*.toml --format csv > geode.csv\n  audit survey robots/ --from base_link --to lidar\n  audit survey robot.urdf:base_link:velodyne other.urdf.xacro:base:os_sensor\n  audit survey calibrations/ --plot survey.svg"
+    after_long_help = "Examples:\n  audit survey calibrations/\n  audit survey calibrations/ --sort lever-arm --format markdown\n  audit survey calibrations/geode-*.toml --format csv > geode.csv\n  audit survey robots/ --from base_link --to lidar\n  audit survey robot.urdf:base_link:velodyne other.urdf.xacro:base:os_sensor\n  audit survey calibrations/ --plot survey.svg\n  audit survey kalibr/camchain-imucam.yaml:cam0:cam1 --key cam1 --invert"
 )]
 pub struct SurveyArgs {
     /// Rig files (*.toml) or directories of them; with --from/--to any file the
@@ -49,6 +49,15 @@ pub struct SurveyArgs {
     /// See --from
     #[arg(long, value_name = "FRAME", requires = "from")]
     pub to: Option<String>,
+    /// Read only this key of each YAML/JSON file (e.g. T_imu_lidar; a file
+    /// with several transforms), as the rig report's --key
+    #[arg(long, value_name = "NAME")]
+    pub key: Option<String>,
+    /// The files store the other direction (the pose of the parent in the
+    /// child): invert their transforms, as the rig report's --invert (a rig
+    /// TOML states its own direction and ignores both)
+    #[arg(long)]
+    pub invert: bool,
     /// Also draw the survey plot (lever arm against |h|, bands against the
     /// characteristic length) to this SVG file
     #[arg(long, value_name = "FILE.svg")]
@@ -75,6 +84,8 @@ pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
         load: extrinsic_audit::formats::LoadOptions {
             package_paths: args.package_paths.clone(),
             xacro_args: args.xacro_args.iter().cloned().collect(),
+            key: args.key.clone(),
+            invert: args.invert,
             ..Default::default()
         },
     })?;

@@ -304,8 +304,17 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     }
     warn_degrees(&loaded.edges, opts, &mut loaded.warnings);
     if opts.invert {
-        loaded.edges = loaded.edges.into_iter().map(Edge::inverted).collect();
-        loaded.redundant = loaded.redundant.into_iter().map(Edge::inverted).collect();
+        loaded.edges = loaded.edges.into_iter().map(numbers_inverted).collect();
+        loaded.redundant = loaded.redundant.into_iter().map(numbers_inverted).collect();
     }
     Ok(loaded)
+}
+
+/// `--invert`: the file's numbers are the pose of the parent in the child, so
+/// the edge keeps its frames and takes the inverse transform ([`Edge::inverted`]
+/// alone, which also swaps the frames, states the same pose and changes nothing).
+fn numbers_inverted(e: Edge) -> Edge {
+    let mut e = e.inverted();
+    std::mem::swap(&mut e.parent, &mut e.child);
+    e
 }

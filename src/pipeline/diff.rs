@@ -10,7 +10,7 @@ use crate::frames::{Edge, FrameGraph};
 use crate::geometry::Transform;
 use crate::report::diff::{
     BandDiffJson, ChainDiffJson, DiffReport, DiffToleranceJson, EdgeDiffJson, EdgeStatus,
-    FamilyDiffJson, OldNew,
+    FamilyDiffJson, OldNew, ReadJson,
 };
 use crate::report::RigReport;
 use crate::report::SCHEMA_VERSION;
@@ -33,10 +33,34 @@ pub struct DiffOptions {
     pub renames: Vec<Rename>,
     /// How the files are read.
     pub load: LoadOptions,
+    /// How the old file is read beyond `load` (`--key-old`, `--invert-old`).
+    pub old_read: SideRead,
+    /// How the new file is read (`--key-new`, `--invert-new`).
+    pub new_read: SideRead,
     /// Lengths of the bands, zero-pitch tolerance.
     pub rig: RigOptions,
     /// `--tolerance MM,DEG`.
     pub tolerance: DiffToleranceJson,
+}
+
+/// How one side of a diff is read: one key of a YAML/JSON file with several
+/// transforms, and whether its numbers are the pose of the parent in the
+/// child (inverted as they are read).
+#[derive(Debug, Clone, Default)]
+pub struct SideRead {
+    /// `--key-old`/`--key-new` (or `--key` for both).
+    pub key: Option<String>,
+    /// `--invert-old`/`--invert-new`.
+    pub invert: bool,
+}
+
+impl SideRead {
+    fn json(&self) -> ReadJson {
+        ReadJson {
+            key: self.key.clone(),
+            inverted: self.invert,
+        }
+    }
 }
 
 /// One file loaded: its graph and the frame pair it declares (a rig file).
@@ -45,8 +69,18 @@ struct Side {
     pair: Option<(String, String)>,
 }
 
-fn load_side(path: &Path, opts: &DiffOptions, matched: &mut [usize]) -> Result<Side> {
-    let mut loaded = formats::load_file(path, &opts.load)?;
+fn load_side(
+    path: &Path,
+    read: &SideRead,
+    opts: &DiffOptions,
+    matched: &mut [usize],
+) -> Result<Side> {
+    let load = LoadOptions {
+        key: read.key.clone(),
+        invert: read.invert,
+        ..opts.load.clone()
+    };
+    let mut loaded = formats::load_file(path, &load)?;
     for (total, n) in matched
         .iter_mut()
         .zip(apply_renames(&opts.renames, path, &mut loaded))
@@ -273,8 +307,8 @@ fn frame_pair(opts: &DiffOptions, old: &Side, new: &Side) -> Result<(String, Str
 /// chains raised.
 pub fn diff(opts: &DiffOptions) -> Result<(DiffReport, Vec<Warning>)> {
     let mut matched = vec![0usize; opts.renames.len()];
-    let old = load_side(&opts.old, opts, &mut matched)?;
-    let new = load_side(&opts.new, opts, &mut matched)?;
+    let old = load_side(&opts.old, &opts.old_read, opts, &mut matched)?;
+    let new = load_side(&opts.new, &opts.new_read, opts, &mut matched)?;
     if let Some(i) = matched.iter().position(|&n| n == 0) {
         let r = &opts.renames[i];
         return Err(Error::usage(format!(
@@ -315,6 +349,8 @@ pub fn diff(opts: &DiffOptions) -> Result<(DiffReport, Vec<Warning>)> {
         schema_version: SCHEMA_VERSION,
         old: opts.old.display().to_string(),
         new: opts.new.display().to_string(),
+        old_read: opts.old_read.json(),
+        new_read: opts.new_read.json(),
         from,
         to,
         tolerance: opts.tolerance,

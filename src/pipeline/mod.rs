@@ -12,7 +12,7 @@ mod survey;
 pub mod walk;
 
 pub use check::{check, check_with, CheckOptions, Robot};
-pub use diff::{diff, DiffOptions};
+pub use diff::{diff, DiffOptions, SideRead};
 pub use files::{expand_paths, write_atomic};
 pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};
 

@@ -55,6 +55,10 @@ pub struct Table {
     /// The columns a narrow terminal shows by default (empty: all); `--wide`
     /// shows the rest, piped output always has every column.
     pub compact: Vec<usize>,
+    /// One line per row on a terminal: where the bordered table would wrap a
+    /// cell, it is drawn borderless (columns two spaces apart, a rule under
+    /// the header) with this column shortened by an ellipsis if need be.
+    pub one_line: Option<usize>,
 }
 
 impl Table {
@@ -82,6 +86,11 @@ impl Table {
     /// With the columns a narrow terminal shows by default.
     pub fn compact(mut self, columns: &[usize]) -> Self {
         self.compact = columns.to_vec();
+        self
+    }
+    /// One line per row on a terminal, `elide` shortened if need be.
+    pub fn one_line(mut self, elide: usize) -> Self {
+        self.one_line = Some(elide);
         self
     }
 }

@@ -6,10 +6,19 @@
 //! padding for `n` columns. A `width` of `None` means the output is not a
 //! terminal: every column is shown and nothing is wrapped (the full,
 //! machine-friendly table).
+//!
+//! Three ways to draw a table on a terminal, tried in turn: bordered with its
+//! cells wrapped ([`fit`]); borderless, one line per row, for a table that
+//! asks for it ([`borderless`], e.g. the survey at 80 columns); and, when a
+//! word that must stay whole is wider than its column, one `key: value` line
+//! per cell ([`records`]) rather than a line wider than the terminal.
 
 use super::document::Table;
 use crate::diagnostic::{Error, Result};
-use crate::tolerances::{MIN_TERMINAL_WIDTH, SOFT_WORD_MIN_WIDTH};
+use crate::tolerances::{
+    BORDERLESS_GAP, CUT_WORD_COST, ELIDE_MIN_WIDTH, LAYOUT_REFINE_BUDGET, LAYOUT_REFINE_MAX_CELLS,
+    LAYOUT_REFINE_MAX_COLUMNS, MIN_TERMINAL_WIDTH, SOFT_WORD_MIN_WIDTH,
+};
 use unicode_width::UnicodeWidthStr;
 
 /// How the terminal output is laid out (`--wide`, `--columns`, the width).
@@ -146,6 +155,9 @@ pub struct Fitted {
     pub rows: Vec<Vec<String>>,
     /// How many columns are left out (shown with `--wide`).
     pub hidden: usize,
+    /// A whole word is wider than the terminal leaves its column: draw the
+    /// rows as records ([`records`]); the cells are then unwrapped.
+    pub records: bool,
 }
 
 /// Which columns `--columns` names in this table (by header, case-insensitive,
@@ -269,9 +281,10 @@ pub fn fit(t: &Table, layout: &Layout) -> Fitted {
             while !layout.wide && cols.len() > 1 && mins(&cols) > w {
                 cols.pop();
             }
-            Some(share(t, &cols, w))
+            (mins(&cols) <= w).then(|| share(t, &cols, w))
         }
     };
+    let records = width.is_some() && widths.is_none();
     let pick = |r: &Vec<String>| -> Vec<String> {
         cols.iter()
             .enumerate()
@@ -288,7 +301,239 @@ pub fn fit(t: &Table, layout: &Layout) -> Fitted {
         header: pick(&t.header),
         rows: t.rows.iter().map(pick).collect(),
         hidden: total - cols.len(),
+        records,
     }
+}
+
+/// A frame tree (`name  [file:line, ...]` under `├── ` branches) fitted to
+/// `width`: a line too wide has its bracket moved to the next line, under
+/// the name, the branches continued; the bracket is wrapped at its words.
+pub fn fit_tree(text: &str, width: usize) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    let tree_chars = |l: &str| {
+        l.chars()
+            .take_while(|c| matches!(c, '│' | '├' | '└' | '─' | ' '))
+            .count()
+    };
+    let mut out = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let split = line.find("  [").filter(|_| width_of(line) > width);
+        let Some(at) = split else {
+            out.push(line.to_string());
+            continue;
+        };
+        let (head, tail) = (&line[..at], line[at..].trim_start());
+        out.push(head.to_string());
+        let depth = tree_chars(head);
+        let branch: String = head
+            .chars()
+            .take(depth)
+            .map(|c| match c {
+                '├' | '│' => '│',
+                _ => ' ',
+            })
+            .collect();
+        // The frame's children hang from its name's first column.
+        let kids = lines.get(i + 1).is_some_and(|n| tree_chars(n) > depth);
+        let under = format!("{branch}{}", if kids { "│ " } else { "  " });
+        // Under the name, or as far left as the bracket's longest word needs.
+        let longest = tail.split(' ').map(width_of).max().unwrap_or(0);
+        let keep = width_of(&under).min(width.saturating_sub(longest));
+        let indent: String = under.chars().take(keep).collect();
+        let room = width.saturating_sub(width_of(&indent));
+        out.extend(wrap(tail, room).into_iter().map(|l| format!("{indent}{l}")));
+    }
+    let mut s = out.join("\n");
+    if text.ends_with('\n') {
+        s.push('\n');
+    }
+    s
+}
+
+/// A fitted table as records, for a terminal `width` wide: per row, one
+/// `key: value` line per column (values aligned, wrapped under themselves;
+/// under their key, indented, when the keys take half the width), rows
+/// apart by a blank line. Only a single word wider than the terminal itself
+/// can still exceed it.
+pub fn records(f: &Fitted, width: usize) -> Vec<String> {
+    let keys: Vec<String> = f
+        .header
+        .iter()
+        .map(|h| format!("{}:", h.replace('\n', " ")))
+        .collect();
+    let kw = keys.iter().map(|k| width_of(k)).max().unwrap_or(0);
+    let under = 2 * (kw + 1) > width;
+    let indent = if under { 2 } else { kw + 1 };
+    let mut out = Vec::new();
+    for (i, row) in f.rows.iter().enumerate() {
+        if i > 0 {
+            out.push(String::new());
+        }
+        for (key, cell) in keys.iter().zip(row) {
+            let values = wrap(cell, width.saturating_sub(indent));
+            let pad = " ".repeat(indent);
+            for (j, v) in values.iter().enumerate() {
+                let line = match (j, under) {
+                    (0, false) => format!("{key:<kw$} {v}"),
+                    (0, true) => format!("{key}\n{pad}{v}"),
+                    _ => format!("{pad}{v}"),
+                };
+                out.push(line.trim_end().to_string());
+            }
+        }
+    }
+    out
+}
+
+/// A one-line-per-row table ([`Table::one_line`]) drawn borderless: the
+/// header (wrapped at its words, bottom-aligned), a rule, then one line per
+/// row, columns [`BORDERLESS_GAP`] apart; the table's elided column is cut in
+/// its middle with an ellipsis to fit, and columns left out from the right
+/// on a terminal narrower than the table's compact set. `None`, and the
+/// caller draws the bordered table, when not on a terminal, with `--wide`,
+/// when the bordered table fits unwrapped, when a cell holds a line break, or
+/// when even two columns do not fit ([`one_line_cells`]).
+pub fn borderless(t: &Table, layout: &Layout) -> Option<(Vec<String>, usize)> {
+    let elide = t.one_line?;
+    let w = layout.width().filter(|_| t.wrap && !layout.wide)?;
+    let mut cols = chosen_columns(t, layout, Some(w));
+    if natural_width(t, &cols) <= w || t.rows.iter().flatten().any(|c| c.contains('\n')) {
+        return None;
+    }
+    // A terminal narrower than 80: columns go from the right (never the
+    // elided one) until the rest fits, unless `--columns` named them.
+    let (widths, rows) = loop {
+        if let Some(fitted) = one_line_cells(t, &cols, elide, w) {
+            break fitted;
+        }
+        if !layout.columns.is_empty() || cols.len() <= 2 {
+            return None;
+        }
+        let last = cols.len() - 1 - usize::from(cols[cols.len() - 1] == elide);
+        cols.remove(last);
+    };
+    let heads: Vec<Vec<String>> = cols
+        .iter()
+        .zip(&widths)
+        .map(|(&c, &cw)| wrap(&t.header[c], cw))
+        .collect();
+    let depth = heads.iter().map(Vec::len).max().unwrap_or(1);
+    let line = |cells: &[&str]| -> String {
+        let padded: Vec<String> = cells
+            .iter()
+            .zip(&widths)
+            .map(|(s, &cw)| format!("{s}{}", " ".repeat(cw.saturating_sub(width_of(s)))))
+            .collect();
+        padded
+            .join(&" ".repeat(BORDERLESS_GAP))
+            .trim_end()
+            .to_string()
+    };
+    let mut out = Vec::new();
+    for i in 0..depth {
+        // Bottom-aligned: a short header sits on the line above the rule.
+        let cells: Vec<&str> = heads
+            .iter()
+            .map(|h| {
+                let skip = depth - h.len();
+                if i < skip {
+                    ""
+                } else {
+                    h[i - skip].as_str()
+                }
+            })
+            .collect();
+        out.push(line(&cells));
+    }
+    let rules: Vec<String> = widths.iter().map(|&cw| "─".repeat(cw)).collect();
+    out.push(line(&rules.iter().map(String::as_str).collect::<Vec<_>>()));
+    for r in &rows {
+        out.push(line(&r.iter().map(String::as_str).collect::<Vec<_>>()));
+    }
+    Some((out, t.header.len() - cols.len()))
+}
+
+/// The widest word of a header (it wraps at its words).
+fn header_word(t: &Table, c: usize) -> usize {
+    t.header[c]
+        .split(['\n', ' '])
+        .map(width_of)
+        .max()
+        .unwrap_or(0)
+}
+
+/// The columns' widths and the rows' cells of a borderless table `w` wide,
+/// the `elide` column cut to fit; `None` when it would fall below
+/// [`ELIDE_MIN_WIDTH`] or two of its cells would then read the same.
+fn one_line_cells(
+    t: &Table,
+    cols: &[usize],
+    elide: usize,
+    w: usize,
+) -> Option<(Vec<usize>, Vec<Vec<String>>)> {
+    let mut widths: Vec<usize> = cols
+        .iter()
+        .map(|&c| column_max(t, c).max(header_word(t, c)))
+        .collect();
+    let total = widths.iter().sum::<usize>() + BORDERLESS_GAP * cols.len().saturating_sub(1);
+    let mut rows: Vec<Vec<String>> = t
+        .rows
+        .iter()
+        .map(|r| {
+            cols.iter()
+                .map(|&c| r.get(c).cloned().unwrap_or_default())
+                .collect()
+        })
+        .collect();
+    if total > w {
+        let k = cols.iter().position(|&c| c == elide)?;
+        let room = widths[k].checked_sub(total - w)?;
+        if room < ELIDE_MIN_WIDTH.max(header_word(t, elide)) {
+            return None;
+        }
+        widths[k] = room;
+        let before: std::collections::HashSet<&String> = rows.iter().map(|r| &r[k]).collect();
+        let cut: Vec<String> = rows.iter().map(|r| ellipsize(&r[k], room)).collect();
+        let after: std::collections::HashSet<&String> = cut.iter().collect();
+        if after.len() < before.len() {
+            return None;
+        }
+        for (r, c) in rows.iter_mut().zip(cut) {
+            r[k] = c;
+        }
+    }
+    Some((widths, rows))
+}
+
+/// `s` cut to `w` columns by an ellipsis in its middle (ids differ at both
+/// ends: `fusionport…-stim300`).
+pub fn ellipsize(s: &str, w: usize) -> String {
+    if width_of(s) <= w {
+        return s.to_string();
+    }
+    let keep = w.saturating_sub(1);
+    let (tail_w, mut head_w) = (keep / 2, keep - keep / 2);
+    let mut head = String::new();
+    for c in s.chars() {
+        let cw = width_of(c.encode_utf8(&mut [0; 4]));
+        if cw > head_w {
+            break;
+        }
+        head_w -= cw;
+        head.push(c);
+    }
+    let mut tail: Vec<char> = Vec::new();
+    let mut left = tail_w + head_w;
+    for c in s.chars().rev() {
+        let cw = width_of(c.encode_utf8(&mut [0; 4]));
+        if cw > left {
+            break;
+        }
+        left -= cw;
+        tail.push(c);
+    }
+    tail.reverse();
+    format!("{head}…{}", tail.into_iter().collect::<String>())
 }
 
 /// A `Table::bounds` width counts the cell's padding (one space each side).
@@ -335,7 +580,100 @@ fn share(t: &Table, cols: &[usize], width: usize) -> Vec<usize> {
         w[k] += 1;
         room -= 1;
     }
-    w
+    let lo: Vec<usize> = cols.iter().map(|&c| column_min(t, c)).collect();
+    if (t.rows.len() + 1) * cols.len() > LAYOUT_REFINE_MAX_CELLS {
+        return w;
+    }
+    fewer_lines(t, cols, w, &lo, &max)
+}
+
+/// What a cell costs at width `x`: its lines, and [`CUT_WORD_COST`] more when
+/// a word is cut.
+fn cost(cell: &str, x: usize) -> usize {
+    let cut = cell.split(['\n', ' ']).any(|w| width_of(w) > x);
+    wrap(cell, x).len() + if cut { CUT_WORD_COST } else { 0 }
+}
+
+/// Move width between columns while the table gets shorter (the header and
+/// every row counted by its costliest cell): a row that one line can hold is
+/// not wrapped because another column took the room first. Each pass tries
+/// every move of `m` columns from one column to another and keeps the best;
+/// `lo`/`hi` are the columns' narrowest and widest.
+fn fewer_lines(
+    t: &Table,
+    cols: &[usize],
+    mut w: Vec<usize>,
+    lo: &[usize],
+    hi: &[usize],
+) -> Vec<usize> {
+    let cell = |r: usize, c: usize| -> &str {
+        let row = if r == 0 { &t.header } else { &t.rows[r - 1] };
+        row.get(c).map_or("", String::as_str)
+    };
+    let n_rows = t.rows.len() + 1;
+    // lines[k][x - lo[k]][r]: how many lines row r's cell takes at width x.
+    let lines: Vec<Vec<Vec<usize>>> = cols
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| {
+            (lo[k]..=hi[k].max(lo[k]))
+                .map(|x| (0..n_rows).map(|r| cost(cell(r, c), x)).collect())
+                .collect()
+        })
+        .collect();
+    let height = |w: &[usize]| -> usize {
+        (0..n_rows)
+            .map(|r| {
+                (0..cols.len())
+                    .map(|k| lines[k][w[k] - lo[k]][r])
+                    .max()
+                    .unwrap_or(1)
+            })
+            .sum()
+    };
+    let n = cols.len();
+    let mut best = height(&w);
+    // Each layout tried reads every cell once; the search stops when the
+    // budget is spent, with the best found so far (a big table stays quick).
+    let mut budget = LAYOUT_REFINE_BUDGET / (n_rows * n).max(1);
+    loop {
+        let mut found: Option<(Vec<usize>, usize)> = None;
+        let mut try_move = |v: Vec<usize>| {
+            if budget == 0 {
+                return;
+            }
+            budget -= 1;
+            let h = height(&v);
+            if h < found.as_ref().map_or(best, |f| f.1) {
+                found = Some((v, h));
+            }
+        };
+        for a in 0..n {
+            let spare = w[a].saturating_sub(lo[a]);
+            for b in (0..n).filter(|&b| b != a) {
+                for m in 1..=spare.min(hi[b].saturating_sub(w[b])) {
+                    let mut v = w.clone();
+                    v[a] -= m;
+                    v[b] += m;
+                    try_move(v.clone());
+                    // A narrow table: the room may have to go to two columns
+                    // at once (a row fits only when both widen).
+                    for c in (b + 1..n).filter(|&c| c != a && n <= LAYOUT_REFINE_MAX_COLUMNS) {
+                        for k in 1..=(spare - m).min(hi[c].saturating_sub(w[c])) {
+                            let mut u = v.clone();
+                            u[a] -= k;
+                            u[c] += k;
+                            try_move(u);
+                        }
+                    }
+                }
+            }
+        }
+        match found {
+            Some((v, h)) => (w, best) = (v, h),
+            None => return w,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -390,5 +728,132 @@ mod tests {
         assert!(header_matches("lever arm (m)", "lever arm"));
         assert!(header_matches("lever arm (m)", "lever-arm"));
         assert!(!header_matches("lever arm (m)", "lever"));
+    }
+
+    #[test]
+    fn ellipsis_cuts_in_the_middle() {
+        assert_eq!(
+            ellipsize("fusionportable-os1-128-stim300", 18),
+            "fusionpor…-stim300"
+        );
+        assert_eq!(ellipsize("short", 18), "short");
+        assert_eq!(width_of(&ellipsize("ab日本語cd日本語ef", 7)), 7);
+    }
+
+    fn ids_table(ids: &[&str]) -> Table {
+        let rows = ids
+            .iter()
+            .map(|id| vec![id.to_string(), "0.0430".into(), "[0.9579, 1.044]".into()])
+            .collect();
+        Table::new(&["id", "lever arm (m)", "band at l = 1"], rows).one_line(0)
+    }
+
+    #[test]
+    fn a_one_line_table_goes_borderless_and_elides_its_id() {
+        let t = ids_table(&["a-very-long-rig-identifier-indeed", "short"]);
+        let lay = |w| Layout {
+            width: Some(w),
+            ..Layout::default()
+        };
+        // Wide enough for the bordered table: none.
+        assert!(borderless(&t, &lay(80)).is_none());
+        let (lines, hidden) = borderless(&t, &lay(40)).unwrap();
+        assert_eq!(hidden, 0);
+        assert_eq!(
+            lines,
+            [
+                "                 lever",
+                "                 arm",
+                "id               (m)     band at l = 1",
+                "───────────────  ──────  ───────────────",
+                "a-very-…-indeed  0.0430  [0.9579, 1.044]",
+                "short            0.0430  [0.9579, 1.044]",
+            ]
+        );
+        // Two ids that would read the same once cut: the bordered table instead.
+        let twins = ids_table(&[
+            "a-very-long-rig-identifier-indeed",
+            "a-very-long-rig-XXidentifier-indeed",
+        ]);
+        assert!(borderless(&twins, &lay(40)).is_none());
+        // With --wide: the bordered table too.
+        assert!(borderless(
+            &t,
+            &Layout {
+                width: Some(40),
+                wide: true,
+                ..Layout::default()
+            }
+        )
+        .is_none());
+    }
+
+    #[test]
+    fn an_unbreakable_word_wider_than_its_column_gives_records() {
+        let t = Table::new(
+            &["id", "file:line"],
+            vec![vec![
+                "r1".into(),
+                "tests/fixtures/urdf/a_rather_long_name.urdf:666:5".into(),
+            ]],
+        );
+        let lay = Layout {
+            width: Some(40),
+            wide: true,
+            ..Layout::default()
+        };
+        let f = fit(&t, &lay);
+        assert!(f.records);
+        assert_eq!(
+            records(&f, 40),
+            [
+                "id:        r1",
+                "file:line: tests/fixtures/urdf/a_rather_long_name.urdf:666:5"
+            ]
+        );
+        assert!(
+            !fit(
+                &t,
+                &Layout {
+                    width: Some(80),
+                    ..lay
+                }
+            )
+            .records
+        );
+    }
+
+    #[test]
+    fn a_tree_line_too_wide_puts_its_place_below() {
+        let tree = "base\n├── lidar_link  [robot.urdf:10:5]\n│   └── x  [a.urdf:1:1]\n└── imu_link  [robot.urdf:20:5]\n";
+        assert_eq!(
+            fit_tree(tree, 24),
+            "base\n├── lidar_link\n│   │ [robot.urdf:10:5]\n│   └── x  [a.urdf:1:1]\n└── imu_link\n      [robot.urdf:20:5]\n"
+        );
+        assert_eq!(fit_tree(tree, 80), tree);
+    }
+
+    #[test]
+    fn a_big_table_of_prose_is_laid_out_within_the_width() {
+        // 75 rows of five prose columns (under LAYOUT_REFINE_MAX_CELLS): the
+        // tuning's budget bounds the work.
+        let prose = "a fairly long sentence of words that has to wrap";
+        let rows = (0..75)
+            .map(|i| (0..5).map(|k| format!("{i} {k} {prose}")).collect())
+            .collect();
+        let t = Table::new(&["a", "b", "c", "d", "e"], rows);
+        let lay = Layout {
+            width: Some(80),
+            ..Layout::default()
+        };
+        let start = std::time::Instant::now();
+        let f = fit(&t, &lay);
+        eprintln!("laid out in {:?}", start.elapsed());
+        assert_eq!(f.hidden, 0);
+        let widest = |s: &str| s.lines().map(width_of).max().unwrap_or(0);
+        let total: usize = (0..5)
+            .map(|k| widest(&f.rows[0][k]).max(widest(&f.header[k])))
+            .sum();
+        assert!(total + 16 <= 80, "{total}");
     }
 }

@@ -104,7 +104,30 @@ pub fn table_laid(t: &Table, st: Style, lay: &Layout) -> String {
             .collect(),
         ..t.clone()
     };
-    let fitted = layout::fit(&escaped, lay);
+    let (mut s, hidden) = if let Some((lines, hidden)) = layout::borderless(&escaped, lay) {
+        (lines.join("\n"), hidden)
+    } else {
+        let fitted = layout::fit(&escaped, lay);
+        let hidden = fitted.hidden;
+        match lay.width() {
+            Some(w) if fitted.records => (layout::records(&fitted, w).join("\n"), hidden),
+            _ => (bordered(fitted), hidden),
+        }
+    };
+    if hidden > 0 {
+        let note = format!(
+            "{} more column{} with --wide (or --columns NAME,...)",
+            hidden,
+            if hidden == 1 { "" } else { "s" }
+        );
+        s.push('\n');
+        s.push_str(&st.dim(&note));
+    }
+    s
+}
+
+/// A fitted table in comfy-table's condensed borders.
+fn bordered(fitted: layout::Fitted) -> String {
     let mut ct = comfy_table::Table::new();
     ct.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
     ct.set_content_arrangement(comfy_table::ContentArrangement::Disabled);
@@ -112,17 +135,7 @@ pub fn table_laid(t: &Table, st: Style, lay: &Layout) -> String {
     for r in fitted.rows {
         ct.add_row(r);
     }
-    let mut s = ct.to_string();
-    if fitted.hidden > 0 {
-        let note = format!(
-            "{} more column{} with --wide (or --columns NAME,...)",
-            fitted.hidden,
-            if fitted.hidden == 1 { "" } else { "s" }
-        );
-        s.push('\n');
-        s.push_str(&st.dim(&note));
-    }
-    s
+    ct.to_string()
 }
 
 /// `file:line: severity[code]: message`, the place omitted when unknown; one

@@ -276,20 +276,25 @@ impl Report for SweepReport {
                 ]
             })
             .collect();
-        doc.table(Table::unwrapped(
-            &[
-                "family",
-                "threshold",
-                "degenerate",
-                "decision changes (rate)",
-                "Wilson 95 %",
-                "count changes (rate)",
-                "Wilson 95 %",
-                "max eigenvalue change",
-                "in the rig frame",
-            ],
-            rows,
-        ));
+        // A narrow terminal: the rates and the rig frame; --wide adds the
+        // threshold, the count and the intervals.
+        doc.table(
+            Table::new(
+                &[
+                    "family",
+                    "threshold",
+                    "degenerate",
+                    "decision changes (rate)",
+                    "Wilson 95 %",
+                    "count changes (rate)",
+                    "Wilson 95 %",
+                    "max eigenvalue change",
+                    "in the rig frame",
+                ],
+                rows,
+            )
+            .compact(&[0, 3, 5, 7, 8]),
+        );
         doc
     }
 }
@@ -840,19 +845,24 @@ impl Report for SimulateReport {
                 ]
             })
             .collect();
-        doc.table(Table::new(
-            &[
-                "family",
-                "threshold",
-                "eigenvalues A / B",
-                "decision",
-                "count A -> B",
-                "footprint A / B (frame-dependent)",
-                "subspace angle (deg)",
-                "|Delta| rot (rad) / trans (m)",
-            ],
-            rows,
-        ));
+        // A narrow terminal: the decision and what it rests on; --wide adds
+        // the frame-dependent footprint and the subspace diagnostics.
+        doc.table(
+            Table::new(
+                &[
+                    "family",
+                    "threshold",
+                    "eigenvalues A / B",
+                    "decision",
+                    "count A -> B",
+                    "footprint A / B (frame-dependent)",
+                    "subspace angle (deg)",
+                    "|Delta| rot (rad) / trans (m)",
+                ],
+                rows,
+            )
+            .compact(&[0, 1, 2, 3, 4]),
+        );
         doc
     }
 }

@@ -138,6 +138,12 @@ pub struct DiffReport {
     pub old: String,
     /// NEW, as named on the command line.
     pub new: String,
+    /// How OLD was read, when not plainly (`--key-old`, `--invert-old`).
+    #[serde(skip_serializing_if = "ReadJson::is_plain")]
+    pub old_read: ReadJson,
+    /// How NEW was read, when not plainly (`--key-new`, `--invert-new`).
+    #[serde(skip_serializing_if = "ReadJson::is_plain")]
+    pub new_read: ReadJson,
     /// The frame the chain is expressed in.
     pub from: String,
     /// The frame whose pose it is.
@@ -152,6 +158,39 @@ pub struct DiffReport {
     /// Why the diff exceeds its tolerance, one sentence each; empty when it
     /// does not (exit 0; otherwise exit 1).
     pub exceeded: Vec<String>,
+}
+
+/// How one file of a diff was read beyond its format's own rules.
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct ReadJson {
+    /// The one key read of a YAML/JSON file.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub key: Option<String>,
+    /// The numbers were read as the pose of the parent in the child.
+    pub inverted: bool,
+}
+
+impl ReadJson {
+    /// Read as the format says, whole.
+    pub fn is_plain(&self) -> bool {
+        self.key.is_none() && !self.inverted
+    }
+
+    /// ` (key NAME, inverted)`, or nothing when read plainly.
+    fn note(&self) -> String {
+        let mut parts = Vec::new();
+        if let Some(k) = &self.key {
+            parts.push(format!("key {k}"));
+        }
+        if self.inverted {
+            parts.push("inverted".to_string());
+        }
+        if parts.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", parts.join(", "))
+        }
+    }
 }
 
 fn opt_m(h: Option<f64>) -> String {
@@ -345,7 +384,13 @@ impl Report for DiffReport {
             text: self.headline(),
             good: self.exceeded.is_empty(),
         });
-        doc.text(format!("old: {}\nnew: {}", self.old, self.new));
+        doc.text(format!(
+            "old: {}{}\nnew: {}{}",
+            self.old,
+            self.old_read.note(),
+            self.new,
+            self.new_read.note()
+        ));
         doc.section(format!("Chain {} -> {}", self.from, self.to));
         doc.table(self.chain_table());
         doc.section("Detector families");

@@ -707,7 +707,8 @@ impl RigReport {
         if sc.translation_along_axis_m.is_some() {
             rows.push(vec![
                 "screw translation h = e.d".into(),
-                self.h_with_verdict(),
+                // The label names h: the value alone (one line at 80 columns).
+                self.h_with_verdict().trim_start_matches("h = ").to_string(),
             ]);
         }
         if let Some(p) = sc.pitch_m_per_rad {

@@ -173,10 +173,12 @@ impl SurveyReport {
             .map(|(j, m)| display_row(j, m))
             .collect();
         // A narrow terminal: one line per rig (id, lever arm, angle, h, zero
-        // pitch, band, metric); `--wide` adds sensor, platform and s_max.
+        // pitch, band, metric), the id shortened if need be; `--wide` adds
+        // sensor, platform, the uncertainty of h and s_max.
         Table::new(&HEADER, rows)
             .bounded(&[(1, 28), (2, 28)])
-            .compact(&[0, 3, 4, 5, 6, 8, 9])
+            .compact(&[0, 3, 4, 5, 7, 9, 10])
+            .one_line(0)
     }
 
     fn data_table(&self) -> Table {
@@ -218,13 +220,14 @@ impl SurveyReport {
     }
 }
 
-const HEADER: [&str; 10] = [
+const HEADER: [&str; 11] = [
     "id",
     "sensor",
     "platform",
     "lever arm (m)",
     "angle (deg)",
     "screw transl. h (m)",
+    "u(h) (m)",
     "pitch",
     "s_max",
     "band at l = 1",
@@ -278,19 +281,19 @@ fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
         format!("{}{}", degrees(j.angle_deg), if small { "*" } else { "" }),
         match j.screw_translation_m {
             Some(h) => format!(
-                "{}{}{}",
+                "{}{}",
                 metres_h(h),
-                j.screw_translation_uncertainty_m
-                    .map(|u| format!(" +- {}", metres_h(u)))
-                    .unwrap_or_default(),
                 if near_half_turn(j.angle_deg.to_radians()) {
                     " ±"
                 } else {
                     ""
                 }
             ),
-            None => "- (pure transl.)".into(),
+            None => "-".into(),
         },
+        j.screw_translation_uncertainty_m
+            .map(metres_h)
+            .unwrap_or_else(|| "-".into()),
         verdict_of(j).name().into(),
         ratio(j.sigma_max),
         vector(&j.band_l1, ratio),
@@ -309,10 +312,16 @@ impl Report for SurveyReport {
         doc.table(self.display_table());
         doc.table(self.data_table());
         doc.text(self.summary_line());
-        doc.text(format!(
+        let mut notes = format!(
             "* rotation below {SMALL_ROTATION_DEG} deg: the screw axis, and with it h, is set by calibration noise\n\
              ± half-turn within {NEAR_HALF_TURN_RAD:e} rad: the sign of h follows the rounding of the published numbers"
-        ));
+        );
+        if self.rigs.iter().any(|j| j.screw_translation_m.is_none()) {
+            notes.push_str(
+                "\n- no rotation: a pure translation has no screw axis and no h (infinite pitch)",
+            );
+        }
+        doc.text(notes);
         doc
     }
 }

@@ -555,3 +555,33 @@ fn bad_input_catalogue_under_check_is_a_finding_naming_the_file() {
     }
     assert!(n >= 25, "catalogue has {n} inputs");
 }
+
+/// `--invert` reads the numbers as the pose of the parent in the child: the
+/// FAST-LIO extrinsic (identity rotation, d = (0.04165, 0.02326, -0.0284))
+/// gives imu -> lidar = its inverse, translation -d. (Before, the edge was
+/// flipped and inverted at once, which states the same pose: a no-op.)
+#[test]
+fn invert_reads_the_file_the_other_way() {
+    let args = [
+        "tests/fixtures/formats/fastlio_avia.yaml",
+        "--from",
+        "imu",
+        "--to",
+        "lidar",
+        "--format",
+        "json",
+    ];
+    let t = |extra: &[&str]| -> Vec<f64> {
+        let (code, out, err) = crate::common::run_cli(&[&args[..], extra].concat());
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        v["transform"]["translation_m"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    assert_eq!(t(&[]), [0.04165, 0.02326, -0.0284]);
+    assert_eq!(t(&["--invert"]), [-0.04165, -0.02326, 0.0284]);
+}

@@ -373,3 +373,143 @@ fn a_urdf_against_a_kalibr_matrix_within_tolerance() {
     let (_, same) = diff_json(&[C, C, "--from", "base", "--to", "lidar"]);
     assert_eq!(same["chain"]["screw_sign_flip_at_half_turn"], false);
 }
+
+fn key_invert_expected() -> Value {
+    let p = format!(
+        "{}/tests/fixtures/diff/key_invert_expected.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+const GEODE_TOML: &str = "calibrations/geode-gamma-avia.toml";
+const GEODE_YAML: &str = "tests/fixtures/formats/geode_gamma_opencv.yaml";
+
+/// Per side `--key-new`: GEODE gamma's own config (several matrices, one key
+/// given twice with different values) against its rig TOML: only
+/// `T_IMU_LiDAR` is read, so nothing changed and no other edge is listed.
+#[test]
+fn key_new_reads_one_matrix_of_a_file_with_several() {
+    let x = &key_invert_expected()["diff_toml_vs_key"];
+    let (code, v) = diff_json(&[GEODE_TOML, GEODE_YAML, "--key-new", "T_IMU_LiDAR"]);
+    assert_eq!(code, 0);
+    assert_eq!(
+        (v["from"].as_str(), v["to"].as_str()),
+        (Some("IMU"), Some("LiDAR"))
+    );
+    close(
+        &v["chain"]["translation_change_mm"],
+        &x["translation_change_mm"],
+        1e-9,
+    );
+    close(
+        &v["chain"]["rotation_change_deg"],
+        &x["rotation_change_deg"],
+        1e-9,
+    );
+    assert_eq!(v["edges"].as_array().unwrap().len(), 1, "{v}");
+    assert_eq!(edge(&v, "IMU", "LiDAR")["status"], "unchanged");
+    // The report says how each file was read (nothing for a plain one).
+    assert_eq!(
+        v["new_read"],
+        serde_json::json!({"key": "T_IMU_LiDAR", "inverted": false})
+    );
+    assert!(v.get("old_read").is_none(), "{v}");
+    // Without the key every matrix is read: the camera pair is an added edge,
+    // and the twice-given key is reported.
+    let (_, _, err) = run_cli(&["diff", GEODE_TOML, GEODE_YAML, "--key-new", "T_IMU_LiDAR"]);
+    assert!(!err.contains("ambiguous-key"), "{err}");
+    let (code, v) = diff_json(&[GEODE_TOML, GEODE_YAML]);
+    assert_eq!(code, 0);
+    assert_eq!(edge(&v, "CamL", "CamR")["status"], "added");
+    // The key applies to its side only: the rig TOML ignores --key-old with a warning.
+    let (code, _, err) = run_cli(&["diff", GEODE_TOML, GEODE_YAML, "--key-old", "T_IMU_LiDAR"]);
+    assert_eq!(code, 0);
+    assert!(
+        err.contains("--invert and --key do not apply to a rig TOML"),
+        "{err}"
+    );
+    // A key the file lacks is bad input.
+    let (code, _, err) = run_cli(&["diff", GEODE_TOML, GEODE_YAML, "--key-new", "T_nope"]);
+    assert_eq!(code, 2, "{err}");
+    let (code, _, err) = run_cli(&[
+        "diff",
+        GEODE_TOML,
+        GEODE_YAML,
+        "--key",
+        "a",
+        "--key-new",
+        "b",
+    ]);
+    assert_eq!(code, 2, "{err}");
+}
+
+/// `--invert-new`: the new file's numbers read as the pose of the parent in
+/// the child: IMU -> LiDAR is the inverse of T_IMU_LiDAR, a change of
+/// |d_inv - d| and twice the angle (numpy, key_invert_expected.json); the
+/// lever arm, angle and h of a single inverted edge are the same.
+#[test]
+fn invert_new_reads_the_other_direction() {
+    let x = &key_invert_expected();
+    let (code, v) = diff_json(&[
+        GEODE_TOML,
+        GEODE_YAML,
+        "--key-new",
+        "T_IMU_LiDAR",
+        "--invert-new",
+    ]);
+    assert_eq!(code, 1);
+    let c = &v["chain"];
+    let want = &x["diff_toml_vs_key_inverted"];
+    close(
+        &c["translation_change_mm"],
+        &want["translation_change_mm"],
+        1e-9,
+    );
+    close(
+        &c["rotation_change_deg"],
+        &want["rotation_change_deg"],
+        1e-9,
+    );
+    let g = &x["geode_T_IMU_LiDAR"];
+    close(&c["lever_arm_m"]["new"], &g["lever_arm_m"], 1e-12);
+    close(&c["angle_deg"]["new"], &g["angle_deg"], 1e-9);
+    close(
+        &c["screw_translation_m"]["new"],
+        &g["screw_translation_m"],
+        1e-12,
+    );
+    assert_eq!(edge(&v, "IMU", "LiDAR")["status"], "changed");
+    assert_eq!(v["new_read"]["inverted"], true);
+    let (_, text, _) = run_cli(&[
+        "diff",
+        GEODE_TOML,
+        GEODE_YAML,
+        "--key-new",
+        "T_IMU_LiDAR",
+        "--invert-new",
+    ]);
+    assert!(
+        text.contains(&format!("new: {GEODE_YAML} (key T_IMU_LiDAR, inverted)\n")),
+        "{text}"
+    );
+    // Inverting both sides of the same numbers changes nothing.
+    let (code, v) = diff_json(&[
+        GEODE_YAML,
+        GEODE_YAML,
+        "--key",
+        "T_IMU_LiDAR",
+        "--invert-old",
+        "--invert-new",
+        "--from",
+        "IMU",
+        "--to",
+        "LiDAR",
+    ]);
+    assert_eq!(code, 0);
+    close(
+        &v["chain"]["translation_change_mm"],
+        &serde_json::json!(0.0),
+        1e-12,
+    );
+}

@@ -280,9 +280,10 @@ fn invert_key_format_and_size_options() {
         },
     )
     .expect("load");
+    // The frames stay; the numbers are read as the pose of imu in lidar.
     assert_eq!(
         (l.edges[0].parent.as_str(), l.edges[0].child.as_str()),
-        ("lidar", "imu")
+        ("imu", "lidar")
     );
     assert!((l.edges[0].transform.translation().x + 0.04165).abs() < 1e-15);
     let e = load_file(

@@ -276,3 +276,60 @@ fn a_xacro_with_find_is_surveyed_with_package_path() {
     close(&r["angle_deg"], 90.0, 1e-9);
     assert!(!err.contains("error"), "{err}");
 }
+
+fn key_invert_expected() -> Value {
+    let p = format!(
+        "{}/tests/fixtures/diff/key_invert_expected.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+/// `survey --key`: one matrix of GEODE gamma's config (several matrices, one
+/// key given twice); its lever arm, angle and h from numpy.
+#[test]
+fn key_reads_one_matrix_of_each_file() {
+    let x = &key_invert_expected()["geode_T_IMU_LiDAR"];
+    let file = "tests/fixtures/formats/geode_gamma_opencv.yaml:IMU:LiDAR";
+    let (v, err) = survey_json(&[file, "--key", "T_IMU_LiDAR"]);
+    assert!(!err.contains("ambiguous-key"), "{err}");
+    let r = row(&v, "tests/fixtures/formats/geode_gamma_opencv.yaml");
+    close(&r["lever_arm_m"], x["lever_arm_m"].as_f64().unwrap(), 1e-12);
+    close(&r["angle_deg"], x["angle_deg"].as_f64().unwrap(), 1e-9);
+    close(
+        &r["screw_translation_m"],
+        x["screw_translation_m"].as_f64().unwrap(),
+        1e-12,
+    );
+    let (_, err) = survey_json(&[file]);
+    assert!(err.contains("ambiguous-key"), "{err}");
+    // The key decides what is read: the camera pair lacks the IMU.
+    let (code, _, err) = run_cli(&["survey", file, "--key", "T_CamL_CamR"]);
+    assert_eq!(code, 2, "{err}");
+}
+
+/// `survey --invert`: Kalibr's `T_imu_cam` read as the pose of imu in each
+/// camera; cam0 -> cam1 is then A inv(B) instead of inv(A) B (numpy).
+#[test]
+fn invert_reads_the_files_the_other_way() {
+    let x = &key_invert_expected();
+    let file = "tests/fixtures/extrinsics/kalibr_openvins_euroc_imucam_chain.yaml:cam0:cam1";
+    let id = "tests/fixtures/extrinsics/kalibr_openvins_euroc_imucam_chain.yaml";
+    for (args, want) in [
+        (vec![file], &x["kalibr_cam0_cam1"]),
+        (vec![file, "--invert"], &x["kalibr_cam0_cam1_inverted"]),
+    ] {
+        let (v, _) = survey_json(&args);
+        let r = row(&v, id);
+        for k in ["lever_arm_m", "screw_translation_m"] {
+            close(&r[k], want[k].as_f64().unwrap(), 1e-12);
+        }
+        close(&r["angle_deg"], want["angle_deg"].as_f64().unwrap(), 1e-9);
+    }
+    // The two readings differ by 49 um of lever arm: the flag is applied.
+    let d = x["kalibr_cam0_cam1_inverted"]["lever_arm_m"]
+        .as_f64()
+        .unwrap()
+        - x["kalibr_cam0_cam1"]["lever_arm_m"].as_f64().unwrap();
+    assert!(d > 4e-5, "{d}");
+}

@@ -8,7 +8,7 @@ use crate::common::run_cli;
 use std::process::Command;
 
 /// The commands a person runs, with arguments that finish in seconds.
-pub const COMMANDS: [(&str, &[&str]); 9] = [
+pub const COMMANDS: [(&str, &[&str]); 11] = [
     (
         "rig-report",
         &[
@@ -53,6 +53,21 @@ pub const COMMANDS: [(&str, &[&str]); 9] = [
             "0",
             "--voxel",
             "0.1",
+        ],
+    ),
+    (
+        "sweep",
+        &["sweep", "tests/fixtures/detector/tunnel_small_le.ply"],
+    ),
+    (
+        "frames",
+        &[
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--frames",
+            "--from",
+            "base",
+            "--to",
+            "lidar",
         ],
     ),
     (
@@ -188,8 +203,9 @@ fn the_survey_is_compact_on_a_terminal_and_full_in_a_pipe() {
         120,
         &["survey", "calibrations/", "--wide", "--color", "never"],
     );
-    // (Every column: wider than 120 here, as `(/stim300/imu/data_raw)` stays whole.)
-    assert!(wide.contains("Ouster OS1-128") && wide.contains("s_max"));
+    // Every column: wider than 120 here, as `(/stim300/imu/data_raw)` stays
+    // whole, so one `key: value` line per cell.
+    assert!(wide.contains("Ouster OS1-128") && wide.contains("s_max:"));
     // Piped: every column, nothing wrapped, no hint.
     let (_, piped, _) = run_cli(&["survey", "calibrations/"]);
     let row = piped
@@ -290,4 +306,163 @@ fn color_is_chosen_by_the_flag_then_the_terminal() {
     assert!(pty_run(120, &args).contains('\x1b'));
     let never = [&args[..], &["--color", "never"]].concat();
     assert!(!pty_run(120, &never).contains('\x1b'));
+}
+
+/// The rows of the borderless survey: the lines after the rule under the
+/// header, up to the hint about the hidden columns.
+fn survey_rows(out: &str) -> Vec<&str> {
+    out.lines()
+        .skip_while(|l| !l.starts_with('─'))
+        .skip(1)
+        .take_while(|l| !l.is_empty() && !l.contains("more columns with --wide"))
+        .collect()
+}
+
+/// The compact default: at 80 columns the survey of the shipped
+/// calibrations prints one line per rig (id, lever arm, angle, h, pitch,
+/// band at l = 1, metric), ids shortened in their middle where needed.
+#[test]
+fn the_survey_is_one_line_per_rig_at_80_columns() {
+    if !have_pty() {
+        return;
+    }
+    let (_, json, _) = run_cli(&["survey", "calibrations/", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let rigs = v["rigs"].as_array().unwrap();
+    assert_eq!(rigs.len(), 38);
+    let out = pty_run_stdout(80, &["survey", "calibrations/", "--color", "never"]);
+    assert!(out.lines().all(|l| width(l) <= 80), "{out}");
+    let rows = survey_rows(&out);
+    assert_eq!(rows.len(), rigs.len(), "{out}");
+    for (row, rig) in rows.iter().zip(rigs) {
+        let id = rig["id"].as_str().unwrap();
+        let shown = row.split("  ").next().unwrap();
+        match shown.split_once('…') {
+            None => assert_eq!(shown, id),
+            Some((head, tail)) => {
+                assert!(id.starts_with(head) && id.ends_with(tail), "{shown} {id}")
+            }
+        }
+        // lever arm (0.1 mm), band at l = 1, metric: the JSON's values, rounded.
+        let lever = format!("{:.4}", rig["lever_arm_m"].as_f64().unwrap());
+        let lower = rig["band_l1"][0].as_f64().unwrap();
+        assert!(row.contains(&lever), "{row} {lever}");
+        assert!(row.contains(&format!("[{lower:.4}, ")), "{row} {lower}");
+        let metric = if rig["adapted_metric_exists"].as_bool().unwrap() {
+            "exists"
+        } else {
+            "none"
+        };
+        assert!(row.ends_with(metric), "{row}");
+    }
+    // An id that fits is whole; a long one is cut in its middle.
+    assert!(rows.iter().any(|r| r.starts_with("anymal-d-lidar-imu ")));
+    assert!(
+        rows.iter().any(|r| r.starts_with("fusionpor…-stim300 ")),
+        "{out}"
+    );
+    // h without its uncertainty (it stays in --wide and JSON).
+    assert!(!out.contains("+-") && !out.contains("2.9e-4"), "{out}");
+    assert!(out.contains("4 more columns with --wide"), "{out}");
+    // Narrower still: columns go from the right, still a line per rig.
+    for cols in [50, 60] {
+        let out = pty_run_stdout(cols, &["survey", "calibrations/", "--color", "never"]);
+        assert!(out.lines().all(|l| width(l) <= cols), "{out}");
+        assert_eq!(survey_rows(&out).len(), rigs.len(), "{out}");
+    }
+}
+
+/// `--wide` on a narrow terminal: a whole word wider than its column turns
+/// the table into `key: value` records rather than a line over the width.
+#[test]
+fn wide_on_a_narrow_terminal_falls_back_to_records() {
+    if !have_pty() {
+        return;
+    }
+    let out = pty_run_stdout(
+        80,
+        &["survey", "calibrations/", "--wide", "--color", "never"],
+    );
+    assert!(out.lines().all(|l| width(l) <= 80), "{out}");
+    let ids: Vec<&str> = out
+        .lines()
+        .filter_map(|l| l.strip_prefix("id:"))
+        .map(str::trim)
+        .collect();
+    assert_eq!(ids.len(), 38, "{out}");
+    assert!(ids.contains(&"fusionportable-os1-128-stim300"));
+    // Every column, the uncertainty of h included, values aligned.
+    let rec: Vec<&str> = out
+        .lines()
+        .skip_while(|l| !l.contains("fusionportable-os1-128-stim300"))
+        .take_while(|l| !l.is_empty())
+        .collect();
+    let keys: Vec<&str> = rec
+        .iter()
+        .filter_map(|l| l.split_once(':'))
+        .map(|k| k.0)
+        .collect();
+    for k in [
+        "id",
+        "sensor",
+        "platform",
+        "lever arm (m)",
+        "u(h) (m)",
+        "s_max",
+        "adapted metric",
+    ] {
+        assert!(keys.contains(&k), "{k}: {rec:?}");
+    }
+    assert!(rec.contains(&"u(h) (m):            7.8e-7"), "{rec:?}");
+    // Per table: the rig report's chain of edges (a whole `file:line` beside
+    // the `from` column) as records, its quantity tables still bordered.
+    let report = pty_run_stdout(
+        80,
+        &[
+            "tests/fixtures/urdf/anymal_c.urdf",
+            "--from",
+            "base",
+            "--to",
+            "lidar",
+            "--wide",
+        ],
+    );
+    assert!(report.lines().all(|l| width(l) <= 80), "{report}");
+    assert!(
+        report.contains("file:line: tests/fixtures/urdf/anymal_c.urdf:666:5"),
+        "{report}"
+    );
+    assert!(report.contains("│ quantity "), "{report}");
+}
+
+/// `--frames` at 80 columns: a frame's place goes under its name.
+#[test]
+fn the_frame_tree_fits_80_columns() {
+    if !have_pty() {
+        return;
+    }
+    let args = [
+        "tests/fixtures/urdf/anymal_c.urdf",
+        "--frames",
+        "--color",
+        "never",
+    ];
+    let out = pty_run_stdout(80, &args);
+    assert!(out.lines().all(|l| width(l) <= 80), "{out}");
+    let at = out
+        .lines()
+        .position(|l| l.ends_with("── depth_camera_front_color_optical_frame"))
+        .unwrap();
+    assert!(
+        out.lines()
+            .nth(at + 1)
+            .unwrap()
+            .trim_start_matches(['│', ' '])
+            .starts_with("[tests/fixtures/urdf/anymal_c.urdf:250:5"),
+        "{out}"
+    );
+    let (_, piped, _) = run_cli(&args[..2]);
+    assert!(piped.contains(
+        "depth_camera_front_color_optical_frame  [tests/fixtures/urdf/anymal_c.urdf:250:5"
+    ));
 }
