@@ -24,6 +24,7 @@ pub mod lio_yaml;
 pub mod matrix_tree;
 pub mod nuscenes;
 pub mod ouster;
+pub mod ouster_extrinsics;
 pub mod registry;
 pub mod rig_toml;
 pub mod shell;

@@ -225,6 +225,8 @@ fn each_fixture_is_detected_as_its_format() {
         ("kitti_tracking_style.txt", "kitti-object"),
         ("nuscenes/calibrated_sensor.json", "nuscenes-json"),
         ("nuscenes_two_logs/calibrated_sensor.json", "nuscenes-json"),
+        ("ouster_sdk_extrinsic_parameters.json", "ouster-extrinsics"),
+        ("ouster_sdk_docs_extrinsics.json", "ouster-extrinsics"),
     ] {
         let path = Path::new(DIR).join(file);
         let text = std::fs::read_to_string(&path).expect("read");
@@ -393,4 +395,119 @@ fn a_redundant_edge_between_unconnected_frames_joins_the_tree() {
     assert!(g.redundant()[0].agrees());
     let c = g.transform("imu", "cam1").expect("chain");
     assert!((c.transform.translation().x - 0.3).abs() < 1e-15);
+}
+
+#[test]
+fn ouster_extrinsics_names_sensors_by_their_serials_under_world() {
+    let g = graph("ouster_sdk_extrinsic_parameters.json", None);
+    assert_eq!(g.roots(), vec!["world".to_string()]);
+    let edges: Vec<(&str, &str, Option<usize>)> = g
+        .edges()
+        .iter()
+        .map(|e| {
+            (
+                e.parent.as_str(),
+                e.child.as_str(),
+                e.provenance.location.line,
+            )
+        })
+        .collect();
+    assert_eq!(
+        edges,
+        vec![
+            ("world", "122150000150", Some(3)),
+            ("world", "992313000353", Some(14)),
+            ("world", "992225001114", Some(25)),
+        ]
+    );
+    // The site frame puts sensors 55 m away: no millimetre warning.
+    assert!(g.warnings().is_empty(), "{:?}", g.warnings());
+    let g = graph("ouster_sdk_extrinsic_parameters.json", Some("992225001114"));
+    assert_eq!(g.edges().len(), 1);
+    assert_eq!(g.edges()[0].child, "992225001114");
+}
+
+fn ouster_load(
+    text: &str,
+) -> extrinsic_audit::diagnostic::Result<extrinsic_audit::formats::Loaded> {
+    extrinsic_audit::formats::load_str(
+        text,
+        Path::new("extrinsic_parameters.json"),
+        &LoadOptions::default(),
+    )
+}
+
+#[test]
+fn ouster_extrinsics_bare_record_default_destination_and_duplicates() {
+    // One record, as the sensor's Perception API returns it; no destination.
+    let l = ouster_load(
+        "{\"p_x\": 1.0, \"p_y\": 2.0, \"p_z\": 3.0, \"q_w\": 0.0, \"q_x\": 0.0, \"q_y\": 0.0, \"q_z\": 1.0, \"source_frame\": \"os_a\"}",
+    )
+    .expect("bare record");
+    assert_eq!(
+        (l.edges[0].parent.as_str(), l.edges[0].child.as_str()),
+        ("world", "os_a")
+    );
+    assert_eq!(l.warnings[0].code, Code::AssumedConvention);
+    // q = (w 0, z 1): a half-turn about z, p_dest = R p_src + p.
+    let p = l.edges[0]
+        .transform
+        .apply(&nalgebra::Vector3::new(1.0, 0.0, 0.0));
+    assert!(
+        (p - nalgebra::Vector3::new(0.0, 2.0, 3.0)).norm() < 1e-15,
+        "{p}"
+    );
+    // A sensor given twice with different values blocks only its own edge.
+    let rec = |sn: &str, x: f64| {
+        format!("{{\"destination_frame\": \"world\", \"p_x\": {x}, \"p_y\": 0, \"p_z\": 0, \"q_w\": 1, \"q_x\": 0, \"q_y\": 0, \"q_z\": 0, \"source_frame\": \"{sn}\"}}")
+    };
+    let text = format!(
+        "{{\"transforms\": [\n{},\n{},\n{}\n]}}",
+        rec("A", 1.0),
+        rec("B", 2.0),
+        rec("A", 1.5)
+    );
+    let l = ouster_load(&text).expect("one sensor left");
+    assert_eq!(l.edges.len(), 1);
+    assert_eq!(l.edges[0].child, "B");
+    let w = &l.warnings[0];
+    assert_eq!(w.code, Code::AmbiguousKey);
+    assert!(
+        w.message
+            .contains("source_frame A is given 2 times with different values (line 2 and line 4)"),
+        "{}",
+        w.message
+    );
+    let e = ouster_load("{\"transforms\": [{\"source_frame\": \"A\", \"p_x\": 1}]}")
+        .expect_err("no p_y");
+    assert!(
+        e.message
+            .contains("record: expected `p_y` (a number), found none"),
+        "{}",
+        e.message
+    );
+}
+
+#[test]
+fn cli_reads_ouster_extrinsics_between_two_sensors() {
+    let f = format!("{DIR}/ouster_sdk_extrinsic_parameters.json");
+    let out = audit()
+        .args([
+            f.as_str(),
+            "--from",
+            "122150000150",
+            "--to",
+            "992313000353",
+            "--format",
+            "json",
+        ])
+        .output()
+        .expect("run");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("ouster-extrinsics"), "{stdout}");
 }
