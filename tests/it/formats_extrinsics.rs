@@ -212,6 +212,7 @@ fn each_fixture_is_detected_as_its_format() {
     for (file, id) in [
         ("kalibr_padrl_camchain-imucam.yaml", "matrix-yaml"),
         ("kalibr_openvins_euroc_imucam_chain.yaml", "matrix-yaml"),
+        ("kalibr_wiki_example_chain.yaml", "matrix-yaml"),
         ("geode_style_ambiguous.yaml", "matrix-yaml"),
         ("iglio_ncd.yaml", "ig-lio"),
         ("iglio_nclt.yaml", "ig-lio"),
@@ -227,6 +228,9 @@ fn each_fixture_is_detected_as_its_format() {
         ("nuscenes_two_logs/calibrated_sensor.json", "nuscenes-json"),
         ("ouster_sdk_extrinsic_parameters.json", "ouster-extrinsics"),
         ("ouster_sdk_docs_extrinsics.json", "ouster-extrinsics"),
+        ("guardian_start_projection.bash", "static-tf-commands"),
+        ("guardian_stop_projection.bash", "static-tf-commands"),
+        ("dlio_livox_support.yaml", "dlio"),
     ] {
         let path = Path::new(DIR).join(file);
         let text = std::fs::read_to_string(&path).expect("read");
@@ -510,4 +514,18 @@ fn cli_reads_ouster_extrinsics_between_two_sensors() {
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("ouster-extrinsics"), "{stdout}");
+}
+
+#[test]
+fn kalibr_wiki_example_redundant_edge_agrees() {
+    // The wiki's T_cn_cnm1 matches T_c1_i inv(T_c0_i) to 1.7e-8 m (numpy).
+    let g = graph("kalibr_wiki_example_chain.yaml", None);
+    assert_eq!(g.roots(), vec!["imu".to_string()]);
+    let r = g.redundant();
+    assert_eq!(r.len(), 1);
+    assert!(r[0].agrees(), "{:?}", r[0]);
+    assert!(g
+        .warnings()
+        .iter()
+        .all(|w| w.code != Code::RedundantEdgeDisagrees));
 }
