@@ -231,6 +231,11 @@ fn each_fixture_is_detected_as_its_format() {
         ("guardian_start_projection.bash", "static-tf-commands"),
         ("guardian_stop_projection.bash", "static-tf-commands"),
         ("dlio_livox_support.yaml", "dlio"),
+        (
+            "av2/av2_val_7fab2350_egovehicle_SE3_sensor.json",
+            "av2-json",
+        ),
+        ("av2/av2_test_log_egovehicle_SE3_sensor.json", "av2-json"),
     ] {
         let path = Path::new(DIR).join(file);
         let text = std::fs::read_to_string(&path).expect("read");
@@ -528,4 +533,33 @@ fn kalibr_wiki_example_redundant_edge_agrees() {
         .warnings()
         .iter()
         .all(|w| w.code != Code::RedundantEdgeDisagrees));
+}
+
+#[test]
+fn av2_rows_are_sensor_poses_under_egovehicle() {
+    let g = graph("av2/av2_val_7fab2350_egovehicle_SE3_sensor.json", None);
+    assert_eq!(g.roots(), vec!["egovehicle".to_string()]);
+    assert_eq!(g.edges().len(), 11);
+    assert!(g.edges().iter().all(|e| e.parent == "egovehicle"));
+    assert!(g.warnings().is_empty(), "{:?}", g.warnings());
+    // up_lidar: qw 0.99998707, qz -0.00508497: a yaw of -0.5826 deg.
+    let up = g.transform("egovehicle", "up_lidar").expect("up_lidar");
+    let yaw = up.transform.rotation()[(1, 0)].atan2(up.transform.rotation()[(0, 0)]);
+    assert!((yaw - 2.0 * (-0.005084966495157445f64).atan2(0.9999870714742982)).abs() < 1e-15);
+    let text = "[\n{\"sensor_name\": \"up_lidar\", \"qw\": 1, \"qx\": 0, \"qy\": 0, \"qz\": 0, \"tx_m\": 1, \"ty_m\": 0, \"tz_m\": 1},\n{\"sensor_name\": \"up_lidar\", \"qw\": 1, \"qx\": 0, \"qy\": 0, \"qz\": 0, \"tx_m\": 1.2, \"ty_m\": 0, \"tz_m\": 1},\n{\"sensor_name\": \"down_lidar\", \"qw\": 1, \"qx\": 0, \"qy\": 0, \"qz\": 0, \"tx_m\": 1, \"ty_m\": 0, \"tz_m\": 0.5}\n]";
+    let l = extrinsic_audit::formats::load_str(
+        text,
+        Path::new("egovehicle_SE3_sensor.json"),
+        &LoadOptions::default(),
+    )
+    .expect("one row left");
+    assert_eq!(l.edges.len(), 1);
+    assert_eq!(l.edges[0].child, "down_lidar");
+    assert!(
+        l.warnings[0]
+            .message
+            .contains("sensor up_lidar is listed 2 times with different values (lines 2 and 3)"),
+        "{}",
+        l.warnings[0].message
+    );
 }
