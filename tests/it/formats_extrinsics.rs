@@ -220,6 +220,7 @@ fn each_fixture_is_detected_as_its_format() {
         ("dlio_ros2_params.yaml", "dlio"),
         ("vins_mono_realsense_color.yaml", "vins-mono"),
         ("vins_mono_euroc.yaml", "vins-mono"),
+        ("lvisam_params_camera.yaml", "vins-mono"),
         ("vins_fusion_euroc_stereo.yaml", "matrix-yaml"),
         ("static_tf_script.sh", "static-tf-commands"),
         ("kitti_object_000000.txt", "kitti-object"),
