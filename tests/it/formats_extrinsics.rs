@@ -213,6 +213,7 @@ fn each_fixture_is_detected_as_its_format() {
         ("kalibr_padrl_camchain-imucam.yaml", "matrix-yaml"),
         ("kalibr_openvins_euroc_imucam_chain.yaml", "matrix-yaml"),
         ("kalibr_wiki_example_chain.yaml", "matrix-yaml"),
+        ("kalibr_voxblox_euroc_camchain.yaml", "matrix-yaml"),
         ("geode_style_ambiguous.yaml", "matrix-yaml"),
         ("iglio_ncd.yaml", "ig-lio"),
         ("iglio_nclt.yaml", "ig-lio"),
@@ -524,16 +525,22 @@ fn cli_reads_ouster_extrinsics_between_two_sensors() {
 
 #[test]
 fn kalibr_wiki_example_redundant_edge_agrees() {
-    // The wiki's T_cn_cnm1 matches T_c1_i inv(T_c0_i) to 1.7e-8 m (numpy).
-    let g = graph("kalibr_wiki_example_chain.yaml", None);
-    assert_eq!(g.roots(), vec!["imu".to_string()]);
-    let r = g.redundant();
-    assert_eq!(r.len(), 1);
-    assert!(r[0].agrees(), "{:?}", r[0]);
-    assert!(g
-        .warnings()
-        .iter()
-        .all(|w| w.code != Code::RedundantEdgeDisagrees));
+    // The wiki's T_cn_cnm1 matches T_c1_i inv(T_c0_i) to 1.7e-8 m (numpy);
+    // voxblox's EuRoC camchain (Kalibr output) to 4e-17 m.
+    for f in [
+        "kalibr_wiki_example_chain.yaml",
+        "kalibr_voxblox_euroc_camchain.yaml",
+    ] {
+        let g = graph(f, None);
+        assert_eq!(g.roots(), vec!["imu".to_string()], "{f}");
+        let r = g.redundant();
+        assert_eq!(r.len(), 1, "{f}");
+        assert!(r[0].agrees(), "{f}: {:?}", r[0]);
+        assert!(g
+            .warnings()
+            .iter()
+            .all(|w| w.code != Code::RedundantEdgeDisagrees));
+    }
 }
 
 #[test]
