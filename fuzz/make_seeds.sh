@@ -25,7 +25,9 @@ for src in "$@"; do
             *.launch|*.launch.xml) put launch 0 "$f" ;;
             *.xml) if grep -q '<robot' <<<"$head"; then put urdf 1 "$f"; else put launch 7 "$f"; fi ;;
             *.toml) put rig_toml 0 "$f" ;;
-            *.json) put json 0 "$f"; put json 3 "$f" ;;
+            *.json) put json 0 "$f"; put json 3 "$f"
+                if grep -q "source_frame" <<<"$head"; then put json 5 "$f"; fi
+                if grep -q "sensor_name" <<<"$head"; then put json 6 "$f"; fi ;;
             *.csv|*.ply|*.pcd) mkdir -p "$out/points"; cp "$f" "$out/points/$(echo "$f" | tr '/ ' '__' | sed 's/^[._]*//')" ;;
             *.yaml|*.yml|*.txt)
                 if grep -q 'child_frame_id\|transforms:' <<<"$head"; then put tf_static 0 "$f"; fi

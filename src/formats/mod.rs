@@ -15,6 +15,7 @@ use crate::tolerances::{DEFAULT_MAX_FILE_SIZE, MAX_TRANSLATION_M, METRE_FIELD_WA
 use std::collections::BTreeMap;
 use std::path::Path;
 
+pub mod av2;
 pub mod bag;
 pub mod kitti_m2dgr;
 pub mod kitti_object;
@@ -24,6 +25,7 @@ pub mod lio_yaml;
 pub mod matrix_tree;
 pub mod nuscenes;
 pub mod ouster;
+pub mod ouster_extrinsics;
 pub mod registry;
 pub mod rig_toml;
 pub mod shell;

@@ -102,7 +102,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         return yaml_dialects::parse_matrices(&docs, text, path).map_err(|e| {
             Error {
                 message: format!(
-                    "JSON without `lidar_to_sensor_transform` or `imu_to_sensor_transform` (Ouster sensor metadata) or nuScenes `sensor_token` records; {}",
+                    "JSON without `lidar_to_sensor_transform` or `imu_to_sensor_transform` (Ouster sensor metadata), `transforms` records with `source_frame` (Ouster extrinsic_parameters.json), rows with `sensor_name` + `tx_m` (Argoverse 2) or nuScenes `sensor_token` records; {}",
                     e.message
                 ),
                 ..e

@@ -10,8 +10,8 @@
 //! [`FORMATS`] gets one line.
 
 use super::{
-    kitti_m2dgr, kitti_object, launch, lio_yaml, nuscenes, ouster, rig_toml, urdf, xacro, xml,
-    yaml_dialects,
+    av2, kitti_m2dgr, kitti_object, launch, lio_yaml, nuscenes, ouster, ouster_extrinsics,
+    rig_toml, urdf, xacro, xml, yaml_dialects,
 };
 use super::{LoadOptions, Loaded};
 use crate::diagnostic::{Error, Result};
@@ -128,6 +128,8 @@ pub const FORMATS: &[&FormatSpec] = &[
     &yaml_dialects::MATRIX_YAML,
     &yaml_dialects::QUATERNION_YAML,
     &nuscenes::NUSCENES,
+    &ouster_extrinsics::SPEC,
+    &av2::AV2_JSON,
     &ouster::SPEC,
     &kitti_m2dgr::KITTI_CALIB,
     &kitti_object::KITTI_OBJECT,

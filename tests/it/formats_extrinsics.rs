@@ -212,6 +212,8 @@ fn each_fixture_is_detected_as_its_format() {
     for (file, id) in [
         ("kalibr_padrl_camchain-imucam.yaml", "matrix-yaml"),
         ("kalibr_openvins_euroc_imucam_chain.yaml", "matrix-yaml"),
+        ("kalibr_wiki_example_chain.yaml", "matrix-yaml"),
+        ("kalibr_voxblox_euroc_camchain.yaml", "matrix-yaml"),
         ("geode_style_ambiguous.yaml", "matrix-yaml"),
         ("iglio_ncd.yaml", "ig-lio"),
         ("iglio_nclt.yaml", "ig-lio"),
@@ -219,12 +221,23 @@ fn each_fixture_is_detected_as_its_format() {
         ("dlio_ros2_params.yaml", "dlio"),
         ("vins_mono_realsense_color.yaml", "vins-mono"),
         ("vins_mono_euroc.yaml", "vins-mono"),
+        ("lvisam_params_camera.yaml", "vins-mono"),
         ("vins_fusion_euroc_stereo.yaml", "matrix-yaml"),
         ("static_tf_script.sh", "static-tf-commands"),
         ("kitti_object_000000.txt", "kitti-object"),
         ("kitti_tracking_style.txt", "kitti-object"),
         ("nuscenes/calibrated_sensor.json", "nuscenes-json"),
         ("nuscenes_two_logs/calibrated_sensor.json", "nuscenes-json"),
+        ("ouster_sdk_extrinsic_parameters.json", "ouster-extrinsics"),
+        ("ouster_sdk_docs_extrinsics.json", "ouster-extrinsics"),
+        ("guardian_start_projection.bash", "static-tf-commands"),
+        ("guardian_stop_projection.bash", "static-tf-commands"),
+        ("dlio_livox_support.yaml", "dlio"),
+        (
+            "av2/av2_val_7fab2350_egovehicle_SE3_sensor.json",
+            "av2-json",
+        ),
+        ("av2/av2_test_log_egovehicle_SE3_sensor.json", "av2-json"),
     ] {
         let path = Path::new(DIR).join(file);
         let text = std::fs::read_to_string(&path).expect("read");
@@ -393,4 +406,168 @@ fn a_redundant_edge_between_unconnected_frames_joins_the_tree() {
     assert!(g.redundant()[0].agrees());
     let c = g.transform("imu", "cam1").expect("chain");
     assert!((c.transform.translation().x - 0.3).abs() < 1e-15);
+}
+
+#[test]
+fn ouster_extrinsics_names_sensors_by_their_serials_under_world() {
+    let g = graph("ouster_sdk_extrinsic_parameters.json", None);
+    assert_eq!(g.roots(), vec!["world".to_string()]);
+    let edges: Vec<(&str, &str, Option<usize>)> = g
+        .edges()
+        .iter()
+        .map(|e| {
+            (
+                e.parent.as_str(),
+                e.child.as_str(),
+                e.provenance.location.line,
+            )
+        })
+        .collect();
+    assert_eq!(
+        edges,
+        vec![
+            ("world", "122150000150", Some(3)),
+            ("world", "992313000353", Some(14)),
+            ("world", "992225001114", Some(25)),
+        ]
+    );
+    // The site frame puts sensors 55 m away: no millimetre warning.
+    assert!(g.warnings().is_empty(), "{:?}", g.warnings());
+    let g = graph("ouster_sdk_extrinsic_parameters.json", Some("992225001114"));
+    assert_eq!(g.edges().len(), 1);
+    assert_eq!(g.edges()[0].child, "992225001114");
+}
+
+fn ouster_load(
+    text: &str,
+) -> extrinsic_audit::diagnostic::Result<extrinsic_audit::formats::Loaded> {
+    extrinsic_audit::formats::load_str(
+        text,
+        Path::new("extrinsic_parameters.json"),
+        &LoadOptions::default(),
+    )
+}
+
+#[test]
+fn ouster_extrinsics_bare_record_default_destination_and_duplicates() {
+    // One record, as the sensor's Perception API returns it; no destination.
+    let l = ouster_load(
+        "{\"p_x\": 1.0, \"p_y\": 2.0, \"p_z\": 3.0, \"q_w\": 0.0, \"q_x\": 0.0, \"q_y\": 0.0, \"q_z\": 1.0, \"source_frame\": \"os_a\"}",
+    )
+    .expect("bare record");
+    assert_eq!(
+        (l.edges[0].parent.as_str(), l.edges[0].child.as_str()),
+        ("world", "os_a")
+    );
+    assert_eq!(l.warnings[0].code, Code::AssumedConvention);
+    // q = (w 0, z 1): a half-turn about z, p_dest = R p_src + p.
+    let p = l.edges[0]
+        .transform
+        .apply(&nalgebra::Vector3::new(1.0, 0.0, 0.0));
+    assert!(
+        (p - nalgebra::Vector3::new(0.0, 2.0, 3.0)).norm() < 1e-15,
+        "{p}"
+    );
+    // A sensor given twice with different values blocks only its own edge.
+    let rec = |sn: &str, x: f64| {
+        format!("{{\"destination_frame\": \"world\", \"p_x\": {x}, \"p_y\": 0, \"p_z\": 0, \"q_w\": 1, \"q_x\": 0, \"q_y\": 0, \"q_z\": 0, \"source_frame\": \"{sn}\"}}")
+    };
+    let text = format!(
+        "{{\"transforms\": [\n{},\n{},\n{}\n]}}",
+        rec("A", 1.0),
+        rec("B", 2.0),
+        rec("A", 1.5)
+    );
+    let l = ouster_load(&text).expect("one sensor left");
+    assert_eq!(l.edges.len(), 1);
+    assert_eq!(l.edges[0].child, "B");
+    let w = &l.warnings[0];
+    assert_eq!(w.code, Code::AmbiguousKey);
+    assert!(
+        w.message
+            .contains("source_frame A is given 2 times with different values (line 2 and line 4)"),
+        "{}",
+        w.message
+    );
+    let e = ouster_load("{\"transforms\": [{\"source_frame\": \"A\", \"p_x\": 1}]}")
+        .expect_err("no p_y");
+    assert!(
+        e.message
+            .contains("record: expected `p_y` (a number), found none"),
+        "{}",
+        e.message
+    );
+}
+
+#[test]
+fn cli_reads_ouster_extrinsics_between_two_sensors() {
+    let f = format!("{DIR}/ouster_sdk_extrinsic_parameters.json");
+    let out = audit()
+        .args([
+            f.as_str(),
+            "--from",
+            "122150000150",
+            "--to",
+            "992313000353",
+            "--format",
+            "json",
+        ])
+        .output()
+        .expect("run");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("ouster-extrinsics"), "{stdout}");
+}
+
+#[test]
+fn kalibr_wiki_example_redundant_edge_agrees() {
+    // The wiki's T_cn_cnm1 matches T_c1_i inv(T_c0_i) to 1.7e-8 m (numpy);
+    // voxblox's EuRoC camchain (Kalibr output) to 4e-17 m.
+    for f in [
+        "kalibr_wiki_example_chain.yaml",
+        "kalibr_voxblox_euroc_camchain.yaml",
+    ] {
+        let g = graph(f, None);
+        assert_eq!(g.roots(), vec!["imu".to_string()], "{f}");
+        let r = g.redundant();
+        assert_eq!(r.len(), 1, "{f}");
+        assert!(r[0].agrees(), "{f}: {:?}", r[0]);
+        assert!(g
+            .warnings()
+            .iter()
+            .all(|w| w.code != Code::RedundantEdgeDisagrees));
+    }
+}
+
+#[test]
+fn av2_rows_are_sensor_poses_under_egovehicle() {
+    let g = graph("av2/av2_val_7fab2350_egovehicle_SE3_sensor.json", None);
+    assert_eq!(g.roots(), vec!["egovehicle".to_string()]);
+    assert_eq!(g.edges().len(), 11);
+    assert!(g.edges().iter().all(|e| e.parent == "egovehicle"));
+    assert!(g.warnings().is_empty(), "{:?}", g.warnings());
+    // up_lidar: qw 0.99998707, qz -0.00508497: a yaw of -0.5826 deg.
+    let up = g.transform("egovehicle", "up_lidar").expect("up_lidar");
+    let yaw = up.transform.rotation()[(1, 0)].atan2(up.transform.rotation()[(0, 0)]);
+    assert!((yaw - 2.0 * (-0.005084966495157445f64).atan2(0.9999870714742982)).abs() < 1e-15);
+    let text = "[\n{\"sensor_name\": \"up_lidar\", \"qw\": 1, \"qx\": 0, \"qy\": 0, \"qz\": 0, \"tx_m\": 1, \"ty_m\": 0, \"tz_m\": 1},\n{\"sensor_name\": \"up_lidar\", \"qw\": 1, \"qx\": 0, \"qy\": 0, \"qz\": 0, \"tx_m\": 1.2, \"ty_m\": 0, \"tz_m\": 1},\n{\"sensor_name\": \"down_lidar\", \"qw\": 1, \"qx\": 0, \"qy\": 0, \"qz\": 0, \"tx_m\": 1, \"ty_m\": 0, \"tz_m\": 0.5}\n]";
+    let l = extrinsic_audit::formats::load_str(
+        text,
+        Path::new("egovehicle_SE3_sensor.json"),
+        &LoadOptions::default(),
+    )
+    .expect("one row left");
+    assert_eq!(l.edges.len(), 1);
+    assert_eq!(l.edges[0].child, "down_lidar");
+    assert!(
+        l.warnings[0]
+            .message
+            .contains("sensor up_lidar is listed 2 times with different values (lines 2 and 3)"),
+        "{}",
+        l.warnings[0].message
+    );
 }
