@@ -443,6 +443,11 @@ pub const MAX_POINT_LINE_BYTES: usize = 1 << 20;
 /// Largest binary record of a point file (bytes; PCD descriptors use < 2 KiB).
 pub const MAX_POINT_RECORD_BYTES: usize = 1 << 20;
 
+/// Points decoded per call into the `las` crate (LAS and LAZ): 64 Ki points
+/// of at most a few hundred bytes, a bounded buffer however many the header
+/// claims.
+pub const LAS_READ_BATCH: u64 = 1 << 16;
+
 // ---------------------------------------------------------------------------
 // Output for people (`render`)
 // ---------------------------------------------------------------------------

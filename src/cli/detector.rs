@@ -6,7 +6,7 @@ use super::{emit, parse_ell, parse_noise, parse_positive, parse_voxel};
 use extrinsic_audit::degeneracy::normals::NormalParams;
 use extrinsic_audit::degeneracy::pairs;
 use extrinsic_audit::degeneracy::points::{accumulate_file, read_points, read_xyz};
-use extrinsic_audit::degeneracy::scene::{voxel_downsample, Cloud};
+use extrinsic_audit::degeneracy::scene::{voxel_downsample_weighted, Cloud};
 use extrinsic_audit::degeneracy::scene::{SceneKind, TUNNEL_RADIUS};
 use extrinsic_audit::degeneracy::threshold::{Calibration, SEEDS};
 use extrinsic_audit::degeneracy::Assembly;
@@ -31,7 +31,8 @@ use std::path::PathBuf;
     about = "Degeneracy of your own scan (points with normals, or raw with --estimate-normals), for every detector family",
     long_about = "Reads points with unit normals (CSV x,y,z,nx,ny,nz[,w] with or without a header; \
 PLY ascii/binary and PCD ascii/binary/binary_compressed with normal fields) expressed in the body \
-frame, or a raw scan (x y z ..., the output of a LiDAR driver) with --estimate-normals: optional \
+frame, or a raw scan (x y z ..., the output of a LiDAR driver; LAS and LAZ files are raw scans) \
+with --estimate-normals: optional \
 voxel grid (--voxel), PCA normals within --normal-radius (default 0.3 m) from at least \
 --min-neighbours points (default 8), at most --knn nearest, an optional planarity gate \
 (--min-planarity), oriented toward --viewpoint (default the sensor origin). H and M are \
@@ -502,9 +503,10 @@ fn pair_assembly(
     let mut warnings = Vec::new();
     let guess = initial_guess(args, &mut warnings)?;
     let src = read_xyz(&args.points)?;
-    let source = match args.voxel {
-        Some(v) => voxel_downsample(&src.points, v, [0.0; 3]),
-        None => src.points,
+    // The source's weights, as in the single-cloud path (the mean per voxel).
+    let (source, source_weights) = match args.voxel {
+        Some(v) => voxel_downsample_weighted(&src.points, src.weights.as_deref(), v, [0.0; 3]),
+        None => (src.points, src.weights),
     };
     warnings.extend(src.warnings);
     let (cloud, normals) = if args.estimate_normals {
@@ -524,8 +526,14 @@ fn pair_assembly(
             None,
         )
     };
-    let (asm, st) = pairs::pair_assembly(&source, &cloud, &guess, args.gate)
-        .map_err(|e| e.in_file(&args.points))?;
+    let (asm, st) = pairs::pair_assembly_weighted(
+        &source,
+        source_weights.as_deref(),
+        &cloud,
+        &guess,
+        args.gate,
+    )
+    .map_err(|e| e.in_file(&args.points))?;
     let pj = PairJson {
         target: target.display().to_string(),
         gate_m: args.gate,

@@ -11,6 +11,9 @@
 //! - PCD (0.7): `FIELDS x y z normal_x normal_y normal_z` (or `nx ny nz`), with
 //!   `SIZE`/`TYPE`/`COUNT`, `DATA ascii`, `binary` or `binary_compressed`
 //!   (LZF, decompressed in memory).
+//! - LAS 1.0-1.4 and LAZ (detected by the `LASF` magic): raw scans only (no
+//!   normals), see [`las`]. From a stream (standard input, [`parse_points`])
+//!   the file is held in memory (the `las` crate seeks), within the size cap.
 //!
 //! Checks: a file claiming more points than it holds is an error (pre-allocation
 //! is capped, never taken from the header); a zero normal is an error naming the
@@ -38,6 +41,7 @@
 mod binary;
 mod check;
 mod csv;
+mod las;
 mod lzf;
 mod parallel;
 mod pcd;
@@ -76,6 +80,10 @@ pub enum PointFormat {
     PcdBinary,
     /// PCD, binary_compressed (LZF).
     PcdBinaryCompressed,
+    /// LAS (uncompressed).
+    Las,
+    /// LAZ (LASzip-compressed LAS).
+    Laz,
 }
 
 impl PointFormat {
@@ -89,6 +97,8 @@ impl PointFormat {
             PointFormat::PcdAscii => "pcd-ascii",
             PointFormat::PcdBinary => "pcd-binary",
             PointFormat::PcdBinaryCompressed => "pcd-binary-compressed",
+            PointFormat::Las => "las",
+            PointFormat::Laz => "laz",
         }
     }
 }
@@ -214,10 +224,49 @@ fn read_path(path: &Path, xyz_only: bool) -> Result<PointData> {
         let r = crate::input::Capped::new(std::io::stdin().lock(), MAX_POINT_FILE_SIZE);
         return read_mode(r, xyz_only).map_err(|e| e.in_file("<stdin>"));
     }
-    check_size(path)?;
+    let meta = check_size(path)?;
     // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
-    let f = crate::input::open_regular(path)?;
+    let mut f = crate::input::open_regular(path)?;
+    if is_las_file(&mut f).map_err(|e| e.in_file(path))? {
+        return read_las(f, meta.len(), xyz_only).map_err(|e| e.in_file(path));
+    }
     read_mode(f, xyz_only).map_err(|e| e.in_file(path))
+}
+
+/// Whether a file starts with the LAS magic (the file is left at its start).
+fn is_las_file(f: &mut std::fs::File) -> Result<bool> {
+    use std::io::{Seek, SeekFrom};
+    let mut m = [0u8; 4];
+    let n = f.read(&mut m).map_err(|e| source::io_error(&e))?;
+    f.seek(SeekFrom::Start(0))
+        .map_err(|e| source::io_error(&e))?;
+    Ok(n == 4 && &m == las::MAGIC)
+}
+
+/// A LAS or LAZ file, seekable, `len` bytes: raw scans only.
+fn read_las<R>(r: R, len: u64, xyz_only: bool) -> Result<PointData>
+where
+    R: Read + std::io::Seek + Send + Sync + 'static,
+{
+    if !xyz_only {
+        return Err(las_without_normals());
+    }
+    let mut sink = Collect::default();
+    let (format, stats) = las::decode(r, len, &mut sink)?;
+    Ok(PointData {
+        points: sink.points,
+        normals: sink.normals,
+        weights: sink.weights,
+        format,
+        warnings: stats.warnings(),
+    })
+}
+
+/// LAS records have no normals: the same refusal as a PCD without them.
+fn las_without_normals() -> Error {
+    Error::parse(
+        "LAS: expected points with normals, LAS records have none (missing normal_x normal_y normal_z)",
+    )
 }
 
 /// Parse a point file held in memory.
@@ -233,6 +282,12 @@ pub fn read_from<R: Read>(r: R) -> Result<PointData> {
 fn read_mode<R: Read>(r: R, xyz_only: bool) -> Result<PointData> {
     let mut sink = Collect::default();
     let mut src = Source::new(r);
+    if detect(&mut src)? == Kind::Las {
+        // The `las` crate seeks: the stream is held in memory, within the cap.
+        let bytes = src.read_rest(MAX_POINT_FILE_SIZE)?;
+        let len = bytes.len() as u64;
+        return read_las(std::io::Cursor::new(bytes), len, xyz_only);
+    }
     let (format, stats) = decode(&mut src, &mut sink, xyz_only)?;
     Ok(PointData {
         points: sink.points,
@@ -299,6 +354,7 @@ fn finish(
 enum Kind {
     Ply,
     Pcd,
+    Las,
     Csv,
 }
 
@@ -313,6 +369,8 @@ fn detect<R: Read>(src: &mut Source<R>) -> Result<Kind> {
     Ok(
         if head.starts_with(b"ply\n") || head.starts_with(b"ply\r\n") {
             Kind::Ply
+        } else if head.starts_with(las::MAGIC) {
+            Kind::Las
         } else if looks_like_pcd(head) {
             Kind::Pcd
         } else {
@@ -337,6 +395,9 @@ fn decode<R: Read, S: Sink>(
             let h = pcd::read_header(src, xyz_only)?;
             pcd::body(src, &h, sink)
         }
+        // Normals required (H and M streamed): refused; raw scans are read
+        // whole by `read_mode`.
+        Kind::Las => Err(las_without_normals()),
         Kind::Csv => csv::decode(src, sink, xyz_only),
     }
 }

@@ -59,7 +59,7 @@ pub(super) fn decode_file(
             )?;
             Ok((h.format, stats))
         }
-        Kind::Csv => super::decode(src, acc, false),
+        Kind::Las | Kind::Csv => super::decode(src, acc, false),
     }
 }
 
