@@ -7,7 +7,9 @@
 //!   or spaces separate fields; `#` starts a comment line.
 //! - PLY: `element vertex` with scalar properties `x y z nx ny nz` (optional `w`
 //!   or `weight`), any numeric type. Elements before `vertex` must have scalar
-//!   properties only (they are skipped); elements after it are ignored.
+//!   properties only (they are skipped); elements after it (faces with list
+//!   properties included: each list by its own count) are read by their
+//!   declared types and must end the file, or it is an error.
 //! - PCD (0.7): `FIELDS x y z normal_x normal_y normal_z` (or `nx ny nz`), with
 //!   `SIZE`/`TYPE`/`COUNT`, `DATA ascii`, `binary` or `binary_compressed`
 //!   (LZF, decompressed in memory).

@@ -39,6 +39,13 @@ pub(super) fn decode_file(
                 total,
                 acc,
             )?;
+            if ply::tail_bytes(&h).is_none() {
+                // List elements after the vertices: read them by their counts.
+                let end = start.saturating_add((total as u64).saturating_mul(layout.rec as u64));
+                let mut f = File::open(path).map_err(|e| io_error(&e))?;
+                f.seek(SeekFrom::Start(end)).map_err(|e| io_error(&e))?;
+                ply::list_tail(&mut Source::at(f, end), &h)?;
+            }
             Ok((h.format, stats))
         }
         Kind::Pcd => {
