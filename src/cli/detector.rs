@@ -5,7 +5,7 @@
 use super::{emit, parse_ell, parse_noise, parse_positive, parse_voxel};
 use extrinsic_audit::degeneracy::normals::NormalParams;
 use extrinsic_audit::degeneracy::pairs;
-use extrinsic_audit::degeneracy::points::{accumulate_file, read_points, read_xyz};
+use extrinsic_audit::degeneracy::points::{accumulate_file_with, read_points_with, read_xyz_with};
 use extrinsic_audit::degeneracy::scene::{voxel_downsample_weighted, Cloud};
 use extrinsic_audit::degeneracy::scene::{SceneKind, TUNNEL_RADIUS};
 use extrinsic_audit::degeneracy::threshold::{Calibration, SEEDS};
@@ -16,11 +16,13 @@ use extrinsic_audit::diagnostic::{Error, Result};
 use extrinsic_audit::geometry::Transform;
 use extrinsic_audit::pipeline::detector::{self as det, RawScan, SimulateParams, TunnelParams};
 use extrinsic_audit::pipeline::transform_between;
+use extrinsic_audit::progress::{NoProgress, Progress};
 use extrinsic_audit::render::OutputFormat;
 use extrinsic_audit::report::detector::{MatricesJson, NormalsJson, PairJson};
 use extrinsic_audit::tolerances::{
-    DEFAULT_ELLS, DEFAULT_TAU, MAX_SIM_NOISE_M, PAIR_GATE_M, RAW_MIN_NEIGHBOURS,
-    RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M, SIM_VOXEL_RANGE_M,
+    DEFAULT_ELLS, DEFAULT_TAU, MAX_SIM_NOISE_M, PAIR_GATE_M, PROGRESS_MIN_BYTES,
+    PROGRESS_MIN_POINTS, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
+    SIM_VOXEL_RANGE_M,
 };
 use nalgebra::Vector6;
 use std::io::Write;
@@ -440,7 +442,8 @@ fn scan_assembly(args: &DegeneracyArgs) -> Result<ScanAssembly> {
             ));
         }
         // Streamed: H and M without holding the points; the frame by congruence.
-        let acc = accumulate_file(&args.points, Some(&frame)).map_err(raw_scan_hint)?;
+        let acc = accumulate_file_with(&args.points, Some(&frame), &*read_progress(&args.points))
+            .map_err(raw_scan_hint)?;
         (acc.assembly, acc.warnings, None)
     };
     Ok((asm, warnings, normals, pair))
@@ -502,7 +505,7 @@ fn pair_assembly(
 ) -> Result<(Assembly, Vec<Warning>, Option<NormalsJson>, PairJson)> {
     let mut warnings = Vec::new();
     let guess = initial_guess(args, &mut warnings)?;
-    let src = read_xyz(&args.points)?;
+    let src = read_xyz_with(&args.points, &*read_progress(&args.points))?;
     // The source's weights, as in the single-cloud path (the mean per voxel).
     let (source, source_weights) = match args.voxel {
         Some(v) => voxel_downsample_weighted(&src.points, src.weights.as_deref(), v, [0.0; 3]),
@@ -510,13 +513,17 @@ fn pair_assembly(
     };
     warnings.extend(src.warnings);
     let (cloud, normals) = if args.estimate_normals {
-        let data = read_xyz(target)?;
+        let data = read_xyz_with(target, &*read_progress(target))?;
         warnings.extend(data.warnings);
-        let (c, nj) =
-            det::raw_scan_cloud(&data.points, &raw_params(args)?).map_err(|e| e.in_file(target))?;
+        let (c, nj) = det::raw_scan_cloud_with(
+            &data.points,
+            &raw_params(args)?,
+            &*normals_progress(&data.points),
+        )
+        .map_err(|e| e.in_file(target))?;
         (c, Some(nj))
     } else {
-        let data = read_points(target)?;
+        let data = read_points_with(target, &*read_progress(target))?;
         warnings.extend(data.warnings);
         (
             Cloud {
@@ -546,6 +553,26 @@ fn pair_assembly(
     Ok((asm.congruence(&frame.adjoint()), warnings, normals, pj))
 }
 
+/// A bar on a terminal's standard error while reading `path`, when it is
+/// large enough to take about a second (issue 13).
+fn read_progress(path: &std::path::Path) -> Box<dyn Progress> {
+    let big = std::fs::metadata(path).is_ok_and(|m| m.len() >= PROGRESS_MIN_BYTES);
+    if big {
+        Box::new(super::display::TermProgress::new())
+    } else {
+        Box::new(NoProgress)
+    }
+}
+
+/// A bar while estimating the normals of `points`, when they are many.
+fn normals_progress(points: &[[f64; 3]]) -> Box<dyn Progress> {
+    if points.len() >= PROGRESS_MIN_POINTS {
+        Box::new(super::display::TermProgress::new())
+    } else {
+        Box::new(NoProgress)
+    }
+}
+
 /// The raw-scan options of the arguments.
 fn raw_params(args: &DegeneracyArgs) -> Result<RawScan> {
     let viewpoint = match args.viewpoint.as_deref() {
@@ -571,10 +598,12 @@ fn raw_assembly(
     args: &DegeneracyArgs,
     frame: &Transform,
 ) -> Result<(Assembly, Vec<Warning>, Option<NormalsJson>)> {
-    let data = read_xyz(&args.points)?;
+    let data = read_xyz_with(&args.points, &*read_progress(&args.points))?;
     let raw = raw_params(args)?;
-    let (asm, nj) = det::raw_scan_assembly(&data.points, data.weights.as_deref(), &raw)
-        .map_err(|e| e.in_file(&args.points))?;
+    let progress = normals_progress(&data.points);
+    let (asm, nj) =
+        det::raw_scan_assembly_with(&data.points, data.weights.as_deref(), &raw, &*progress)
+            .map_err(|e| e.in_file(&args.points))?;
     Ok((asm.congruence(&frame.adjoint()), data.warnings, Some(nj)))
 }
 

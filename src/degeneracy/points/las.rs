@@ -21,6 +21,7 @@
 use super::check::{Checker, Stats};
 use super::{PointFormat, Sink};
 use crate::diagnostic::{Error, Result};
+use crate::progress::Progress;
 use crate::tolerances::LAS_READ_BATCH;
 use std::io::{Read, Seek, SeekFrom};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -273,7 +274,12 @@ fn check_laz_chunks<R: Read + Seek>(
 }
 
 /// Check a LAS or LAZ file (`len` bytes) and decode its points into `sink`.
-pub(crate) fn decode<R, S>(mut r: R, len: u64, sink: &mut S) -> Result<(PointFormat, Stats)>
+pub(crate) fn decode<R, S>(
+    mut r: R,
+    len: u64,
+    sink: &mut S,
+    progress: &dyn Progress,
+) -> Result<(PointFormat, Stats)>
 where
     R: Read + Seek + Send + Sync + 'static,
     S: Sink,
@@ -283,14 +289,15 @@ where
     let raw = raw_header(&head, len)?;
     check_evlr(&mut r, &raw, len)?;
     let mut ck = Checker::new(sink, false, raw.count.min(1 << 20) as usize);
+    progress.start(raw.count, "points read");
     if raw.compressed {
-        laz_points(r, &raw, &head, len, &mut ck)?;
+        laz_points(r, &raw, (&head, len), &mut ck, progress)?;
         return Ok((PointFormat::Laz, ck.stats));
     }
     check_las_records(&raw, len)?;
     rewind(&mut r)?;
     let mut reader = las::Reader::new(std::io::BufReader::new(r)).map_err(las_error)?;
-    las_points(&mut reader, raw.count, &mut ck)?;
+    las_points(&mut reader, raw.count, &mut ck, progress)?;
     Ok((PointFormat::Las, ck.stats))
 }
 
@@ -304,7 +311,13 @@ fn rewind<R: Seek>(r: &mut R) -> Result<()> {
 /// file end where the compressed points end, and must run out of data right
 /// after the header's count (a count below the points held decodes one more;
 /// a count above them runs out early: both errors).
-fn laz_points<R, S>(mut r: R, raw: &Raw, head: &[u8], len: u64, ck: &mut Checker<S>) -> Result<()>
+fn laz_points<R, S>(
+    mut r: R,
+    raw: &Raw,
+    (head, len): (&[u8], u64),
+    ck: &mut Checker<S>,
+    progress: &dyn Progress,
+) -> Result<()>
 where
     R: Read + Seek + Send + Sync + 'static,
     S: Sink,
@@ -355,6 +368,7 @@ where
                 .map_err(|f| f.error(format!("LAS: point {}", k + i as u64), None))?;
         }
         k += n;
+        progress.advance(n);
     }
     let mut one = vec![0u8; rec];
     if data_end.is_some() && raw.count > 0 && d.decompress_one(&mut one).is_ok() {
@@ -404,7 +418,12 @@ fn las_error(e: las::Error) -> Error {
 }
 
 /// Decode the `count` points in batches; the normal is the placeholder `+z`.
-fn las_points<S: Sink>(reader: &mut las::Reader, count: u64, ck: &mut Checker<S>) -> Result<()> {
+fn las_points<S: Sink>(
+    reader: &mut las::Reader,
+    count: u64,
+    ck: &mut Checker<S>,
+    progress: &dyn Progress,
+) -> Result<()> {
     let mut pd = las::PointDataBuilder::new()
         .for_header(reader.header())
         .build();
@@ -423,6 +442,7 @@ fn las_points<S: Sink>(reader: &mut las::Reader, count: u64, ck: &mut Checker<S>
                 .map_err(|f| f.error(format!("LAS: point {}", k + i as u64), None))?;
         }
         k += got;
+        progress.advance(got);
     }
     Ok(())
 }

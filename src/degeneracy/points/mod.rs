@@ -56,6 +56,7 @@ pub use write::{write_csv, write_pcd, write_ply, Encoding};
 use crate::degeneracy::{Accumulator, Assembly};
 use crate::diagnostic::{Error, Result, Warning};
 use crate::geometry::se3::Transform;
+use crate::progress::{Counted, NoProgress, Progress};
 use crate::tolerances::MAX_POINT_FILE_SIZE;
 use check::Stats;
 use source::Source;
@@ -211,17 +212,28 @@ fn check_size(path: &Path) -> Result<std::fs::Metadata> {
 /// Read a point file, detecting the format from its content (`ply` magic, a PCD
 /// header) and otherwise reading CSV.
 pub fn read_points(path: &Path) -> Result<PointData> {
-    read_path(path, false)
+    read_path(path, false, &NoProgress)
+}
+
+/// [`read_points`], reporting the bytes read to `progress`.
+pub fn read_points_with(path: &Path, progress: &dyn Progress) -> Result<PointData> {
+    read_path(path, false, progress)
 }
 
 /// Read the points of a raw scan (x y z; normal fields, when present, are
 /// read but not required: absent ones are the placeholder `+z`). Positional
 /// CSV takes the first three columns as x, y, z.
 pub fn read_xyz(path: &Path) -> Result<PointData> {
-    read_path(path, true)
+    read_path(path, true, &NoProgress)
 }
 
-fn read_path(path: &Path, xyz_only: bool) -> Result<PointData> {
+/// [`read_xyz`], reporting the bytes read (the points read, for LAS and LAZ)
+/// to `progress`.
+pub fn read_xyz_with(path: &Path, progress: &dyn Progress) -> Result<PointData> {
+    read_path(path, true, progress)
+}
+
+fn read_path(path: &Path, xyz_only: bool, progress: &dyn Progress) -> Result<PointData> {
     if crate::input::is_stdin(path) {
         let r = crate::input::Capped::new(std::io::stdin().lock(), MAX_POINT_FILE_SIZE);
         return read_mode(r, xyz_only).map_err(|e| e.in_file("<stdin>"));
@@ -230,9 +242,14 @@ fn read_path(path: &Path, xyz_only: bool) -> Result<PointData> {
     // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
     let mut f = crate::input::open_regular(path)?;
     if is_las_file(&mut f).map_err(|e| e.in_file(path))? {
-        return read_las(f, meta.len(), xyz_only).map_err(|e| e.in_file(path));
+        let r = read_las(f, meta.len(), xyz_only, progress);
+        progress.finish();
+        return r.map_err(|e| e.in_file(path));
     }
-    read_mode(f, xyz_only).map_err(|e| e.in_file(path))
+    progress.start(meta.len(), "bytes read");
+    let r = read_mode(Counted::new(f, 0, progress), xyz_only);
+    progress.finish();
+    r.map_err(|e| e.in_file(path))
 }
 
 /// Whether a file starts with the LAS magic (the file is left at its start).
@@ -246,7 +263,7 @@ fn is_las_file(f: &mut std::fs::File) -> Result<bool> {
 }
 
 /// A LAS or LAZ file, seekable, `len` bytes: raw scans only.
-fn read_las<R>(r: R, len: u64, xyz_only: bool) -> Result<PointData>
+fn read_las<R>(r: R, len: u64, xyz_only: bool, progress: &dyn Progress) -> Result<PointData>
 where
     R: Read + std::io::Seek + Send + Sync + 'static,
 {
@@ -254,7 +271,7 @@ where
         return Err(las_without_normals());
     }
     let mut sink = Collect::default();
-    let (format, stats) = las::decode(r, len, &mut sink)?;
+    let (format, stats) = las::decode(r, len, &mut sink, progress)?;
     Ok(PointData {
         points: sink.points,
         normals: sink.normals,
@@ -288,7 +305,7 @@ fn read_mode<R: Read>(r: R, xyz_only: bool) -> Result<PointData> {
         // The `las` crate seeks: the stream is held in memory, within the cap.
         let bytes = src.read_rest(MAX_POINT_FILE_SIZE)?;
         let len = bytes.len() as u64;
-        return read_las(std::io::Cursor::new(bytes), len, xyz_only);
+        return read_las(std::io::Cursor::new(bytes), len, xyz_only, &NoProgress);
     }
     let (format, stats) = decode(&mut src, &mut sink, xyz_only)?;
     Ok(PointData {
@@ -305,6 +322,15 @@ fn read_mode<R: Read>(r: R, xyz_only: bool) -> Result<PointData> {
 /// the frame whose pose in the file's frame is `frame` (exactly, by congruence
 /// of the sums with `Ad(frame)`).
 pub fn accumulate_file(path: &Path, frame: Option<&Transform>) -> Result<Accumulated> {
+    accumulate_file_with(path, frame, &NoProgress)
+}
+
+/// [`accumulate_file`], reporting the bytes read to `progress`.
+pub fn accumulate_file_with(
+    path: &Path,
+    frame: Option<&Transform>,
+    progress: &dyn Progress,
+) -> Result<Accumulated> {
     if crate::input::is_stdin(path) {
         // `-`: standard input, read serially, bounded (issue 12).
         let r = crate::input::Capped::new(std::io::stdin().lock(), MAX_POINT_FILE_SIZE);
@@ -314,14 +340,16 @@ pub fn accumulate_file(path: &Path, frame: Option<&Transform>) -> Result<Accumul
     // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
     let f = crate::input::open_regular(path)?;
     let mut acc = Accumulator::new();
-    let mut src = Source::new(f);
+    progress.start(meta.len(), "bytes read");
+    let mut src = Source::new(Counted::new(f, 0, progress));
     // A pipe or device has no length to split by and cannot be reopened.
-    let (format, stats) = if meta.is_file() {
-        parallel::decode_file(path, meta.len(), &mut src, &mut acc)
+    let res = if meta.is_file() {
+        parallel::decode_file(path, meta.len(), &mut src, &mut acc, progress)
     } else {
         decode(&mut src, &mut acc, false)
-    }
-    .map_err(|e| e.in_file(path))?;
+    };
+    progress.finish();
+    let (format, stats) = res.map_err(|e| e.in_file(path))?;
     Ok(finish(&acc, format, stats, frame))
 }
 
