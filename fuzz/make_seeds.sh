@@ -26,7 +26,7 @@ for src in "$@"; do
             *.xml) if grep -q '<robot' <<<"$head"; then put urdf 1 "$f"; else put launch 7 "$f"; fi ;;
             *.toml) put rig_toml 0 "$f" ;;
             *.json) put json 0 "$f"; put json 3 "$f" ;;
-            *.csv|*.ply|*.pcd) mkdir -p "$out/points"; cp "$f" "$out/points/$(echo "$f" | tr '/ ' '__' | sed 's/^[._]*//')" ;;
+            *.csv|*.ply|*.pcd|*.las|*.laz) mkdir -p "$out/points"; cp "$f" "$out/points/$(echo "$f" | tr '/ ' '__' | sed 's/^[._]*//')" ;;
             *.yaml|*.yml|*.txt)
                 if grep -q 'child_frame_id\|transforms:' <<<"$head"; then put tf_static 0 "$f"; fi
                 if grep -q 'static_transform_publisher' <<<"$head"; then put launch 4 "$f"; fi

@@ -293,6 +293,11 @@ pub fn parse_points(bytes: &[u8]) -> Result<PointData> {
     read_from(bytes)
 }
 
+/// Parse a raw scan held in memory (as [`read_xyz`]; LAS and LAZ included).
+pub fn parse_xyz(bytes: &[u8]) -> Result<PointData> {
+    read_mode(bytes, true)
+}
+
 /// Read a point file from any reader, holding the points.
 pub fn read_from<R: Read>(r: R) -> Result<PointData> {
     read_mode(r, false)
