@@ -261,6 +261,13 @@ fn lying_and_truncated_las_headers_are_errors_naming_the_counts() {
     // Cut inside the header.
     let e = refused(tmp.path(), "header.las", &las[..100]);
     assert!(e.contains("at least 227 bytes"), "{e}");
+    // A record too short to hold x, y, z (LAS and LAZ).
+    for (file, name) in [("autzen.las", "short.las"), ("autzen.laz", "short.laz")] {
+        let mut short = std::fs::read(dir().join(file)).unwrap();
+        short[105..107].copy_from_slice(&10u16.to_le_bytes());
+        let e = refused(tmp.path(), name, &short);
+        assert!(e.contains("at least 20 bytes, found 10"), "{e}");
+    }
     // A zero scale.
     let mut zero = las.clone();
     zero[131..139].copy_from_slice(&0f64.to_le_bytes());

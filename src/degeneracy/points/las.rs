@@ -1,4 +1,5 @@
-//! LAS (1.0 to 1.4) and LAZ (LASzip) point files, decoded by the `las` crate
+//! LAS (1.0 to 1.4) and LAZ (LASzip) point files: LAS decoded by the `las`
+//! crate, LAZ by the `laz` crate's LASzip decoder (the one `las` uses), both
 //! after a header check of our own.
 //!
 //! LAS records carry no normals: a LAS file is a raw scan, read by
@@ -16,7 +17,10 @@
 //!   points than the file holds, both errors naming the counts;
 //! - LAZ: the chunk table must lie inside the file, its chunks' bytes must
 //!   add up to the point data and its chunks' points to the header's count
-//!   (for fixed-size chunks: `ceil(count / chunk_size)` chunks).
+//!   (for fixed-size chunks: `ceil(count / chunk_size)` chunks); the decoder
+//!   then sees the file end where the compressed points end and must decode
+//!   exactly the header's count (one point fewer or one more: an error).
+//!   Point-wise LAZ (LASzip 1.x, no chunk table) is decoded unchecked.
 
 use super::check::{Checker, Stats};
 use super::{PointFormat, Sink};
@@ -36,7 +40,7 @@ struct Raw {
     compressed: bool,
     rec: u64,
     count: u64,
-    /// (start, record length) of the first extended VLR (LAS 1.4).
+    /// Start of the first extended VLR (LAS 1.4).
     evlr: Option<u64>,
     evlr_count: u32,
 }
@@ -121,10 +125,11 @@ fn raw_header(b: &[u8], len: u64) -> Result<Raw> {
             "expected the point data to start between the header's end ({header_size}) and the file's end ({len}), found byte {data_start}"
         )));
     }
-    if rec == 0 {
-        return Err(parse_error(
-            "expected a point record length above 0, found 0".into(),
-        ));
+    // Every point format starts with X, Y, Z and is at least 20 bytes long.
+    if rec < 20 {
+        return Err(parse_error(format!(
+            "expected a point record length of at least 20 bytes, found {rec}"
+        )));
     }
     Ok(Raw {
         data_start,
@@ -327,6 +332,15 @@ where
     let vlr = laz_vlr(&header)?;
     let data_end = check_laz_chunks(&mut r, raw, &vlr, len)?;
     let (vlr, _) = vlr;
+    let first = vlr.items().first().map(|i| i.item_type());
+    if !matches!(
+        first,
+        Some(laz::LazItemType::Point10 | laz::LazItemType::Point14)
+    ) {
+        return Err(parse_error(format!(
+            "expected the LASzip items to start with the point (x y z), found {first:?}"
+        )));
+    }
     if vlr.items_size() != raw.rec {
         return Err(parse_error(format!(
             "the LASzip items make records of {} bytes, the header says {}",
