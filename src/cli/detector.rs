@@ -5,7 +5,9 @@
 use super::{emit, parse_ell, parse_noise, parse_positive, parse_voxel};
 use extrinsic_audit::degeneracy::normals::NormalParams;
 use extrinsic_audit::degeneracy::pairs;
-use extrinsic_audit::degeneracy::points::{accumulate_file_with, read_points_with, read_xyz_with};
+use extrinsic_audit::degeneracy::points::{
+    accumulate_file_with, read_points_with, read_xyz_classes, read_xyz_with, PointData,
+};
 use extrinsic_audit::degeneracy::scene::{voxel_downsample_weighted, Cloud};
 use extrinsic_audit::degeneracy::scene::{SceneKind, TUNNEL_RADIUS};
 use extrinsic_audit::degeneracy::threshold::{Calibration, SEEDS};
@@ -106,6 +108,9 @@ pub struct DegeneracyArgs {
     /// Print H and M (in the frame and about the centroid).
     #[arg(long)]
     pub show_matrices: bool,
+    /// With --estimate-normals: keep only the LAS/LAZ points of these classifications (`2`: ground).
+    #[arg(long, value_delimiter = ',', value_name = "N,...")]
+    pub class: Vec<u8>,
     /// Scan pair: H and M from correspondences of POINTS (the source, raw) with this target (normals from the file, or estimated with --estimate-normals).
     #[arg(long, value_name = "FILE")]
     pub target: Option<PathBuf>,
@@ -436,6 +441,11 @@ fn scan_assembly(args: &DegeneracyArgs) -> Result<ScanAssembly> {
     } else if args.estimate_normals {
         raw_assembly(args, &frame)?
     } else {
+        if !args.class.is_empty() {
+            return Err(Error::usage(
+                "--class applies only with --estimate-normals (LAS and LAZ are raw scans)",
+            ));
+        }
         if args.voxel.is_some() || args.viewpoint.is_some() || args.knn.is_some() {
             return Err(Error::usage(
                 "--voxel, --viewpoint and --knn apply only with --estimate-normals",
@@ -505,7 +515,7 @@ fn pair_assembly(
 ) -> Result<(Assembly, Vec<Warning>, Option<NormalsJson>, PairJson)> {
     let mut warnings = Vec::new();
     let guess = initial_guess(args, &mut warnings)?;
-    let src = read_xyz_with(&args.points, &*read_progress(&args.points))?;
+    let src = read_raw(args, &args.points)?;
     // The source's weights, as in the single-cloud path (the mean per voxel).
     let (source, source_weights) = match args.voxel {
         Some(v) => voxel_downsample_weighted(&src.points, src.weights.as_deref(), v, [0.0; 3]),
@@ -513,7 +523,7 @@ fn pair_assembly(
     };
     warnings.extend(src.warnings);
     let (cloud, normals) = if args.estimate_normals {
-        let data = read_xyz_with(target, &*read_progress(target))?;
+        let data = read_raw(args, target)?;
         warnings.extend(data.warnings);
         let (c, nj) = det::raw_scan_cloud_with(
             &data.points,
@@ -551,6 +561,17 @@ fn pair_assembly(
         mean_distance_m: st.mean_distance,
     };
     Ok((asm.congruence(&frame.adjoint()), warnings, normals, pj))
+}
+
+/// A raw scan's points: every point, or with --class the LAS/LAZ points of
+/// those classifications.
+fn read_raw(args: &DegeneracyArgs, path: &std::path::Path) -> Result<PointData> {
+    let progress = read_progress(path);
+    if args.class.is_empty() {
+        read_xyz_with(path, &*progress)
+    } else {
+        read_xyz_classes(path, &args.class, &*progress)
+    }
 }
 
 /// A bar on a terminal's standard error while reading `path`, when it is
@@ -598,7 +619,7 @@ fn raw_assembly(
     args: &DegeneracyArgs,
     frame: &Transform,
 ) -> Result<(Assembly, Vec<Warning>, Option<NormalsJson>)> {
-    let data = read_xyz_with(&args.points, &*read_progress(&args.points))?;
+    let data = read_raw(args, &args.points)?;
     let raw = raw_params(args)?;
     let progress = normals_progress(&data.points);
     let (asm, nj) =

@@ -314,3 +314,65 @@ fn every_byte_of_a_las_or_laz_header_damaged_is_an_answer_not_a_panic() {
         }
     }
 }
+
+#[test]
+fn class_keeps_the_ground_points_like_laspy() {
+    use extrinsic_audit::degeneracy::points::read_xyz_classes;
+    use extrinsic_audit::progress::NoProgress;
+    let e = expected();
+    // Both decoders (las for LAS, laz for LAZ) read the classification.
+    for (file, key) in [("autzen.las", "autzen_las"), ("autzen.laz", "autzen_laz")] {
+        let d = read_xyz_classes(&dir().join(file), &[2], &NoProgress).unwrap();
+        assert_eq!(
+            d.points.len() as u64,
+            e[key]["ground_count"].as_u64().unwrap()
+        );
+        let sum: Vec<f64> = (0..3)
+            .map(|c| d.points.iter().map(|p| p[c]).sum())
+            .collect();
+        assert!(rel(&sum, &nums(&e[key]["ground_sum"])) < 1e-14, "{file}");
+    }
+    // The strip's ground: H, M and eigenvalues against numpy.
+    let p = dir().join("32-1-472-150-76.laz");
+    let r = json(&[
+        "degeneracy",
+        p.to_str().unwrap(),
+        "--estimate-normals",
+        "--normal-radius",
+        "5",
+        "--class",
+        "2",
+        "--show-matrices",
+        "--format",
+        "json",
+    ]);
+    let e = &e["strip_ground"];
+    assert_eq!(r["normals"]["points_read"], e["points_read"]);
+    assert_eq!(r["normals"]["kept"], e["kept"]);
+    let m = &r["matrices"];
+    assert!(rel(&nums(&m["h"]), &nums(&e["h"])) < 1e-9);
+    assert!(rel(&nums(&m["m"]), &nums(&e["m"])) < 1e-9);
+    let (got, want) = (pd_eigenvalues(&r), nums(&e["eigenvalues"]));
+    for k in 0..6 {
+        assert!(
+            (got[k] - want[k]).abs() < 1e-9 * want[5],
+            "{got:?} vs {want:?}"
+        );
+    }
+    // Not a LAS file, or no --estimate-normals: a usage error.
+    let pcd = dir().join("ground_crop.pcd");
+    for args in [
+        vec![
+            "degeneracy",
+            pcd.to_str().unwrap(),
+            "--estimate-normals",
+            "--class",
+            "2",
+        ],
+        vec!["degeneracy", p.to_str().unwrap(), "--class", "2"],
+    ] {
+        let (code, _, err) = run_cli(&args);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("--class"), "{err}");
+    }
+}

@@ -6,7 +6,8 @@
 //! [`read_xyz`](super::read_xyz) (`--estimate-normals`); the normal-reading
 //! path refuses it as it refuses a PCD without normal fields. Coordinates are
 //! `X * scale + offset` in f64, as the LAS specification and laspy compute
-//! them. Classification and returns are not read.
+//! them. Returns are not read; the classification only to keep the points
+//! of given classes (`--class`, e.g. 2 for ground).
 //!
 //! The `las` crate trusts its header (a point count times the record length
 //! that overflows, an extended VLR of 2^64 bytes, a LASzip chunk table of
@@ -283,7 +284,7 @@ pub(crate) fn decode<R, S>(
     mut r: R,
     len: u64,
     sink: &mut S,
-    progress: &dyn Progress,
+    (classes, progress): (Option<&[u8]>, &dyn Progress),
 ) -> Result<(PointFormat, Stats)>
 where
     R: Read + Seek + Send + Sync + 'static,
@@ -296,13 +297,13 @@ where
     let mut ck = Checker::new(sink, false, raw.count.min(1 << 20) as usize);
     progress.start(raw.count, "points read");
     if raw.compressed {
-        laz_points(r, &raw, (&head, len), &mut ck, progress)?;
+        laz_points(r, &raw, (&head, len), &mut ck, (classes, progress))?;
         return Ok((PointFormat::Laz, ck.stats));
     }
     check_las_records(&raw, len)?;
     rewind(&mut r)?;
     let mut reader = las::Reader::new(std::io::BufReader::new(r)).map_err(las_error)?;
-    las_points(&mut reader, raw.count, &mut ck, progress)?;
+    las_points(&mut reader, raw.count, &mut ck, (classes, progress))?;
     Ok((PointFormat::Las, ck.stats))
 }
 
@@ -321,7 +322,7 @@ fn laz_points<R, S>(
     raw: &Raw,
     (head, len): (&[u8], u64),
     ck: &mut Checker<S>,
-    progress: &dyn Progress,
+    (classes, progress): (Option<&[u8]>, &dyn Progress),
 ) -> Result<()>
 where
     R: Read + Seek + Send + Sync + 'static,
@@ -363,6 +364,7 @@ where
     }
     let tr = transforms(head);
     let rec = raw.rec as usize;
+    let point14 = first == Some(laz::LazItemType::Point14);
     let mut buf = Vec::new();
     let mut k = 0u64;
     while k < raw.count {
@@ -376,6 +378,9 @@ where
             ))
         })?;
         for (i, b) in buf.chunks_exact(rec).enumerate() {
+            if !wanted(classes, class_of(b, point14)) {
+                continue;
+            }
             let p: [f64; 3] =
                 std::array::from_fn(|c| tr[c].0 * f64::from(le_i32(b, 4 * c)) + tr[c].1);
             ck.record(&[p[0], p[1], p[2], 0.0, 0.0, 1.0, 1.0])
@@ -392,6 +397,21 @@ where
         )));
     }
     Ok(())
+}
+
+/// The classification of a LASzip-decoded record: the low five bits of byte
+/// 15 (point formats 0-5), byte 16 (formats 6-10).
+fn class_of(b: &[u8], point14: bool) -> u8 {
+    if point14 {
+        b[16]
+    } else {
+        b[15] & 0x1f
+    }
+}
+
+/// Whether a point of class `c` is kept (`None`: every point).
+fn wanted(classes: Option<&[u8]>, c: u8) -> bool {
+    classes.is_none_or(|cs| cs.contains(&c))
 }
 
 fn le_i32(b: &[u8], o: usize) -> i32 {
@@ -436,7 +456,7 @@ fn las_points<S: Sink>(
     reader: &mut las::Reader,
     count: u64,
     ck: &mut Checker<S>,
-    progress: &dyn Progress,
+    (classes, progress): (Option<&[u8]>, &dyn Progress),
 ) -> Result<()> {
     let mut pd = las::PointDataBuilder::new()
         .for_header(reader.header())
@@ -451,7 +471,11 @@ fn las_points<S: Sink>(
                 "header claims {count} points, the file holds {k}"
             )));
         }
-        for (i, ((x, y), z)) in pd.x().zip(pd.y()).zip(pd.z()).enumerate() {
+        let xyz = pd.x().zip(pd.y()).zip(pd.z()).zip(pd.classification());
+        for (i, (((x, y), z), c)) in xyz.enumerate() {
+            if !wanted(classes, c) {
+                continue;
+            }
             ck.record(&[x, y, z, 0.0, 0.0, 1.0, 1.0])
                 .map_err(|f| f.error(format!("LAS: point {}", k + i as u64), None))?;
         }

@@ -233,6 +233,30 @@ pub fn read_xyz_with(path: &Path, progress: &dyn Progress) -> Result<PointData> 
     read_path(path, true, progress)
 }
 
+/// [`read_xyz_with`] keeping only the points whose LAS classification is in
+/// `classes` (e.g. `[2]`, ground); an error for a file that is not LAS or LAZ.
+pub fn read_xyz_classes(path: &Path, classes: &[u8], progress: &dyn Progress) -> Result<PointData> {
+    let meta = check_size(path)?;
+    let mut f = crate::input::open_regular(path)?;
+    if !is_las_file(&mut f).map_err(|e| e.in_file(path))? {
+        return Err(Error::usage(
+            "--class: expected a LAS or LAZ file (other formats have no classification)",
+        )
+        .in_file(path));
+    }
+    let mut sink = Collect::default();
+    let r = las::decode(f, meta.len(), &mut sink, (Some(classes), progress));
+    progress.finish();
+    let (format, stats) = r.map_err(|e| e.in_file(path))?;
+    Ok(PointData {
+        points: sink.points,
+        normals: sink.normals,
+        weights: sink.weights,
+        format,
+        warnings: stats.warnings(),
+    })
+}
+
 fn read_path(path: &Path, xyz_only: bool, progress: &dyn Progress) -> Result<PointData> {
     if crate::input::is_stdin(path) {
         let r = crate::input::Capped::new(std::io::stdin().lock(), MAX_POINT_FILE_SIZE);
@@ -271,7 +295,7 @@ where
         return Err(las_without_normals());
     }
     let mut sink = Collect::default();
-    let (format, stats) = las::decode(r, len, &mut sink, progress)?;
+    let (format, stats) = las::decode(r, len, &mut sink, (None, progress))?;
     Ok(PointData {
         points: sink.points,
         normals: sink.normals,
