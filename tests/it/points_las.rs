@@ -376,3 +376,27 @@ fn class_keeps_the_ground_points_like_laspy() {
         assert!(err.contains("--class"), "{err}");
     }
 }
+
+#[test]
+fn damaged_compressed_points_are_an_error_not_a_panic() {
+    // Bytes of the LASzip stream overwritten: laz-rs trips its debug
+    // assertions or overflow checks on some (caught), errors on others.
+    let tmp = tempfile::tempdir().unwrap();
+    let orig = std::fs::read(dir().join("32-1-472-150-76.laz")).unwrap();
+    let start = u32::from_le_bytes(orig[96..100].try_into().unwrap()) as usize;
+    let mut failed = 0;
+    for k in 0..60 {
+        let mut b = orig.clone();
+        let at = start + 8 + (k * 7919) % (orig.len() - start - 64);
+        b[at] ^= 0x5a;
+        b[at + 1] = b[at + 1].wrapping_add(k as u8);
+        let p = write(tmp.path(), "damaged.laz", &b);
+        if let Err(e) = read_xyz(&p) {
+            assert!(e.to_string().contains("damaged.laz"), "{e}");
+            failed += 1;
+        }
+    }
+    // The exact-count check catches most: a damaged stream rarely decodes
+    // to exactly the header's count.
+    assert!(failed >= 30, "{failed} of 60 refused");
+}

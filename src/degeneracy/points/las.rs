@@ -357,8 +357,11 @@ where
         pos: raw.data_start,
         limit: limit.clone(),
     };
-    let mut d = laz::LasZipDecompressor::new(std::io::BufReader::new(fenced), vlr)
-        .map_err(|e| parse_error(format!("cannot start the LASzip decoder: {e}")))?;
+    let mut d = guarded(|| {
+        laz::LasZipDecompressor::new(std::io::BufReader::new(fenced), vlr)
+            .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e.to_string()))
+    })
+    .map_err(|e| parse_error(format!("cannot start the LASzip decoder: {e}")))?;
     if let Some(end) = data_end {
         limit.store(end, Ordering::Relaxed);
     }
@@ -370,11 +373,11 @@ where
     while k < raw.count {
         let n = (raw.count - k).min(LAS_READ_BATCH);
         buf.resize(n as usize * rec, 0);
-        d.decompress_many(&mut buf).map_err(|e| {
+        guarded(|| d.decompress_many(&mut buf)).map_err(|e| {
             parse_error(format!(
-                "header claims {} points, the compressed data ends before point {} ({e}); expected the count to match the data",
-                raw.count,
-                k + n
+                "cannot decode points {k} to {} ({e}): the compressed data is damaged or ends early; header claims {} points, expected the count to match the data",
+                k + n - 1,
+                raw.count
             ))
         })?;
         for (i, b) in buf.chunks_exact(rec).enumerate() {
@@ -390,13 +393,26 @@ where
         progress.advance(n);
     }
     let mut one = vec![0u8; rec];
-    if data_end.is_some() && raw.count > 0 && d.decompress_one(&mut one).is_ok() {
+    if data_end.is_some() && raw.count > 0 && guarded(|| d.decompress_one(&mut one)).is_ok() {
         return Err(parse_error(format!(
             "header claims {} points, the compressed data holds more; expected the count to match the data",
             raw.count
         )));
     }
     Ok(())
+}
+
+/// A LASzip call. On damaged compressed data laz-rs can trip its own debug
+/// assertions and overflow checks (debug builds; a release build wraps and
+/// decodes garbage, which the header checks cannot see: LAZ has no
+/// checksum): the panic is caught and reported as damaged data.
+fn guarded<T>(f: impl FnOnce() -> std::io::Result<T>) -> std::io::Result<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|_| {
+        Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "the LASzip decoder failed",
+        ))
+    })
 }
 
 /// The classification of a LASzip-decoded record: the low five bits of byte
