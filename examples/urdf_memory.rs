@@ -78,13 +78,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         std::mem::size_of::<FrameDecl>()
     );
     let base = mark();
+    let t0 = std::time::Instant::now();
     let loaded = load_str(&text, path, &LoadOptions::default())?;
+    let t_load = t0.elapsed();
     let (peak, kept) = (PEAK.load(Relaxed) - base, LIVE.load(Relaxed) - base);
     println!("reader peak       {}", per(peak, n));
     println!("reader keeps      {}", per(kept, n));
     let base = mark();
     let mut g = FrameGraph::new();
     g.add(loaded)?;
+    println!(
+        "time: reader {:.0} ms, graph.add {:.0} ms",
+        t_load.as_secs_f64() * 1e3,
+        (t0.elapsed() - t_load).as_secs_f64() * 1e3
+    );
     let (peak, kept) = (PEAK.load(Relaxed) - base, LIVE.load(Relaxed) - base);
     println!(
         "graph.add peak    {}  (beyond what the reader kept)",
