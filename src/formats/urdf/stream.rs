@@ -25,7 +25,7 @@ use crate::formats::{xacro, xml};
 use crate::tolerances::URDF_MAX_XML_DEPTH;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::name::ResolveResult;
-use quick_xml::reader::NsReader;
+use quick_xml::reader::{NsReader, Reader};
 use std::borrow::Cow;
 use std::path::Path;
 
@@ -97,15 +97,22 @@ pub(super) fn outline<'a>(text: &'a str, path: &Path) -> Result<Outline<'a>> {
     let mut links = Vec::new();
     let mut joints = 0;
     w.walk(|w, depth, e, xacro_ns, start| {
-        let el = w.element(e, start, xacro_ns)?;
-        if first_xacro.is_none() && is_xacro(&el) {
-            // Built again: `el` itself may be kept as the root.
+        // Checked without collecting: only the root and the first xacro
+        // element are kept whole.
+        let (mut expr, mut name) = (false, None);
+        w.attributes(e, start, |a| {
+            expr |= a.value.contains("${") || a.value.contains("$(");
+            if !a.prefixed && a.name == "name" {
+                name = Some(a.value);
+            }
+        })?;
+        if first_xacro.is_none() && (xacro_ns || expr) {
             first_xacro = Some(w.element(e, start, xacro_ns)?);
         }
-        match (depth, el.name) {
-            (1, _) => root = Some(el),
-            (2, "link") => links.push((el.attrs_value("name"), start)),
-            (2, "joint") => joints += 1,
+        match (depth, local(w.text, e)) {
+            (1, _) => root = Some(w.element(e, start, xacro_ns)?),
+            (2, Some("link")) => links.push((name, start)),
+            (2, Some("joint")) => joints += 1,
             _ => {}
         }
         Ok(())
@@ -156,20 +163,6 @@ pub(super) fn joints<'a>(
         Some(j) => f(j),
         None => Ok(()),
     }
-}
-
-impl<'a> El<'a> {
-    fn attrs_value(&self, name: &str) -> Option<Cow<'a, str>> {
-        self.attribute(name).map(|a| a.value.clone())
-    }
-}
-
-fn is_xacro(el: &El) -> bool {
-    el.xacro_ns
-        || el
-            .attrs
-            .iter()
-            .any(|a| a.value.contains("${") || a.value.contains("$("))
 }
 
 /// The element's local name, as a slice of the text.
@@ -251,13 +244,13 @@ impl<'a, 'p> Walker<'a, 'p> {
     /// U+FFFE, U+FFFF).
     fn check_chars(&mut self) -> Result<()> {
         let b = self.text.as_bytes();
-        let control = b
-            .iter()
-            .any(|&c| c < 0x20 && !matches!(c, b'\t' | b'\n' | b'\r'));
-        let nonchar = b
-            .windows(3)
-            .any(|w| w[0] == 0xEF && w[1] == 0xBF && (w[2] == 0xBE || w[2] == 0xBF));
-        if control || nonchar {
+        let bad = b.iter().enumerate().any(|(i, &c)| {
+            (c < 0x20 && !matches!(c, b'\t' | b'\n' | b'\r'))
+                || (c == 0xEF
+                    && b.get(i + 1) == Some(&0xBF)
+                    && matches!(b.get(i + 2), Some(0xBE | 0xBF)))
+        });
+        if bad {
             self.suspect()?;
         }
         Ok(())
@@ -270,27 +263,20 @@ impl<'a, 'p> Walker<'a, 'p> {
         F: FnMut(&mut Self, usize, &BytesStart<'a>, bool, usize) -> Result<()>,
     {
         let text = self.text;
-        let mut r = NsReader::from_str(text);
-        let cfg = r.config_mut();
-        cfg.check_comments = true;
-        cfg.check_end_names = true;
-        cfg.expand_empty_elements = false;
-        cfg.trim_text(false);
+        // Namespaces are resolved only while the text is not known to be
+        // well-formed (the first pass): the second needs none.
+        let mut r = Events::new(text, !self.validated);
         let (mut depth, mut roots) = (0usize, 0usize);
         loop {
-            let before = usize::try_from(r.buffer_position()).unwrap_or(usize::MAX);
-            let (xacro_ns, unknown, ev) = match r.read_resolved_event() {
-                Ok((res, ev)) => (
-                    matches!(&res, ResolveResult::Bound(ns) if contains(ns.as_ref(), b"xacro")),
-                    matches!(res, ResolveResult::Unknown(_)),
-                    ev,
-                ),
+            let before = r.position();
+            let (xacro_ns, unknown, ev) = match r.next() {
+                Ok(x) => x,
                 Err(e) => {
-                    let at = usize::try_from(r.error_position()).unwrap_or(usize::MAX);
+                    let at = r.error_position();
                     return Err(self.fail(at, &e.to_string()));
                 }
             };
-            let after = usize::try_from(r.buffer_position()).unwrap_or(usize::MAX);
+            let after = r.position();
             let raw = text.get(before..after).unwrap_or("");
             match ev {
                 Event::Start(ref e) | Event::Empty(ref e) => {
@@ -300,7 +286,7 @@ impl<'a, 'p> Walker<'a, 'p> {
                     if depth >= URDF_MAX_XML_DEPTH {
                         return Err(self.too_deep(before));
                     }
-                    if unknown || roots > 1 || !qname_ok(e.name().as_ref()) {
+                    if !self.validated && (unknown || roots > 1 || !qname_ok(e.name().as_ref())) {
                         self.suspect()?;
                     }
                     let start = sub(text, e.name().as_ref()).map_or(before, |s| {
@@ -312,6 +298,7 @@ impl<'a, 'p> Walker<'a, 'p> {
                     }
                 }
                 Event::End(_) => depth = depth.saturating_sub(1),
+                Event::Text(_) if self.validated => {}
                 Event::Text(ref t) => {
                     let s = sub(text, t).unwrap_or("");
                     let outside = depth == 0 && !s.bytes().all(|b| b.is_ascii_whitespace());
@@ -354,19 +341,35 @@ impl<'a, 'p> Walker<'a, 'p> {
 
     /// The start tag's name and attributes, checked and decoded.
     fn element(&mut self, e: &BytesStart<'a>, start: usize, xacro_ns: bool) -> Result<El<'a>> {
-        let text = self.text;
-        let name = match local(text, e) {
+        let name = match local(self.text, e) {
             Some(n) => n,
             None => return Err(self.fail(start, "an element name")),
         };
         let mut attrs = Vec::new();
+        self.attributes(e, start, |a| attrs.push(a))?;
+        Ok(El {
+            name,
+            start,
+            attrs,
+            xacro_ns,
+        })
+    }
+
+    /// The start tag's attributes (not the namespace declarations), checked,
+    /// decoded and handed to `each` in order.
+    fn attributes(
+        &mut self,
+        e: &BytesStart<'a>,
+        start: usize,
+        mut each: impl FnMut(Attr<'a>),
+    ) -> Result<()> {
+        let text = self.text;
         for a in e.attributes() {
             let a = match a {
                 Ok(a) => a,
                 Err(err) => return Err(self.fail(start, &err.to_string())),
             };
-            let key = a.key.as_ref();
-            if !qname_ok(key) {
+            if !self.validated && !qname_ok(a.key.as_ref()) {
                 self.suspect()?;
             }
             if a.key.as_namespace_binding().is_some() {
@@ -390,19 +393,70 @@ impl<'a, 'p> Walker<'a, 'p> {
                 self.suspect()?;
                 return Err(self.fail(start, &format!("attribute {local}: an unknown entity")));
             };
-            attrs.push(Attr {
+            each(Attr {
                 name: local,
                 value,
                 raw,
                 prefixed,
             });
         }
-        Ok(El {
-            name,
-            start,
-            attrs,
-            xacro_ns,
-        })
+        Ok(())
+    }
+}
+
+/// quick-xml events, with namespaces resolved (`xacro`: in a namespace whose
+/// name contains `xacro`; `unknown`: an undeclared prefix) or not.
+enum Events<'a> {
+    Resolved(NsReader<&'a [u8]>),
+    Plain(Reader<&'a [u8]>),
+}
+
+impl<'a> Events<'a> {
+    fn new(text: &'a str, resolve: bool) -> Self {
+        let mut r = if resolve {
+            Events::Resolved(NsReader::from_str(text))
+        } else {
+            Events::Plain(Reader::from_str(text))
+        };
+        let cfg = match &mut r {
+            Events::Resolved(r) => r.config_mut(),
+            Events::Plain(r) => r.config_mut(),
+        };
+        cfg.check_comments = true;
+        cfg.check_end_names = true;
+        cfg.expand_empty_elements = false;
+        cfg.trim_text(false);
+        r
+    }
+
+    /// The next event: (in a xacro namespace, undeclared prefix, event).
+    fn next(&mut self) -> quick_xml::Result<(bool, bool, Event<'a>)> {
+        match self {
+            Events::Resolved(r) => r.read_resolved_event().map(|(res, ev)| {
+                (
+                    matches!(&res, ResolveResult::Bound(ns) if contains(ns.as_ref(), b"xacro")),
+                    matches!(res, ResolveResult::Unknown(_)),
+                    ev,
+                )
+            }),
+            Events::Plain(r) => r.read_event().map(|ev| (false, false, ev)),
+        }
+    }
+
+    fn position(&self) -> usize {
+        let p = match self {
+            Events::Resolved(r) => r.buffer_position(),
+            Events::Plain(r) => r.buffer_position(),
+        };
+        usize::try_from(p).unwrap_or(usize::MAX)
+    }
+
+    fn error_position(&self) -> usize {
+        let p = match self {
+            Events::Resolved(r) => r.error_position(),
+            Events::Plain(r) => r.error_position(),
+        };
+        usize::try_from(p).unwrap_or(usize::MAX)
     }
 }
 
