@@ -231,6 +231,12 @@ pub const XACRO_PACKAGE_SEARCH_DEPTH: usize = 3;
 /// searched (each with [`XACRO_PACKAGE_SEARCH_DEPTH`] levels below it).
 pub const XACRO_PACKAGE_SEARCH_UP: usize = 3;
 
+/// Deepest element nesting the URDF reader reads. A URDF nests about five
+/// levels (robot, link, visual, geometry, mesh); the pull reader's namespace
+/// scopes count levels in 16 bits, so a deeper document is refused here, well
+/// before that (issue 12).
+pub const URDF_MAX_XML_DEPTH: usize = 1000;
+
 // ---------------------------------------------------------------------------
 // Rig analysis and verdicts (`analysis`)
 // ---------------------------------------------------------------------------

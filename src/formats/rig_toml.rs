@@ -399,7 +399,7 @@ fn build_edge(
             key,
         },
         joint: None,
-        precision: EdgePrecision::default(),
+        precision: Default::default(),
     })
 }
 

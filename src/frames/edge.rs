@@ -3,7 +3,7 @@
 //! format and a format is only a client that adds edges.
 
 use crate::diagnostic::Location;
-use crate::geometry::{EdgePrecision, Transform};
+use crate::geometry::{EdgePrecision, Precision, Transform};
 
 /// Where an edge's numbers came from.
 #[derive(Debug, Clone, PartialEq)]
@@ -100,7 +100,8 @@ pub struct Edge {
     /// The rounding of the numbers as written and the user's uncertainty
     /// (conventions in [`crate::geometry::uncertainty`]). `Edge::new` records
     /// none; a reader that keeps the text adds it with [`Edge::with_precision`].
-    pub precision: EdgePrecision,
+    /// Stored compactly ([`Precision::full`] gives the covariance).
+    pub precision: Precision,
 }
 
 impl Edge {
@@ -123,13 +124,19 @@ impl Edge {
                 key: key.into(),
             },
             joint: None,
-            precision: EdgePrecision::default(),
+            precision: Precision::default(),
         }
     }
 
     /// The same edge with its precision as written (see
     /// [`crate::geometry::uncertainty::rounding_covariance`]).
     pub fn with_precision(mut self, precision: EdgePrecision) -> Self {
+        self.precision = precision.into();
+        self
+    }
+
+    /// The same edge with its precision in the compact form.
+    pub fn with_compact_precision(mut self, precision: Precision) -> Self {
         self.precision = precision;
         self
     }
@@ -138,10 +145,7 @@ impl Edge {
     pub fn inverted(mut self) -> Self {
         std::mem::swap(&mut self.parent, &mut self.child);
         // (T Exp(xi))^-1 = T^-1 Exp(-Ad(T) xi): the rounding's covariance follows.
-        if let Some(c) = &mut self.precision.rounding {
-            let a = self.transform.adjoint();
-            *c = a * *c * a.transpose();
-        }
+        self.precision.transform_rounding(&self.transform.adjoint());
         self.transform = self.transform.inverse();
         self.provenance.key = format!("{} (inverted by --invert)", self.provenance.key);
         self

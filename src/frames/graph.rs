@@ -151,8 +151,10 @@ pub struct FrameGraph {
     children: Vec<Vec<usize>>,
     /// For each frame, the index of its parent frame.
     parent_frame: Vec<Option<usize>>,
-    /// For each frame, where a source declared it (first declaration), if any.
-    declared: Vec<Option<Location>>,
+    /// Where a source declared a frame (first declaration), for the frames
+    /// that had no edge then: the place is only shown for a frame no edge
+    /// attaches, and an edge is never removed (sparse: issue 12).
+    declared: HashMap<usize, Location>,
     /// Union-find over frames (one set per tree), for an O(α(n)) cycle check:
     /// walking ancestors on every edge is quadratic on adversarial inputs.
     uf: Vec<usize>,
@@ -201,6 +203,186 @@ fn rotation_angle_between(a: &Transform, b: &Transform) -> f64 {
     s.atan2(c)
 }
 
+/// An edge without two distinct, non-empty frames.
+fn shape_error(edge: &Edge) -> Option<Error> {
+    if edge.parent.is_empty() || edge.child.is_empty() {
+        return Some(
+            Error::frame(format!(
+                "expected two non-empty frame names, found parent '{}' and child '{}'",
+                edge.parent, edge.child
+            ))
+            .at(&edge.provenance.location),
+        );
+    }
+    if edge.parent == edge.child {
+        return Some(
+            Error::frame(format!(
+                "frame '{}' is its own parent: expected two different frames",
+                edge.parent
+            ))
+            .at(&edge.provenance.location),
+        );
+    }
+    None
+}
+
+/// The same pair again: a warning when the values agree, else an error.
+fn duplicate(old: &Edge, edge: &Edge, reversed: bool) -> Result<Warning> {
+    let given = if reversed {
+        edge.transform.inverse()
+    } else {
+        edge.transform
+    };
+    if transforms_agree(&old.transform, &given) {
+        return Ok(Warning::new(
+            Code::DuplicateEdge,
+            format!(
+                "edge {} -> {} given twice, agreeing within {:e} m and {:e} rad: here and at {}",
+                edge.parent,
+                edge.child,
+                DUPLICATE_TRANSLATION_TOL,
+                DUPLICATE_ROTATION_TOL,
+                place(old)
+            ),
+        )
+        .at(&edge.provenance.location));
+    }
+    let dt = (old.transform.translation() - given.translation()).norm();
+    let da = rotation_angle_between(&old.transform, &given);
+    Err(Error::frame(format!(
+        "edge {} -> {} given twice with different values (translation differs by {:.3e} m, rotation by {:.3e} rad): first at {}, again at {}{}",
+        old.parent,
+        old.child,
+        dt,
+        da,
+        place(old),
+        place(edge),
+        if reversed { " (as the reverse pair)" } else { "" }
+    ))
+    .at(&edge.provenance.location))
+}
+
+fn two_parents(old: &Edge, edge: &Edge) -> Error {
+    Error::frame(format!(
+        "frame '{}' has two parents: expected one, found '{}' at {} and '{}' at {}",
+        edge.child,
+        old.parent,
+        place(old),
+        edge.parent,
+        place(edge)
+    ))
+    .at(&edge.provenance.location)
+}
+
+/// Frames from `c` (the root of `p`'s tree) down to `p`, then `c` again.
+fn cycle_path(p: usize, c: usize, parent_frame: &[Option<usize>], n: usize) -> Vec<usize> {
+    let mut path = vec![p];
+    let mut cur = p;
+    while let Some(up) = parent_frame[cur] {
+        path.push(up);
+        if up == c || path.len() > n {
+            break;
+        }
+        cur = up;
+    }
+    path.reverse();
+    path.push(c);
+    path
+}
+
+fn cycle(edge: &Edge, names: &[&str]) -> Error {
+    Error::frame(format!(
+        "edge {} -> {} closes a cycle: expected a tree, found {}",
+        edge.parent,
+        edge.child,
+        cycle_text(names)
+    ))
+    .at(&edge.provenance.location)
+}
+
+/// `a -> b -> ... -> a`, the middle elided past [`CYCLE_LIST_MAX`] frames.
+fn cycle_text(names: &[&str]) -> String {
+    if names.len() <= CYCLE_LIST_MAX {
+        return names.join(" -> ");
+    }
+    let h = CYCLE_LIST_MAX / 2;
+    format!(
+        "{} -> ... ({} more frames) ... -> {}",
+        names[..h].join(" -> "),
+        names.len() - 2 * h,
+        names[names.len() - h..].join(" -> ")
+    )
+}
+
+fn find(uf: &mut [usize], mut x: usize) -> usize {
+    while uf[x] != x {
+        uf[x] = uf[uf[x]];
+        x = uf[x];
+    }
+    x
+}
+
+/// Whether `edges`, added in order to an empty [`FrameGraph`], would be
+/// accepted, with the same error when not; the edges are not copied (a
+/// reader's own check: a graph would hold a second copy of every edge).
+pub fn check_tree<'e>(edges: &'e [Edge]) -> Result<()> {
+    let n = edges.len() + 1;
+    let mut index: HashMap<&'e str, usize> = HashMap::with_capacity(n);
+    let mut names: Vec<&'e str> = Vec::with_capacity(n);
+    // Per frame: its parent edge, its parent frame, its union-find link.
+    let mut parent: Vec<Option<usize>> = Vec::with_capacity(n);
+    let mut parent_frame: Vec<Option<usize>> = Vec::with_capacity(n);
+    let mut uf: Vec<usize> = Vec::with_capacity(n);
+    for (ei, edge) in edges.iter().enumerate() {
+        if let Some(e) = shape_error(edge) {
+            return Err(e);
+        }
+        let (p, c) = (
+            index.get(edge.parent.as_str()).copied(),
+            index.get(edge.child.as_str()).copied(),
+        );
+        if let (Some(p), Some(c)) = (p, c) {
+            let old = parent[c]
+                .filter(|&o: &usize| edges[o].parent == edge.parent)
+                .map(|o| (o, false))
+                .or_else(|| {
+                    parent[p]
+                        .filter(|&o: &usize| edges[o].parent == edge.child)
+                        .map(|o| (o, true))
+                });
+            if let Some((o, reversed)) = old {
+                duplicate(&edges[o], edge, reversed)?;
+                continue;
+            }
+        }
+        if let Some(o) = c.and_then(|c| parent[c]) {
+            return Err(two_parents(&edges[o], edge));
+        }
+        if let (Some(p), Some(c)) = (p, c) {
+            if find(&mut uf, p) == find(&mut uf, c) {
+                let path = cycle_path(p, c, &parent_frame, names.len());
+                let ns: Vec<&str> = path.iter().map(|&i| names[i]).collect();
+                return Err(cycle(edge, &ns));
+            }
+        }
+        let mut id = |name: &'e str| -> usize {
+            *index.entry(name).or_insert_with(|| {
+                names.push(name);
+                parent.push(None);
+                parent_frame.push(None);
+                uf.push(names.len() - 1);
+                names.len() - 1
+            })
+        };
+        let (p, c) = (id(edge.parent.as_str()), id(edge.child.as_str()));
+        let (rp, rc) = (find(&mut uf, p), find(&mut uf, c));
+        uf[rc] = rp;
+        parent[c] = Some(ei);
+        parent_frame[c] = Some(p);
+    }
+    Ok(())
+}
+
 /// Whether two transforms agree within the duplicate-edge tolerances.
 pub fn transforms_agree(a: &Transform, b: &Transform) -> bool {
     (a.translation() - b.translation()).norm() <= DUPLICATE_TRANSLATION_TOL
@@ -219,8 +401,22 @@ impl FrameGraph {
         let set = set.into();
         let mut next = self.clone();
         next.warnings.extend(set.warnings);
-        for e in set.edges {
-            next.add_edge(e)?;
+        if next.edges.is_empty() {
+            // The source's vector becomes the graph's: no second copy of the
+            // edges, even for a moment (issue 12: memory per link).
+            next.adopt(set.edges)?;
+        } else {
+            // Moved over in order from the back of a reversed copy, which is
+            // shrunk as it empties: the two vectors together hold little
+            // more than one copy of the edges.
+            let mut edges = set.edges;
+            edges.reverse();
+            while let Some(e) = edges.pop() {
+                next.add_edge(e)?;
+                if edges.len() <= edges.capacity() / 8 * 7 {
+                    edges.shrink_to_fit();
+                }
+            }
         }
         for f in set.frames {
             next.add_frame(&f.name, f.location)?;
@@ -300,7 +496,6 @@ impl FrameGraph {
         self.parent.push(None);
         self.parent_frame.push(None);
         self.children.push(Vec::new());
-        self.declared.push(None);
         self.uf.push(i);
         self.index.insert(name.to_string(), i);
         i
@@ -314,149 +509,117 @@ impl FrameGraph {
             return Err(Error::frame("expected a non-empty frame name, found \"\"").at(&location));
         }
         let i = self.frame_id(name);
-        if self.declared[i].is_none() {
-            self.declared[i] = Some(location);
+        if self.parent[i].is_none() && self.children[i].is_empty() {
+            self.declared.entry(i).or_insert(location);
         }
         Ok(())
     }
 
     /// Representative of a frame's tree (path halving, iterative).
-    fn find(&mut self, mut x: usize) -> usize {
-        while self.uf[x] != x {
-            self.uf[x] = self.uf[self.uf[x]];
-            x = self.uf[x];
-        }
-        x
+    fn find(&mut self, x: usize) -> usize {
+        find(&mut self.uf, x)
     }
 
     /// Add one edge, with the checks listed in the module documentation.
     pub fn add_edge(&mut self, edge: Edge) -> Result<()> {
-        if edge.parent.is_empty() || edge.child.is_empty() {
-            return Err(Error::frame(format!(
-                "expected two non-empty frame names, found parent '{}' and child '{}'",
-                edge.parent, edge.child
-            ))
-            .at(&edge.provenance.location));
+        if self.check_edge(&edge)? {
+            let ei = self.edges.len();
+            self.link(&edge.parent, &edge.child, ei);
+            self.edges.push(edge);
         }
-        if edge.parent == edge.child {
-            return Err(Error::frame(format!(
-                "frame '{}' is its own parent: expected two different frames",
-                edge.parent
-            ))
-            .at(&edge.provenance.location));
+        Ok(())
+    }
+
+    /// Edges as the first of the graph, linked where they lie (duplicates
+    /// that agree are warned about and dropped afterwards, as
+    /// [`FrameGraph::add_edge`] drops them).
+    fn adopt(&mut self, edges: Vec<Edge>) -> Result<()> {
+        self.edges = edges;
+        let mut dropped = Vec::new();
+        for ei in 0..self.edges.len() {
+            // Taken out while checked: the checks read the edges before it.
+            let empty = Edge::new("", "", Transform::identity(), Location::default(), "", "");
+            let edge = std::mem::replace(&mut self.edges[ei], empty);
+            let linked = self.check_edge(&edge);
+            if matches!(linked, Ok(true)) {
+                self.link(&edge.parent, &edge.child, ei);
+            }
+            self.edges[ei] = edge;
+            if !linked? {
+                dropped.push(ei);
+            }
+        }
+        if !dropped.is_empty() {
+            let shift = |ei: usize| ei - dropped.partition_point(|&d| d < ei);
+            for p in self.parent.iter_mut().flatten() {
+                *p = shift(*p);
+            }
+            for kids in &mut self.children {
+                for k in kids.iter_mut() {
+                    *k = shift(*k);
+                }
+            }
+            let mut i = 0;
+            self.edges.retain(|_| {
+                i += 1;
+                dropped.binary_search(&(i - 1)).is_err()
+            });
+        }
+        Ok(())
+    }
+
+    /// Whether `edge` is to be linked (`false`: a duplicate that agrees,
+    /// warned about), or the error that refuses it.
+    fn check_edge(&mut self, edge: &Edge) -> Result<bool> {
+        if let Some(e) = shape_error(edge) {
+            return Err(e);
         }
         // Duplicate (same or reversed pair)?
         if let (Some(&p), Some(&c)) = (self.index.get(&edge.parent), self.index.get(&edge.child)) {
-            let existing = self.parent[c]
-                .filter(|&ei| self.edges[ei].parent == edge.parent)
-                .map(|ei| (ei, false))
-                .or_else(|| {
-                    self.parent[p]
-                        .filter(|&ei| self.edges[ei].parent == edge.child)
-                        .map(|ei| (ei, true))
-                });
-            if let Some((ei, reversed)) = existing {
-                let old = &self.edges[ei];
-                let given = if reversed {
-                    edge.transform.inverse()
-                } else {
-                    edge.transform
-                };
-                if transforms_agree(&old.transform, &given) {
-                    self.warnings.push(
-                        Warning::new(
-                            Code::DuplicateEdge,
-                            format!(
-                                "edge {} -> {} given twice, agreeing within {:e} m and {:e} rad: here and at {}",
-                                edge.parent,
-                                edge.child,
-                                DUPLICATE_TRANSLATION_TOL,
-                                DUPLICATE_ROTATION_TOL,
-                                place(old)
-                            ),
-                        )
-                        .at(&edge.provenance.location),
-                    );
-                    return Ok(());
-                }
-                let dt = (old.transform.translation() - given.translation()).norm();
-                let da = rotation_angle_between(&old.transform, &given);
-                return Err(Error::frame(format!(
-                    "edge {} -> {} given twice with different values (translation differs by {:.3e} m, rotation by {:.3e} rad): first at {}, again at {}{}",
-                    old.parent,
-                    old.child,
-                    dt,
-                    da,
-                    place(old),
-                    place(&edge),
-                    if reversed { " (as the reverse pair)" } else { "" }
-                ))
-                .at(&edge.provenance.location));
+            if let Some((ei, reversed)) = self.existing(p, c, edge) {
+                let w = duplicate(&self.edges[ei], edge, reversed)?;
+                self.warnings.push(w);
+                return Ok(false);
             }
         }
         // Two parents and cycles are checked before any frame is added, so a
         // refused edge leaves the graph as it was.
         if let Some(ei) = self.index.get(&edge.child).and_then(|&c| self.parent[c]) {
-            let old = &self.edges[ei];
-            return Err(Error::frame(format!(
-                "frame '{}' has two parents: expected one, found '{}' at {} and '{}' at {}",
-                edge.child,
-                old.parent,
-                place(old),
-                edge.parent,
-                place(&edge)
-            ))
-            .at(&edge.provenance.location));
+            return Err(two_parents(&self.edges[ei], edge));
         }
         // Cycle: the child has no parent, so it is the root of its tree, and
         // the edge closes a cycle exactly when the parent is in that tree.
         if let (Some(&p), Some(&c)) = (self.index.get(&edge.parent), self.index.get(&edge.child)) {
             if self.find(p) == self.find(c) {
-                let mut path = vec![p];
-                let mut cur = p;
-                while let Some(up) = self.parent_frame[cur] {
-                    path.push(up);
-                    if up == c || path.len() > self.names.len() {
-                        break;
-                    }
-                    cur = up;
-                }
-                path.reverse();
-                path.push(c);
-                return Err(Error::frame(format!(
-                    "edge {} -> {} closes a cycle: expected a tree, found {}",
-                    edge.parent,
-                    edge.child,
-                    self.cycle_text(&path)
-                ))
-                .at(&edge.provenance.location));
+                let path = cycle_path(p, c, &self.parent_frame, self.names.len());
+                let names: Vec<&str> = path.iter().map(|&i| self.names[i].as_str()).collect();
+                return Err(cycle(edge, &names));
             }
         }
-        let p = self.frame_id(&edge.parent);
-        let c = self.frame_id(&edge.child);
+        Ok(true)
+    }
+
+    /// Link edge `ei` (checked) from `parent` to `child`.
+    fn link(&mut self, parent: &str, child: &str, ei: usize) {
+        let p = self.frame_id(parent);
+        let c = self.frame_id(child);
         let (rp, rc) = (self.find(p), self.find(c));
         self.uf[rc] = rp;
-        let ei = self.edges.len();
-        self.edges.push(edge);
         self.parent[c] = Some(ei);
         self.parent_frame[c] = Some(p);
         self.children[p].push(ei);
-        Ok(())
     }
 
-    /// `a -> b -> ... -> a`, the middle elided past [`CYCLE_LIST_MAX`] frames.
-    fn cycle_text(&self, path: &[usize]) -> String {
-        let names: Vec<&str> = path.iter().map(|&i| self.names[i].as_str()).collect();
-        if names.len() <= CYCLE_LIST_MAX {
-            return names.join(" -> ");
-        }
-        let h = CYCLE_LIST_MAX / 2;
-        format!(
-            "{} -> ... ({} more frames) ... -> {}",
-            names[..h].join(" -> "),
-            names.len() - 2 * h,
-            names[names.len() - h..].join(" -> ")
-        )
+    /// The stored edge joining frames `p` and `c` as `edge` does (reversed or not).
+    fn existing(&self, p: usize, c: usize, edge: &Edge) -> Option<(usize, bool)> {
+        self.parent[c]
+            .filter(|&ei| self.edges[ei].parent == edge.parent)
+            .map(|ei| (ei, false))
+            .or_else(|| {
+                self.parent[p]
+                    .filter(|&ei| self.edges[ei].parent == edge.child)
+                    .map(|ei| (ei, true))
+            })
     }
 
     /// Every edge, in the order added.
@@ -736,7 +899,7 @@ impl FrameGraph {
             let ri = self.index[&root];
             if self.children[ri].is_empty() {
                 // Declared without an edge: say so rather than list it bare.
-                match &self.declared[ri] {
+                match self.declared.get(&ri) {
                     Some(loc) => out.push_str(&format!("  [{loc}, no edge attaches it]")),
                     None => out.push_str("  [no edge attaches it]"),
                 }

@@ -7,4 +7,4 @@ pub mod se3;
 pub mod uncertainty;
 
 pub use se3::{QuatOrder, Screw, ScrewKind, Transform};
-pub use uncertainty::{EdgePrecision, PitchTol, PitchVerdict, UserSigma};
+pub use uncertainty::{EdgePrecision, PitchTol, PitchVerdict, Precision, UserSigma};

@@ -348,6 +348,96 @@ impl EdgePrecision {
     }
 }
 
+/// The uncertainty an edge carries, as the edge stores it: the same content
+/// as [`EdgePrecision`] in a fifth of the room (issue 12: an eager 6x6
+/// covariance was 288 of an edge's 608 bytes). A URDF `rpy` origin keeps its
+/// angles and the standard uncertainties of its six numbers, and its
+/// covariance is computed where it is used ([`rpy_covariance`], the same
+/// arithmetic as when it was stored); any other covariance is boxed.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Precision {
+    rounding: Rounding,
+    /// The user's calibration uncertainty, when given.
+    pub user: Option<UserSigma>,
+}
+
+#[derive(Debug, Clone, PartialEq, Default)]
+enum Rounding {
+    /// No rounding recorded.
+    #[default]
+    None,
+    /// Exact numbers: a zero covariance.
+    Exact,
+    /// `rpy_covariance(rpy, u_d, u_rpy)`.
+    Rpy {
+        rpy: [f64; 3],
+        u_d: [f64; 3],
+        u_rpy: [f64; 3],
+    },
+    Matrix(Box<Matrix6<f64>>),
+}
+
+impl Precision {
+    /// The rounding of a URDF-style `rpy` origin: angles `rpy` (rad) and the
+    /// standard uncertainties of the translation (`u_d`, m) and of the angles
+    /// (`u_rpy`, rad); none when the angles are not finite.
+    pub fn rpy(rpy: [f64; 3], u_d: [f64; 3], u_rpy: [f64; 3]) -> Self {
+        let rounding = if rpy.iter().all(|x| x.is_finite()) {
+            Rounding::Rpy { rpy, u_d, u_rpy }
+        } else {
+            Rounding::None
+        };
+        Precision {
+            rounding,
+            user: None,
+        }
+    }
+
+    /// The covariance of the rounding, `None` when none is recorded.
+    pub fn rounding(&self) -> Option<Matrix6<f64>> {
+        match &self.rounding {
+            Rounding::None => None,
+            Rounding::Exact => Some(Matrix6::zeros()),
+            Rounding::Rpy { rpy, u_d, u_rpy } => rpy_covariance(*rpy, *u_d, *u_rpy).ok(),
+            Rounding::Matrix(m) => Some(**m),
+        }
+    }
+
+    /// Whether a rounding is recorded.
+    pub fn has_recorded_rounding(&self) -> bool {
+        !matches!(self.rounding, Rounding::None)
+    }
+
+    /// The rounding's covariance carried by `a`: `a C a^T` (an adjoint).
+    pub fn transform_rounding(&mut self, a: &Matrix6<f64>) {
+        if let Some(c) = self.rounding() {
+            self.rounding = Rounding::Matrix(Box::new(a * c * a.transpose()));
+        }
+    }
+
+    /// The full record, covariance computed.
+    pub fn full(&self) -> EdgePrecision {
+        EdgePrecision {
+            rounding: self.rounding(),
+            user: self.user,
+        }
+    }
+}
+
+impl From<EdgePrecision> for Precision {
+    fn from(p: EdgePrecision) -> Self {
+        let rounding = match p.rounding {
+            None => Rounding::None,
+            Some(c) if c.iter().all(|x| *x == 0.0 && x.is_sign_positive()) => Rounding::Exact,
+            Some(c) => Rounding::Matrix(Box::new(c)),
+        };
+        Precision {
+            rounding,
+            user: p.user,
+        }
+    }
+}
+
 /// Where a chain's uncertainty comes from (JSON `uncertainty.source`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]

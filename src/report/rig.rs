@@ -321,7 +321,7 @@ fn precisions(chain: &Chain, how: &Judgement) -> Vec<EdgePrecision> {
         .steps
         .iter()
         .map(|s| {
-            let mut p = s.edge.precision;
+            let mut p = s.edge.precision.full();
             if p.user.is_none() {
                 p.user = how.user;
             }

@@ -214,7 +214,7 @@ fn first_order_matches_monte_carlo_on_five_shipped_rigs() {
             .steps
             .iter()
             .map(|s| {
-                let mut p = s.edge.precision;
+                let mut p = s.edge.precision.full();
                 p.user = Some(user);
                 Step {
                     transform: s.edge.transform,

@@ -6,8 +6,7 @@
 
 use super::read::JointRaw;
 use crate::diagnostic::{Code, Error, Result, Warning};
-use crate::formats::source::LineIndex;
-use crate::formats::{xml, LoadOptions};
+use crate::formats::LoadOptions;
 use crate::frames::{Edge, JointState, JointType};
 use crate::geometry::se3::{robust_norm, scaled_unit};
 use crate::geometry::Transform;
@@ -16,86 +15,157 @@ use crate::tolerances::UNIT_AXIS_TOL;
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
-/// One edge per joint, in file order.
-pub(super) fn edges(
-    idx: &LineIndex,
-    joints: &[JointRaw],
-    opts: &LoadOptions,
-    warnings: &mut Vec<Warning>,
-) -> Result<Vec<Edge>> {
-    let by_name: HashMap<&str, &JointRaw> = joints.iter().map(|j| (j.name.as_str(), j)).collect();
-    let mut edges = Vec::with_capacity(joints.len());
-    for j in joints {
+/// One edge per joint, in file order, built as each joint is read (the
+/// joints are not kept: issue 12). What needs the whole file (a mimic master
+/// declared later, the list of movable joints in an error) is settled by
+/// [`Builder::finish`]; the error reported is the one of the first joint in
+/// file order that has one, as when all joints were read first.
+pub(super) struct Builder<'o> {
+    opts: &'o LoadOptions,
+    edges: Vec<Edge>,
+    /// Warnings of the edges, reported after those of the reading.
+    warnings: Vec<Warning>,
+    /// Names of the movable joints, in file order.
+    movable: Vec<String>,
+    /// Mimic joints whose master must exist: (joint index, name, master, location).
+    mimics: Vec<(usize, String, String, crate::diagnostic::Location)>,
+    /// The first joint whose edge cannot be built, and why.
+    failed: Option<(usize, Failure)>,
+    count: usize,
+}
+
+enum Failure {
+    Ready(Error),
+    /// `--joint` on a fixed joint: the message lists every movable joint.
+    FixedSet(String, f64, crate::diagnostic::Location),
+}
+
+impl<'o> Builder<'o> {
+    pub(super) fn new(opts: &'o LoadOptions, joints: usize) -> Self {
+        Builder {
+            opts,
+            edges: Vec::with_capacity(joints),
+            warnings: Vec::new(),
+            movable: Vec::new(),
+            mimics: Vec::new(),
+            failed: None,
+            count: 0,
+        }
+    }
+
+    /// The edge of the next joint in file order.
+    pub(super) fn push(&mut self, j: JointRaw) {
+        let i = self.count;
+        self.count += 1;
+        if j.jtype.is_some_and(|t| t.has_one_value()) {
+            self.movable.push(j.name.clone());
+        }
+        if self.failed.is_some() {
+            return;
+        }
+        if let Err(f) = self.edge(i, j) {
+            self.failed = Some((i, f));
+        }
+    }
+
+    fn edge(&mut self, i: usize, j: JointRaw) -> std::result::Result<(), Failure> {
+        let opts = self.opts;
         let set = opts.joints.get(&j.name).copied();
         let key = format!("joint \"{}\" <origin>", j.name);
         let edge = |t: Transform, key: String| {
             Edge::new(&j.parent, &j.child, t, j.loc.clone(), super::SPEC.id, key)
-                .with_precision(j.origin_precision)
+                .with_compact_precision(j.origin_precision.clone())
         };
         match j.jtype {
             None => {
                 if let Some(v) = set {
-                    return Err(fixed_joint_set(j, v, joints));
+                    return Err(Failure::FixedSet(j.name.clone(), v, j.loc.clone()));
                 }
-                edges.push(edge(j.origin, key));
+                self.edges.push(edge(j.origin, key));
             }
             Some(jt) if !jt.has_one_value() => {
                 let mut e = edge(j.origin, key);
                 e.joint = Some(JointState {
                     name: j.name.clone(),
                     joint_type: jt,
-                    value: unset_pose_value(j, jt, set)?,
+                    value: unset_pose_value(&j, jt, set).map_err(Failure::Ready)?,
                     defaulted: false,
                 });
-                edges.push(e);
+                self.edges.push(e);
             }
             Some(jt) => {
-                let (value, defaulted) = joint_value(j, set, &by_name, opts)?;
+                if let (None, Some(m)) = (set, &j.mimic) {
+                    self.mimics
+                        .push((i, j.name.clone(), m.master.clone(), j.loc.clone()));
+                }
+                let (value, defaulted) = joint_value(&j, set, opts).map_err(Failure::Ready)?;
                 if !defaulted {
                     // A default (0) is already reported on the path as joint-at-default.
-                    check_limit(j, jt, value, set.is_some(), warnings);
+                    check_limit(&j, jt, value, set.is_some(), &mut self.warnings);
                 }
-                let motion = motion(idx, j, jt, value, warnings)?;
+                let motion = motion(&j, jt, value, &mut self.warnings).map_err(Failure::Ready)?;
                 let mut e = edge(
                     j.origin.compose(&motion),
                     format!("joint \"{}\" <origin> + {} motion", j.name, jt),
                 );
                 // Origin Exp(xi) motion = (origin motion) Exp(Ad(motion^-1) xi).
-                if let Some(c) = &mut e.precision.rounding {
-                    let a = motion.adjoint_inverse();
-                    *c = a * *c * a.transpose();
-                }
+                e.precision.transform_rounding(&motion.adjoint_inverse());
                 e.joint = Some(JointState {
                     name: j.name.clone(),
                     joint_type: jt,
                     value: Some(value),
                     defaulted,
                 });
-                edges.push(e);
+                self.edges.push(e);
             }
         }
+        Ok(())
     }
-    Ok(edges)
+
+    /// The edges and their warnings, or the first joint's error; `names` are
+    /// all joint names of the file (for the mimic masters).
+    pub(super) fn finish<K>(self, names: &HashMap<K, usize>) -> Result<(Vec<Edge>, Vec<Warning>)>
+    where
+        K: std::borrow::Borrow<str> + std::hash::Hash + Eq,
+    {
+        let before = self.failed.as_ref().map_or(usize::MAX, |(i, _)| *i);
+        // At the same joint the mimic master is checked first.
+        let mimic = self
+            .mimics
+            .iter()
+            .find(|(i, _, master, _)| *i <= before && !names.contains_key(master.as_str()));
+        if let Some((_, name, master, loc)) = mimic {
+            return Err(Error::parse(format!(
+                "joint '{name}': <mimic joint=\"{master}\"> names no joint in this file"
+            ))
+            .at(loc));
+        }
+        match self.failed {
+            Some((_, Failure::Ready(e))) => Err(e),
+            Some((_, Failure::FixedSet(name, v, loc))) => {
+                Err(fixed_joint_set(&name, v, &loc, &self.movable))
+            }
+            None => Ok((self.edges, self.warnings)),
+        }
+    }
 }
 
 /// `--joint NAME=VALUE` on a fixed joint: one error, with the movable joints.
-fn fixed_joint_set(j: &JointRaw, v: f64, joints: &[JointRaw]) -> Error {
-    let movable: Vec<&str> = joints
-        .iter()
-        .filter(|k| k.jtype.is_some_and(|t| t.has_one_value()))
-        .map(|k| k.name.as_str())
-        .collect();
+fn fixed_joint_set(
+    name: &str,
+    v: f64,
+    loc: &crate::diagnostic::Location,
+    movable: &[String],
+) -> Error {
     Error::usage(format!(
-        "--joint {}={v}: joint '{}' is fixed and has no position to set; expected a revolute, continuous or prismatic joint ({})",
-        j.name,
-        j.name,
+        "--joint {name}={v}: joint '{name}' is fixed and has no position to set; expected a revolute, continuous or prismatic joint ({})",
         if movable.is_empty() {
             "this file has none".to_string()
         } else {
             format!("this file has: {}", movable.join(", "))
         }
     ))
-    .at(&j.loc)
+    .at(loc)
 }
 
 /// A position outside `<limit lower upper>` is used as given (as
@@ -139,28 +209,15 @@ fn unset_pose_value(j: &JointRaw, jt: JointType, set: Option<f64>) -> Result<Opt
     }
 }
 
-/// The position of a one-value joint and whether it is the default.
-fn joint_value(
-    j: &JointRaw,
-    set: Option<f64>,
-    by_name: &HashMap<&str, &JointRaw>,
-    opts: &LoadOptions,
-) -> Result<(f64, bool)> {
+/// The position of a one-value joint and whether it is the default (a mimic
+/// master's existence is checked by [`Builder::finish`]).
+fn joint_value(j: &JointRaw, set: Option<f64>, opts: &LoadOptions) -> Result<(f64, bool)> {
     let (value, defaulted) = match (set, &j.mimic) {
         (Some(v), _) => (v, false),
-        (None, Some(m)) => {
-            let Some(master) = by_name.get(m.master.as_str()) else {
-                return Err(Error::parse(format!(
-                    "joint '{}': <mimic joint=\"{}\"> names no joint in this file",
-                    j.name, m.master
-                ))
-                .at(&j.loc));
-            };
-            match opts.joints.get(&master.name) {
-                Some(mv) => (m.multiplier * mv + m.offset, false),
-                None => (m.offset, true),
-            }
-        }
+        (None, Some(m)) => match opts.joints.get(&m.master) {
+            Some(mv) => (m.multiplier * mv + m.offset, false),
+            None => (m.offset, true),
+        },
         (None, None) => (0.0, true),
     };
     if !value.is_finite() {
@@ -175,7 +232,6 @@ fn joint_value(
 
 /// The joint's motion at `value` about or along its unit axis.
 fn motion(
-    idx: &LineIndex,
     j: &JointRaw,
     jt: JointType,
     value: f64,
@@ -187,12 +243,11 @@ fn motion(
     let axis = Vector3::from(j.axis);
     let n = robust_norm(&axis);
     if n.is_nan() || n < AXIS_MIN_NORM {
-        let (l, c) = xml::pos_of(idx, j.node);
         return Err(Error::invalid(format!(
             "{jt} joint '{}': expected a non-zero <axis xyz>, found {:?}",
             j.name, j.axis
         ))
-        .at_line(l, Some(c)));
+        .at_line(j.loc.line.unwrap_or(0), j.loc.column));
     }
     if (n - 1.0).abs() > UNIT_AXIS_TOL {
         warnings.push(

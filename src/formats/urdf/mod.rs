@@ -38,8 +38,12 @@
 //! unless `--joint NAME=0` puts it at its origin (a floating pose needs six
 //! numbers: give it as a static transform instead).
 //!
-//! Reader: the tree is read with roxmltree, so every edge knows the line and
-//! column of its `<joint>` element. Only top-level `<link>` and `<joint>` count
+//! Reader: the text is read without a document tree ([`stream`], quick-xml
+//! events; XML errors still worded by roxmltree), in two passes: the whole
+//! text checked and the root, links and any xacro noted, then the joints one
+//! at a time, each turned into its edge at once (issue 12: memory per link).
+//! Every edge knows the line and column of its `<joint>` element. Only
+//! top-level `<link>` and `<joint>` count
 //! (Husky's `<transmission>` blocks hold decoy `<joint>` elements). Several
 //! `<material>` in one `<visual>` (Unitree B2/Go2) do not matter. Checked: the
 //! root element is `<robot>` (an `<sdf>` root is refused), names are unique,
@@ -56,12 +60,14 @@
 //! `${...}`, `$(...)`) is refused with the advice of [`super::xacro`]: it is
 //! never parsed as URDF.
 //!
-//! Layout: `read` turns the XML into links and raw joints (names, types,
-//! origins, axes, mimic); `joints` applies joint values (`--joint`, mimic,
-//! defaults) and builds the edges; this file checks the document and the tree.
+//! Layout: `stream` reads the XML; `read` turns it into links and raw joints
+//! (names, types, origins, axes, mimic); `joints` applies joint values
+//! (`--joint`, mimic, defaults) and builds the edges; this file checks the
+//! document and the tree.
 
 mod joints;
 mod read;
+mod stream;
 pub mod version;
 
 pub use version::UrdfVersion;
@@ -69,47 +75,35 @@ pub use version::UrdfVersion;
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::registry::FormatSpec;
 use crate::formats::source::LineIndex;
-use crate::formats::{xacro, xml, LoadOptions, Loaded};
-use crate::frames::{Edge, FrameDecl, FrameGraph};
+use crate::formats::{xacro, LoadOptions, Loaded};
+use crate::frames::{Edge, FrameDecl};
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
 
 /// Parse URDF text.
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let mut warnings = Vec::new();
-    // The XML tree is dropped before the tree check below: on a large robot it
-    // is the largest allocation (issue 12: memory per link).
-    let (edges, frames) = {
-        let doc = match roxmltree::Document::parse_with_options(text, xml::parse_options()) {
-            Ok(d) => d,
-            Err(e) if xacro::has_markers(text) => {
-                let _ = e;
-                return Err(Error::parse(format!(
-                    "this file holds un-expanded xacro, not URDF: {}",
-                    xacro::advice(path)
-                )));
-            }
-            Err(e) => return Err(xml::error(&e, text)),
-        };
-        let idx = LineIndex::new(text);
-        let root = doc.root_element();
-        check_root(&idx, root)?;
-        refuse_xacro(&idx, &doc, path)?;
-        let version = read::version(&idx, root, opts)?;
-        let links = read::links(&idx, root)?;
-        let raw = read::joints(&idx, root, &links, version, path, &mut warnings)?;
-        let edges = joints::edges(&idx, &raw, opts, &mut warnings)?;
-        (edges, link_frames(&idx, &links, path))
-    };
-    // The joints must form a tree: check now, with the file's positions (the
-    // graph is dropped at once; the pipeline builds its own).
-    {
-        let mut g = FrameGraph::new();
-        for e in &edges {
-            g.add_edge(e.clone())?;
-        }
-    }
-    root_links(&edges, &frames, path, &mut warnings);
+    let outline = stream::outline(text, path)?;
+    let idx = LineIndex::new(text);
+    check_root(&idx, &outline.root)?;
+    refuse_xacro(&idx, outline.xacro.as_ref(), path)?;
+    let version = read::version(&idx, &outline.root, opts)?;
+    let links = read::links(&idx, &outline.links)?;
+    let mut builder = joints::Builder::new(opts, outline.joints);
+    let names = read::joints(text, &idx, &links, version, path, &mut warnings, |j| {
+        builder.push(j);
+        Ok(())
+    })?;
+    let (edges, edge_warnings) = builder.finish(&names)?;
+    drop((names, links));
+    warnings.extend(edge_warnings);
+    // The joints must form a tree: checked now, with the file's positions,
+    // without a second copy of the edges.
+    crate::frames::check_tree(&edges)?;
+    let (frames, roots) = link_frames(&idx, &outline.links, &edges, path);
+    drop(outline);
+    root_links(&roots, path, &mut warnings);
     Ok(Loaded {
         edges,
         frames,
@@ -118,36 +112,49 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     })
 }
 
-/// Every `<link>` as a declared frame, in file order.
-fn link_frames(idx: &LineIndex, links: &Links, path: &Path) -> Vec<FrameDecl> {
-    let mut v: Vec<FrameDecl> = links
-        .iter()
-        .map(|(name, node)| {
-            let (l, c) = xml::pos_of(idx, *node);
-            FrameDecl {
-                name: name.clone(),
+/// The links no joint names, as declared frames (a link a joint names is
+/// known to the graph through its edge: issue 12, memory per link), and the
+/// links without a parent joint with their lines, both in file order.
+fn link_frames(
+    idx: &LineIndex,
+    links: &[(Option<Cow<'_, str>>, usize)],
+    edges: &[Edge],
+    path: &Path,
+) -> (Vec<FrameDecl>, Vec<(String, usize)>) {
+    const CHILD: u8 = 1;
+    const PARENT: u8 = 2;
+    let mut named: HashMap<&str, u8> = HashMap::with_capacity(edges.len() + 1);
+    for e in edges {
+        *named.entry(e.parent.as_str()).or_default() |= PARENT;
+        *named.entry(e.child.as_str()).or_default() |= CHILD;
+    }
+    let (mut frames, mut roots) = (Vec::new(), Vec::new());
+    for (name, start) in links {
+        let name = name.as_deref().unwrap_or("");
+        let flags = named.get(name).copied().unwrap_or(0);
+        if flags & CHILD != 0 {
+            continue;
+        }
+        let (l, c) = idx.pos(*start);
+        roots.push((name.to_string(), l));
+        if flags == 0 {
+            frames.push(FrameDecl {
+                name: name.to_string(),
                 location: Location::at(path, l, Some(c)),
-            }
-        })
-        .collect();
-    v.sort_by_key(|f| f.location.line);
-    v
+            });
+        }
+    }
+    (frames, roots)
 }
 
 /// More than one link without a parent joint: ROS refuses the file.
-fn root_links(edges: &[Edge], frames: &[FrameDecl], path: &Path, warnings: &mut Vec<Warning>) {
-    let children: std::collections::HashSet<&str> =
-        edges.iter().map(|e| e.child.as_str()).collect();
-    let roots: Vec<&FrameDecl> = frames
-        .iter()
-        .filter(|f| !children.contains(f.name.as_str()))
-        .collect();
+fn root_links(roots: &[(String, usize)], path: &Path, warnings: &mut Vec<Warning>) {
     if roots.len() < 2 {
         return;
     }
     let names: Vec<String> = roots
         .iter()
-        .map(|f| format!("'{}' (line {})", f.name, f.location.line.unwrap_or(0)))
+        .map(|(name, line)| format!("'{name}' (line {line})"))
         .collect();
     warnings.push(
         Warning::new(
@@ -163,10 +170,10 @@ fn root_links(edges: &[Edge], frames: &[FrameDecl], path: &Path, warnings: &mut 
 }
 
 /// The root element must be `<robot>`; an `<sdf>` root gets its own advice.
-fn check_root(idx: &LineIndex, root: roxmltree::Node) -> Result<()> {
-    let (rl, rc) = xml::pos_of(idx, root);
-    match root.tag_name().name() {
-        "robot" if root.attribute("name").is_none() => Err(Error::parse(
+fn check_root(idx: &LineIndex, root: &stream::El) -> Result<()> {
+    let (rl, rc) = idx.pos(root.start);
+    match root.name {
+        "robot" if root.attr("name").is_none() => Err(Error::parse(
             "<robot> without a name: expected <robot name=\"...\"> (ROS refuses a robot without a name)",
         )
         .at_line(rl, Some(rc))),
@@ -182,33 +189,22 @@ fn check_root(idx: &LineIndex, root: roxmltree::Node) -> Result<()> {
     }
 }
 
-/// Un-expanded xacro: namespace, elements or `${...}` / `$(...)` in attributes.
-fn refuse_xacro(idx: &LineIndex, doc: &roxmltree::Document, path: &Path) -> Result<()> {
-    for n in doc.descendants().filter(|n| n.is_element()) {
-        let is_xacro_el = n
-            .tag_name()
-            .namespace()
-            .map(|ns| ns.contains("xacro"))
-            .unwrap_or(false);
-        let has_expr = n
-            .attributes()
-            .any(|a| a.value().contains("${") || a.value().contains("$("));
-        if is_xacro_el || has_expr {
-            let (l, c) = xml::pos_of(idx, n);
-            return Err(Error::parse(format!(
-                "this file holds un-expanded xacro (<{}{}>), not URDF: {}",
-                if is_xacro_el { "xacro:" } else { "" },
-                n.tag_name().name(),
-                xacro::advice(path)
-            ))
-            .at_line(l, Some(c)));
-        }
-    }
-    Ok(())
+/// Un-expanded xacro: namespace, elements or `${...}` / `$(...)` in
+/// attributes (the first such element, noted by [`stream::outline`]).
+fn refuse_xacro(idx: &LineIndex, first: Option<&stream::El>, path: &Path) -> Result<()> {
+    let Some(n) = first else { return Ok(()) };
+    let (l, c) = idx.pos(n.start);
+    Err(Error::parse(format!(
+        "this file holds un-expanded xacro (<{}{}>), not URDF: {}",
+        if n.xacro_ns { "xacro:" } else { "" },
+        n.name,
+        xacro::advice(path)
+    ))
+    .at_line(l, Some(c)))
 }
 
-/// Links by name, for the joints' parent and child checks.
-pub(crate) type Links<'a> = HashMap<String, roxmltree::Node<'a, 'a>>;
+/// Links by name (start offsets), for the joints' parent and child checks.
+pub(crate) type Links<'a> = HashMap<Cow<'a, str>, usize>;
 
 /// URDF.
 pub const SPEC: FormatSpec = FormatSpec {

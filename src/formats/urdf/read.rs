@@ -1,17 +1,18 @@
 //! From XML to links and raw joints: the URDF version, names, types, origins
 //! (`rpy`, or `quat_xyzw` from URDF 1.1), axes, limits and mimic tags, each
-//! checked where it is written.
+//! checked where it is written. The elements come from [`super::stream`],
+//! one joint at a time.
 
+use super::stream::{self, El, JointEl};
 use super::version::UrdfVersion;
 use super::Links;
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
+use crate::formats::locate_warnings;
 use crate::formats::source::LineIndex;
-use crate::formats::{locate_warnings, xml};
 use crate::frames::JointType;
-use crate::geometry::uncertainty::{
-    rounding_covariance, rounding_std, rpy_covariance, tuple_half_units,
-};
-use crate::geometry::{EdgePrecision, QuatOrder, Transform};
+use crate::geometry::uncertainty::{rounding_covariance, rounding_std, tuple_half_units};
+use crate::geometry::{Precision, QuatOrder, Transform};
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -35,15 +36,15 @@ pub(super) struct Mimic {
 /// The rounding of `<origin>`'s numbers as written (conventions in
 /// [`crate::geometry::uncertainty`]): each attribute is one tuple. Called after
 /// [`origin`] accepted the element, so the numbers parse.
-fn origin_precision(o: roxmltree::Node, version: Version) -> EdgePrecision {
+fn origin_precision(o: &El, version: Version) -> Precision {
     let tokens = |a: &str| -> Vec<&str> {
-        o.attribute(a)
+        o.attr(a)
             .map(|s| s.split_ascii_whitespace().collect())
             .unwrap_or_default()
     };
     let xyz = tokens("xyz");
-    let (rot, quat) = match (o.attribute("rpy"), version.used >= UrdfVersion::V1_1) {
-        (None, true) if o.attribute("quat_xyzw").is_some() => (tokens("quat_xyzw"), true),
+    let (rot, quat) = match (o.attr("rpy"), version.used >= UrdfVersion::V1_1) {
+        (None, true) if o.attr("quat_xyzw").is_some() => (tokens("quat_xyzw"), true),
         _ => (tokens("rpy"), false),
     };
     let mut texts = if xyz.is_empty() {
@@ -57,15 +58,10 @@ fn origin_precision(o: roxmltree::Node, version: Version) -> EdgePrecision {
     texts.extend(rot);
     let params: Vec<f64> = texts.iter().map(|t| t.parse().unwrap_or(0.0)).collect();
     if !quat {
+        // Kept compact: the covariance is rpy_covariance of these, computed
+        // where it is used.
         let u = |i: usize| [0, 1, 2].map(|k| rounding_std(halves[i + k]));
-        let cov = rpy_covariance([params[3], params[4], params[5]], u(0), u(3));
-        return match cov {
-            Ok(c) => EdgePrecision {
-                rounding: Some(c),
-                user: None,
-            },
-            Err(_) => EdgePrecision::default(),
-        };
+        return Precision::rpy([params[3], params[4], params[5]], u(0), u(3));
     }
     let build = |p: &[f64]| {
         let d = [p[0], p[1], p[2]];
@@ -81,11 +77,12 @@ fn origin_precision(o: roxmltree::Node, version: Version) -> EdgePrecision {
         }
     };
     match rounding_covariance(&params, &halves, build) {
-        Ok(c) => EdgePrecision {
+        Ok(c) => crate::geometry::EdgePrecision {
             rounding: Some(c),
             user: None,
-        },
-        Err(_) => EdgePrecision::default(),
+        }
+        .into(),
+        Err(_) => Precision::default(),
     }
 }
 
@@ -119,10 +116,10 @@ impl Version {
 /// when malformed or unsupported), then `--urdf-version` if given.
 pub(super) fn version(
     idx: &LineIndex,
-    root: roxmltree::Node,
+    root: &El,
     opts: &crate::formats::LoadOptions,
 ) -> Result<Version> {
-    let declared = match root.attribute("version") {
+    let declared = match root.attr("version") {
         None => None,
         Some(s) => Some(UrdfVersion::parse(s).map_err(|m| {
             err_at(
@@ -137,7 +134,7 @@ pub(super) fn version(
 }
 
 /// A joint as written, before any value is applied.
-pub(super) struct JointRaw<'a> {
+pub(super) struct JointRaw {
     pub name: String,
     /// `None` for a fixed joint.
     pub jtype: Option<JointType>,
@@ -145,12 +142,11 @@ pub(super) struct JointRaw<'a> {
     pub child: String,
     pub origin: Transform,
     /// The rounding of `<origin>`'s numbers as written.
-    pub origin_precision: EdgePrecision,
+    pub origin_precision: Precision,
     pub axis: [f64; 3],
     pub limit: Option<Limit>,
     pub mimic: Option<Mimic>,
     pub loc: Location,
-    pub node: roxmltree::Node<'a, 'a>,
 }
 
 /// `N` finite numbers separated by whitespace.
@@ -175,93 +171,87 @@ fn numbers_attr<const N: usize>(s: &str, what: &str) -> std::result::Result<[f64
     Ok(out)
 }
 
-fn err_at(idx: &LineIndex, n: roxmltree::Node, msg: String) -> Error {
-    let (l, c) = xml::pos_of(idx, n);
+fn err_at(idx: &LineIndex, n: &El, msg: String) -> Error {
+    let (l, c) = idx.pos(n.start);
     Error::parse(msg).at_line(l, Some(c))
 }
 
-fn elements<'a>(
-    root: roxmltree::Node<'a, 'a>,
-    tag: &'static str,
-) -> impl Iterator<Item = roxmltree::Node<'a, 'a>> {
-    root.children()
-        .filter(move |n| n.is_element() && n.tag_name().name() == tag)
-}
-
-/// Top-level `<link>` elements by name (names unique).
-pub(super) fn links<'a>(idx: &LineIndex, root: roxmltree::Node<'a, 'a>) -> Result<Links<'a>> {
-    let mut links: Links = HashMap::new();
-    for l in elements(root, "link") {
-        let Some(name) = l.attribute("name") else {
-            return Err(err_at(
-                idx,
-                l,
-                "<link> without a name: expected name=\"...\"".into(),
-            ));
+/// Top-level `<link>` elements by name (names unique): their start offsets.
+pub(super) fn links<'a>(
+    idx: &LineIndex,
+    decls: &[(Option<Cow<'a, str>>, usize)],
+) -> Result<Links<'a>> {
+    let mut links: Links = HashMap::with_capacity(decls.len());
+    for (name, start) in decls {
+        let at = |msg: String| {
+            let (l, c) = idx.pos(*start);
+            Error::parse(msg).at_line(l, Some(c))
         };
-        if let Some(prev) = links.get(name) {
-            let (pl, _) = xml::pos_of(idx, *prev);
-            return Err(err_at(
-                idx,
-                l,
-                format!(
-                    "link '{name}' declared twice: expected unique link names, first at line {pl}"
-                ),
-            ));
+        let Some(name) = name else {
+            return Err(at("<link> without a name: expected name=\"...\"".into()));
+        };
+        if let Some(prev) = links.get(name.as_ref()) {
+            let (pl, _) = idx.pos(*prev);
+            return Err(at(format!(
+                "link '{name}' declared twice: expected unique link names, first at line {pl}"
+            )));
         }
-        links.insert(name.to_string(), l);
+        links.insert(name.clone(), *start);
     }
     Ok(links)
 }
 
-/// Top-level `<joint>` elements (names unique, links declared).
+/// Top-level `<joint>` elements (names unique, links declared), read one at
+/// a time and handed to `each`; returns the joint names with their lines.
 pub(super) fn joints<'a>(
+    text: &'a str,
     idx: &LineIndex,
-    root: roxmltree::Node<'a, 'a>,
     links: &Links,
     version: Version,
     path: &Path,
     warnings: &mut Vec<Warning>,
-) -> Result<Vec<JointRaw<'a>>> {
-    // Sized once: a doubling Vec holds up to twice the joints (issue 12).
-    let n = elements(root, "joint").count();
-    let mut joints: Vec<JointRaw> = Vec::with_capacity(n);
-    let mut seen: HashMap<String, usize> = HashMap::with_capacity(n);
-    for j in elements(root, "joint") {
-        if let Some(&prev) = j.attribute("name").and_then(|n| seen.get(n)) {
+    mut each: impl FnMut(JointRaw) -> Result<()>,
+) -> Result<HashMap<Cow<'a, str>, usize>> {
+    let mut seen: HashMap<Cow<'a, str>, usize> = HashMap::new();
+    stream::joints(text, path, |j| {
+        let name = j.el.attribute("name").map(|a| a.value.clone());
+        if let Some(&prev) = name.as_ref().and_then(|n| seen.get(n.as_ref())) {
             return Err(err_at(
                 idx,
-                j,
+                &j.el,
                 format!(
                     "joint '{}' declared twice: expected unique joint names, first at line {}",
-                    joints[prev].name,
-                    joints[prev].loc.line.unwrap_or(0)
+                    name.as_deref().unwrap_or(""),
+                    prev
                 ),
             ));
         }
-        let raw = joint(idx, j, links, version, path, warnings)?;
-        seen.insert(raw.name.clone(), joints.len());
-        joints.push(raw);
-    }
-    Ok(joints)
+        let raw = joint(idx, &j, links, version, path, warnings)?;
+        if let Some(n) = name {
+            seen.insert(n, raw.loc.line.unwrap_or(0));
+        }
+        each(raw)
+    })?;
+    Ok(seen)
 }
 
-fn joint<'a>(
+fn joint(
     idx: &LineIndex,
-    j: roxmltree::Node<'a, 'a>,
+    jel: &JointEl,
     links: &Links,
     version: Version,
     path: &Path,
     warnings: &mut Vec<Warning>,
-) -> Result<JointRaw<'a>> {
-    let Some(name) = j.attribute("name") else {
+) -> Result<JointRaw> {
+    let j = &jel.el;
+    let Some(name) = j.attr("name") else {
         return Err(err_at(
             idx,
             j,
             "<joint> without a name: expected name=\"...\"".into(),
         ));
     };
-    let jtype = j.attribute("type").unwrap_or("");
+    let jtype = j.attr("type").unwrap_or("");
     if !JOINT_TYPES.contains(&jtype) {
         return Err(err_at(
             idx,
@@ -273,10 +263,7 @@ fn joint<'a>(
             ),
         ));
     }
-    let child_el = |tag: &str| {
-        j.children()
-            .find(|n| n.is_element() && n.tag_name().name() == tag)
-    };
+    let child_el = |tag: &str| jel.child(tag);
     let link_of = |tag: &str| -> Result<String> {
         let el = child_el(tag).ok_or_else(|| {
             err_at(
@@ -285,7 +272,7 @@ fn joint<'a>(
                 format!("joint '{name}': expected a <{tag} link=\"...\"/>, found none"),
             )
         })?;
-        let l = el.attribute("link").ok_or_else(|| {
+        let l = el.attr("link").ok_or_else(|| {
             err_at(
                 idx,
                 el,
@@ -303,12 +290,15 @@ fn joint<'a>(
     };
     let parent = link_of("parent")?;
     let child = link_of("child")?;
-    let loc_of = |n: roxmltree::Node| {
-        let (l, c) = xml::pos_of(idx, n);
+    let loc_of = |n: &El| {
+        let (l, c) = idx.pos(n.start);
         Location::at(path, l, Some(c))
     };
     let (origin, origin_precision) = match child_el("origin") {
-        None => (Transform::identity(), EdgePrecision::exact()),
+        None => (
+            Transform::identity(),
+            crate::geometry::EdgePrecision::exact().into(),
+        ),
         Some(o) => (
             origin(idx, o, name, version, &loc_of(o), warnings)?,
             origin_precision(o, version),
@@ -316,7 +306,7 @@ fn joint<'a>(
     };
     // As urdfdom: no <axis> is 1 0 0, an <axis> without xyz is 0 0 0 (refused
     // on a movable joint: KDL would divide by its norm).
-    let axis = match child_el("axis").map(|a| (a, a.attribute("xyz"))) {
+    let axis = match child_el("axis").map(|a| (a, a.attr("xyz"))) {
         Some((a, Some(s))) => numbers_attr::<3>(s, &format!("joint '{name}' <axis xyz>"))
             .map_err(|m| err_at(idx, a, m))?,
         Some((a, None)) if matches!(jtype, "revolute" | "continuous" | "prismatic") => {
@@ -342,7 +332,7 @@ fn joint<'a>(
         &loc_of(j),
         warnings,
     )?;
-    number_spacing(j, name, jtype, &loc_of(j), warnings);
+    number_spacing(jel, name, jtype, &loc_of(j), warnings);
     Ok(JointRaw {
         name: name.to_string(),
         jtype: JointType::from_name(jtype),
@@ -354,7 +344,6 @@ fn joint<'a>(
         limit,
         mimic,
         loc: loc_of(j),
-        node: j,
     })
 }
 
@@ -362,13 +351,13 @@ fn joint<'a>(
 /// an error in every version.
 fn origin(
     idx: &LineIndex,
-    o: roxmltree::Node,
+    o: &El,
     name: &str,
     version: Version,
     loc: &Location,
     warnings: &mut Vec<Warning>,
 ) -> Result<Transform> {
-    let xyz = match o.attribute("xyz") {
+    let xyz = match o.attr("xyz") {
         Some(s) => numbers_attr::<3>(s, &format!("joint '{name}' <origin xyz>"))
             .map_err(|m| err_at(idx, o, m))?,
         None => [0.0; 3],
@@ -381,7 +370,7 @@ fn origin(
         };
         Transform::from_rpy(rpy, xyz).map_err(|e| err_at(idx, o, e.message))
     };
-    match (o.attribute("rpy"), o.attribute("quat_xyzw")) {
+    match (o.attr("rpy"), o.attr("quat_xyzw")) {
         (Some(_), Some(_)) => Err(err_at(
             idx,
             o,
@@ -440,7 +429,7 @@ fn origin(
 /// `lower` or `upper`) is a `refused-by-ros` warning.
 fn limit(
     idx: &LineIndex,
-    l: Option<roxmltree::Node>,
+    l: Option<&El>,
     jtype: &str,
     name: &str,
     version: Version,
@@ -470,14 +459,14 @@ fn limit(
     };
     for attr in ["effort", "velocity"] {
         // Not used, but a malformed number is refused, as urdfdom refuses it.
-        if let Some(s) = l.attribute(attr) {
+        if let Some(s) = l.attr(attr) {
             numbers_attr::<1>(s, &format!("joint '{name}' <limit {attr}>"))
                 .map_err(|m| err_at(idx, l, m))?;
         }
     }
     let missing: Vec<&str> = required
         .into_iter()
-        .filter(|a| l.attribute(*a).is_none())
+        .filter(|a| l.attr(a).is_none())
         .collect();
     if !missing.is_empty() {
         warnings.push(refused(format!(
@@ -486,14 +475,14 @@ fn limit(
         )));
     }
     let bound = |attr: &str| -> Result<f64> {
-        match l.attribute(attr) {
+        match l.attr(attr) {
             None => Ok(0.0),
             Some(s) => numbers_attr::<1>(s, &format!("joint '{name}' <limit {attr}>"))
                 .map(|v| v[0])
                 .map_err(|m| err_at(idx, l, m)),
         }
     };
-    let (line, _) = xml::pos_of(idx, l);
+    let (line, _) = idx.pos(l.start);
     Ok(Some(Limit {
         lower: bound("lower")?,
         upper: bound("upper")?,
@@ -535,13 +524,12 @@ fn ros_refuses_spacing(raw: &str, vector: bool) -> bool {
 /// A `refused-by-ros` warning for numbers urdfdom cannot split (see
 /// [`ros_refuses_spacing`]); the tool reads them.
 fn number_spacing(
-    j: roxmltree::Node,
+    j: &JointEl,
     name: &str,
     jtype: &str,
     loc: &Location,
     warnings: &mut Vec<Warning>,
 ) {
-    let text = j.document().input_text();
     let mut found = Vec::new();
     for (tag, attr, vector) in NUMERIC_ATTRS {
         // urdfdom reads no axis on fixed and floating joints.
@@ -549,15 +537,17 @@ fn number_spacing(
             continue;
         }
         let Some(a) = j
-            .children()
-            .find(|n| n.is_element() && n.tag_name().name() == *tag)
-            .and_then(|e| e.attributes().find(|a| a.name() == *attr))
+            .child(tag)
+            .and_then(|e| e.attrs.iter().find(|a| a.name == *attr))
         else {
             continue;
         };
         // The text as written; with entities, the decoded value.
-        let raw = text.get(a.range_value()).unwrap_or(a.value());
-        let raw = if raw.contains('&') { a.value() } else { raw };
+        let raw = if a.raw.contains('&') {
+            &*a.value
+        } else {
+            a.raw
+        };
         if ros_refuses_spacing(raw, *vector) {
             found.push(format!("<{tag} {attr}={raw:?}>"));
         }
@@ -576,8 +566,8 @@ fn number_spacing(
     }
 }
 
-fn mimic(idx: &LineIndex, m: roxmltree::Node, name: &str) -> Result<Mimic> {
-    let master = m.attribute("joint").ok_or_else(|| {
+fn mimic(idx: &LineIndex, m: &El, name: &str) -> Result<Mimic> {
+    let master = m.attr("joint").ok_or_else(|| {
         err_at(
             idx,
             m,
@@ -585,7 +575,7 @@ fn mimic(idx: &LineIndex, m: roxmltree::Node, name: &str) -> Result<Mimic> {
         )
     })?;
     let num = |attr: &str, def: f64| -> Result<f64> {
-        match m.attribute(attr) {
+        match m.attr(attr) {
             None => Ok(def),
             Some(s) => numbers_attr::<1>(s, &format!("joint '{name}' <mimic {attr}>"))
                 .map(|v| v[0])
