@@ -574,7 +574,7 @@ fn av2_rows_are_sensor_poses_under_egovehicle() {
 
 /// The `.feather` fixtures written by `av2/json_to_feather.py` (pyarrow) from
 /// the JSON rows, with the JSON file each came from.
-const AV2_FEATHER: [(&str, &str); 7] = [
+const AV2_FEATHER: [(&str, &str); 8] = [
     (
         "av2/av2_val_7fab2350_egovehicle_SE3_sensor.uncompressed.feather",
         "av2/av2_val_7fab2350_egovehicle_SE3_sensor.json",
@@ -602,6 +602,11 @@ const AV2_FEATHER: [(&str, &str); 7] = [
     (
         "av2/av2_test_log_large_utf8.zstd.feather",
         "av2/av2_test_log_egovehicle_SE3_sensor.json",
+    ),
+    // Three record batches of 4, 4 and 3 rows.
+    (
+        "av2/av2_val_7fab2350_batches_of_4.lz4.feather",
+        "av2/av2_val_7fab2350_egovehicle_SE3_sensor.json",
     ),
 ];
 
@@ -657,7 +662,7 @@ fn av2_feather_matches_the_numpy_expected_transforms() {
             n += 1;
         }
     }
-    assert_eq!(n, 35, "5 cases per JSON file, 3 or 4 feather files each");
+    assert_eq!(n, 40, "5 cases per JSON file, 4 feather files each");
 }
 
 #[test]
@@ -776,4 +781,56 @@ fn av2_feather_survives_random_byte_changes() {
     let secs = start.elapsed().as_secs_f64();
     eprintln!("4,500 mutated feather files: {ok} read, {refused} refused, {secs:.2} s");
     assert!(secs < 20.0, "{secs} s");
+}
+
+/// A compressed buffer's 8-byte length header: a claim beyond the
+/// `--max-file-size` budget is refused before decompressing; a wrong claim
+/// is an error, never a short or padded column.
+#[test]
+fn av2_feather_compressed_lengths_are_checked() {
+    use extrinsic_audit::formats::load_bytes;
+    for (file, magic) in [
+        (AV2_FEATHER[2].0, [0x28u8, 0xb5, 0x2f, 0xfd]),
+        (AV2_FEATHER[1].0, [0x04, 0x22, 0x4d, 0x18]),
+    ] {
+        let clean = std::fs::read(Path::new(DIR).join(file)).expect("read");
+        let at = clean
+            .windows(4)
+            .position(|w| w == magic)
+            .expect("a compressed frame");
+        let claim = i64::from_le_bytes(clean[at - 8..at].try_into().unwrap());
+        let with = |v: i64| {
+            let mut b = clean.clone();
+            b[at - 8..at].copy_from_slice(&v.to_le_bytes());
+            load_bytes(b, Path::new("c.feather"), &LoadOptions::default())
+        };
+        let e = with(1 << 40).expect_err("huge claim");
+        assert_eq!(e.code, Code::Limit, "{file}: {e}");
+        assert!(
+            e.message
+                .contains("claims 1099511627776 bytes uncompressed"),
+            "{e}"
+        );
+        let e = with(claim + 1).expect_err("claim too long");
+        assert!(
+            e.message.contains(&format!(
+                "decompresses to {claim} bytes, its header says {}",
+                claim + 1
+            )),
+            "{file}: {e}"
+        );
+        let e = with(claim - 1).expect_err("claim too short");
+        assert!(
+            e.message
+                .contains(&format!("decompresses to {claim}+ bytes")),
+            "{file}: {e}"
+        );
+        // Every decompressed byte counts against the --max-file-size cap.
+        let opts = LoadOptions {
+            max_file_size: 500,
+            ..LoadOptions::default()
+        };
+        let e = load_bytes(clean.clone(), Path::new("c.feather"), &opts).expect_err("cap");
+        assert_eq!(e.code, Code::Limit, "{file}: {e}");
+    }
 }
