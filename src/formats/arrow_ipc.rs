@@ -35,6 +35,7 @@
 //! Arrow's view types are refused with a message naming the column.
 
 use crate::diagnostic::{Error, Result};
+use crate::tolerances::ARROW_ZSTD_MIN_WINDOW_LOG;
 use std::io::Read;
 
 /// The magic string at both ends of an Arrow IPC file.
@@ -391,7 +392,34 @@ fn footer(bytes: &[u8]) -> Result<(Vec<Field>, Vec<Block>)> {
             })
         })
         .collect::<Result<Vec<_>>>()?;
+    disjoint(&blocks, len_pos - flen)?;
     Ok((fields, blocks))
+}
+
+/// Blocks in file order, none overlapping the next or the footer (at
+/// `footer`): each byte of the file is read as at most one batch, so the rows
+/// returned never outnumber what the file holds (many blocks naming one batch
+/// would multiply them).
+fn disjoint(blocks: &[Block], footer: usize) -> Result<()> {
+    let mut from = MAGIC.len();
+    for (k, b) in blocks.iter().enumerate() {
+        let end = b
+            .offset
+            .checked_add(b.meta_len)
+            .and_then(|e| e.checked_add(b.body_len))
+            .filter(|&e| b.offset >= from && e <= footer)
+            .ok_or_else(|| {
+                err(format!(
+                    "record batch {} at byte {} ({} + {} bytes): expected a block after byte {from} and before the footer at byte {footer}, not overlapping another",
+                    k + 1,
+                    b.offset,
+                    b.meta_len,
+                    b.body_len
+                ))
+            })?;
+        from = end;
+    }
+    Ok(())
 }
 
 // ---------------------------------------------------------------------------
@@ -546,8 +574,9 @@ fn decompress(codec: Codec, frame: &[u8], want: u64, i: usize) -> Result<Vec<u8>
         }
         Codec::Zstd => {
             let mut d = zstd::stream::read::Decoder::with_buffer(frame).map_err(bad)?;
-            // The window (the decoder's own allocation) fits the claim.
-            let log = (64 - want.max(1 << 10).leading_zeros()).clamp(10, 31);
+            // The window (the decoder's own allocation) fits the claim, or
+            // zstd's default window when the claim is small.
+            let log = (64 - want.leading_zeros()).clamp(ARROW_ZSTD_MIN_WINDOW_LOG, 31);
             d.window_log_max(log).map_err(bad)?;
             d.take(want + 1).read_to_end(&mut out).map_err(bad)?;
         }
@@ -817,5 +846,21 @@ mod tests {
         ] {
             assert!(read_table(b, &[("x", false)], 1 << 20).is_err(), "{b:?}");
         }
+    }
+
+    #[test]
+    fn blocks_must_not_overlap() {
+        let b = |offset, meta_len, body_len| Block {
+            offset,
+            meta_len,
+            body_len,
+        };
+        assert!(disjoint(&[b(8, 100, 100), b(208, 50, 50)], 400).is_ok());
+        // The same batch named twice would double its rows.
+        let e = disjoint(&[b(8, 100, 100), b(8, 100, 100)], 400).expect_err("aliased");
+        assert!(e.message.contains("record batch 2 at byte 8"), "{e}");
+        assert!(disjoint(&[b(8, 100, 100)], 150).is_err(), "into the footer");
+        assert!(disjoint(&[b(0, 100, 100)], 400).is_err(), "over the magic");
+        assert!(disjoint(&[b(8, usize::MAX, 1)], 400).is_err(), "overflow");
     }
 }
