@@ -834,3 +834,22 @@ fn av2_feather_compressed_lengths_are_checked() {
         assert_eq!(e.code, Code::Limit, "{file}: {e}");
     }
 }
+
+#[test]
+fn av2_feather_duplicate_sensor_names_both_rows() {
+    let l = load(
+        "av2/av2_up_lidar_twice.uncompressed.feather",
+        &LoadOptions::default(),
+    );
+    assert_eq!(l.edges.len(), 10);
+    assert!(l.edges.iter().all(|e| e.child != "up_lidar"));
+    assert_eq!(l.warnings.len(), 1);
+    assert_eq!(l.warnings[0].code, Code::AmbiguousKey);
+    assert!(
+        l.warnings[0]
+            .message
+            .contains("sensor up_lidar is listed 2 times with different values (rows 10 and 12)"),
+        "{}",
+        l.warnings[0].message
+    );
+}
