@@ -853,3 +853,41 @@ fn av2_feather_duplicate_sensor_names_both_rows() {
         l.warnings[0].message
     );
 }
+
+#[test]
+fn cli_reads_a_feather_file_and_feather_on_stdin() {
+    let f = format!("{DIR}/{}", AV2_FEATHER[2].0);
+    let out = audit()
+        .args([f.as_str(), "--frames"])
+        .output()
+        .expect("run");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("egovehicle") && text.contains("down_lidar"),
+        "{text}"
+    );
+    // Standard input has no name: the ARROW1 magic selects the reader.
+    let out = audit()
+        .args([
+            "-",
+            "--from",
+            "egovehicle",
+            "--to",
+            "up_lidar",
+            "--format",
+            "json",
+        ])
+        .write_stdin(std::fs::read(&f).expect("read"))
+        .output()
+        .expect("run");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
