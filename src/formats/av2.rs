@@ -248,7 +248,16 @@ const COLUMNS: [(&str, bool); 8] = [
     ("tz_m", false),
 ];
 
+/// Value `r` of a string column (`None`: null or another type).
+fn text_at(col: &Column, r: usize) -> Option<&str> {
+    match col {
+        Column::Str(v) => v.get(r)?.as_deref(),
+        Column::F64(_) => None,
+    }
+}
+
 /// Row `r` (0-based) of the Arrow table as a [`Row`]; a null is an error.
+/// The columns come in [`COLUMNS`] order: `sensor_name`, then the numbers.
 fn feather_row(cols: &[(String, Column)], r: usize, path: &Path) -> Result<Row> {
     let null = |c: &str| {
         Error::parse(format!(
@@ -256,27 +265,26 @@ fn feather_row(cols: &[(String, Column)], r: usize, path: &Path) -> Result<Row> 
             r + 1
         ))
     };
-    let mut nums = [0.0; 7];
-    let mut name = None;
-    for (i, (c, col)) in cols.iter().enumerate() {
-        match col {
-            Column::Str(v) => name = Some(v.get(r).cloned().flatten().ok_or_else(|| null(c))?),
-            Column::F64(v) => {
-                if let Some(slot) = nums.get_mut(i.wrapping_sub(1)) {
-                    *slot = v.get(r).copied().flatten().ok_or_else(|| null(c))?;
-                }
-            }
-        }
-    }
-    let name = name.unwrap_or_default().trim().to_string();
+    let Some(((_, names), numbers)) = cols.split_first() else {
+        return Err(null("sensor_name"));
+    };
+    let name = text_at(names, r).ok_or_else(|| null("sensor_name"))?.trim();
     if name.is_empty() {
         return Err(Error::parse(format!(
             "row {}: `sensor_name`: expected a non-empty string, found an empty one",
             r + 1
         )));
     }
+    let mut nums = [0.0; 7];
+    for ((c, col), slot) in numbers.iter().zip(nums.iter_mut()) {
+        *slot = match col {
+            Column::F64(v) => v.get(r).copied().flatten(),
+            Column::Str(_) => None,
+        }
+        .ok_or_else(|| null(c))?;
+    }
     Ok(Row {
-        name,
+        name: name.to_string(),
         q: [nums[0], nums[1], nums[2], nums[3]],
         d: [nums[4], nums[5], nums[6]],
         loc: Location::file(path),
@@ -285,9 +293,17 @@ fn feather_row(cols: &[(String, Column)], r: usize, path: &Path) -> Result<Row> 
 }
 
 /// Parse an Argoverse 2 `egovehicle_SE3_sensor.feather` file (its bytes).
+/// With `--key`, only the rows of that sensor are read (as for JSON rows).
 pub fn parse_feather(bytes: &[u8], path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let table = arrow_ipc::read_table(bytes, &COLUMNS, opts.max_file_size)?;
+    let wanted = |r: usize| {
+        opts.key.as_deref().is_none_or(|k| {
+            let name = table.columns.first().and_then(|(_, c)| text_at(c, r));
+            name.map(str::trim) == Some(k.trim())
+        })
+    };
     let rows = (0..table.rows)
+        .filter(|&r| wanted(r))
         .map(|r| feather_row(&table.columns, r, path))
         .collect::<Result<Vec<_>>>()?;
     finish(rows, "table (.feather)", AV2_FEATHER.id, opts)

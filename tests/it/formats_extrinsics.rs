@@ -891,3 +891,15 @@ fn cli_reads_a_feather_file_and_feather_on_stdin() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+#[test]
+fn av2_feather_key_reads_past_a_null_in_another_row() {
+    // Row 3 (ring_front_right) has a null qw; --key up_lidar does not read it.
+    let opts = LoadOptions {
+        key: Some("up_lidar".into()),
+        ..LoadOptions::default()
+    };
+    let l = load("av2/av2_null_qw_row3.uncompressed.feather", &opts);
+    assert_eq!(l.edges.len(), 1);
+    assert_eq!(l.edges[0].child, "up_lidar");
+}
