@@ -15,7 +15,9 @@
 //! in metres. So each row is the pose of `sensor_name` in the egovehicle
 //! frame: edge `egovehicle -> sensor_name`. A sensor listed twice with
 //! different values is ambiguous: an `ambiguous-key` warning names both lines
-//! and its edge is left out; `--key SENSOR_NAME` reads one row.
+//! (JSON) or rows (.feather) and its edge is left out; `--key SENSOR_NAME`
+//! reads one row. Feather rows carry no line: an edge's place is the file and
+//! its key names the row.
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::arrow_ipc::{self, Column};
@@ -114,20 +116,27 @@ fn row_edge(row: Row, format: &'static str, ws: &mut Vec<Warning>) -> Result<(Ed
         loc,
         place,
     } = row;
+    // A feather row has no line: its messages and key name the row instead.
+    let row_of = |m: &str| match loc.line {
+        Some(_) => m.to_string(),
+        None => format!("{place} ({name}): {m}"),
+    };
+    let key = match loc.line {
+        Some(_) => format!("egovehicle_SE3_sensor {name} (q w x y z + t m)"),
+        None => format!("egovehicle_SE3_sensor {name} ({place}, q w x y z + t m)"),
+    };
     let mut local = Vec::new();
-    let t =
-        Transform::from_quaternion(q, QuatOrder::Wxyz, d, &mut local).map_err(|e| e.at(&loc))?;
+    let t = Transform::from_quaternion(q, QuatOrder::Wxyz, d, &mut local).map_err(|mut e| {
+        e.message = row_of(&e.message);
+        e.at(&loc)
+    })?;
     check_metres(&d, "tx_m, ty_m, tz_m", &loc, &mut local);
+    for w in &mut local {
+        w.message = row_of(&w.message);
+    }
     locate_warnings(local, &loc, ws);
-    let edge = Edge::new(
-        EGO,
-        name.as_str(),
-        t,
-        loc,
-        format,
-        format!("egovehicle_SE3_sensor {name} (q w x y z + t m)"),
-    )
-    .with_precision(written_precision(Written::Quat(q, QuatOrder::Wxyz), d, 1.0));
+    let edge = Edge::new(EGO, name.as_str(), t, loc, format, key)
+        .with_precision(written_precision(Written::Quat(q, QuatOrder::Wxyz), d, 1.0));
     Ok((edge, place))
 }
 

@@ -903,3 +903,24 @@ fn av2_feather_key_reads_past_a_null_in_another_row() {
     assert_eq!(l.edges.len(), 1);
     assert_eq!(l.edges[0].child, "up_lidar");
 }
+
+#[test]
+fn av2_feather_bad_quaternion_names_the_row() {
+    use extrinsic_audit::formats::load_bytes;
+    let mut b = std::fs::read(Path::new(DIR).join(AV2_FEATHER[0].0)).expect("read");
+    // Row 1 (ring_front_center): qw qx qy qz as in the JSON, set to zero.
+    for v in [
+        0.5016454083000883f64,
+        -0.49861992463738697,
+        0.5010700093854159,
+        -0.4986570973931321,
+    ] {
+        let at = b
+            .windows(8)
+            .position(|w| w == v.to_le_bytes())
+            .expect("the value");
+        b[at..at + 8].copy_from_slice(&0f64.to_le_bytes());
+    }
+    let e = load_bytes(b, Path::new("q.feather"), &LoadOptions::default()).expect_err("zero");
+    assert!(e.message.starts_with("row 1 (ring_front_center): "), "{e}");
+}
