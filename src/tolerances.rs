@@ -450,6 +450,16 @@ pub const MAX_POINT_LINE_BYTES: usize = 1 << 20;
 /// Largest binary record of a point file (bytes; PCD descriptors use < 2 KiB).
 pub const MAX_POINT_RECORD_BYTES: usize = 1 << 20;
 
+/// Points decoded per call into the `las` crate (LAS and LAZ): 64 Ki points
+/// of at most a few hundred bytes, a bounded buffer however many the header
+/// claims.
+pub const LAS_READ_BATCH: u64 = 1 << 16;
+
+/// Point file size from which `degeneracy` and `sweep` show a progress bar
+/// while reading (on a terminal only): 32 MiB, about 1.4 million points with
+/// float normals, 0.7 million with double ones, or 3 to 10 million in LAZ.
+pub const PROGRESS_MIN_BYTES: u64 = 32 << 20;
+
 // ---------------------------------------------------------------------------
 // Output for people (`render`)
 // ---------------------------------------------------------------------------

@@ -5,8 +5,10 @@
 use super::{emit, parse_ell, parse_noise, parse_positive, parse_voxel};
 use extrinsic_audit::degeneracy::normals::NormalParams;
 use extrinsic_audit::degeneracy::pairs;
-use extrinsic_audit::degeneracy::points::{accumulate_file, read_points, read_xyz};
-use extrinsic_audit::degeneracy::scene::{voxel_downsample, Cloud};
+use extrinsic_audit::degeneracy::points::{
+    accumulate_file_with, read_points_with, read_xyz_classes, read_xyz_with, PointData,
+};
+use extrinsic_audit::degeneracy::scene::{voxel_downsample_weighted, Cloud};
 use extrinsic_audit::degeneracy::scene::{SceneKind, TUNNEL_RADIUS};
 use extrinsic_audit::degeneracy::threshold::{Calibration, SEEDS};
 use extrinsic_audit::degeneracy::Assembly;
@@ -16,11 +18,13 @@ use extrinsic_audit::diagnostic::{Error, Result};
 use extrinsic_audit::geometry::Transform;
 use extrinsic_audit::pipeline::detector::{self as det, RawScan, SimulateParams, TunnelParams};
 use extrinsic_audit::pipeline::transform_between;
+use extrinsic_audit::progress::{NoProgress, Progress};
 use extrinsic_audit::render::OutputFormat;
 use extrinsic_audit::report::detector::{MatricesJson, NormalsJson, PairJson};
 use extrinsic_audit::tolerances::{
-    DEFAULT_ELLS, DEFAULT_TAU, MAX_SIM_NOISE_M, PAIR_GATE_M, RAW_MIN_NEIGHBOURS,
-    RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M, SIM_VOXEL_RANGE_M,
+    DEFAULT_ELLS, DEFAULT_TAU, MAX_SIM_NOISE_M, PAIR_GATE_M, PROGRESS_MIN_BYTES,
+    PROGRESS_MIN_POINTS, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
+    SIM_VOXEL_RANGE_M,
 };
 use nalgebra::Vector6;
 use std::io::Write;
@@ -31,7 +35,8 @@ use std::path::PathBuf;
     about = "Degeneracy of your own scan (points with normals, or raw with --estimate-normals), for every detector family",
     long_about = "Reads points with unit normals (CSV x,y,z,nx,ny,nz[,w] with or without a header; \
 PLY ascii/binary and PCD ascii/binary/binary_compressed with normal fields) expressed in the body \
-frame, or a raw scan (x y z ..., the output of a LiDAR driver) with --estimate-normals: optional \
+frame, or a raw scan (x y z ..., the output of a LiDAR driver; LAS and LAZ files are raw scans) \
+with --estimate-normals: optional \
 voxel grid (--voxel), PCA normals within --normal-radius (default 0.3 m) from at least \
 --min-neighbours points (default 8), at most --knn nearest, an optional planarity gate \
 (--min-planarity), oriented toward --viewpoint (default the sensor origin). H and M are \
@@ -103,6 +108,9 @@ pub struct DegeneracyArgs {
     /// Print H and M (in the frame and about the centroid).
     #[arg(long)]
     pub show_matrices: bool,
+    /// With --estimate-normals: keep only the LAS/LAZ points of these classifications (`2`: ground).
+    #[arg(long, value_delimiter = ',', value_name = "N,...")]
+    pub class: Vec<u8>,
     /// Scan pair: H and M from correspondences of POINTS (the source, raw) with this target (normals from the file, or estimated with --estimate-normals).
     #[arg(long, value_name = "FILE")]
     pub target: Option<PathBuf>,
@@ -433,13 +441,19 @@ fn scan_assembly(args: &DegeneracyArgs) -> Result<ScanAssembly> {
     } else if args.estimate_normals {
         raw_assembly(args, &frame)?
     } else {
+        if !args.class.is_empty() {
+            return Err(Error::usage(
+                "--class applies only with --estimate-normals (LAS and LAZ are raw scans)",
+            ));
+        }
         if args.voxel.is_some() || args.viewpoint.is_some() || args.knn.is_some() {
             return Err(Error::usage(
                 "--voxel, --viewpoint and --knn apply only with --estimate-normals",
             ));
         }
         // Streamed: H and M without holding the points; the frame by congruence.
-        let acc = accumulate_file(&args.points, Some(&frame)).map_err(raw_scan_hint)?;
+        let acc = accumulate_file_with(&args.points, Some(&frame), &*read_progress(&args.points))
+            .map_err(raw_scan_hint)?;
         (acc.assembly, acc.warnings, None)
     };
     Ok((asm, warnings, normals, pair))
@@ -501,20 +515,25 @@ fn pair_assembly(
 ) -> Result<(Assembly, Vec<Warning>, Option<NormalsJson>, PairJson)> {
     let mut warnings = Vec::new();
     let guess = initial_guess(args, &mut warnings)?;
-    let src = read_xyz(&args.points)?;
-    let source = match args.voxel {
-        Some(v) => voxel_downsample(&src.points, v, [0.0; 3]),
-        None => src.points,
+    let src = read_raw(args, &args.points)?;
+    // The source's weights, as in the single-cloud path (the mean per voxel).
+    let (source, source_weights) = match args.voxel {
+        Some(v) => voxel_downsample_weighted(&src.points, src.weights.as_deref(), v, [0.0; 3]),
+        None => (src.points, src.weights),
     };
     warnings.extend(src.warnings);
     let (cloud, normals) = if args.estimate_normals {
-        let data = read_xyz(target)?;
+        let data = read_raw(args, target)?;
         warnings.extend(data.warnings);
-        let (c, nj) =
-            det::raw_scan_cloud(&data.points, &raw_params(args)?).map_err(|e| e.in_file(target))?;
+        let (c, nj) = det::raw_scan_cloud_with(
+            &data.points,
+            &raw_params(args)?,
+            &*normals_progress(&data.points),
+        )
+        .map_err(|e| e.in_file(target))?;
         (c, Some(nj))
     } else {
-        let data = read_points(target)?;
+        let data = read_points_with(target, &*read_progress(target))?;
         warnings.extend(data.warnings);
         (
             Cloud {
@@ -524,8 +543,14 @@ fn pair_assembly(
             None,
         )
     };
-    let (asm, st) = pairs::pair_assembly(&source, &cloud, &guess, args.gate)
-        .map_err(|e| e.in_file(&args.points))?;
+    let (asm, st) = pairs::pair_assembly_weighted(
+        &source,
+        source_weights.as_deref(),
+        &cloud,
+        &guess,
+        args.gate,
+    )
+    .map_err(|e| e.in_file(&args.points))?;
     let pj = PairJson {
         target: target.display().to_string(),
         gate_m: args.gate,
@@ -536,6 +561,37 @@ fn pair_assembly(
         mean_distance_m: st.mean_distance,
     };
     Ok((asm.congruence(&frame.adjoint()), warnings, normals, pj))
+}
+
+/// A raw scan's points: every point, or with --class the LAS/LAZ points of
+/// those classifications.
+fn read_raw(args: &DegeneracyArgs, path: &std::path::Path) -> Result<PointData> {
+    let progress = read_progress(path);
+    if args.class.is_empty() {
+        read_xyz_with(path, &*progress)
+    } else {
+        read_xyz_classes(path, &args.class, &*progress)
+    }
+}
+
+/// A bar on a terminal's standard error while reading `path`, when it is
+/// large enough to take about a second (issue 13).
+fn read_progress(path: &std::path::Path) -> Box<dyn Progress> {
+    let big = std::fs::metadata(path).is_ok_and(|m| m.len() >= PROGRESS_MIN_BYTES);
+    if big {
+        Box::new(super::display::TermProgress::new())
+    } else {
+        Box::new(NoProgress)
+    }
+}
+
+/// A bar while estimating the normals of `points`, when they are many.
+fn normals_progress(points: &[[f64; 3]]) -> Box<dyn Progress> {
+    if points.len() >= PROGRESS_MIN_POINTS {
+        Box::new(super::display::TermProgress::new())
+    } else {
+        Box::new(NoProgress)
+    }
 }
 
 /// The raw-scan options of the arguments.
@@ -563,10 +619,12 @@ fn raw_assembly(
     args: &DegeneracyArgs,
     frame: &Transform,
 ) -> Result<(Assembly, Vec<Warning>, Option<NormalsJson>)> {
-    let data = read_xyz(&args.points)?;
+    let data = read_raw(args, &args.points)?;
     let raw = raw_params(args)?;
-    let (asm, nj) = det::raw_scan_assembly(&data.points, data.weights.as_deref(), &raw)
-        .map_err(|e| e.in_file(&args.points))?;
+    let progress = normals_progress(&data.points);
+    let (asm, nj) =
+        det::raw_scan_assembly_with(&data.points, data.weights.as_deref(), &raw, &*progress)
+            .map_err(|e| e.in_file(&args.points))?;
     Ok((asm.congruence(&frame.adjoint()), data.warnings, Some(nj)))
 }
 

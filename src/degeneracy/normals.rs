@@ -17,6 +17,7 @@
 
 use super::scene::Cloud;
 use crate::diagnostic::{Error, Result};
+use crate::progress::{NoProgress, Progress};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 use std::num::NonZero;
@@ -192,12 +193,15 @@ fn estimate_range(
     tree: &ImmutableKdTree<f64, 3>,
     all: &[[f64; 3]],
     (first, points): (usize, &[[f64; 3]]),
-    prm: &NormalParams,
+    (prm, progress): (&NormalParams, &dyn Progress),
 ) -> (Cloud, NormalStats, Vec<usize>) {
     let mut out = Cloud::default();
     let mut st = NormalStats::default();
     let mut kept = Vec::new();
     for (i, p) in points.iter().enumerate() {
+        if i % PROGRESS_STEP == PROGRESS_STEP - 1 {
+            progress.advance(PROGRESS_STEP as u64);
+        }
         match normal_at(tree, all, p, prm) {
             Ok(n) => {
                 out.points.push(*p);
@@ -209,8 +213,12 @@ fn estimate_range(
             Err(Drop::NotPlanar) => st.not_planar += 1,
         }
     }
+    progress.advance((points.len() % PROGRESS_STEP) as u64);
     (out, st, kept)
 }
+
+/// Points between two progress reports of the normal estimation.
+const PROGRESS_STEP: usize = 4096;
 
 /// Normals by PCA (see the module notes), on up to `threads` threads (0: one
 /// per core).
@@ -229,7 +237,29 @@ pub fn estimate_normals_indexed(
     prm: &NormalParams,
     threads: usize,
 ) -> Result<(Cloud, NormalStats, Vec<usize>)> {
+    estimate_normals_progress(points, prm, threads, &NoProgress)
+}
+
+/// [`estimate_normals_indexed`], reporting the points done to `progress`.
+pub fn estimate_normals_progress(
+    points: &[[f64; 3]],
+    prm: &NormalParams,
+    threads: usize,
+    progress: &dyn Progress,
+) -> Result<(Cloud, NormalStats, Vec<usize>)> {
     prm.check()?;
+    progress.start(points.len() as u64, "normals estimated");
+    let r = normals_on_threads(points, prm, threads, progress);
+    progress.finish();
+    r
+}
+
+fn normals_on_threads(
+    points: &[[f64; 3]],
+    prm: &NormalParams,
+    threads: usize,
+    progress: &dyn Progress,
+) -> Result<(Cloud, NormalStats, Vec<usize>)> {
     if points.is_empty() {
         return Ok((Cloud::default(), NormalStats::default(), Vec::new()));
     }
@@ -240,7 +270,7 @@ pub fn estimate_normals_indexed(
     let t = t.clamp(1, 64).min(points.len().div_ceil(4096));
     let per = points.len().div_ceil(t.max(1));
     let parts: Vec<(Cloud, NormalStats, Vec<usize>)> = if t <= 1 {
-        vec![estimate_range(&tree, points, (0, points), prm)]
+        vec![estimate_range(&tree, points, (0, points), (prm, progress))]
     } else {
         let tree = &tree;
         std::thread::scope(|s| {
@@ -254,16 +284,16 @@ pub fn estimate_normals_indexed(
                 .map(|c| {
                     let c = *c;
                     std::thread::Builder::new()
-                        .spawn_scoped(s, move || estimate_range(tree, points, c, prm))
+                        .spawn_scoped(s, move || estimate_range(tree, points, c, (prm, progress)))
                 })
                 .collect();
-            let mut out = vec![estimate_range(tree, points, chunks[0], prm)];
+            let mut out = vec![estimate_range(tree, points, chunks[0], (prm, progress))];
             for (h, c) in handles.into_iter().zip(&chunks[1..]) {
                 out.push(match h {
                     Ok(h) => h
                         .join()
-                        .unwrap_or_else(|_| estimate_range(tree, points, *c, prm)),
-                    Err(_) => estimate_range(tree, points, *c, prm),
+                        .unwrap_or_else(|_| estimate_range(tree, points, *c, (prm, progress))),
+                    Err(_) => estimate_range(tree, points, *c, (prm, progress)),
                 });
             }
             out

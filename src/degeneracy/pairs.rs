@@ -10,7 +10,9 @@
 //! So the pair assembles exactly as one cloud of the source points carrying
 //! the target normals rotated into the source frame, and `M` is the
 //! point-displacement metric of the matched source points: the twist is the
-//! source pose's, in the source frame.
+//! source pose's, in the source frame. The source's per-point weights, when
+//! it has them, weight its pairs (`H = sum w a a^T`, `M = sum w J^T J`), as
+//! in the single-cloud path.
 
 use super::scene::Cloud;
 use super::Assembly;
@@ -39,6 +41,16 @@ pub fn correspondences(
     guess: &Transform,
     gate: f64,
 ) -> Result<(Cloud, PairStats)> {
+    matches(source, target, guess, gate).map(|(c, _, st)| (c, st))
+}
+
+/// [`correspondences`] with the index in `source` of each matched point.
+fn matches(
+    source: &[[f64; 3]],
+    target: &Cloud,
+    guess: &Transform,
+    gate: f64,
+) -> Result<(Cloud, Vec<usize>, PairStats)> {
     if !(gate.is_finite() && gate > 0.0) {
         return Err(Error::usage(format!(
             "--gate: expected a positive number of metres, found {gate}"
@@ -51,15 +63,16 @@ pub fn correspondences(
         matched: 0,
         mean_distance: 0.0,
     };
+    let mut index = Vec::new();
     if target.is_empty() || source.is_empty() {
-        return Ok((out, stats));
+        return Ok((out, index, stats));
     }
     let tree = ImmutableKdTree::<f64, 3>::new_from_slice(&target.points)
         .map_err(|e| Error::invalid(format!("target: cannot index the points ({e})")))?;
     let r = guess.rotation();
     let d = guess.translation();
     let mut dsum = 0.0;
-    for p in source {
+    for (i, p) in source.iter().enumerate() {
         let q = r * Vector3::from(*p) + d;
         let nb = tree
             .query(&[q.x, q.y, q.z])
@@ -75,13 +88,14 @@ pub fn correspondences(
         let n = r.transpose() * Vector3::from(*nt);
         out.points.push(*p);
         out.normals.push([n.x, n.y, n.z]);
+        index.push(i);
         dsum += nb.distance.sqrt();
     }
     stats.matched = out.len();
     if stats.matched > 0 {
         stats.mean_distance = dsum / stats.matched as f64;
     }
-    Ok((out, stats))
+    Ok((out, index, stats))
 }
 
 /// `H` and `M` of a pair (see the module notes); an error without any
@@ -92,12 +106,33 @@ pub fn pair_assembly(
     guess: &Transform,
     gate: f64,
 ) -> Result<(Assembly, PairStats)> {
-    let (c, st) = correspondences(source, target, guess, gate)?;
+    pair_assembly_weighted(source, None, target, guess, gate)
+}
+
+/// [`pair_assembly`] with the source's per-point weights (one per source
+/// point; a missing one counts 1): each pair carries its source point's.
+pub fn pair_assembly_weighted(
+    source: &[[f64; 3]],
+    weights: Option<&[f64]>,
+    target: &Cloud,
+    guess: &Transform,
+    gate: f64,
+) -> Result<(Assembly, PairStats)> {
+    let (c, index, st) = matches(source, target, guess, gate)?;
     if c.is_empty() {
         return Err(Error::invalid(format!(
             "no correspondence: none of the {} source points has a target point within {gate} m (check --initial-guess or raise --gate)",
             source.len()
         )));
     }
-    Ok((Assembly::from_points(&c.points, &c.normals, None)?, st))
+    let w: Option<Vec<f64>> = weights.map(|w| {
+        index
+            .iter()
+            .map(|&i| w.get(i).copied().unwrap_or(1.0))
+            .collect()
+    });
+    Ok((
+        Assembly::from_points(&c.points, &c.normals, w.as_deref())?,
+        st,
+    ))
 }

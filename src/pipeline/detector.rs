@@ -4,7 +4,7 @@
 
 use crate::analysis::metric::adapted_metric_matrix;
 use crate::analysis::Family;
-use crate::degeneracy::normals::{estimate_normals_indexed, NormalParams};
+use crate::degeneracy::normals::{estimate_normals_progress, NormalParams};
 use crate::degeneracy::points::PointData;
 use crate::degeneracy::scene::{
     synthesize, tunnel_exact, voxel_downsample_weighted, Cloud, Preprocess, SceneKind,
@@ -379,14 +379,33 @@ pub fn raw_scan_assembly(
     weights: Option<&[f64]>,
     raw: &RawScan,
 ) -> Result<(Assembly, NormalsJson)> {
-    let (cloud, w, nj) = raw_scan_weighted(points, weights, raw)?;
+    raw_scan_assembly_with(points, weights, raw, &crate::progress::NoProgress)
+}
+
+/// [`raw_scan_assembly`], reporting the normal estimation to `progress`.
+pub fn raw_scan_assembly_with(
+    points: &[[f64; 3]],
+    weights: Option<&[f64]>,
+    raw: &RawScan,
+    progress: &dyn crate::progress::Progress,
+) -> Result<(Assembly, NormalsJson)> {
+    let (cloud, w, nj) = raw_scan_weighted(points, weights, raw, progress)?;
     let asm = Assembly::from_points(&cloud.points, &cloud.normals, w.as_deref())?;
     Ok((asm, nj))
 }
 
 /// A raw scan's points with estimated normals (see [`raw_scan_assembly`]).
 pub fn raw_scan_cloud(points: &[[f64; 3]], raw: &RawScan) -> Result<(Cloud, NormalsJson)> {
-    raw_scan_weighted(points, None, raw).map(|(c, _, nj)| (c, nj))
+    raw_scan_cloud_with(points, raw, &crate::progress::NoProgress)
+}
+
+/// [`raw_scan_cloud`], reporting the normal estimation to `progress`.
+pub fn raw_scan_cloud_with(
+    points: &[[f64; 3]],
+    raw: &RawScan,
+    progress: &dyn crate::progress::Progress,
+) -> Result<(Cloud, NormalsJson)> {
+    raw_scan_weighted(points, None, raw, progress).map(|(c, _, nj)| (c, nj))
 }
 
 /// [`raw_scan_cloud`] with the weights of the points kept (when given).
@@ -394,6 +413,7 @@ fn raw_scan_weighted(
     points: &[[f64; 3]],
     weights: Option<&[f64]>,
     raw: &RawScan,
+    progress: &dyn crate::progress::Progress,
 ) -> Result<(Cloud, Option<Vec<f64>>, NormalsJson)> {
     let grid;
     let (pts, wts) = match raw.voxel {
@@ -409,7 +429,7 @@ fn raw_scan_weighted(
         }
         None => (points, weights.map(<[f64]>::to_vec)),
     };
-    let (cloud, st, kept) = estimate_normals_indexed(pts, &raw.normals, raw.threads)?;
+    let (cloud, st, kept) = estimate_normals_progress(pts, &raw.normals, raw.threads, progress)?;
     let wts = wts.map(|w| {
         kept.iter()
             .map(|&i| w.get(i).copied().unwrap_or(1.0))

@@ -13,6 +13,14 @@ fn stem(p: &Path) -> String {
 }
 
 fn run(path: &Path) -> Result<(), String> {
+    // The 6N cases are point files (LAS, LAZ): read as a raw scan.
+    if matches!(
+        path.extension().and_then(|e| e.to_str()),
+        Some("las" | "laz")
+    ) {
+        let r = extrinsic_audit::degeneracy::points::read_xyz(path);
+        return r.map(|_| ()).map_err(|e| e.to_string());
+    }
     // The xacro case must not depend on whether `xacro` is installed.
     let mut opts = LoadOptions {
         xacro_search_path: Some("".into()),

@@ -39,6 +39,8 @@ mod hostile_options;
 mod hostile_output;
 mod hostile_points;
 mod json_schemas;
+mod points_las;
+mod points_progress;
 mod points_readers;
 mod points_regressions;
 mod points_streaming;

@@ -435,3 +435,100 @@ fn duplicate_ply_property_or_pcd_field_is_an_error_naming_both_lines() {
     let p = edited(&d, "tunnel_small_bin.pcd", "curvature\n", "x\n", "dup.pcd");
     refused_both_ways(&p, &["dup.pcd:3", "FIELDS declares \"x\" twice"]);
 }
+
+/// A binary PLY of the 408-point tunnel (f64 x y z nx ny nz) followed by a
+/// `face` element with a list property (`uchar` count, `int` or `ushort`
+/// items) holding `faces`, little or big endian, with `extra` bytes appended.
+fn ply_with_faces(little: bool, faces: &[Vec<u32>], item: &str, extra: &[u8]) -> Vec<u8> {
+    let base = read_points(&fixture("tunnel_small.csv")).unwrap();
+    let fmt = if little {
+        "binary_little_endian"
+    } else {
+        "binary_big_endian"
+    };
+    let mut b = format!(
+        "ply\nformat {fmt} 1.0\nelement vertex {}\nproperty double x\nproperty double y\nproperty double z\n\
+property double nx\nproperty double ny\nproperty double nz\nelement face {}\n\
+property list uchar {item} vertex_indices\nproperty uchar flag\nend_header\n",
+        base.points.len(),
+        faces.len()
+    )
+    .into_bytes();
+    let f64b = |x: f64| {
+        if little {
+            x.to_le_bytes()
+        } else {
+            x.to_be_bytes()
+        }
+    };
+    for (p, n) in base.points.iter().zip(&base.normals) {
+        for x in p.iter().chain(n) {
+            b.extend_from_slice(&f64b(*x));
+        }
+    }
+    for f in faces {
+        b.push(f.len() as u8);
+        for &i in f {
+            match (item, little) {
+                ("int", true) => b.extend_from_slice(&(i as i32).to_le_bytes()),
+                ("int", false) => b.extend_from_slice(&(i as i32).to_be_bytes()),
+                (_, true) => b.extend_from_slice(&(i as u16).to_le_bytes()),
+                (_, false) => b.extend_from_slice(&(i as u16).to_be_bytes()),
+            }
+        }
+        b.push(7);
+    }
+    b.extend_from_slice(extra);
+    b
+}
+
+#[test]
+fn binary_ply_list_elements_after_the_vertices_are_read_by_their_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    let faces = vec![vec![0, 1, 2], vec![3, 4, 5, 6], vec![], vec![7, 8, 9]];
+    let base = read_points(&fixture("tunnel_small.csv")).unwrap();
+    for little in [true, false] {
+        for item in ["int", "ushort"] {
+            // Exact: read by both paths (held points, and streamed H and M).
+            let path = dir.path().join(format!("faces_{little}_{item}.ply"));
+            std::fs::write(&path, ply_with_faces(little, &faces, item, b"")).unwrap();
+            let d = read_points(&path).unwrap();
+            assert_eq!(d.points, base.points);
+            let a = accumulate_file(&path, None).unwrap();
+            assert_eq!(a.assembly.count, 408);
+            // Too little: the last face's last index cut off.
+            let full = ply_with_faces(little, &faces, item, b"");
+            let cut = &full[..full.len() - 2];
+            // Too much: bytes after the last face.
+            let more = ply_with_faces(little, &faces, item, b"\x01\x02\x03");
+            for (bytes, want) in [
+                (
+                    cut.to_vec(),
+                    "header claims 4 `face` items, the file ends in item 3",
+                ),
+                (
+                    more,
+                    "the file holds 3 more bytes after the header's last element `face`",
+                ),
+            ] {
+                let p = dir.path().join("bad.ply");
+                std::fs::write(&p, &bytes).unwrap();
+                for e in [
+                    read_points(&p).unwrap_err(),
+                    accumulate_file(&p, None).unwrap_err(),
+                    parse_points(&bytes).unwrap_err(),
+                ] {
+                    let m = e.to_string();
+                    assert!(m.contains(want), "{m}");
+                }
+                let m = read_points(&p).unwrap_err().to_string();
+                assert!(m.contains("bad.ply"), "{m}");
+            }
+        }
+    }
+    // A list whose count type is a float is refused at the header.
+    let bad = String::from_utf8_lossy(&ply_with_faces(true, &faces, "int", b""))
+        .replace("list uchar int", "list float int");
+    let e = parse_points(bad.as_bytes()).unwrap_err();
+    assert!(e.message.contains("integer list count type"), "{e}");
+}

@@ -7,10 +7,15 @@
 //!   or spaces separate fields; `#` starts a comment line.
 //! - PLY: `element vertex` with scalar properties `x y z nx ny nz` (optional `w`
 //!   or `weight`), any numeric type. Elements before `vertex` must have scalar
-//!   properties only (they are skipped); elements after it are ignored.
+//!   properties only (they are skipped); elements after it (faces with list
+//!   properties included: each list by its own count) are read by their
+//!   declared types and must end the file, or it is an error.
 //! - PCD (0.7): `FIELDS x y z normal_x normal_y normal_z` (or `nx ny nz`), with
 //!   `SIZE`/`TYPE`/`COUNT`, `DATA ascii`, `binary` or `binary_compressed`
 //!   (LZF, decompressed in memory).
+//! - LAS 1.0-1.4 and LAZ (detected by the `LASF` magic): raw scans only (no
+//!   normals), see [`las`]. From a stream (standard input, [`parse_points`])
+//!   the file is held in memory (the `las` crate seeks), within the size cap.
 //!
 //! Checks: a file claiming more points than it holds is an error (pre-allocation
 //! is capped, never taken from the header); a zero normal is an error naming the
@@ -38,6 +43,7 @@
 mod binary;
 mod check;
 mod csv;
+mod las;
 mod lzf;
 mod parallel;
 mod pcd;
@@ -50,6 +56,7 @@ pub use write::{write_csv, write_pcd, write_ply, Encoding};
 use crate::degeneracy::{Accumulator, Assembly};
 use crate::diagnostic::{Error, Result, Warning};
 use crate::geometry::se3::Transform;
+use crate::progress::{Counted, NoProgress, Progress};
 use crate::tolerances::MAX_POINT_FILE_SIZE;
 use check::Stats;
 use source::Source;
@@ -76,6 +83,10 @@ pub enum PointFormat {
     PcdBinary,
     /// PCD, binary_compressed (LZF).
     PcdBinaryCompressed,
+    /// LAS (uncompressed).
+    Las,
+    /// LAZ (LASzip-compressed LAS).
+    Laz,
 }
 
 impl PointFormat {
@@ -89,6 +100,8 @@ impl PointFormat {
             PointFormat::PcdAscii => "pcd-ascii",
             PointFormat::PcdBinary => "pcd-binary",
             PointFormat::PcdBinaryCompressed => "pcd-binary-compressed",
+            PointFormat::Las => "las",
+            PointFormat::Laz => "laz",
         }
     }
 }
@@ -199,30 +212,114 @@ fn check_size(path: &Path) -> Result<std::fs::Metadata> {
 /// Read a point file, detecting the format from its content (`ply` magic, a PCD
 /// header) and otherwise reading CSV.
 pub fn read_points(path: &Path) -> Result<PointData> {
-    read_path(path, false)
+    read_path(path, false, &NoProgress)
+}
+
+/// [`read_points`], reporting the bytes read to `progress`.
+pub fn read_points_with(path: &Path, progress: &dyn Progress) -> Result<PointData> {
+    read_path(path, false, progress)
 }
 
 /// Read the points of a raw scan (x y z; normal fields, when present, are
 /// read but not required: absent ones are the placeholder `+z`). Positional
 /// CSV takes the first three columns as x, y, z.
 pub fn read_xyz(path: &Path) -> Result<PointData> {
-    read_path(path, true)
+    read_path(path, true, &NoProgress)
 }
 
-fn read_path(path: &Path, xyz_only: bool) -> Result<PointData> {
+/// [`read_xyz`], reporting the bytes read (the points read, for LAS and LAZ)
+/// to `progress`.
+pub fn read_xyz_with(path: &Path, progress: &dyn Progress) -> Result<PointData> {
+    read_path(path, true, progress)
+}
+
+/// [`read_xyz_with`] keeping only the points whose LAS classification is in
+/// `classes` (e.g. `[2]`, ground); an error for a file that is not LAS or LAZ.
+pub fn read_xyz_classes(path: &Path, classes: &[u8], progress: &dyn Progress) -> Result<PointData> {
+    let meta = check_size(path)?;
+    let mut f = crate::input::open_regular(path)?;
+    if !is_las_file(&mut f).map_err(|e| e.in_file(path))? {
+        return Err(Error::usage(
+            "--class: expected a LAS or LAZ file (other formats have no classification)",
+        )
+        .in_file(path));
+    }
+    let mut sink = Collect::default();
+    let r = las::decode(f, meta.len(), &mut sink, (Some(classes), progress));
+    progress.finish();
+    let (format, stats) = r.map_err(|e| e.in_file(path))?;
+    Ok(PointData {
+        points: sink.points,
+        normals: sink.normals,
+        weights: sink.weights,
+        format,
+        warnings: stats.warnings(),
+    })
+}
+
+fn read_path(path: &Path, xyz_only: bool, progress: &dyn Progress) -> Result<PointData> {
     if crate::input::is_stdin(path) {
         let r = crate::input::Capped::new(std::io::stdin().lock(), MAX_POINT_FILE_SIZE);
         return read_mode(r, xyz_only).map_err(|e| e.in_file("<stdin>"));
     }
-    check_size(path)?;
+    let meta = check_size(path)?;
     // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
-    let f = crate::input::open_regular(path)?;
-    read_mode(f, xyz_only).map_err(|e| e.in_file(path))
+    let mut f = crate::input::open_regular(path)?;
+    if is_las_file(&mut f).map_err(|e| e.in_file(path))? {
+        let r = read_las(f, meta.len(), xyz_only, progress);
+        progress.finish();
+        return r.map_err(|e| e.in_file(path));
+    }
+    progress.start(meta.len(), "bytes read");
+    let r = read_mode(Counted::new(f, 0, progress), xyz_only);
+    progress.finish();
+    r.map_err(|e| e.in_file(path))
+}
+
+/// Whether a file starts with the LAS magic (the file is left at its start).
+fn is_las_file(f: &mut std::fs::File) -> Result<bool> {
+    use std::io::{Seek, SeekFrom};
+    let mut m = [0u8; 4];
+    let n = f.read(&mut m).map_err(|e| source::io_error(&e))?;
+    f.seek(SeekFrom::Start(0))
+        .map_err(|e| source::io_error(&e))?;
+    Ok(n == 4 && &m == las::MAGIC)
+}
+
+/// A LAS or LAZ file, seekable, `len` bytes: raw scans only.
+fn read_las<R>(r: R, len: u64, xyz_only: bool, progress: &dyn Progress) -> Result<PointData>
+where
+    R: Read + std::io::Seek + Send + Sync + 'static,
+{
+    if !xyz_only {
+        return Err(las_without_normals());
+    }
+    let mut sink = Collect::default();
+    let (format, stats) = las::decode(r, len, &mut sink, (None, progress))?;
+    Ok(PointData {
+        points: sink.points,
+        normals: sink.normals,
+        weights: sink.weights,
+        format,
+        warnings: stats.warnings(),
+    })
+}
+
+/// LAS records have no normals: the same refusal as a PCD without them.
+fn las_without_normals() -> Error {
+    Error::parse(
+        "LAS: expected points with normals, LAS records have none (missing normal_x normal_y normal_z)",
+    )
 }
 
 /// Parse a point file held in memory.
 pub fn parse_points(bytes: &[u8]) -> Result<PointData> {
     read_from(bytes)
+}
+
+/// Parse a raw scan held in memory (as [`read_xyz`]; LAS and LAZ included).
+pub fn parse_xyz(bytes: &[u8]) -> Result<PointData> {
+    read_mode(bytes, true)
 }
 
 /// Read a point file from any reader, holding the points.
@@ -233,6 +330,12 @@ pub fn read_from<R: Read>(r: R) -> Result<PointData> {
 fn read_mode<R: Read>(r: R, xyz_only: bool) -> Result<PointData> {
     let mut sink = Collect::default();
     let mut src = Source::new(r);
+    if detect(&mut src)? == Kind::Las {
+        // The `las` crate seeks: the stream is held in memory, within the cap.
+        let bytes = src.read_rest(MAX_POINT_FILE_SIZE)?;
+        let len = bytes.len() as u64;
+        return read_las(std::io::Cursor::new(bytes), len, xyz_only, &NoProgress);
+    }
     let (format, stats) = decode(&mut src, &mut sink, xyz_only)?;
     Ok(PointData {
         points: sink.points,
@@ -248,6 +351,15 @@ fn read_mode<R: Read>(r: R, xyz_only: bool) -> Result<PointData> {
 /// the frame whose pose in the file's frame is `frame` (exactly, by congruence
 /// of the sums with `Ad(frame)`).
 pub fn accumulate_file(path: &Path, frame: Option<&Transform>) -> Result<Accumulated> {
+    accumulate_file_with(path, frame, &NoProgress)
+}
+
+/// [`accumulate_file`], reporting the bytes read to `progress`.
+pub fn accumulate_file_with(
+    path: &Path,
+    frame: Option<&Transform>,
+    progress: &dyn Progress,
+) -> Result<Accumulated> {
     if crate::input::is_stdin(path) {
         // `-`: standard input, read serially, bounded (issue 12).
         let r = crate::input::Capped::new(std::io::stdin().lock(), MAX_POINT_FILE_SIZE);
@@ -257,14 +369,16 @@ pub fn accumulate_file(path: &Path, frame: Option<&Transform>) -> Result<Accumul
     // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
     let f = crate::input::open_regular(path)?;
     let mut acc = Accumulator::new();
-    let mut src = Source::new(f);
+    progress.start(meta.len(), "bytes read");
+    let mut src = Source::new(Counted::new(f, 0, progress));
     // A pipe or device has no length to split by and cannot be reopened.
-    let (format, stats) = if meta.is_file() {
-        parallel::decode_file(path, meta.len(), &mut src, &mut acc)
+    let res = if meta.is_file() {
+        parallel::decode_file(path, meta.len(), &mut src, &mut acc, progress)
     } else {
         decode(&mut src, &mut acc, false)
-    }
-    .map_err(|e| e.in_file(path))?;
+    };
+    progress.finish();
+    let (format, stats) = res.map_err(|e| e.in_file(path))?;
     Ok(finish(&acc, format, stats, frame))
 }
 
@@ -299,6 +413,7 @@ fn finish(
 enum Kind {
     Ply,
     Pcd,
+    Las,
     Csv,
 }
 
@@ -313,6 +428,8 @@ fn detect<R: Read>(src: &mut Source<R>) -> Result<Kind> {
     Ok(
         if head.starts_with(b"ply\n") || head.starts_with(b"ply\r\n") {
             Kind::Ply
+        } else if head.starts_with(las::MAGIC) {
+            Kind::Las
         } else if looks_like_pcd(head) {
             Kind::Pcd
         } else {
@@ -337,6 +454,9 @@ fn decode<R: Read, S: Sink>(
             let h = pcd::read_header(src, xyz_only)?;
             pcd::body(src, &h, sink)
         }
+        // Normals required (H and M streamed): refused; raw scans are read
+        // whole by `read_mode`.
+        Kind::Las => Err(las_without_normals()),
         Kind::Csv => csv::decode(src, sink, xyz_only),
     }
 }

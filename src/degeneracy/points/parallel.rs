@@ -10,16 +10,18 @@ use super::source::{io_error, Source};
 use super::{detect, pcd, ply, Kind, PointFormat, Sink};
 use crate::degeneracy::{worker_count, Accumulator, Block, Kernel, BLOCK};
 use crate::diagnostic::Result;
+use crate::progress::{Counted, Progress};
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
 
 /// Decode the file `path` (`len` bytes, open in `src`) into `acc`.
-pub(super) fn decode_file(
+pub(super) fn decode_file<R: Read>(
     path: &Path,
     len: u64,
-    src: &mut Source<File>,
+    src: &mut Source<R>,
     acc: &mut Accumulator,
+    progress: &dyn Progress,
 ) -> Result<(PointFormat, Stats)> {
     match detect(src)? {
         Kind::Ply => {
@@ -36,9 +38,16 @@ pub(super) fn decode_file(
                 start,
                 &layout,
                 &|a, b| ply::run(&h, a, b),
-                total,
+                (total, progress),
                 acc,
             )?;
+            if ply::tail_bytes(&h).is_none() {
+                // List elements after the vertices: read them by their counts.
+                let end = start.saturating_add((total as u64).saturating_mul(layout.rec as u64));
+                let mut f = File::open(path).map_err(|e| io_error(&e))?;
+                f.seek(SeekFrom::Start(end)).map_err(|e| io_error(&e))?;
+                ply::list_tail(&mut Source::at(f, end), &h)?;
+            }
             Ok((h.format, stats))
         }
         Kind::Pcd => {
@@ -54,12 +63,12 @@ pub(super) fn decode_file(
                 start,
                 &layout,
                 &|a, b| pcd::run(&h, a, b),
-                h.n,
+                (h.n, progress),
                 acc,
             )?;
             Ok((h.format, stats))
         }
-        Kind::Csv => super::decode(src, acc, false),
+        Kind::Las | Kind::Csv => super::decode(src, acc, false),
     }
 }
 
@@ -72,7 +81,7 @@ fn records(
     start: u64,
     layout: &Layout,
     run: &(dyn Fn(usize, usize) -> Run + Sync),
-    total: usize,
+    (total, progress): (usize, &dyn Progress),
     acc: &mut Accumulator,
 ) -> Result<Stats> {
     // The file's length settles a lying header before any decoding.
@@ -101,7 +110,9 @@ fn records(
         .map(|a| (a, (a + per).min(total)))
         .collect();
     let kernel = acc.kernel();
-    let work = |&(a, b): &(usize, usize)| decode_range(path, start, layout, &run(a, b - a), kernel);
+    let work = |&(a, b): &(usize, usize)| {
+        decode_range(path, start, layout, &run(a, b - a), (kernel, progress))
+    };
     let parts: Vec<Result<Part>> = if ranges.len() <= 1 {
         ranges.iter().map(work).collect()
     } else {
@@ -167,12 +178,13 @@ fn decode_range(
     start: u64,
     layout: &Layout,
     run: &Run,
-    kernel: Kernel,
+    (kernel, progress): (Kernel, &dyn Progress),
 ) -> Result<Part> {
     let mut f = File::open(path).map_err(|e| io_error(&e))?;
     let at = start + (run.first as u64) * layout.rec as u64;
     f.seek(SeekFrom::Start(at)).map_err(|e| io_error(&e))?;
-    let mut src = Source::at(f.take((run.count as u64) * layout.rec as u64), at);
+    let bytes = f.take((run.count as u64) * layout.rec as u64);
+    let mut src = Source::at(Counted::new(bytes, at, progress), at);
     let mut sink = BlockSink {
         acc: Accumulator::with_kernel(kernel).threads(1),
         blocks: Vec::new(),

@@ -13,6 +13,8 @@ struct PlyElement {
     count: usize,
     /// (name, type); `None` type for a list property.
     props: Vec<(String, Option<Scalar>)>,
+    /// (count type, item type) of each list property (`None` for a scalar).
+    lists: Vec<Option<(Scalar, Scalar)>>,
     /// Header line of each property (for a duplicate's message).
     prop_lines: Vec<usize>,
     line: usize,
@@ -67,6 +69,7 @@ fn header_line(
                 name: name.to_string(),
                 count,
                 props: Vec::new(),
+                lists: Vec::new(),
                 prop_lines: Vec::new(),
                 line: lineno,
             });
@@ -75,7 +78,9 @@ fn header_line(
             let Some(el) = elements.last_mut() else {
                 return Err(Error::parse("PLY: property before any element").at_line(lineno, None));
             };
+            let mut list = None;
             let (name, ty) = if t.get(1) == Some(&"list") {
+                list = Some(list_types(t, l, lineno)?);
                 (t.get(4).unwrap_or(&"").to_string(), None)
             } else {
                 let (Some(ty), Some(name)) = (t.get(1), t.get(2)) else {
@@ -95,6 +100,7 @@ fn header_line(
                 .at_line(lineno, None));
             }
             el.props.push((name, ty));
+            el.lists.push(list);
             el.prop_lines.push(lineno);
         }
         Some(other) => {
@@ -102,6 +108,27 @@ fn header_line(
         }
     }
     Ok(())
+}
+
+/// The (count, item) types of `property list COUNT ITEM NAME`: the count an
+/// integer type.
+fn list_types(t: &[&str], l: &str, lineno: usize) -> Result<(Scalar, Scalar)> {
+    let (Some(c), Some(i), Some(_)) = (t.get(2), t.get(3), t.get(4)) else {
+        return Err(Error::parse(format!(
+            "PLY: expected `property list COUNT_TYPE ITEM_TYPE NAME`, found {l:?}"
+        ))
+        .at_line(lineno, None));
+    };
+    match (Scalar::ply(c), Scalar::ply(i)) {
+        (Some(Scalar::F32 | Scalar::F64), _) => Err(Error::parse(format!(
+            "PLY: expected an integer list count type, found {c:?}"
+        ))
+        .at_line(lineno, None)),
+        (Some(c), Some(i)) => Ok((c, i)),
+        _ => {
+            Err(Error::parse(format!("PLY: unknown list types {c:?} {i:?}")).at_line(lineno, None))
+        }
+    }
 }
 
 pub(super) fn read_header<R: Read>(src: &mut Source<R>, xyz_only: bool) -> Result<Header> {
@@ -186,7 +213,7 @@ pub(super) fn tail_bytes(h: &Header) -> Option<u64> {
 /// header that claims fewer vertices than the file holds is an error).
 fn binary_tail<R: Read>(src: &mut Source<R>, h: &Header, rec: usize) -> Result<()> {
     let Some(tail) = tail_bytes(h) else {
-        return Ok(());
+        return list_tail(src, h);
     };
     let got = src.skip(tail)?;
     if got < tail {
@@ -199,6 +226,62 @@ fn binary_tail<R: Read>(src: &mut Source<R>, h: &Header, rec: usize) -> Result<(
         return Err(run(h, 0, h.count()).excess(rec, extra, at));
     }
     Ok(())
+}
+
+/// After the vertices of a binary file whose later elements have list
+/// properties (faces): each item read by its declared types, each list by
+/// its own count, then nothing (issue 12).
+pub(super) fn list_tail<R: Read>(src: &mut Source<R>, h: &Header) -> Result<()> {
+    let little = h.format == PointFormat::PlyBinaryLittleEndian;
+    for e in &h.elements[h.vi + 1..] {
+        for k in 0..e.count {
+            for ((name, ty), list) in e.props.iter().zip(&e.lists) {
+                let bytes = match (ty, list) {
+                    (Some(s), _) => s.size() as u64,
+                    (None, Some((c, item))) => {
+                        let n = read_scalar(src, *c, little).ok_or_else(|| ends_in(e, k))?;
+                        if !(n >= 0.0 && n <= u32::MAX as f64) {
+                            return Err(Error::parse(format!(
+                                "PLY: `{}` item {k}: expected a list length for {name:?}, found {n}",
+                                e.name
+                            ))
+                            .at_line(e.line, None));
+                        }
+                        n as u64 * item.size() as u64
+                    }
+                    (None, None) => 0,
+                };
+                if src.skip(bytes)? < bytes {
+                    return Err(ends_in(e, k));
+                }
+            }
+        }
+    }
+    let at = src.offset();
+    if src.has_more()? {
+        let extra = src.skip(u64::MAX)?;
+        let last = h.elements.last().map_or("vertex", |e| e.name.as_str());
+        return Err(Error::parse(format!(
+            "PLY: the file holds {extra} more bytes after the header's last element `{last}` (from byte offset {at}); expected the counts to match the data"
+        )));
+    }
+    Ok(())
+}
+
+fn read_scalar<R: Read>(src: &mut Source<R>, s: Scalar, little: bool) -> Option<f64> {
+    src.fill(s.size()).ok()?;
+    let v = src.data().get(..s.size()).map(|b| s.read(b, little))?;
+    src.consume(s.size());
+    Some(v)
+}
+
+/// A later element cut short at item `k`.
+fn ends_in(e: &PlyElement, k: usize) -> Error {
+    Error::parse(format!(
+        "PLY: header claims {} `{}` items, the file ends in item {k}",
+        e.count, e.name
+    ))
+    .at_line(e.line, None)
 }
 
 /// The records `first .. first + count` of the vertex element.

@@ -118,6 +118,23 @@ impl<R: Read> Source<R> {
         }
     }
 
+    /// Everything left in the stream (from the next unread byte), refused
+    /// past `cap` bytes.
+    pub(crate) fn read_rest(&mut self, cap: u64) -> Result<Vec<u8>> {
+        let mut out = self.data().to_vec();
+        self.start = self.end;
+        (&mut self.r)
+            .take(cap.saturating_sub(out.len() as u64).saturating_add(1))
+            .read_to_end(&mut out)
+            .map_err(|e| io_error(&e))?;
+        if out.len() as u64 > cap {
+            return Err(Error::limit(format!(
+                "point stream is more than the limit of {cap} bytes"
+            )));
+        }
+        Ok(out)
+    }
+
     /// Skip `n` bytes; returns how many there were.
     pub(crate) fn skip(&mut self, n: u64) -> Result<u64> {
         let mut left = n;
