@@ -28,6 +28,7 @@ for src in "$@"; do
             *.json) put json 0 "$f"; put json 3 "$f"
                 if grep -q "source_frame" <<<"$head"; then put json 5 "$f"; fi
                 if grep -q "sensor_name" <<<"$head"; then put json 6 "$f"; fi ;;
+            *.feather) put json 7 "$f" ;;
             *.csv|*.ply|*.pcd|*.las|*.laz) mkdir -p "$out/points"; cp "$f" "$out/points/$(echo "$f" | tr '/ ' '__' | sed 's/^[._]*//')" ;;
             *.yaml|*.yml|*.txt)
                 if grep -q 'child_frame_id\|transforms:' <<<"$head"; then put tf_static 0 "$f"; fi

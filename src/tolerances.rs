@@ -237,6 +237,13 @@ pub const XACRO_PACKAGE_SEARCH_UP: usize = 3;
 /// before that (issue 12).
 pub const URDF_MAX_XML_DEPTH: usize = 1000;
 
+/// Smallest zstd window (log2 bytes) an Arrow IPC buffer's decoder accepts
+/// (`formats::arrow_ipc`): 2 MiB, zstd's window at its default level 3 when
+/// the writer did not give the size. Above it the window may be as large as
+/// the buffer's claimed length (itself within the `--max-file-size` budget),
+/// so a forged frame header cannot make the decoder allocate more.
+pub const ARROW_ZSTD_MIN_WINDOW_LOG: u32 = 21;
+
 // ---------------------------------------------------------------------------
 // Rig analysis and verdicts (`analysis`)
 // ---------------------------------------------------------------------------

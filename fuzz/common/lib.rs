@@ -2,7 +2,7 @@
 //! path chosen by the target (and a selector byte), assert that success never
 //! carries a wrong number, and feed the edges to a `FrameGraph`.
 
-use extrinsic_audit::formats::{load_str, Format, LoadOptions, Loaded};
+use extrinsic_audit::formats::{load_bytes, load_str, Format, LoadOptions, Loaded};
 use extrinsic_audit::frames::FrameGraph;
 use extrinsic_audit::geometry::se3::Transform;
 use std::path::Path;
@@ -34,6 +34,21 @@ pub fn split(data: &[u8]) -> Option<(u8, String)> {
 /// Load `text` as if read from `path` (and, for odd selectors, with the format
 /// forced), check the result, build the graph and query it.
 pub fn load_and_check(text: &str, path: &str, format: Option<Format>, sel: u8) {
+    if let Ok(loaded) = load_str(text, Path::new(path), &options(format, sel)) {
+        check_loaded(loaded);
+    }
+}
+
+/// [`load_and_check`] on raw bytes through `load_bytes` (binary formats:
+/// Arrow IPC `.feather`).
+pub fn load_bytes_and_check(bytes: &[u8], path: &str, format: Option<Format>, sel: u8) {
+    if let Ok(loaded) = load_bytes(bytes.to_vec(), Path::new(path), &options(format, sel)) {
+        check_loaded(loaded);
+    }
+}
+
+/// The options a selector byte sets: `--invert`, `--key`, `--joint`.
+fn options(format: Option<Format>, sel: u8) -> LoadOptions {
     let mut opts = LoadOptions {
         format,
         invert: sel & 0x40 != 0,
@@ -45,9 +60,7 @@ pub fn load_and_check(text: &str, path: &str, format: Option<Format>, sel: u8) {
     if sel & 0x20 != 0 {
         opts.joints.insert("joint".into(), 0.5);
     }
-    if let Ok(loaded) = load_str(text, Path::new(path), &opts) {
-        check_loaded(loaded);
-    }
+    opts
 }
 
 /// Every edge finite and orthonormal; the graph built from them answers every

@@ -15,6 +15,7 @@ use crate::tolerances::{DEFAULT_MAX_FILE_SIZE, MAX_TRANSLATION_M, METRE_FIELD_WA
 use std::collections::BTreeMap;
 use std::path::Path;
 
+pub mod arrow_ipc;
 pub mod av2;
 pub mod bag;
 pub mod kitti_m2dgr;
@@ -216,8 +217,29 @@ pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     if bag::is_bag(path) {
         return bag::load(path, opts);
     }
-    let text = crate::input::read_text(path, opts.max_file_size, "the --max-file-size cap")?;
-    load_str(&text, path, opts)
+    let bytes = crate::input::read_bytes(path, opts.max_file_size, "the --max-file-size cap")?;
+    load_bytes(bytes, path, opts)
+}
+
+/// Read the bytes of one file: an Arrow IPC file (`ARROW1` magic, a
+/// `.feather` name or `--input-format av2-feather`) as Argoverse 2's
+/// `egovehicle_SE3_sensor` table, anything else as UTF-8 text ([`load_str`]).
+pub fn load_bytes(bytes: Vec<u8>, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    let feather = match opts.format {
+        Some(f) => f.name() == av2::AV2_FEATHER.id,
+        None => {
+            arrow_ipc::is_arrow_file(&bytes)
+                || path
+                    .extension()
+                    .is_some_and(|e| e.eq_ignore_ascii_case("feather"))
+        }
+    };
+    if !feather {
+        let text = crate::input::decode(bytes).map_err(|e| e.in_file(path))?;
+        return load_str(&text, path, opts);
+    }
+    let loaded = av2::parse_feather(&bytes, path, opts).map_err(|e| e.in_file(path))?;
+    checked(loaded, Format(&av2::AV2_FEATHER), path, opts)
 }
 
 /// A `--joint` value above 2 pi on a revolute or continuous joint of these
@@ -284,7 +306,13 @@ pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         Some(f) => f,
         None => detect_format(path, text)?,
     };
-    let mut loaded = (format.0.parse)(text, path, opts).map_err(|e| e.in_file(path))?;
+    let loaded = (format.0.parse)(text, path, opts).map_err(|e| e.in_file(path))?;
+    checked(loaded, format, path, opts)
+}
+
+/// What every loader's result goes through: at least one edge, names and
+/// translations checked, `--joint` degrees warned, `--invert` applied.
+fn checked(mut loaded: Loaded, format: Format, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     if loaded.edges.is_empty() {
         return Err(Error::parse(format!(
             "read as {}: expected at least one transform, found none",

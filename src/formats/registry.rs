@@ -129,6 +129,7 @@ pub const FORMATS: &[&FormatSpec] = &[
     &yaml_dialects::QUATERNION_YAML,
     &nuscenes::NUSCENES,
     &ouster_extrinsics::SPEC,
+    &av2::AV2_FEATHER,
     &av2::AV2_JSON,
     &ouster::SPEC,
     &kitti_m2dgr::KITTI_CALIB,
