@@ -22,7 +22,7 @@
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::arrow_ipc::{self, Column};
 use crate::formats::registry::{FormatSpec, Sniff, CERTAIN};
-use crate::formats::yaml::{self, Node, Value};
+use crate::formats::yaml::{Node, Value};
 use crate::formats::yaml_dialects::{err_at, loc_of};
 use crate::formats::{check_metres, locate_warnings, Edge, LoadOptions, Loaded};
 use crate::geometry::se3::{QuatOrder, Transform};
@@ -203,13 +203,7 @@ fn finish(rows: Vec<Row>, what: &str, format: &'static str, opts: &LoadOptions) 
 
 /// Parse Argoverse 2 `egovehicle_SE3_sensor` rows (JSON).
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    if let Err(e) = serde_json::from_str::<serde_json::Value>(text) {
-        let msg = e.to_string();
-        let msg = msg.split(" at line ").next().unwrap_or("").to_string();
-        return Err(Error::parse(format!("not valid JSON: {msg}"))
-            .at_line(e.line().max(1), Some(e.column().max(1))));
-    }
-    let docs = yaml::parse_documents(&text.replace('\t', " "))?;
+    let docs = crate::formats::ouster::json_documents(text)?;
     let Some(Value::Seq(rows)) = docs.first().map(|d| &d.value) else {
         return Err(Error::parse(format!(
             "Argoverse 2 egovehicle_SE3_sensor JSON: expected a list of rows {ROW}, found another value"

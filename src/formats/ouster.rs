@@ -34,8 +34,10 @@ fn find<'a>(n: &'a Node, key: &str) -> Option<(&'a Node, &'a Node)> {
     }
 }
 
-/// Parse Ouster metadata (or any JSON with `--key`).
-pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+/// The documents of a JSON file, read by the YAML reader (which keeps each
+/// node's line) after serde_json has checked the syntax, so a JSON error is
+/// reported as JSON, at its line and column. Shared by the JSON formats.
+pub(crate) fn json_documents(text: &str) -> Result<Vec<yaml::Node>> {
     if let Err(e) = serde_json::from_str::<serde_json::Value>(text) {
         let msg = e.to_string();
         let msg = msg.split(" at line ").next().unwrap_or("").to_string();
@@ -43,8 +45,12 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             .at_line(e.line().max(1), Some(e.column().max(1))));
     }
     // JSON allows tabs where YAML forbids them in indentation.
-    let relaxed = text.replace('\t', " ");
-    let docs = yaml::parse_documents(&relaxed)?;
+    yaml::parse_documents(&text.replace('\t', " "))
+}
+
+/// Parse Ouster metadata (or any JSON with `--key`).
+pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    let docs = json_documents(text)?;
     let Some(doc) = docs.first() else {
         return Err(Error::parse("empty JSON document"));
     };

@@ -26,7 +26,7 @@
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::registry::{FormatSpec, Sniff};
-use crate::formats::yaml::{self, Node, Value};
+use crate::formats::yaml::{Node, Value};
 use crate::formats::yaml_dialects::{err_at, loc_of};
 use crate::formats::{locate_warnings, Edge, LoadOptions, Loaded};
 use crate::geometry::se3::{QuatOrder, Transform};
@@ -218,13 +218,7 @@ fn where_(l: &Location) -> String {
 
 /// Parse an Ouster `extrinsic_parameters.json`.
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    if let Err(e) = serde_json::from_str::<serde_json::Value>(text) {
-        let msg = e.to_string();
-        let msg = msg.split(" at line ").next().unwrap_or("").to_string();
-        return Err(Error::parse(format!("not valid JSON: {msg}"))
-            .at_line(e.line().max(1), Some(e.column().max(1))));
-    }
-    let docs = yaml::parse_documents(&text.replace('\t', " "))?;
+    let docs = crate::formats::ouster::json_documents(text)?;
     let Some(doc) = docs.first() else {
         return Err(Error::parse("empty JSON document"));
     };
