@@ -235,6 +235,14 @@ pub fn load_bytes(bytes: Vec<u8>, path: &Path, opts: &LoadOptions) -> Result<Loa
         }
     };
     if !feather {
+        // A LAS/LAZ scan given where extrinsics are expected: say what it is
+        // and where it is read, rather than "expected UTF-8 text".
+        if bytes.starts_with(b"LASF") {
+            return Err(Error::parse(
+                "expected a file with transforms (URDF, launch, YAML, JSON, TOML, ...), found a LAS/LAZ point cloud (magic `LASF`); its degeneracy is read by `audit degeneracy FILE --estimate-normals`",
+            )
+            .in_file(path));
+        }
         let text = crate::input::decode(bytes).map_err(|e| e.in_file(path))?;
         return load_str(&text, path, opts);
     }

@@ -591,3 +591,18 @@ fn invert_reads_the_file_the_other_way() {
     assert_eq!(t(&[]), [0.04165, 0.02326, -0.0284]);
     assert_eq!(t(&["--invert"]), [-0.04165, -0.02326, 0.0284]);
 }
+
+/// A LAS/LAZ scan given to the rig audit is named for what it is, with the
+/// command that reads it (not "expected UTF-8 text").
+#[test]
+fn a_las_scan_given_as_extrinsics_points_to_degeneracy() {
+    for f in ["autzen.las", "autzen.laz"] {
+        let p = format!("tests/fixtures/detector/scans/{f}");
+        let out = audit().args([p.as_str(), "--frames"]).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{f}: {err}");
+        assert!(err.contains(f), "{f}: names the file: {err}");
+        assert!(err.contains("LAS/LAZ point cloud"), "{f}: {err}");
+        assert!(err.contains("audit degeneracy"), "{f}: {err}");
+    }
+}
