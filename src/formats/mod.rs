@@ -237,7 +237,7 @@ pub fn load_bytes(bytes: Vec<u8>, path: &Path, opts: &LoadOptions) -> Result<Loa
     if !feather {
         // A LAS/LAZ scan given where extrinsics are expected: say what it is
         // and where it is read, rather than "expected UTF-8 text".
-        if bytes.starts_with(b"LASF") {
+        if bytes.starts_with(crate::degeneracy::points::las::MAGIC) {
             return Err(Error::parse(
                 "expected a file with transforms (URDF, launch, YAML, JSON, TOML, ...), found a LAS/LAZ point cloud (magic `LASF`); its degeneracy is read by `audit degeneracy FILE --estimate-normals`",
             )

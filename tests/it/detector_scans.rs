@@ -216,23 +216,7 @@ mod real {
             .clone()
     }
 
-    fn nums(v: &Value) -> Vec<f64> {
-        match v {
-            Value::Array(a) => a.iter().flat_map(nums).collect(),
-            Value::Number(n) => vec![n.as_f64().unwrap()],
-            _ => panic!("not numbers: {v}"),
-        }
-    }
-
-    /// `max |a - b| / max |b|`.
-    fn rel(a: &[f64], b: &[f64]) -> f64 {
-        assert_eq!(a.len(), b.len());
-        let s = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        a.iter()
-            .zip(b)
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-            / s
-    }
+    use crate::common::{nums, rel};
 
     /// `audit degeneracy FILE --estimate-normals --voxel 0.1 ...` as JSON.
     fn run(file: &str, extra: &[&str]) -> Value {

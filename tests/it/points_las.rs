@@ -3,7 +3,7 @@
 //! honour the source's weights. References: expected_las.json, written by
 //! tests/fixtures/detector/scans/make_reference_las.py (laspy, lazrs, numpy).
 
-use crate::common::{audit, run_cli};
+use crate::common::{audit, nums, rel, run_cli};
 use extrinsic_audit::degeneracy::points::{parse_points, read_xyz, PointFormat};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -15,24 +15,6 @@ fn dir() -> PathBuf {
 fn expected() -> Value {
     let text = std::fs::read_to_string(dir().join("expected_las.json")).unwrap();
     serde_json::from_str(&text).unwrap()
-}
-
-fn nums(v: &Value) -> Vec<f64> {
-    match v {
-        Value::Array(a) => a.iter().flat_map(nums).collect(),
-        Value::Number(n) => vec![n.as_f64().unwrap()],
-        _ => panic!("not numbers: {v}"),
-    }
-}
-
-/// `max |a - b| / max |b|`.
-fn rel(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let s = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-        / s
 }
 
 fn pd_eigenvalues(r: &Value) -> Vec<f64> {

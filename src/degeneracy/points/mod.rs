@@ -43,7 +43,7 @@
 mod binary;
 mod check;
 mod csv;
-mod las;
+pub(crate) mod las;
 mod lzf;
 mod parallel;
 mod pcd;
@@ -156,6 +156,19 @@ struct Collect {
     weights: Option<Vec<f64>>,
 }
 
+impl Collect {
+    /// The points held, with the file's format and the reader's warnings.
+    fn into_data(self, format: PointFormat, stats: &Stats) -> PointData {
+        PointData {
+            points: self.points,
+            normals: self.normals,
+            weights: self.weights,
+            format,
+            warnings: stats.warnings(),
+        }
+    }
+}
+
 impl Sink for Collect {
     fn begin(&mut self, weighted: bool, hint: usize) {
         let cap = hint.min(MAX_PREALLOC);
@@ -248,13 +261,7 @@ pub fn read_xyz_classes(path: &Path, classes: &[u8], progress: &dyn Progress) ->
     let r = las::decode(f, meta.len(), &mut sink, (Some(classes), progress));
     progress.finish();
     let (format, stats) = r.map_err(|e| e.in_file(path))?;
-    Ok(PointData {
-        points: sink.points,
-        normals: sink.normals,
-        weights: sink.weights,
-        format,
-        warnings: stats.warnings(),
-    })
+    Ok(sink.into_data(format, &stats))
 }
 
 fn read_path(path: &Path, xyz_only: bool, progress: &dyn Progress) -> Result<PointData> {
@@ -296,13 +303,7 @@ where
     }
     let mut sink = Collect::default();
     let (format, stats) = las::decode(r, len, &mut sink, (None, progress))?;
-    Ok(PointData {
-        points: sink.points,
-        normals: sink.normals,
-        weights: sink.weights,
-        format,
-        warnings: stats.warnings(),
-    })
+    Ok(sink.into_data(format, &stats))
 }
 
 /// LAS records have no normals: the same refusal as a PCD without them.
@@ -337,13 +338,7 @@ fn read_mode<R: Read>(r: R, xyz_only: bool) -> Result<PointData> {
         return read_las(std::io::Cursor::new(bytes), len, xyz_only, &NoProgress);
     }
     let (format, stats) = decode(&mut src, &mut sink, xyz_only)?;
-    Ok(PointData {
-        points: sink.points,
-        normals: sink.normals,
-        weights: sink.weights,
-        format,
-        warnings: stats.warnings(),
-    })
+    Ok(sink.into_data(format, &stats))
 }
 
 /// `H` and `M` of a point file, streamed from disk in bounded reads (binary

@@ -42,3 +42,22 @@ pub fn vlp16_rig_xacro(dir: &std::path::Path) -> std::path::PathBuf {
     .expect("write");
     input
 }
+
+/// Every number in a JSON value (nested arrays flattened, row by row).
+pub fn nums(v: &serde_json::Value) -> Vec<f64> {
+    match v {
+        serde_json::Value::Array(a) => a.iter().flat_map(nums).collect(),
+        serde_json::Value::Number(n) => vec![n.as_f64().unwrap()],
+        _ => panic!("not numbers: {v}"),
+    }
+}
+
+/// `max |a - b| / max |b|`.
+pub fn rel(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let s = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+        / s
+}
