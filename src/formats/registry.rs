@@ -8,10 +8,7 @@
 //! `pub const SPEC: FormatSpec`, and one line here.
 
 use super::spec::{Confidence, Format, FormatSpec, Input};
-use super::{
-    av2, bag, kitti_m2dgr, kitti_object, las, launch, lio_yaml, matrix_tree, nuscenes, ouster,
-    ouster_extrinsics, rig_toml, urdf, xacro, xml, yaml_dialects,
-};
+use super::xml;
 use crate::diagnostic::{Error, Result};
 use std::path::Path;
 
@@ -19,35 +16,35 @@ use std::path::Path;
 /// sniff at [`Confidence::Keys`], the order decides which of two dialects
 /// whose keys a file holds reads it).
 pub const FORMATS: &[&FormatSpec] = &[
-    &urdf::SPEC,
-    &xacro::SPEC,
-    &launch::LAUNCH_XML,
-    &launch::LIO_LIVOX_LAUNCH,
-    &launch::LAUNCH_PY,
-    &launch::STATIC_TF_COMMANDS,
-    &yaml_dialects::TF_STATIC_ECHO,
-    &launch::LAUNCH_YAML,
-    &yaml_dialects::FAST_LIO,
-    &yaml_dialects::LIO_SAM,
-    &lio_yaml::IG_LIO,
-    &lio_yaml::DLIO,
-    &lio_yaml::VINS_MONO,
-    &yaml_dialects::SLICT,
-    &yaml_dialects::COCO_LIC,
-    &yaml_dialects::QUATERNION_YAML,
-    &yaml_dialects::TF_TREE_YAML,
-    &matrix_tree::MATRIX_YAML,
-    &nuscenes::NUSCENES,
-    &ouster_extrinsics::SPEC,
-    &av2::AV2_JSON,
-    &ouster::SPEC,
-    &bag::SPEC,
-    &av2::AV2_FEATHER,
-    &las::SPEC,
-    &kitti_m2dgr::KITTI_CALIB,
-    &kitti_object::KITTI_OBJECT,
-    &kitti_m2dgr::M2DGR_TXT,
-    &rig_toml::SPEC,
+    &super::urdf::SPEC,
+    &super::xacro::SPEC,
+    &super::launch::LAUNCH_XML,
+    &super::launch::LIO_LIVOX_LAUNCH,
+    &super::launch::LAUNCH_PY,
+    &super::launch::STATIC_TF_COMMANDS,
+    &super::yaml_dialects::TF_STATIC_ECHO,
+    &super::launch::LAUNCH_YAML,
+    &super::yaml_dialects::FAST_LIO,
+    &super::yaml_dialects::LIO_SAM,
+    &super::lio_yaml::IG_LIO,
+    &super::lio_yaml::DLIO,
+    &super::lio_yaml::VINS_MONO,
+    &super::yaml_dialects::SLICT,
+    &super::yaml_dialects::COCO_LIC,
+    &super::yaml_dialects::QUATERNION_YAML,
+    &super::yaml_dialects::TF_TREE_YAML,
+    &super::matrix_tree::MATRIX_YAML,
+    &super::nuscenes::NUSCENES,
+    &super::ouster_extrinsics::SPEC,
+    &super::av2::AV2_JSON,
+    &super::ouster::SPEC,
+    &super::bag::SPEC,
+    &super::av2::AV2_FEATHER,
+    &super::las::SPEC,
+    &super::kitti_m2dgr::KITTI_CALIB,
+    &super::kitti_object::KITTI_OBJECT,
+    &super::kitti_m2dgr::M2DGR_TXT,
+    &super::rig_toml::SPEC,
 ];
 
 /// Every format with its one-line description.
