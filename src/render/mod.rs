@@ -56,55 +56,97 @@ pub enum OutputFormat {
     Svg,
 }
 
-impl OutputFormat {
-    /// Every format, in the order `--help` lists them.
-    pub const ALL: [OutputFormat; 9] = [
-        OutputFormat::Table,
-        OutputFormat::Markdown,
-        OutputFormat::Json,
-        OutputFormat::Github,
-        OutputFormat::Csv,
-        OutputFormat::Sarif,
-        OutputFormat::Dot,
-        OutputFormat::Mermaid,
-        OutputFormat::Svg,
-    ];
+/// What a format needs of a document to draw it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Needs {
+    /// Any report (JSON: the report itself, not its document).
+    Report,
+    /// Any document but a chart (a graph is written as its text form).
+    NoChart,
+    /// A document without a picture.
+    NoPicture,
+    /// Findings (a diagnostics block).
+    Findings,
+    /// A graph.
+    Graph,
+    /// A graph or a chart.
+    Picture,
+}
 
-    /// The name `--format` takes (`text` for the table, its alias).
-    pub fn name(self) -> &'static str {
+/// What the picture formats do.
+const FRAME_TREE: &str = "draws the frame tree (`audit FILE... --frames`)";
+
+impl OutputFormat {
+    /// The format's row: its name in messages (`text` for the table, its
+    /// alias), what it does and what it expected (for a refusal), and what it
+    /// needs of a document.
+    fn spec(self) -> (&'static str, &'static str, &'static str, Needs) {
         match self {
-            OutputFormat::Table => "text",
-            OutputFormat::Markdown => "markdown",
-            OutputFormat::Json => "json",
-            OutputFormat::Github => "github",
-            OutputFormat::Csv => "csv",
-            OutputFormat::Sarif => "sarif",
-            OutputFormat::Dot => "dot",
-            OutputFormat::Mermaid => "mermaid",
-            OutputFormat::Svg => "svg",
+            OutputFormat::Table => (
+                "text",
+                "writes a report as text",
+                "a report",
+                Needs::NoChart,
+            ),
+            OutputFormat::Markdown => (
+                "markdown",
+                "writes a report as text",
+                "a report",
+                Needs::NoChart,
+            ),
+            OutputFormat::Json => ("json", "is the report itself", "a report", Needs::Report),
+            OutputFormat::Github => (
+                "github",
+                "annotates a report's findings for GitHub",
+                "a report",
+                Needs::NoPicture,
+            ),
+            OutputFormat::Csv => (
+                "csv",
+                "writes a report's tables",
+                "tables",
+                Needs::NoPicture,
+            ),
+            OutputFormat::Sarif => (
+                "sarif",
+                "lists the findings of `audit check`",
+                "findings",
+                Needs::Findings,
+            ),
+            OutputFormat::Dot => ("dot", FRAME_TREE, "a picture", Needs::Graph),
+            OutputFormat::Mermaid => ("mermaid", FRAME_TREE, "a picture", Needs::Graph),
+            OutputFormat::Svg => ("svg", FRAME_TREE, "a picture", Needs::Picture),
         }
     }
 
+    /// The name `--format` takes (`text` for the table, its alias).
+    pub fn name(self) -> &'static str {
+        let (name, ..) = self.spec();
+        name
+    }
+
     /// Whether this format can draw `doc` (JSON: any report, from the report
-    /// itself). A picture is drawn by the picture formats and written as
-    /// text; a chart only as SVG.
+    /// itself). A graph is drawn by the picture formats and written as text;
+    /// a chart only as SVG.
     pub fn draws(self, doc: &Document) -> bool {
+        let (.., needs) = self.spec();
         let picture = picture(doc);
-        match self {
-            OutputFormat::Json => true,
-            OutputFormat::Table | OutputFormat::Markdown => {
-                !matches!(picture, Some(Block::Plot(_)))
-            }
-            OutputFormat::Github | OutputFormat::Csv => picture.is_none(),
-            OutputFormat::Sarif => doc
+        match needs {
+            Needs::Report => true,
+            Needs::NoChart => !matches!(picture, Some(Block::Plot(_))),
+            Needs::NoPicture => picture.is_none(),
+            Needs::Findings => doc
                 .blocks
                 .iter()
                 .any(|b| matches!(b, Block::Diagnostics(_))),
-            OutputFormat::Dot | OutputFormat::Mermaid => {
-                matches!(picture, Some(Block::Graph(_)))
-            }
-            OutputFormat::Svg => picture.is_some(),
+            Needs::Graph => matches!(picture, Some(Block::Graph(_))),
+            Needs::Picture => picture.is_some(),
         }
+    }
+
+    /// Every format, in the order `--help` lists them.
+    fn all() -> &'static [OutputFormat] {
+        <OutputFormat as clap::ValueEnum>::value_variants()
     }
 }
 
@@ -140,12 +182,16 @@ pub fn document(
     style: Style,
     layout: &Layout,
 ) -> Result<String> {
-    if format == OutputFormat::Json || !format.draws(doc) {
+    let picture = picture(doc);
+    let graph = || match picture {
+        Some(Block::Graph(g)) => Ok(g),
+        _ => Err(refusal(format, doc)),
+    };
+    if !format.draws(doc) {
         return Err(refusal(format, doc));
     }
-    let picture = picture(doc);
-    Ok(match (format, picture) {
-        (OutputFormat::Table, _) => {
+    Ok(match format {
+        OutputFormat::Table => {
             // A picture has no columns: --columns applies to the tables.
             if !layout.columns.is_empty() && picture.is_none() {
                 let tables: Vec<&Table> = doc
@@ -160,46 +206,36 @@ pub fn document(
             }
             text::render_laid(doc, style, layout)
         }
-        (OutputFormat::Markdown, _) => markdown::render(doc),
-        (OutputFormat::Github, _) => github::render(doc),
-        (OutputFormat::Csv, _) => csv::render(doc),
-        (OutputFormat::Sarif, _) => sarif::render(doc),
-        (OutputFormat::Dot, Some(Block::Graph(g))) => graph::dot(g),
-        (OutputFormat::Mermaid, Some(Block::Graph(g))) => graph::mermaid(g),
-        (OutputFormat::Svg, Some(Block::Graph(g))) => graph::svg(g),
-        (OutputFormat::Svg, Some(Block::Plot(p))) => plot::svg(p)?,
-        _ => return Err(refusal(format, doc)),
+        OutputFormat::Markdown => markdown::render(doc),
+        OutputFormat::Json => return Err(refusal(format, doc)),
+        OutputFormat::Github => github::render(doc),
+        OutputFormat::Csv => csv::render(doc),
+        OutputFormat::Sarif => sarif::render(doc),
+        OutputFormat::Dot => graph::dot(graph()?),
+        OutputFormat::Mermaid => graph::mermaid(graph()?),
+        OutputFormat::Svg => match picture {
+            Some(Block::Plot(p)) => plot::svg(p)?,
+            _ => graph::svg(graph()?),
+        },
     })
 }
 
 /// A format that cannot draw `doc`: a usage error saying what the format is
 /// for, what it found instead, and which formats draw this document.
 fn refusal(format: OutputFormat, doc: &Document) -> Error {
-    let picture = picture(doc);
-    let found = match picture {
+    let found = match picture(doc) {
         Some(Block::Graph(_)) => "a picture (the frame tree)",
         Some(_) => "a chart (drawn as SVG only)",
         None => "a report without one",
     };
-    let (does, expected) = match format {
-        OutputFormat::Table | OutputFormat::Markdown => ("writes a report as text", "a report"),
-        OutputFormat::Json => ("is the report itself", "a report"),
-        OutputFormat::Github => ("annotates a report's findings for GitHub", "a report"),
-        OutputFormat::Csv => ("writes a report's tables", "tables"),
-        OutputFormat::Sarif => ("lists the findings of `audit check`", "findings"),
-        OutputFormat::Dot | OutputFormat::Mermaid | OutputFormat::Svg => (
-            "draws the frame tree (`audit FILE... --frames`)",
-            "a picture",
-        ),
-    };
-    let takes: Vec<&str> = OutputFormat::ALL
-        .into_iter()
+    let (name, does, expected, _) = format.spec();
+    let takes: Vec<&str> = OutputFormat::all()
+        .iter()
         .filter(|f| f.draws(doc))
-        .map(OutputFormat::name)
+        .map(|f| f.name())
         .collect();
     Error::usage(format!(
-        "--format {} {does}; expected {expected}, found {found}: this report takes {}",
-        format.name(),
+        "--format {name} {does}; expected {expected}, found {found}: this report takes {}",
         one_of(&takes)
     ))
 }
@@ -239,10 +275,10 @@ mod tests {
             })),
         ];
         let takes = |d: &Document| -> String {
-            let t: Vec<&str> = OutputFormat::ALL
-                .into_iter()
+            let t: Vec<&str> = OutputFormat::all()
+                .iter()
                 .filter(|f| f.draws(d))
-                .map(OutputFormat::name)
+                .map(|f| f.name())
                 .collect();
             t.join(" ")
         };
