@@ -3,7 +3,7 @@
 //! Each quantity is printed at a precision that fits it (the exact value
 //! stays in JSON): translations and lengths to 0.1 mm ([`metres`]), angles
 //! to 0.001 deg ([`degrees`]), ratios to four significant digits ([`ratio`]),
-//! unit-vector and rotation entries to six decimals ([`unit`]). A value
+//! unit-vector and rotation entries to six decimals ([`unit()`]). A value
 //! below the resolution prints `0` (never `-0.0000` nor `1.1102e-16`).
 //! Vectors are `[a, b, c]` everywhere ([`vector`]). The resolutions are
 //! defined here, where they are used: they are how numbers are printed, not

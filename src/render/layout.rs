@@ -423,7 +423,7 @@ pub fn records(f: &Fitted, width: usize) -> Vec<String> {
 /// on a terminal narrower than the table's compact set. `None`, and the
 /// caller draws the bordered table, when not on a terminal, with `--wide`,
 /// when the bordered table fits unwrapped, when a cell holds a line break, or
-/// when even two columns do not fit ([`one_line_cells`]).
+/// when even two columns do not fit (`one_line_cells`).
 pub fn borderless(t: &Table, layout: &Layout) -> Option<(Vec<String>, usize)> {
     let elide = t.one_line?;
     let w = layout.width().filter(|_| t.wrap && !layout.wide)?;

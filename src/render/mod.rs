@@ -1,9 +1,8 @@
 //! Rendering: the one output path. Every report reaches a format through
 //! [`render`]: JSON is the report itself, serialised in the one envelope
-//! (`json.rs`); every other format draws the report's
-//! [`Document`](crate::document::Document) ([`document`]): text, markdown,
-//! GitHub workflow commands, CSV and SARIF from its blocks, and the pictures
-//! from its picture block: DOT, Mermaid and SVG from a graph (`graph/`), SVG
+//! (`json.rs`); every other format draws the report's [`Document`]
+//! ([`document()`]): text, markdown, GitHub workflow commands, CSV and SARIF
+//! from its blocks, and the pictures from its picture block: DOT, Mermaid and SVG from a graph (`graph/`), SVG
 //! from a plot (`plot.rs`). A format that cannot draw a document (a picture
 //! of a report without one, SARIF without findings, CSV of a picture) is a
 //! usage error naming the formats that can, never other output.
