@@ -2,10 +2,11 @@
 //! [`render`]: JSON is the report itself, serialised in the one envelope
 //! (`json.rs`); every other format draws the report's [`Document`]
 //! ([`document()`]): text, markdown, GitHub workflow commands, CSV and SARIF
-//! from its blocks, and the pictures from its picture block: DOT, Mermaid and SVG from a graph (`graph/`), SVG
-//! from a plot (`plot.rs`). A format that cannot draw a document (a picture
-//! of a report without one, SARIF without findings, CSV of a picture) is a
-//! usage error naming the formats that can, never other output.
+//! from its blocks, and the pictures from its picture block: DOT, Mermaid
+//! and SVG from a graph (`graph/`), SVG from a plot (`plot.rs`). A format
+//! that cannot draw a document (a picture of a report without one, SARIF
+//! without findings, CSV of a picture) is a usage error naming the formats
+//! that can, never other output.
 //!
 //! This module imports the document layer and never `report`: a renderer
 //! knows blocks, not report types.
