@@ -8,9 +8,9 @@
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Graph {
     /// The nodes, depth first from the roots.
-    pub nodes: Vec<Node>,
+    pub nodes: Vec<GraphNode>,
     /// The links, each from a parent to a child (indices into `nodes`).
-    pub links: Vec<Link>,
+    pub links: Vec<GraphLink>,
     /// The names along the highlighted chain, from its first node to its
     /// last; `None` when no chain is highlighted.
     pub chain: Option<Vec<String>>,
@@ -20,7 +20,7 @@ pub struct Graph {
 
 /// One node.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Node {
+pub struct GraphNode {
     /// Its name.
     pub name: String,
     /// Its parent (index into [`Graph::nodes`]); `None` for a root.
@@ -33,7 +33,7 @@ pub struct Node {
 
 /// One link, parent to child.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Link {
+pub struct GraphLink {
     /// The parent (index into [`Graph::nodes`]).
     pub from: usize,
     /// The child (index into [`Graph::nodes`]).
@@ -46,7 +46,7 @@ pub struct Link {
 
 impl Graph {
     /// The link into each node (`None` for a root), indexed like `nodes`.
-    pub fn links_into(&self) -> Vec<Option<&Link>> {
+    pub fn links_into(&self) -> Vec<Option<&GraphLink>> {
         let mut into = vec![None; self.nodes.len()];
         for l in &self.links {
             if let Some(slot) = into.get_mut(l.to) {
@@ -63,13 +63,13 @@ mod tests {
 
     #[test]
     fn each_node_has_the_link_into_it() {
-        let node = |name: &str, parent| Node {
+        let node = |name: &str, parent| GraphNode {
             name: name.into(),
             parent,
             depth: parent.map_or(0, |_| 1),
             on_chain: false,
         };
-        let link = |from, to| Link {
+        let link = |from, to| GraphLink {
             from,
             to,
             label: vec![],

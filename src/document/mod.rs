@@ -15,7 +15,7 @@ pub mod numbers;
 pub mod plot;
 mod table;
 
-pub use graph::{Graph, Link, Node};
+pub use graph::{Graph, GraphLink, GraphNode};
 pub use plot::Plot;
 pub use table::Table;
 

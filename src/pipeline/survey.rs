@@ -338,7 +338,7 @@ pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
 /// inputs must still not include it).
 pub fn write_survey_plot(target: &Path, inputs: &[PathBuf], report: &SurveyReport) -> Result<()> {
     check_plot_target(target, inputs)?;
-    let svg = crate::render::document(
+    let svg = crate::render::draw(
         &report.plot(),
         crate::render::OutputFormat::Svg,
         crate::render::Style::plain(),

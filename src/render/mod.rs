@@ -1,7 +1,7 @@
 //! Rendering: the one output path. Every report reaches a format through
 //! [`render`]: JSON is the report itself, serialised in the one envelope
 //! (`json.rs`); every other format draws the report's [`Document`]
-//! ([`document()`]): text, markdown, GitHub workflow commands, CSV and SARIF
+//! ([`draw`]): text, markdown, GitHub workflow commands, CSV and SARIF
 //! from its blocks, and the pictures from its picture block: DOT, Mermaid
 //! and SVG from a graph (`graph/`), SVG from a plot (`plot.rs`). A format
 //! that cannot draw a document (a picture of a report without one, SARIF
@@ -170,18 +170,13 @@ pub fn render<R: Report>(
 ) -> Result<String> {
     match format {
         OutputFormat::Json => json::render(report, warnings),
-        _ => document(&report.document(), format, style, layout),
+        _ => draw(&report.document(), format, style, layout),
     }
 }
 
 /// Draw a document in a format (every format but JSON, which is the report
 /// itself): the text formats from its blocks, the pictures from its picture.
-pub fn document(
-    doc: &Document,
-    format: OutputFormat,
-    style: Style,
-    layout: &Layout,
-) -> Result<String> {
+pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout) -> Result<String> {
     let picture = picture(doc);
     let graph = || match picture {
         Some(Block::Graph(g)) => Ok(g),
@@ -286,7 +281,7 @@ mod tests {
         assert_eq!(takes(&docs[1]), "text markdown json github csv sarif");
         assert_eq!(takes(&docs[2]), "text markdown json dot mermaid svg");
         assert_eq!(takes(&docs[3]), "json svg");
-        let e = document(
+        let e = draw(
             &docs[0],
             OutputFormat::Dot,
             Style::plain(),
@@ -298,7 +293,7 @@ mod tests {
             "{msg}"
         );
         // JSON is the report itself: a bare document has none.
-        assert!(document(
+        assert!(draw(
             &docs[2],
             OutputFormat::Json,
             Style::plain(),

@@ -13,7 +13,7 @@
 
 use crate::document::numbers::{degrees_trimmed, fixed};
 use crate::document::SCHEMA_VERSION;
-use crate::document::{Block, Document, Graph, Link, Node, Report};
+use crate::document::{Block, Document, Graph, GraphLink, GraphNode, Report};
 use crate::frames::{Chain, Edge, FrameGraph};
 use serde::Serialize;
 use std::collections::{HashMap, HashSet};
@@ -226,7 +226,7 @@ impl FramesReport {
             nodes: self
                 .frames
                 .iter()
-                .map(|f| Node {
+                .map(|f| GraphNode {
                     name: f.name.clone(),
                     parent: f.parent.as_deref().and_then(at),
                     depth: f.depth,
@@ -237,7 +237,7 @@ impl FramesReport {
                 .edges
                 .iter()
                 .filter_map(|e| {
-                    Some(Link {
+                    Some(GraphLink {
                         from: at(&e.parent)?,
                         to: at(&e.child)?,
                         label: e.label(),

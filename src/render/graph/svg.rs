@@ -6,7 +6,7 @@
 //! further, so the picture stays linear in the number of frames.
 
 use super::shared::{shown, CHAIN_COLOUR};
-use crate::document::{Graph, Link};
+use crate::document::{Graph, GraphLink};
 use crate::tolerances::TREE_MAX_INDENT;
 use std::fmt::Write as _;
 
@@ -56,7 +56,7 @@ fn slots(g: &Graph) -> Vec<Slot> {
 }
 
 /// A link's label on one line.
-fn label(l: &Link) -> String {
+fn label(l: &GraphLink) -> String {
     shown(&l.label.join("  "))
 }
 
