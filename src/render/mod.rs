@@ -36,8 +36,8 @@ pub enum OutputFormat {
     #[default]
     #[value(alias = "text")]
     Table,
-    /// GitHub-flavoured markdown (pull-request comments, job summaries; the
-    /// frame tree as a Mermaid block).
+    /// GitHub-flavoured markdown (pull requests, job summaries; a Mermaid
+    /// frame tree).
     Markdown,
     /// The report as JSON (schemas in docs/schemas).
     Json,
@@ -51,8 +51,7 @@ pub enum OutputFormat {
     Dot,
     /// The frame tree (--frames) as a Mermaid flowchart.
     Mermaid,
-    /// The frame tree (--frames) as an SVG picture (drawn by audit, no
-    /// Graphviz needed).
+    /// The frame tree (--frames) as SVG (drawn by audit, no Graphviz needed).
     Svg,
 }
 
