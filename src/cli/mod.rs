@@ -175,7 +175,7 @@ pub fn emit_warned<R: Report>(
 
 /// Write `text` to standard output. A closed pipe (`audit ... | head -1`) ends
 /// the process quietly with status 0, as `head` asked for no more.
-pub fn write_output(out: &mut dyn Write, text: &str) -> Result<()> {
+fn write_output(out: &mut dyn Write, text: &str) -> Result<()> {
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
