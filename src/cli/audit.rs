@@ -1,6 +1,5 @@
 //! `audit FILE... --from A --to B`: the rig report.
 
-use super::frames::AuditFormat;
 use super::{
     emit_warned, parse_ell, parse_joint, parse_kappa, parse_lambda, parse_sigma_r, parse_sigma_t,
     print_warnings,
@@ -11,6 +10,7 @@ use extrinsic_audit::formats::bag::BagOptions;
 use extrinsic_audit::formats::{Format, LoadOptions};
 use extrinsic_audit::geometry::PitchTol;
 use extrinsic_audit::pipeline::{self, Rename, RigOptions};
+use extrinsic_audit::render::OutputFormat;
 use extrinsic_audit::tolerances::{DEFAULT_ELLS, DEFAULT_MAX_FILE_SIZE};
 use std::io::Write;
 use std::path::PathBuf;
@@ -75,8 +75,8 @@ pub struct AuditArgs {
     #[arg(long, default_value_t = DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
     pub max_file_size: u64,
     /// Output format (dot, mermaid and svg only with --frames)
-    #[arg(long, value_enum, default_value_t = AuditFormat::Table)]
-    pub format: AuditFormat,
+    #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
+    pub format: OutputFormat,
     /// xacro and launch-file `$(arg NAME)` value (also `if="$(arg NAME)"` in a
     /// launch file), overriding the file's default; repeatable
     #[arg(long = "arg", value_parser = parse_xacro_arg, value_name = "NAME=VALUE")]
@@ -219,7 +219,6 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
             out,
         );
     }
-    let format = args.format.report_format()?;
     let (from, to) = loaded.frame_pair(args.from.as_deref(), args.to.as_deref())?;
     let chain = loaded.graph.transform(&from, &to)?;
     print_warnings(&chain.warnings);
@@ -238,6 +237,11 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
         .chain(&chain.warnings)
         .cloned()
         .collect();
-    emit_warned(&pipeline::report(&chain, &opts)?, &warnings, format, out)?;
+    emit_warned(
+        &pipeline::report(&chain, &opts)?,
+        &warnings,
+        args.format,
+        out,
+    )?;
     Ok(0)
 }

@@ -19,8 +19,8 @@ use crate::degeneracy::{frame_sweep, paper_frame_changes, Arm};
 use crate::diagnostic::{Error, Result};
 use crate::geometry::Transform;
 use crate::report::detector::{
-    CorrectionJson, DegeneracyReport, FamilyComparison, FamilyEigen, FrameJson, FromTo, HmJson,
-    NormalsJson, RigDecisionJson, SimulateReport, SubspaceJson, SweepFamilyJson, SweepReport,
+    CorrectionJson, DegeneracyReport, FamilyComparison, FamilyEigen, FromTo, HmJson, NormalsJson,
+    PoseJson, RigDecisionJson, SimulateReport, SubspaceJson, SweepFamilyJson, SweepReport,
     ThresholdReport, TunnelFrameJson, TunnelReport,
 };
 use crate::tolerances::DEFAULT_PITCH_TOL;
@@ -37,9 +37,9 @@ fn check_tau(tau: f64) -> Result<()> {
 }
 
 /// A pose as the reports print it.
-pub fn frame_json(t: &Transform) -> FrameJson {
+pub fn frame_json(t: &Transform) -> PoseJson {
     let d = t.translation();
-    FrameJson {
+    PoseJson {
         translation_m: [d.x, d.y, d.z],
         rpy_rad: t.rpy(),
     }
