@@ -1048,7 +1048,7 @@ fn launch_xml(i: &Input) -> Option<(bool, bool)> {
 /// `Extrinsic_Tlb` holds no calibration: most launch files of a ROS package
 /// start nodes. `false` when it cannot be read within `max_size` bytes (the
 /// reader then says why).
-pub fn holds_no_calibration(path: &Path, max_size: u64) -> bool {
+pub(crate) fn holds_no_calibration(path: &Path, max_size: u64) -> bool {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().to_lowercase())

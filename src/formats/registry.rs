@@ -73,7 +73,7 @@ impl Format {
 /// The binary format that reads `input` (step 1 of detection): `forced` when
 /// that is binary, else the first binary format whose magic bytes, extension
 /// or sniffer recognise it. `None`: the input is text to the registry.
-pub fn binary(input: &Input, forced: Option<Format>) -> Option<Format> {
+pub(crate) fn binary(input: &Input, forced: Option<Format>) -> Option<Format> {
     if let Some(f) = forced.filter(|f| f.0.is_binary()) {
         return Some(f);
     }
@@ -90,7 +90,7 @@ pub fn binary(input: &Input, forced: Option<Format>) -> Option<Format> {
 
 /// The text format of `input` (steps 2 and 3 of detection): an extension one
 /// format lists, else the sniffers' highest confidence.
-pub fn detect_text(input: &Input) -> Result<Format> {
+pub(crate) fn detect_text(input: &Input) -> Result<Format> {
     let text_formats = || FORMATS.iter().filter(|f| !f.is_binary());
     if let Some(f) = text_formats().find(|f| f.extensions.contains(&input.ext())) {
         return Ok(Format(f));

@@ -54,7 +54,7 @@ pub fn pos_of(idx: &LineIndex, node: roxmltree::Node) -> (usize, usize) {
 
 /// XML text that no format reads, refused naming its root element (or, when
 /// it is not well-formed, where).
-pub fn unknown_root(text: &str) -> Error {
+pub(crate) fn unknown_root(text: &str) -> Error {
     match roxmltree::Document::parse_with_options(text, parse_options()) {
         Ok(doc) => {
             let root = doc.root_element();
@@ -71,6 +71,6 @@ pub fn unknown_root(text: &str) -> Error {
 
 /// Whether the input may be read as XML: it looks like XML, or its extension
 /// says so (`.urdf`, `.xml`, `.launch`, `.launch.xml`).
-pub fn candidate(input: &crate::formats::spec::Input) -> bool {
+pub(crate) fn candidate(input: &crate::formats::spec::Input) -> bool {
     input.looks_xml() || matches!(input.ext(), "urdf" | "xml" | "launch" | "launch.xml")
 }

@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 
 /// How many bytes of a file [`Input::head`] holds before the file is read:
 /// more than the longest magic a format declares (16, SQLite's).
-pub const HEAD_BYTES: usize = 64;
+pub(crate) const HEAD_BYTES: usize = 64;
 
 /// How many characters [`Input::text_head`] holds.
 const TEXT_HEAD_CHARS: usize = 4096;
@@ -33,7 +33,7 @@ const CAP: &str = "the --max-file-size cap";
 /// as `formats::load_file` loads any file, detection included, with its own
 /// `--key` and `--invert`. The loader lends it to the input: a format never
 /// reaches the registry itself.
-pub trait Includes {
+pub(crate) trait Includes {
     /// Load `path` with `key` and `invert` (the other options as given).
     fn include(&self, path: &Path, key: Option<String>, invert: bool) -> Result<Loaded>;
 }
@@ -90,7 +90,7 @@ struct Facts {
 }
 
 /// A file read as a stream (a bag through its index), or bytes in memory.
-pub enum Stream<'a> {
+pub(crate) enum Stream<'a> {
     /// The file, at its start.
     File(File),
     /// Bytes held in memory.
@@ -142,7 +142,7 @@ impl Input<'static> {
     /// The folder or regular file at `path` with its first bytes only (`-`
     /// is a file name here, and nothing more is read: a cap of 0 bytes);
     /// `None` when it is neither or cannot be opened.
-    pub fn peek(path: &Path) -> Option<Input<'static>> {
+    pub(crate) fn peek(path: &Path) -> Option<Input<'static>> {
         if path.is_dir() {
             return Some(Input::new(path, Body::Folder));
         }
@@ -183,7 +183,7 @@ impl<'a> Input<'a> {
     }
 
     /// The input with `includes` to load the files it names.
-    pub fn with_includes(self, includes: &'a dyn Includes) -> Self {
+    pub(crate) fn with_includes(self, includes: &'a dyn Includes) -> Self {
         Input {
             includes: Some(includes),
             ..self
@@ -192,7 +192,7 @@ impl<'a> Input<'a> {
 
     /// How to load a file the input names (`None`: it was not made by the
     /// loader, which alone can).
-    pub fn includes(&self) -> Option<&'a dyn Includes> {
+    pub(crate) fn includes(&self) -> Option<&'a dyn Includes> {
         self.includes
     }
 
@@ -213,16 +213,16 @@ impl<'a> Input<'a> {
     }
 
     /// Whether the input is a folder holding a file `name`.
-    pub fn folder_holds(&self, name: &str) -> bool {
+    pub(crate) fn folder_holds(&self, name: &str) -> bool {
         self.is_folder() && self.path.join(name).is_file()
     }
 
     /// The file on disk it is read from (`None`: held in memory, or a folder).
-    pub fn file_on_disk(&self) -> Option<&Path> {
+    pub(crate) fn file_on_disk(&self) -> Option<&Path> {
         matches!(self.body, Body::File(_)).then_some(self.path.as_path())
     }
 
-    /// The first bytes (up to [`HEAD_BYTES`]; all of them for bytes held in
+    /// The first bytes (up to `HEAD_BYTES`, 64; all of them for bytes held in
     /// memory), without reading a file further: for magic bytes.
     pub fn head(&self) -> &[u8] {
         match &self.body {
@@ -234,7 +234,7 @@ impl<'a> Input<'a> {
     }
 
     /// Every byte (a file is read whole on first use, within the cap). After
-    /// [`Input::decode`], the decoded text's bytes.
+    /// `Input::decode`, the decoded text's bytes.
     pub fn bytes(&self) -> Result<&[u8]> {
         match &self.body {
             Body::Bytes(b) => Ok(b),
@@ -251,7 +251,7 @@ impl<'a> Input<'a> {
     /// Read the input as text from here on: a file is read whole (the
     /// `--max-file-size` cap, I/O errors), then decoded (a byte that is not
     /// UTF-8 is an error at its line and column).
-    pub fn decode(&mut self) -> Result<()> {
+    pub(crate) fn decode(&mut self) -> Result<()> {
         let bytes = match std::mem::replace(&mut self.body, Body::Folder) {
             Body::Text(t) => {
                 self.body = Body::Text(t);
@@ -271,7 +271,7 @@ impl<'a> Input<'a> {
         Ok(())
     }
 
-    /// The text (decoded on first use when [`Input::decode`] has not run).
+    /// The text (decoded on first use when `Input::decode` has not run).
     pub fn text(&self) -> Result<&str> {
         if let Body::Text(t) = &self.body {
             return Ok(t);
@@ -287,7 +287,7 @@ impl<'a> Input<'a> {
 
     /// The input as a seekable stream at its start, and its length: a file
     /// is read where its reader seeks, never whole.
-    pub fn stream(&self) -> Result<(Stream<'_>, u64)> {
+    pub(crate) fn stream(&self) -> Result<(Stream<'_>, u64)> {
         match &self.body {
             Body::File(o) => {
                 let mut f = o.file.try_clone().map_err(|e| Error::io(&self.path, &e))?;

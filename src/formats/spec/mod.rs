@@ -11,7 +11,7 @@
 //!    has, or whose sniffer claims it (a bag folder) reads it, whatever
 //!    `--input-format` names unless that is itself a binary format: a text
 //!    reader cannot read it, and a container is never read whole.
-//! 2. Otherwise the input is decoded as text ([`Input::decode`]: UTF-8, BOM,
+//! 2. Otherwise the input is decoded as text (`Input::decode`: UTF-8, BOM,
 //!    lone CR), and `--input-format` or an extension that one format lists
 //!    selects it outright.
 //! 3. Otherwise every sniffer rates the text and the highest [`Confidence`]
@@ -23,7 +23,8 @@ mod input;
 mod loaded;
 mod urdf_version;
 
-pub use input::{Includes, Input, Stream, HEAD_BYTES};
+pub use input::Input;
+pub(crate) use input::{Includes, HEAD_BYTES};
 pub(crate) use loaded::locate_warnings;
 pub use loaded::{check_metres, parse_number, Loaded, RigMeta};
 pub use urdf_version::UrdfVersion;
@@ -115,7 +116,7 @@ impl FormatSpec {
 
     /// Whether `head` (the first bytes of an input) starts with one of the
     /// format's magic byte strings.
-    pub fn magic_matches(&self, head: &[u8]) -> bool {
+    pub(crate) fn magic_matches(&self, head: &[u8]) -> bool {
         self.magic.iter().any(|m| head.starts_with(m))
     }
 }
