@@ -5,23 +5,63 @@
 use super::args::{parse_noise, parse_positive, parse_voxel, EllArgs, OutputArgs, TauArgs};
 use super::display::TermBars;
 use super::emit;
+use extrinsic_audit::analysis::Family;
 use extrinsic_audit::degeneracy::scene::TUNNEL_RADIUS;
 use extrinsic_audit::degeneracy::threshold::SEEDS;
+use extrinsic_audit::degeneracy::MetricRule;
 use extrinsic_audit::diagnostic::{Error, Result};
 use extrinsic_audit::pipeline::detector::{
     self as det, CalibrateOptions, DegeneracyOptions, InitialGuess, ScanOptions, SimulateParams,
     SimulateRig, SweepOptions, TunnelParams,
 };
 use extrinsic_audit::tolerances::{
-    PAIR_GATE_M, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
+    DEFAULT_ELLS, PAIR_GATE_M, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
 };
 use std::io::Write;
 use std::path::PathBuf;
 
+/// Help text with the family lists of the family table filled in:
+/// `{per_point}` (the families whose eigenvalues add up over points),
+/// `{per_point_swept}` (those of them `calibrate-threshold` sweeps, comma
+/// separated) and `{count_free}` (the others).
+fn with_families(text: &str) -> String {
+    let label = |f: Family| match f {
+        Family::CharacteristicLength => format!("{} l=", f.label()),
+        _ => f.label().to_string(),
+    };
+    let list = |keep: &dyn Fn(Family) -> bool| -> Vec<String> {
+        Family::ALL
+            .into_iter()
+            .filter(|&f| keep(f))
+            .map(label)
+            .collect()
+    };
+    let per_point = |f: Family| f.spec().per_point;
+    let swept: Vec<Family> = MetricRule::default_set(&DEFAULT_ELLS, None)
+        .iter()
+        .map(MetricRule::family)
+        .collect();
+    text.replace("{per_point}", &prose(&list(&per_point)))
+        .replace(
+            "{per_point_swept}",
+            &list(&|f| per_point(f) && swept.contains(&f)).join(", "),
+        )
+        .replace("{count_free}", &prose(&list(&|f| !per_point(f))))
+}
+
+/// `a`, `a and b`, `a, b and c`.
+fn prose(names: &[String]) -> String {
+    match names.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+        None => String::new(),
+    }
+}
+
 #[derive(clap::Args, Debug, Clone)]
 #[command(
     about = "Degeneracy of your own scan (points with normals, or raw with --estimate-normals), for every detector family",
-    long_about = "Reads points with unit normals (CSV x,y,z,nx,ny,nz[,w] with or without a header; \
+    long_about = with_families("Reads points with unit normals (CSV x,y,z,nx,ny,nz[,w] with or without a header; \
 PLY ascii/binary and PCD ascii/binary/binary_compressed with normal fields) expressed in the body \
 frame, or a raw scan (x y z ..., the output of a LiDAR driver; LAS and LAZ files are raw scans) \
 with --estimate-normals: optional \
@@ -37,12 +77,11 @@ axis point; or a translation direction) and its per-axis footprint, which depend
 (R = Rz(y) Ry(p) Rx(r)), so p_new = R^T (p - d) and n_new = R^T n. The point displacement \
 eigenvalues do not change under either; the other families' may.\n\n\
 --tau is the point-displacement threshold (dimensionless, default 1e-2). The baselines' \
-eigenvalues are dimensioned; those of unnormalized, characteristic length l=, block scaling and \
-adapted constant add up \
+eigenvalues are dimensioned; those of {per_point} add up \
 over points, so they are compared per point (eigenvalue / sum of weights) with the threshold \
 `audit calibrate-threshold` finds for each on the synthetic corridors (paper's rule: the \
-midpoint of its interval in the 0.10 m voxel, 0.01 m noise configuration); Jacobi and point \
-displacement are count-free. The JSON gives each family's threshold on its eigenvalues and the \
+midpoint of its interval in the 0.10 m voxel, 0.01 m noise configuration); {count_free} \
+are count-free. The JSON gives each family's threshold on its eigenvalues and the \
 per-point one. A weight column (w) is kept with --estimate-normals: each voxel's weight is the \
 mean of its points' weights.\n\n\
 --show-matrices prints H and M. The degenerate subspace's screws are classified relative to the \
@@ -55,7 +94,7 @@ the pairs as point-to-plane ICP does (source point, target normal rotated into t
 Examples:\n  audit degeneracy scan.pcd\n  audit degeneracy raw_scan.pcd --estimate-normals --voxel 0.1\n  \
 audit degeneracy b.pcd --target a.pcd --estimate-normals --voxel 0.1 --initial-guess-file b_in_a.txt\n  \
 audit degeneracy scan.ply --shift 1,0,0 --format json --show-matrices\n  \
-audit degeneracy points.csv --rotate-rpy 0,0,1.5708 --tau 0.005 --ell 0.5,2"
+audit degeneracy points.csv --rotate-rpy 0,0,1.5708 --tau 0.005 --ell 0.5,2")
 )]
 pub struct DegeneracyArgs {
     /// Point file with normals (CSV, PLY or PCD; detected from the content).
@@ -256,7 +295,7 @@ pub struct SimulateArgs {
 #[derive(clap::Args, Debug, Clone)]
 #[command(
     about = "Find each detector's threshold interval that reproduces analytically known degenerate counts",
-    long_about = "Sweeps the threshold tau over three synthetic corridors whose number of degenerate \
+    long_about = with_families("Sweeps the threshold tau over three synthetic corridors whose number of degenerate \
 directions follows from geometry (rectangular corridor: 1, circular tunnel of radius 2.85 m: 2, \
 right-angle L corner: 0) under nine preprocessing configurations (range noise 0, 0.01, 0.05 m x \
 voxel 0.05, 0.10, 0.20 m; eight seeds each; 216 instances) and reports, per metric family, the \
@@ -265,9 +304,9 @@ every instance of a configuration, and the intersection across configurations.\n
 The paper reports [5.3e-3, 8.3e-2] for the point displacement metric and empty intersections for \
 every other family; with the defaults this gives (5.1e-3, 7.0e-2] for point displacement, empty \
 intersections for characteristic length l=0.25 and l=10 and Jacobi, and non-empty ones for unnormalized, characteristic length l=2.85 and block scaling. \
-The families whose eigenvalues add up over points (unnormalized, characteristic length l=, block scaling) are swept per point \
-(eigenvalue / number of points), as `audit degeneracy` compares them; Jacobi and point \
-displacement are count-free. \
+The families whose eigenvalues add up over points ({per_point_swept}) are swept per point \
+(eigenvalue / number of points), as `audit degeneracy` compares them; {count_free} \
+are count-free. \
 Differences from the paper's setup: the noise levels (0.05 m chosen as the highest because at \
 0.03 m unnormalized and characteristic length l=10 kept a threshold where the paper reports them failing), the two finer voxel \
 sizes, the corridor dimensions (3.0 m x 2.5 m, 12 m long) and the sampling (regular grid at half \
@@ -276,7 +315,7 @@ from one cloud with its own estimated normals (no source/target pair, no corresp
 no dual-normal weighting). The pipeline otherwise follows the paper: range noise, voxel grid with a \
 random origin, PCA normals within 0.30 m from at least 8 points, estimated from the noisy points.\n\n\
 Examples:\n  audit calibrate-threshold\n  audit calibrate-threshold --seeds 2 --format json\n  \
-audit calibrate-threshold --noise 0 --voxel 0.1 --ell 0.5,5"
+audit calibrate-threshold --noise 0 --voxel 0.1 --ell 0.5,5")
 )]
 pub struct CalibrateThresholdArgs {
     /// Seeds per configuration and scene.
