@@ -341,15 +341,8 @@ fn invert_reads_the_files_the_other_way() {
 #[cfg(unix)]
 #[test]
 fn xacro_external_reaches_the_survey() {
-    use std::os::unix::fs::PermissionsExt;
     let dir = tempfile::tempdir().expect("tempdir");
-    let script = dir.path().join("xacro");
-    std::fs::write(
-        &script,
-        "#!/bin/sh\nprintf '%s\\n' '<robot name=\"r\">' '<link name=\"base\"/>' '<link name=\"lidar\"/>' '<joint name=\"j\" type=\"fixed\">' '<origin xyz=\"0 0 0.5\"/>' '<parent link=\"base\"/>' '<child link=\"lidar\"/>' '</joint>' '</robot>'\n",
-    )
-    .expect("write");
-    std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    crate::common::fake_xacro(dir.path());
     let input = dir.path().join("r.urdf.xacro");
     std::fs::write(
         &input,
