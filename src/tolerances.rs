@@ -401,6 +401,10 @@ pub const MAX_CALIBRATION_SEEDS: u64 = 1000;
 /// independent; more threads than cores only add memory).
 pub const MAX_CALIBRATION_THREADS: usize = 64;
 
+/// Most values a list option of `calibrate-threshold` takes (`--noise`,
+/// `--voxel`): each one multiplies the sweep.
+pub const MAX_LIST_VALUES: usize = 16;
+
 /// Footprint of a real scan's degenerate subspace (`audit degeneracy`): an
 /// axis is flagged when its score, the diagonal entry of the Euclidean
 /// projector onto the subspace (in `[0, 1]`, summing to the dimension), is at

@@ -339,19 +339,19 @@ pub struct CalibrateThresholdArgs {
 impl DegeneracyArgs {
     /// How the scan is read.
     pub fn scan_options(&self) -> Result<ScanOptions> {
-        let frame = det::frame(self.shift.as_deref(), self.rotate_rpy.as_deref())?;
+        let frame = det::parse_frame(self.shift.as_deref(), self.rotate_rpy.as_deref())?;
         let initial_guess = match (&self.initial_guess, &self.initial_guess_file) {
             (Some(_), Some(_)) => {
                 return Err(Error::usage(
                     "give --initial-guess or --initial-guess-file, not both",
                 ))
             }
-            (Some(s), None) => InitialGuess::Pose(det::initial_guess(s)?),
+            (Some(s), None) => InitialGuess::Pose(det::parse_initial_guess(s)?),
             (None, Some(f)) => InitialGuess::File(f.clone()),
             (None, None) => InitialGuess::Identity,
         };
         let viewpoint = match &self.viewpoint {
-            Some(s) => Some(det::triple(s, "--viewpoint")?),
+            Some(s) => Some(det::parse_triple(s, "--viewpoint")?),
             None => None,
         };
         Ok(ScanOptions {
@@ -411,7 +411,7 @@ pub fn tunnel(args: &TunnelArgs, out: &mut dyn Write) -> Result<i32> {
         length: args.length,
         ring_spacing: args.ring_spacing,
         points_per_ring: args.points_per_ring,
-        shift: det::triple(&args.shift, "--shift")?,
+        shift: det::parse_triple(&args.shift, "--shift")?,
         tau: args.tau.tau,
     })?;
     emit(&report, args.output.format, out)?;
@@ -421,7 +421,7 @@ pub fn tunnel(args: &TunnelArgs, out: &mut dyn Write) -> Result<i32> {
 /// `audit simulate`.
 pub fn simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<i32> {
     let pose = if args.shift.is_some() || args.rotate_rpy.is_some() {
-        Some(det::frame(
+        Some(det::parse_frame(
             args.shift.as_deref(),
             args.rotate_rpy.as_deref(),
         )?)
@@ -429,14 +429,14 @@ pub fn simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<i32> {
         None
     };
     let params = SimulateParams {
-        scene: det::scene(&args.scene)?,
+        scene: det::parse_scene(&args.scene)?,
         noise: args.noise,
         seed: args.seed,
         voxel: args.voxel,
         exact_normals: args.exact_normals,
         tau: args.tau.tau,
         ells: args.ell.ell.clone(),
-        update: det::update(&args.update)?,
+        update: det::parse_update(&args.update)?,
     };
     let rig = SimulateRig {
         files: args.files.clone(),

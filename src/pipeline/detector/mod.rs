@@ -8,7 +8,7 @@ mod scan;
 mod values;
 
 pub use scan::{read_scan, InitialGuess, Scan, ScanOptions, ScanPair};
-pub use values::{frame, initial_guess, list, scene, triple, update, MAX_LIST_VALUES};
+pub use values::{parse_frame, parse_initial_guess, parse_scene, parse_triple, parse_update};
 
 use crate::analysis::metric::adapted_metric_matrix;
 use crate::analysis::Family;
@@ -465,12 +465,12 @@ pub struct CalibrateOptions {
 impl CalibrateOptions {
     /// `--noise` as text: a list of range-noise levels.
     pub fn parse_noise_levels(s: &str) -> Result<Vec<f64>> {
-        list(s, "--noise", (0.0, MAX_SIM_NOISE_M))
+        values::parse_list(s, "--noise", (0.0, MAX_SIM_NOISE_M))
     }
 
     /// `--voxel` as text: a list of voxel sizes.
     pub fn parse_voxel_sizes(s: &str) -> Result<Vec<f64>> {
-        list(s, "--voxel", SIM_VOXEL_RANGE_M)
+        values::parse_list(s, "--voxel", SIM_VOXEL_RANGE_M)
     }
 
     /// The calibration these options describe, checked.
@@ -497,7 +497,7 @@ impl CalibrateOptions {
     }
 }
 
-/// A list of levels: 1 to [`MAX_LIST_VALUES`] finite numbers in `[min, max]`.
+/// A list of levels: 1 to [`MAX_LIST_VALUES`](crate::tolerances::MAX_LIST_VALUES) finite numbers in `[min, max]`.
 fn check_levels(v: &[f64], what: &str, (min, max): (f64, f64)) -> Result<()> {
     if let Some(x) = v
         .iter()
