@@ -3,7 +3,8 @@
 //! Data flow, one module per stage:
 //! files ([`formats`]) -> frame graph ([`frames`]) -> one transform
 //! ([`geometry`]) -> analysis ([`analysis`]; [`degeneracy`] for point data) ->
-//! typed report ([`report`]) -> text, markdown, JSON ([`render`]).
+//! typed report ([`report`]) -> its [`document`] -> text, markdown, JSON,
+//! pictures ([`render`]).
 //! [`pipeline`] runs these stages for each command of the `audit` binary.
 //! Conventions (frames, twists, adjoint, quaternion order, rpy) are stated once,
 //! in [`geometry::se3`]; docs/ARCHITECTURE.md draws the layers.
@@ -73,6 +74,7 @@ pub mod analysis;
 pub mod baseline;
 pub mod degeneracy;
 pub mod diagnostic;
+pub mod document;
 pub mod formats;
 pub mod frames;
 pub mod geometry;
@@ -87,8 +89,9 @@ pub mod tolerances;
 // The types most callers need, at the crate root.
 pub use analysis::{analyze, Family, RigAnalysis};
 pub use diagnostic::{Code, Diagnostic, Error, Location, Result, Severity};
+pub use document::Report;
 pub use formats::{load_file, Format, LoadOptions};
 pub use frames::{Chain, Edge, FrameGraph};
 pub use geometry::{Screw, ScrewKind, Transform};
-pub use render::{OutputFormat, Report};
+pub use render::OutputFormat;
 pub use report::{CheckReport, RigReport, SurveyReport};

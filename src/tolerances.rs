@@ -1,6 +1,10 @@
 //! Every tolerance, default and resource limit of the crate, in one place,
 //! each documented where it is defined (what it decides, in which unit, and why
 //! that value). Modules import them from here; none defines its own.
+//! How output looks is not a tolerance and lives with what draws it: the
+//! printed precision of numbers in [`crate::document::numbers`], the table
+//! layout in [`crate::render::layout`], the survey plot's size and range in
+//! `report::survey_plot`.
 //!
 //! Absolute tolerances are in metres and radians unless the name says
 //! otherwise (`_DEG`: degrees).
@@ -101,13 +105,6 @@ pub const ELL_RANGE_M: (f64, f64) = (1e-6, 1e6);
 /// Accepted detector threshold `--kappa` (and the largest `--lambda`): the
 /// ratio `lambda / kappa` stays below 1e200 and the band products finite.
 pub const KAPPA_RANGE: (f64, f64) = (1e-100, 1e100);
-
-/// Characteristic lengths (m) spanned by the survey plot's band panel
-/// (`survey --plot`): 10 cm (a handheld rig's scene) to 100 m (open roads).
-pub const PLOT_ELL_RANGE_M: (f64, f64) = (0.1, 100.0);
-
-/// Size (px, width x height) of the survey plot: two panels side by side.
-pub const PLOT_SIZE_PX: (u32, u32) = (1400, 640);
 
 // ---------------------------------------------------------------------------
 // Frame graph (`frames`)
@@ -487,59 +484,5 @@ pub const LAS_READ_BATCH: u64 = 1 << 16;
 /// float normals, 0.7 million with double ones, or 3 to 10 million in LAZ.
 pub const PROGRESS_MIN_BYTES: u64 = 32 << 20;
 
-// ---------------------------------------------------------------------------
-// Output for people (`render`)
-// ---------------------------------------------------------------------------
-
-/// Narrowest terminal the tables are laid out for (columns): below it the
-/// layout of this width is printed and the terminal wraps it.
-pub const MIN_TERMINAL_WIDTH: usize = 40;
-
-/// Narrowest a plain word (no digit, no path separator) is cut to when a
-/// table column is too narrow for it; numbers and `file:line` are never cut.
-pub const SOFT_WORD_MIN_WIDTH: usize = 10;
-
-/// A translation or length printed for people has this resolution (m): 0.1 mm,
-/// finer than any published extrinsic calibration. Smaller magnitudes print 0.
-pub const PRINT_LENGTH_RES_M: f64 = 1e-4;
-
-/// An angle printed for people has this resolution (deg); smaller print 0.
-pub const PRINT_ANGLE_RES_DEG: f64 = 1e-3;
-
-/// Significant digits of a ratio printed for people (band edges, singular
-/// values, eigenvalue ratios).
-pub const PRINT_RATIO_DIGITS: usize = 4;
-
-/// A ratio or dimensionless value below this magnitude prints 0 (rounding of
-/// a composed chain, e.g. `1.1102e-16`); the exact value stays in JSON.
-pub const PRINT_RATIO_ZERO: f64 = 1e-12;
-
 /// Point count from which `degeneracy` shows a progress bar (on a terminal).
 pub const PROGRESS_MIN_POINTS: usize = 1 << 20;
-
-/// Narrowest a column of a one-line-per-row table (the survey's id) is
-/// shortened to, an ellipsis in its middle: below it the table wraps instead.
-pub const ELIDE_MIN_WIDTH: usize = 12;
-
-/// Spaces between the columns of a borderless table.
-pub const BORDERLESS_GAP: usize = 2;
-
-/// Largest table (cells, the header included) whose column widths are tuned
-/// for the fewest lines on a terminal; a bigger one keeps the first share
-/// (the tuning tries every move between two columns, per cell).
-pub const LAYOUT_REFINE_MAX_CELLS: usize = 400;
-
-/// Cells read, at most, while tuning one table's column widths (every layout
-/// tried reads each cell once), after which the best layout found so far is
-/// kept (the tuning of a 75-row table of five prose columns takes 0.3 s in a
-/// debug build, most of it wrapping every cell at every width once).
-pub const LAYOUT_REFINE_BUDGET: usize = 5_000_000;
-
-/// Widest table (columns) whose tuning also tries moving width from one
-/// column to two others at once (the cost grows with the cube of the count).
-pub const LAYOUT_REFINE_MAX_COLUMNS: usize = 5;
-
-/// A word cut across lines in a table cell costs as much as this many more
-/// lines when the column widths are tuned: a whole name (`unnormalized`) is
-/// worth a few more lines of wrapped prose beside it.
-pub const CUT_WORD_COST: usize = 8;

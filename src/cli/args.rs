@@ -18,10 +18,11 @@ use extrinsic_audit::tolerances::{
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-/// `--format` of the commands whose reports render in every output format.
+/// `--format`: the output format of every command.
 #[derive(Debug, Args, Clone)]
 pub struct OutputArgs {
-    /// Output format
+    /// Output format (dot, mermaid and svg draw the frame tree, `audit FILE...
+    /// --frames`)
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
     pub format: OutputFormat,
 }

@@ -1,10 +1,9 @@
 //! `audit FILE... --from A --to B`: the rig report.
 
 use super::args::{
-    parse_kappa, parse_lambda, BagArgs, EllArgs, FileSizeArgs, JointArgs, PitchTolArgs, ReadArgs,
-    RenameArgs, SigmaArgs, XacroArgs,
+    parse_kappa, parse_lambda, BagArgs, EllArgs, FileSizeArgs, JointArgs, OutputArgs, PitchTolArgs,
+    ReadArgs, RenameArgs, SigmaArgs, XacroArgs,
 };
-use super::frames::AuditFormat;
 use super::{emit_warned, print_notes, print_warnings};
 use clap::Args;
 use extrinsic_audit::diagnostic::Result;
@@ -56,9 +55,8 @@ pub struct AuditArgs {
     pub urdf_version: Option<extrinsic_audit::formats::urdf::UrdfVersion>,
     #[command(flatten)]
     pub size: FileSizeArgs,
-    /// Output format (dot, mermaid and svg only with --frames)
-    #[arg(long, value_enum, default_value_t = AuditFormat::Table)]
-    pub format: AuditFormat,
+    #[command(flatten)]
+    pub output: OutputArgs,
     #[command(flatten)]
     pub xacro: XacroArgs,
     /// Every warning is an error (exit 2 after printing them): for CI runs
@@ -102,11 +100,10 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
             &loaded,
             args.from.as_deref(),
             args.to.as_deref(),
-            args.format,
+            args.output.format,
             out,
         );
     }
-    let format = args.format.report_format()?;
     let (from, to) = loaded.frame_pair(args.from.as_deref(), args.to.as_deref())?;
     let chain = loaded.graph.transform(&from, &to)?;
     print_warnings(&chain.warnings);
@@ -125,6 +122,11 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
         .chain(&chain.warnings)
         .cloned()
         .collect();
-    emit_warned(&pipeline::report(&chain, &opts)?, &warnings, format, out)?;
+    emit_warned(
+        &pipeline::report(&chain, &opts)?,
+        &warnings,
+        args.output.format,
+        out,
+    )?;
     Ok(0)
 }

@@ -73,7 +73,7 @@ pub fn stderr_fit(line: &str) -> String {
     if !std::io::stderr().is_terminal() {
         return line.to_string();
     }
-    let w = terminal_width().max(extrinsic_audit::tolerances::MIN_TERMINAL_WIDTH);
+    let w = terminal_width().max(extrinsic_audit::render::layout::MIN_TERMINAL_WIDTH);
     let lines = extrinsic_audit::render::layout::wrap(line, w);
     match lines.split_first() {
         Some((first, rest)) if !rest.is_empty() => {

@@ -14,7 +14,8 @@ mod frames;
 pub mod survey;
 
 use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
-use extrinsic_audit::render::{self, OutputFormat, Report, Style};
+use extrinsic_audit::document::Report;
+use extrinsic_audit::render::{self, OutputFormat, Style};
 use extrinsic_audit::sanitize;
 use std::io::Write;
 
@@ -23,28 +24,29 @@ pub fn emit<R: Report>(report: &R, format: OutputFormat, out: &mut dyn Write) ->
     emit_warned(report, &[], format, out)
 }
 
-/// [`emit`], the JSON carrying `warnings` (already printed on stderr).
+/// [`emit`], the JSON carrying `warnings` (already printed on stderr). Every
+/// report, the frame tree included, reaches standard output here.
 pub fn emit_warned<R: Report>(
     report: &R,
     warnings: &[Warning],
     format: OutputFormat,
     out: &mut dyn Write,
 ) -> Result<()> {
-    if format == OutputFormat::Json {
-        return write_output(out, &render::json(report, warnings)?);
-    }
     let style = if format == OutputFormat::Table {
         display::stdout_style()
     } else {
         Style::plain()
     };
-    let text = render::render_laid(report, format, style, &display::stdout_layout())?;
-    write_output(out, &text)
+    let layout = display::stdout_layout();
+    write_output(
+        out,
+        &render::render(report, warnings, format, style, &layout)?,
+    )
 }
 
 /// Write `text` to standard output. A closed pipe (`audit ... | head -1`) ends
 /// the process quietly with status 0, as `head` asked for no more.
-pub fn write_output(out: &mut dyn Write, text: &str) -> Result<()> {
+fn write_output(out: &mut dyn Write, text: &str) -> Result<()> {
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),

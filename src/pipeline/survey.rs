@@ -338,6 +338,11 @@ pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
 /// inputs must still not include it).
 pub fn write_survey_plot(target: &Path, inputs: &[PathBuf], report: &SurveyReport) -> Result<()> {
     check_plot_target(target, inputs)?;
-    let svg = crate::render::plot::survey_svg(report)?;
+    let svg = crate::render::draw(
+        &report.plot(),
+        crate::render::OutputFormat::Svg,
+        crate::render::Style::plain(),
+        &crate::render::Layout::default(),
+    )?;
     super::write_atomic(target, svg.as_bytes())
 }

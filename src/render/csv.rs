@@ -1,7 +1,7 @@
 //! CSV (RFC 4180, minimal quoting): the document's data tables, or its display
 //! tables when it has none, separated by blank lines.
 
-use super::document::{Block, Document, Table};
+use crate::document::{Block, Document, Table};
 
 /// Render a document's tables as CSV.
 pub fn render(doc: &Document) -> String {

@@ -2,9 +2,10 @@
 //! `::warning` annotation on its file and line; the rest of the document is
 //! printed as plain text (no colour) after the annotations' block.
 
-use super::document::{Block, Document};
-use super::{text, Style};
+use super::style::Style;
+use super::text;
 use crate::diagnostic::{Diagnostic, Severity};
+use crate::document::{Block, Document};
 
 /// Render a document for a GitHub Actions log.
 pub fn render(doc: &Document) -> String {

@@ -13,13 +13,44 @@
 //! word that must stay whole is wider than its column, one `key: value` line
 //! per cell ([`records`]) rather than a line wider than the terminal.
 
-use super::document::Table;
 use crate::diagnostic::{Error, Result};
-use crate::tolerances::{
-    BORDERLESS_GAP, CUT_WORD_COST, ELIDE_MIN_WIDTH, LAYOUT_REFINE_BUDGET, LAYOUT_REFINE_MAX_CELLS,
-    LAYOUT_REFINE_MAX_COLUMNS, MIN_TERMINAL_WIDTH, SOFT_WORD_MIN_WIDTH,
-};
+use crate::document::Table;
 use unicode_width::UnicodeWidthStr;
+
+/// Narrowest terminal the tables are laid out for (columns): below it the
+/// layout of this width is printed and the terminal wraps it.
+pub const MIN_TERMINAL_WIDTH: usize = 40;
+
+/// Narrowest a plain word (no digit, no path separator) is cut to when a
+/// table column is too narrow for it; numbers and `file:line` are never cut.
+pub const SOFT_WORD_MIN_WIDTH: usize = 10;
+
+/// Narrowest a column of a one-line-per-row table (the survey's id) is
+/// shortened to, an ellipsis in its middle: below it the table wraps instead.
+pub const ELIDE_MIN_WIDTH: usize = 12;
+
+/// Spaces between the columns of a borderless table.
+pub const BORDERLESS_GAP: usize = 2;
+
+/// Largest table (cells, the header included) whose column widths are tuned
+/// for the fewest lines on a terminal; a bigger one keeps the first share
+/// (the tuning tries every move between two columns, per cell).
+pub const LAYOUT_REFINE_MAX_CELLS: usize = 400;
+
+/// Cells read, at most, while tuning one table's column widths (every layout
+/// tried reads each cell once), after which the best layout found so far is
+/// kept (the tuning of a 75-row table of five prose columns takes 0.3 s in a
+/// debug build, most of it wrapping every cell at every width once).
+pub const LAYOUT_REFINE_BUDGET: usize = 5_000_000;
+
+/// Widest table (columns) whose tuning also tries moving width from one
+/// column to two others at once (the cost grows with the cube of the count).
+pub const LAYOUT_REFINE_MAX_COLUMNS: usize = 5;
+
+/// A word cut across lines in a table cell costs as much as this many more
+/// lines when the column widths are tuned: a whole name (`unnormalized`) is
+/// worth a few more lines of wrapped prose beside it.
+pub const CUT_WORD_COST: usize = 8;
 
 /// How the terminal output is laid out (`--wide`, `--columns`, the width).
 #[derive(Debug, Clone, Default)]
@@ -392,7 +423,7 @@ pub fn records(f: &Fitted, width: usize) -> Vec<String> {
 /// on a terminal narrower than the table's compact set. `None`, and the
 /// caller draws the bordered table, when not on a terminal, with `--wide`,
 /// when the bordered table fits unwrapped, when a cell holds a line break, or
-/// when even two columns do not fit ([`one_line_cells`]).
+/// when even two columns do not fit (`one_line_cells`).
 pub fn borderless(t: &Table, layout: &Layout) -> Option<(Vec<String>, usize)> {
     let elide = t.one_line?;
     let w = layout.width().filter(|_| t.wrap && !layout.wide)?;

@@ -2,10 +2,12 @@
 //! blank line before every paragraph so that none is read as a table row.
 //! Text from the report is escaped (control characters shown, `|` and `<`
 //! escaped, no line starting a list, heading, quote or CI log command);
-//! the notes' own markdown is kept (only control characters escaped).
+//! the notes' own markdown is kept (only control characters escaped). A
+//! graph is a Mermaid code block (GitHub draws it).
 
-use super::document::{Block, Document, Table};
+use super::graph;
 use crate::diagnostic::{Diagnostic, Severity};
+use crate::document::{Block, Document, Table};
 
 /// Render a document as markdown.
 pub fn render(doc: &Document) -> String {
@@ -46,6 +48,14 @@ pub fn render(doc: &Document) -> String {
                 s.push_str(&diagnostics_table(ds));
             }
             Block::Diagnostics(_) => {}
+            Block::Graph(g) => {
+                paragraph_break(&mut s);
+                s.push_str("```mermaid\n");
+                s.push_str(&graph::mermaid(g));
+                s.push_str("```\n");
+            }
+            // A chart is drawn as SVG only (refused before it gets here).
+            Block::Plot(_) => {}
         }
     }
     s

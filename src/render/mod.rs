@@ -1,38 +1,43 @@
-//! Rendering: every report becomes a [`Document`] of blocks (headline, sections,
-//! tables, text, diagnostics), and one renderer per output format turns a
-//! document into text. JSON is the report itself, serialised.
+//! Rendering: the one output path. Every report reaches a format through
+//! [`render`]: JSON is the report itself, serialised in the one envelope
+//! (`json.rs`); every other format draws the report's [`Document`]
+//! ([`draw`]): text, markdown, GitHub workflow commands, CSV and SARIF
+//! from its blocks, and the pictures from its picture block: DOT, Mermaid
+//! and SVG from a graph (`graph/`), SVG from a plot (`plot.rs`). A format
+//! that cannot draw a document (a picture of a report without one, SARIF
+//! without findings, CSV of a picture) is a usage error naming the formats
+//! that can, never other output.
 //!
-//! Adding an output format: a variant of [`OutputFormat`], its file in this
-//! directory with `fn render(&Document, Style) -> String`, and one arm in
-//! [`render`].
+//! This module imports the document layer and never `report`: a renderer
+//! knows blocks, not report types.
 
 mod csv;
-mod document;
 mod github;
-pub mod graph;
+mod graph;
+mod json;
 pub mod layout;
 mod markdown;
-pub mod numbers;
-pub mod plot;
+mod plot;
 mod sarif;
 mod style;
 mod text;
 
-pub use document::{Block, Document, Table};
 pub use layout::Layout;
 pub use style::{ColorChoice, Style};
 
-use crate::diagnostic::{Code, Error, Result, Warning};
-use serde::Serialize;
+use crate::diagnostic::{Error, Result, Warning};
+use crate::document::{Block, Document, Report, Table};
 
-/// The output formats every command takes (`--format`).
+/// The output formats every command takes (`--format`); a report refuses
+/// those it cannot be drawn in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum OutputFormat {
     /// Tables for a terminal (the default; `text` is the same).
     #[default]
     #[value(alias = "text")]
     Table,
-    /// GitHub-flavoured markdown (pull-request comments, job summaries).
+    /// GitHub-flavoured markdown (pull requests, job summaries; a Mermaid
+    /// frame tree).
     Markdown,
     /// The report as JSON (schemas in docs/schemas).
     Json,
@@ -42,71 +47,147 @@ pub enum OutputFormat {
     Csv,
     /// SARIF 2.1.0 for GitHub code scanning (the diagnostics only).
     Sarif,
+    /// The frame tree (--frames) as a Graphviz DOT digraph.
+    Dot,
+    /// The frame tree (--frames) as a Mermaid flowchart.
+    Mermaid,
+    /// The frame tree (--frames) as SVG (drawn by audit, no Graphviz needed).
+    Svg,
 }
 
-/// A typed report: serialised for JSON, laid out as a document for the rest.
-pub trait Report: Serialize {
-    /// The report laid out for people.
-    fn document(&self) -> Document;
+/// What a format needs of a document to draw it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Needs {
+    /// Any report (JSON: the report itself, not its document).
+    Report,
+    /// Any document but a chart (a graph is written as its text form).
+    NoChart,
+    /// A document without a picture.
+    NoPicture,
+    /// Findings (a diagnostics block).
+    Findings,
+    /// A graph.
+    Graph,
+    /// A graph or a chart.
+    Picture,
 }
 
-/// The report as JSON, with `schema_version` first and a `warnings` array
-/// last when the report has none of its own (every command's JSON carries
-/// both): the warnings are given as their one-line text.
-pub fn json<R: Serialize>(report: &R, warnings: &[Warning]) -> Result<String> {
-    let err = |e: serde_json::Error| {
-        Error::new(
-            Code::Io,
-            format!("cannot serialise the report as JSON: {e}"),
-        )
-    };
-    let value = serde_json::to_value(report).map_err(err)?;
-    let has = |k: &str| value.as_object().is_some_and(|o| o.contains_key(k));
-    let lines: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
-    let envelope = Envelope {
-        schema_version: (!has("schema_version")).then_some(crate::report::SCHEMA_VERSION),
-        report,
-        warnings: (!has("warnings")).then_some(&lines),
-    };
-    let mut s = if value.is_object() {
-        serde_json::to_string_pretty(&envelope)
-    } else {
-        serde_json::to_string_pretty(report)
+/// What the picture formats do.
+const FRAME_TREE: &str = "draws the frame tree (`audit FILE... --frames`)";
+
+impl OutputFormat {
+    /// The format's row: its name in messages (`text` for the table, its
+    /// alias), what it does and what it expected (for a refusal), and what it
+    /// needs of a document.
+    fn spec(self) -> (&'static str, &'static str, &'static str, Needs) {
+        match self {
+            OutputFormat::Table => (
+                "text",
+                "writes a report as text",
+                "a report",
+                Needs::NoChart,
+            ),
+            OutputFormat::Markdown => (
+                "markdown",
+                "writes a report as text",
+                "a report",
+                Needs::NoChart,
+            ),
+            OutputFormat::Json => ("json", "is the report itself", "a report", Needs::Report),
+            OutputFormat::Github => (
+                "github",
+                "annotates a report's findings for GitHub",
+                "a report",
+                Needs::NoPicture,
+            ),
+            OutputFormat::Csv => (
+                "csv",
+                "writes a report's tables",
+                "tables",
+                Needs::NoPicture,
+            ),
+            OutputFormat::Sarif => (
+                "sarif",
+                "lists the findings of `audit check`",
+                "findings",
+                Needs::Findings,
+            ),
+            OutputFormat::Dot => ("dot", FRAME_TREE, "a picture", Needs::Graph),
+            OutputFormat::Mermaid => ("mermaid", FRAME_TREE, "a picture", Needs::Graph),
+            OutputFormat::Svg => ("svg", FRAME_TREE, "a picture", Needs::Picture),
+        }
     }
-    .map_err(err)?;
-    s.push('\n');
-    Ok(s)
+
+    /// The name `--format` takes (`text` for the table, its alias).
+    pub fn name(self) -> &'static str {
+        let (name, ..) = self.spec();
+        name
+    }
+
+    /// Whether this format can draw `doc` (JSON: any report, from the report
+    /// itself). A graph is drawn by the picture formats and written as text;
+    /// a chart only as SVG.
+    pub fn draws(self, doc: &Document) -> bool {
+        let (.., needs) = self.spec();
+        let picture = picture(doc);
+        match needs {
+            Needs::Report => true,
+            Needs::NoChart => !matches!(picture, Some(Block::Plot(_))),
+            Needs::NoPicture => picture.is_none(),
+            Needs::Findings => doc
+                .blocks
+                .iter()
+                .any(|b| matches!(b, Block::Diagnostics(_))),
+            Needs::Graph => matches!(picture, Some(Block::Graph(_))),
+            Needs::Picture => picture.is_some(),
+        }
+    }
+
+    /// Every format, in the order `--help` lists them.
+    fn all() -> &'static [OutputFormat] {
+        <OutputFormat as clap::ValueEnum>::value_variants()
+    }
 }
 
-#[derive(Serialize)]
-struct Envelope<'a, R: Serialize> {
-    #[serde(skip_serializing_if = "Option::is_none")]
-    schema_version: Option<u32>,
-    #[serde(flatten)]
-    report: &'a R,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    warnings: Option<&'a Vec<String>>,
+/// The document's picture: its first graph or plot block.
+fn picture(doc: &Document) -> Option<&Block> {
+    doc.blocks
+        .iter()
+        .find(|b| matches!(b, Block::Graph(_) | Block::Plot(_)))
 }
 
-/// Render a report in a format; `style` colours terminal text. Tables have
-/// every column and no wrapping (see [`render_laid`] for a terminal).
-pub fn render<R: Report>(report: &R, format: OutputFormat, style: Style) -> Result<String> {
-    render_laid(report, format, style, &Layout::default())
-}
-
-/// Render a report in a format, terminal text fitted to `layout`
-/// (`--columns` naming no column of the report is a usage error).
-pub fn render_laid<R: Report>(
+/// Render a report in a format: JSON carrying `warnings` (already printed on
+/// standard error), the other formats drawn from its document; `style`
+/// colours terminal text, `layout` fits it to the terminal (`--columns`
+/// naming no column of the report is a usage error).
+pub fn render<R: Report>(
     report: &R,
+    warnings: &[Warning],
     format: OutputFormat,
     style: Style,
     layout: &Layout,
 ) -> Result<String> {
+    match format {
+        OutputFormat::Json => json::render(report, warnings),
+        _ => draw(&report.document(), format, style, layout),
+    }
+}
+
+/// Draw a document in a format (every format but JSON, which is the report
+/// itself): the text formats from its blocks, the pictures from its picture.
+pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout) -> Result<String> {
+    let picture = picture(doc);
+    let graph = || match picture {
+        Some(Block::Graph(g)) => Ok(g),
+        _ => Err(refusal(format, doc)),
+    };
+    if !format.draws(doc) {
+        return Err(refusal(format, doc));
+    }
     Ok(match format {
-        OutputFormat::Json => json(report, &[])?,
         OutputFormat::Table => {
-            let doc = report.document();
-            if !layout.columns.is_empty() {
+            // A picture has no columns: --columns applies to the tables.
+            if !layout.columns.is_empty() && picture.is_none() {
                 let tables: Vec<&Table> = doc
                     .blocks
                     .iter()
@@ -117,23 +198,112 @@ pub fn render_laid<R: Report>(
                     .collect();
                 layout::check_columns(&tables, &layout.columns)?;
             }
-            text::render_laid(&doc, style, layout)
+            text::render_laid(doc, style, layout)
         }
-        OutputFormat::Markdown => markdown::render(&report.document()),
-        OutputFormat::Github => github::render(&report.document()),
-        OutputFormat::Csv => csv::render(&report.document()),
-        OutputFormat::Sarif => {
-            let doc = report.document();
-            if !doc
-                .blocks
-                .iter()
-                .any(|b| matches!(b, Block::Diagnostics(_)))
-            {
-                return Err(Error::usage(
-                    "--format sarif lists the findings of `audit check`; expected a check, found a report without findings (use --format json)",
-                ));
-            }
-            sarif::render(&doc)
-        }
+        OutputFormat::Markdown => markdown::render(doc),
+        OutputFormat::Json => return Err(refusal(format, doc)),
+        OutputFormat::Github => github::render(doc),
+        OutputFormat::Csv => csv::render(doc),
+        OutputFormat::Sarif => sarif::render(doc),
+        OutputFormat::Dot => graph::dot(graph()?),
+        OutputFormat::Mermaid => graph::mermaid(graph()?),
+        OutputFormat::Svg => match picture {
+            Some(Block::Plot(p)) => plot::svg(p)?,
+            _ => graph::svg(graph()?),
+        },
     })
+}
+
+/// A format that cannot draw `doc`: a usage error saying what the format is
+/// for, what it found instead, and which formats draw this document.
+fn refusal(format: OutputFormat, doc: &Document) -> Error {
+    let found = match picture(doc) {
+        Some(Block::Graph(_)) => "a picture (the frame tree)",
+        Some(_) => "a chart (drawn as SVG only)",
+        None => "a report without one",
+    };
+    let (name, does, expected, _) = format.spec();
+    let takes: Vec<&str> = OutputFormat::all()
+        .iter()
+        .filter(|f| f.draws(doc))
+        .map(|f| f.name())
+        .collect();
+    Error::usage(format!(
+        "--format {name} {does}; expected {expected}, found {found}: this report takes {}",
+        one_of(&takes)
+    ))
+}
+
+/// `a, b or c`.
+fn one_of(names: &[&str]) -> String {
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        Some((last, _)) => last.to_string(),
+        None => String::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::document::{Graph, Plot};
+
+    fn of(block: Block) -> Document {
+        let mut d = Document::new();
+        d.text("a paragraph").push(block);
+        d
+    }
+
+    /// Which format draws which kind of document: tables (every report but
+    /// two), findings (the check), a graph (the frame tree), a plot (the
+    /// survey plot).
+    #[test]
+    fn each_format_draws_the_documents_it_can() {
+        let docs = [
+            of(Block::Table(Table::new(&["a"], vec![]))),
+            of(Block::Diagnostics(vec![])),
+            of(Block::Graph(Graph::default())),
+            of(Block::Plot(Plot {
+                size_px: (10, 10),
+                panels: vec![],
+            })),
+        ];
+        let takes = |d: &Document| -> String {
+            let t: Vec<&str> = OutputFormat::all()
+                .iter()
+                .filter(|f| f.draws(d))
+                .map(|f| f.name())
+                .collect();
+            t.join(" ")
+        };
+        assert_eq!(takes(&docs[0]), "text markdown json github csv");
+        assert_eq!(takes(&docs[1]), "text markdown json github csv sarif");
+        assert_eq!(takes(&docs[2]), "text markdown json dot mermaid svg");
+        assert_eq!(takes(&docs[3]), "json svg");
+        let e = draw(
+            &docs[0],
+            OutputFormat::Dot,
+            Style::plain(),
+            &Layout::default(),
+        );
+        let msg = e.unwrap_err().to_string();
+        assert!(
+            msg.ends_with("this report takes text, markdown, json, github or csv"),
+            "{msg}"
+        );
+        // JSON is the report itself: a bare document has none.
+        assert!(draw(
+            &docs[2],
+            OutputFormat::Json,
+            Style::plain(),
+            &Layout::default()
+        )
+        .is_err());
+    }
+
+    #[test]
+    fn lists_read_as_prose() {
+        assert_eq!(one_of(&["a", "b", "c"]), "a, b or c");
+        assert_eq!(one_of(&["a"]), "a");
+    }
 }

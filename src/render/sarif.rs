@@ -5,8 +5,8 @@
 //! and column as the region). Validated in the tests against the published
 //! schema (docs/schemas/external/).
 
-use super::document::{Block, Document};
 use crate::diagnostic::{Code, Diagnostic, Severity};
+use crate::document::{Block, Document};
 use serde_json::{json, Value};
 
 /// Render a document's diagnostics as a SARIF log (the other blocks have no

@@ -6,10 +6,10 @@
 //! the report's own line breaks and no line may start a CI log command;
 //! diagnostics are one line each.
 
-use super::document::{Block, Document, Table};
 use super::layout::{self, Layout};
-use super::Style;
+use super::style::Style;
 use crate::diagnostic::{Diagnostic, Severity};
+use crate::document::{Block, Document, Graph, Table};
 use crate::sanitize::{block, line, visible};
 
 /// Render a document for a terminal (or a log), every column, nothing wrapped.
@@ -55,9 +55,30 @@ pub fn render_laid(doc: &Document, st: Style, lay: &Layout) -> String {
                     s.push('\n');
                 }
             }
+            Block::Graph(g) => {
+                s.push_str(&tree(g, lay));
+                s.push('\n');
+            }
+            // A chart is drawn as SVG only (refused before it gets here).
+            Block::Plot(_) => {}
         }
     }
     s
+}
+
+/// A graph as its text tree, fitted to the terminal (a node's place goes
+/// under it rather than past the width), then the chain; uncoloured, as is
+/// (names cannot hold a line break: refused when loaded; the rest of what
+/// could act on a terminal or a CI log is escaped).
+fn tree(g: &Graph, lay: &Layout) -> String {
+    let mut t = block(&g.text);
+    if let Some(w) = lay.width() {
+        t = layout::fit_tree(&t, w);
+    }
+    if let Some(c) = &g.chain {
+        t.push_str(&format!("chain: {}\n", line(&c.join(" -> "))));
+    }
+    t
 }
 
 /// Paths under the current directory shown relative to it.

@@ -2,7 +2,7 @@
 //! counts; JSON in `docs/schemas/check.schema.json`.
 
 use crate::diagnostic::{Diagnostic, Severity};
-use crate::render::{Block, Document, Report};
+use crate::document::{Block, Document, Report};
 use serde::Serialize;
 
 /// Version of the check report's JSON: 2 since `warnings` became the array of

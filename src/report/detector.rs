@@ -6,8 +6,8 @@ use crate::analysis::Family;
 use crate::degeneracy::threshold::{FamilyResult, Interval};
 use crate::degeneracy::{Assembly, ScoredScrew, TwistScrew, AXIS_NAMES};
 use crate::diagnostic::Warning;
-use crate::render::numbers::{degrees, metres, sci, sci_vec, unit, vector};
-use crate::render::{Document, Report, Table};
+use crate::document::numbers::{degrees, metres, sci, sci_vec, unit, vector};
+use crate::document::{Document, Report, Table};
 use serde::Serialize;
 
 /// Flagged axis names, or `none`.
@@ -24,10 +24,10 @@ fn opt(x: Option<f64>, prec: usize) -> String {
     x.map(|x| sci(x, prec)).unwrap_or_else(|| "-".into())
 }
 
-/// A frame as `{translation_m, rpy_rad}`: its pose `T = (R, d)` in the
+/// A frame's pose as `{translation_m, rpy_rad}`: `T = (R, d)` in the
 /// reference frame (`p_ref = R p + d`).
 #[derive(Debug, Clone, Serialize, PartialEq)]
-pub struct FrameJson {
+pub struct PoseJson {
     /// `d` (m): the frame's origin in reference coordinates.
     pub translation_m: [f64; 3],
     /// `R` as URDF fixed-axis `[roll, pitch, yaw]` (rad).
@@ -70,9 +70,10 @@ pub struct FamilyEigen {
     pub label: String,
 }
 
-/// A screw of the degenerate subspace.
+/// A twist of the degenerate subspace read as a screw (the rig report's
+/// `screw`, the Chasles decomposition of a transform, is [`crate::report::rig::ScrewJson`]).
 #[derive(Debug, Clone, Serialize, PartialEq)]
-pub struct ScrewJson {
+pub struct TwistScrewJson {
     /// `pure_translation`, `zero_pitch` or `general`.
     pub kind: &'static str,
     /// Unit rotation axis; null for a pure translation.
@@ -96,7 +97,7 @@ pub struct SubspaceJson {
     /// then pure translations).
     pub twist: [f64; 6],
     /// The twist read as a screw.
-    pub screw: ScrewJson,
+    pub screw: TwistScrewJson,
     /// Rotation fraction about the centroid, `L |omega| / |[L omega; t]|`
     /// (`L` the cloud's RMS radius): at most 0.3 for a translation.
     pub rotation_fraction: f64,
@@ -118,7 +119,7 @@ impl SubspaceJson {
             rotation_fraction: if s.axis.is_some() { 1.0 } else { 0.0 },
             eigenvalue: q,
             twist: std::array::from_fn(|i| s.twist[i]),
-            screw: ScrewJson {
+            screw: TwistScrewJson {
                 kind: s.kind,
                 axis: v3(s.axis),
                 pitch_m_per_rad: s.pitch,
@@ -138,7 +139,7 @@ pub struct DegeneracyReport {
     pub points: usize,
     /// The body frame the points were re-expressed in (`--shift`,
     /// `--rotate-rpy`): its pose in the points' frame, `p~ = R^T (p - d)`.
-    pub frame: FrameJson,
+    pub frame: PoseJson,
     /// One answer per family: unnormalized, each characteristic length, block
     /// scaling, Jacobi, point displacement.
     pub families: Vec<FamilyEigen>,
@@ -180,7 +181,7 @@ pub struct SweepReport {
     /// Names of the arms, in the order of `decision_changes_by_arm`.
     pub arms: [&'static str; 5],
     /// The rig's other frame (pose in the cloud's frame), when given.
-    pub rig: Option<FrameJson>,
+    pub rig: Option<PoseJson>,
     /// One row per family.
     pub families: Vec<SweepFamilyJson>,
 }
@@ -307,7 +308,7 @@ pub struct PairJson {
     /// Correspondence gate (m).
     pub gate_m: f64,
     /// Pose of the source frame in the target frame.
-    pub initial_guess: FrameJson,
+    pub initial_guess: PoseJson,
     /// Source points searched (after the voxel grid).
     pub source_points: usize,
     /// Target points with normals.
@@ -569,7 +570,7 @@ impl NormalsJson {
 
 /// A vector in the one vector style (`[a, b, c]`, metres at 0.1 mm).
 fn json_vec(v: &[f64]) -> String {
-    crate::render::numbers::vector(v, crate::render::numbers::metres)
+    crate::document::numbers::vector(v, crate::document::numbers::metres)
 }
 
 // ---------------------------------------------------------------------------
@@ -783,7 +784,7 @@ pub struct SimulateReport {
     /// Threshold on the point-displacement eigenvalues (`--tau`).
     pub tau: f64,
     /// Frame B: its pose in frame A (the rig's `--from -> --to` transform).
-    pub transform: FrameJson,
+    pub transform: PoseJson,
     /// One comparison per family: unnormalized, each characteristic length,
     /// block scaling, Jacobi, the rig's adapted constant metric when it has
     /// one, point displacement.

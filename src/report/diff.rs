@@ -10,9 +10,9 @@
 //! edges: a URDF against a Kalibr YAML).
 
 use crate::analysis::Family;
+use crate::document::numbers::{fixed, short};
+use crate::document::{Document, Report, Table};
 use crate::geometry::ScrewKind;
-use crate::render::numbers::{fixed, short};
-use crate::render::{Document, Report, Table};
 use serde::Serialize;
 
 /// A value in OLD and in NEW.
@@ -380,7 +380,7 @@ fn changed(c: bool) -> String {
 impl Report for DiffReport {
     fn document(&self) -> Document {
         let mut doc = Document::new();
-        doc.push(crate::render::Block::Headline {
+        doc.push(crate::document::Block::Headline {
             text: self.headline(),
             good: self.exceeded.is_empty(),
         });

@@ -2,13 +2,18 @@
 //! files yield, each edge with its transform (pose of child in parent,
 //! `p_parent = R p_child + d`), joint type and `file:line`, and the
 //! `--from` -> `--to` chain marked when one is given. JSON in
-//! `docs/schemas/frames.schema.json`; the pictures (DOT, Mermaid, SVG) are
-//! drawn from this report by `crate::render::graph`.
+//! `docs/schemas/frames.schema.json` (with `warnings`, like every report);
+//! its document is one [`Graph`] block, from which the text tree and the
+//! pictures (DOT, Mermaid, SVG) are drawn. Each edge's label: its translation
+//! (m, 0.1 mm), its rotation as URDF roll-pitch-yaw (deg, 0.001 deg), its
+//! joint type and `file:line`.
 //!
 //! Frames are listed depth first from the roots (sorted), children in the
 //! order their edges were read, so a parent always comes before its children.
 
-use super::SCHEMA_VERSION;
+use crate::document::numbers::{degrees_trimmed, fixed};
+use crate::document::SCHEMA_VERSION;
+use crate::document::{Block, Document, Graph, GraphLink, GraphNode, Report};
 use crate::frames::{Chain, Edge, FrameGraph};
 use serde::Serialize;
 use std::collections::{HashMap, HashSet};
@@ -174,5 +179,82 @@ pub fn frames_report(graph: &FrameGraph, chain: Option<&Chain>) -> FramesReport 
             path,
         }),
         tree_text: graph.tree(),
+    }
+}
+
+impl FrameEdgeJson {
+    /// `file:line` of the edge, the file as given (`<input>` when none).
+    fn place(&self) -> String {
+        let mut s = if self.file.is_empty() {
+            "<input>".to_string()
+        } else {
+            self.file.clone()
+        };
+        if let Some(l) = self.line {
+            s.push_str(&format!(":{l}"));
+        }
+        s
+    }
+
+    /// The label lines: translation, rotation, joint and place.
+    fn label(&self) -> Vec<String> {
+        let d = self.translation_m.map(|x| fixed(x, 4));
+        let r = self.rpy_deg.map(degrees_trimmed);
+        let joint = match &self.joint_name {
+            Some(n) => format!("{} joint {n}", self.joint_type),
+            None => self.joint_type.clone(),
+        };
+        vec![
+            format!("xyz [{}, {}, {}] m", d[0], d[1], d[2]),
+            format!("rpy [{}, {}, {}] deg", r[0], r[1], r[2]),
+            format!("{joint}, {}", self.place()),
+        ]
+    }
+}
+
+impl FramesReport {
+    /// The tree as a graph: the frames as nodes, the edges as labelled links.
+    pub fn graph(&self) -> Graph {
+        let index: HashMap<&str, usize> = self
+            .frames
+            .iter()
+            .enumerate()
+            .map(|(i, f)| (f.name.as_str(), i))
+            .collect();
+        let at = |name: &str| index.get(name).copied();
+        Graph {
+            nodes: self
+                .frames
+                .iter()
+                .map(|f| GraphNode {
+                    name: f.name.clone(),
+                    parent: f.parent.as_deref().and_then(at),
+                    depth: f.depth,
+                    on_chain: f.on_chain,
+                })
+                .collect(),
+            links: self
+                .edges
+                .iter()
+                .filter_map(|e| {
+                    Some(GraphLink {
+                        from: at(&e.parent)?,
+                        to: at(&e.child)?,
+                        label: e.label(),
+                        on_chain: e.on_chain,
+                    })
+                })
+                .collect(),
+            chain: self.chain.as_ref().map(|c| c.path.clone()),
+            text: self.tree_text.clone(),
+        }
+    }
+}
+
+impl Report for FramesReport {
+    fn document(&self) -> Document {
+        let mut doc = Document::new();
+        doc.push(Block::Graph(self.graph()));
+        doc
     }
 }

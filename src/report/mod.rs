@@ -1,6 +1,10 @@
 //! Typed reports, one per command: `Serialize` for JSON (schemas in
-//! docs/schemas, `schema_version` 1), and a [`crate::render::Report`] layout
-//! for the other formats. Reports carry enums, never strings matched later.
+//! docs/schemas, `schema_version` 1), and a [`Report`](crate::document::Report)
+//! layout as a [`Document`](crate::document::Document) for the other formats
+//! (the frame tree and the survey plot as picture blocks). Reports carry
+//! enums, never strings matched later. This module imports the document
+//! layer and never `render`: how a format draws a document is not its
+//! business.
 
 pub mod check;
 pub mod detector;
@@ -8,10 +12,9 @@ pub mod diff;
 pub mod frames;
 pub mod rig;
 pub mod survey;
+mod survey_plot;
 
+pub use crate::document::SCHEMA_VERSION;
 pub use check::CheckReport;
 pub use rig::RigReport;
 pub use survey::SurveyReport;
-
-/// The JSON schema version of every report.
-pub const SCHEMA_VERSION: u32 = 1;

@@ -3,16 +3,16 @@
 //! (schema_version 1, other programs read it: keep field names and types), and
 //! its layout for people.
 
-use super::SCHEMA_VERSION;
 use crate::analysis::metric::{self, RigAnalysis};
 use crate::analysis::Family;
 use crate::diagnostic::Result;
+use crate::document::numbers::{degrees, fixed, metres, ratio, short, unit, vector};
+use crate::document::SCHEMA_VERSION;
+use crate::document::{Block, Document, Report, Table};
 use crate::frames::Chain;
 use crate::geometry::certificate;
 use crate::geometry::uncertainty::{self, Step, UncertaintySource};
 use crate::geometry::{EdgePrecision, PitchTol, PitchVerdict, ScrewKind, Transform, UserSigma};
-use crate::render::numbers::{degrees, fixed, metres, ratio, short, unit, vector};
-use crate::render::{Block, Document, Report, Table};
 use crate::tolerances::{
     NEAR_HALF_TURN_RAD, PITCH_FLOAT_FLOOR_M, PITCH_K, PITCH_RESOLUTION_M, SMALL_ROTATION_DEG,
 };

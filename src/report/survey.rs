@@ -8,11 +8,11 @@
 //! and never counted.
 
 use super::rig::{near_half_turn, small_rotation};
-use super::SCHEMA_VERSION;
+use crate::document::numbers::{degrees, fixed, metres, metres_h, ratio, vector};
+use crate::document::SCHEMA_VERSION;
+use crate::document::{Document, Report, Table};
 use crate::geometry::uncertainty::UncertaintySource;
 use crate::geometry::PitchVerdict;
-use crate::render::numbers::{degrees, fixed, metres, metres_h, ratio, vector};
-use crate::render::{Document, Report, Table};
 use crate::tolerances::{NEAR_HALF_TURN_RAD, SMALL_ROTATION_DEG};
 use serde::Serialize;
 

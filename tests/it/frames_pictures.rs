@@ -281,7 +281,10 @@ fn mermaid_and_markdown_hold_every_frame() {
 fn pictures_need_frames_and_frames_refuse_report_only_formats() {
     let (code, _, err) = run_cli(&[ANYMAL, "--from", "base", "--to", "lidar", "--format", "svg"]);
     assert_eq!(code, 2);
-    assert!(err.contains("expected --frames"), "{err}");
+    assert!(
+        err.contains("draws the frame tree (`audit FILE... --frames`)"),
+        "{err}"
+    );
     let (code, _, err) = run_cli(&[ANYMAL, "--frames", "--format", "sarif"]);
     assert_eq!(code, 2, "{err}");
     let (code, _, err) = run_cli(&[ANYMAL, "--frames", "--from", "base"]);

@@ -137,8 +137,14 @@ fn detector_json_outputs_match_their_schemas() {
 /// (a count in the check report, whose findings list every warning).
 #[test]
 fn every_json_output_has_a_version_and_warnings() {
-    let runs: [&[&str]; 5] = [
+    let runs: [&[&str]; 6] = [
         &ANYMAL_JSON,
+        &[
+            "tests/fixtures/formats/ros1_static_tf.launch",
+            "--frames",
+            "--format",
+            "json",
+        ],
         &["survey", "calibrations/", "--format", "json"],
         &["tunnel", "--format", "json"],
         &[
@@ -183,7 +189,8 @@ fn every_json_output_has_a_version_and_warnings() {
     assert_eq!(ws.len(), err.lines().count(), "{err}");
 }
 
-/// A format a command cannot produce is an error, not other output.
+/// A format a command cannot produce is an error naming the formats it
+/// takes (the full lists: `render::tests`), not other output.
 #[test]
 fn an_unsupported_format_is_refused() {
     let (code, out, err) = run_cli(&[
@@ -195,15 +202,166 @@ fn an_unsupported_format_is_refused() {
     assert_eq!(code, 2, "{out}");
     assert!(out.is_empty());
     assert!(
-        err.contains("--frames --format sarif: expected text, json, dot, mermaid, svg or markdown"),
+        err.contains("--format sarif lists the findings of `audit check`; expected findings, found a picture (the frame tree): this report takes text, markdown, json, dot, mermaid"),
         "{err}"
     );
     let (code, out, err) = run_cli(&["tunnel", "--format", "sarif"]);
     assert_eq!(code, 2, "{out}");
     assert!(
-        err.contains("--format sarif lists the findings of `audit check`"),
+        err.contains("--format sarif lists the findings of `audit check`; expected findings, found a report without one: this report takes text, markdown, json, github"),
         "{err}"
     );
+    // A picture of a report that has none: every command takes the picture
+    // formats' names, and refuses them but for the frame tree.
+    for args in [
+        &["survey", "calibrations/", "--format", "dot"][..],
+        &["calibrations/fastlio-avia.toml", "--format", "svg"],
+    ] {
+        let (code, out, err) = run_cli(args);
+        assert_eq!(code, 2, "{args:?}: {out}");
+        assert!(out.is_empty(), "{args:?}");
+        assert!(
+            err.contains("draws the frame tree (`audit FILE... --frames`); expected a picture, found a report without one: this report takes text, markdown, json, github"),
+            "{args:?}: {err}"
+        );
+    }
+}
+
+/// A URDF written here: base -> torso (revolute) -> mount -> lidar, and an
+/// IMU on the base, so that a frame tree has depth, a movable joint and a
+/// chain through both.
+fn authored_urdf(dir: &tempfile::TempDir) -> String {
+    let x = r#"<robot name="authored">
+  <link name="base"/><link name="torso"/><link name="mount"/><link name="lidar"/><link name="imu"/>
+  <joint name="torso_joint" type="revolute"><parent link="base"/><child link="torso"/>
+    <origin xyz="0 0 0.4"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="mount_joint" type="fixed"><parent link="torso"/><child link="mount"/>
+    <origin xyz="0.1 0 0.2" rpy="0 0.2 0"/></joint>
+  <joint name="lidar_joint" type="fixed"><parent link="mount"/><child link="lidar"/>
+    <origin xyz="0 0 0.05" rpy="0 0 1.5707963"/></joint>
+  <joint name="imu_joint" type="fixed"><parent link="base"/><child link="imu"/>
+    <origin xyz="-0.1 0.02 0"/></joint>
+</robot>
+"#;
+    let p = crate::common::hostile::write_tmp(dir, "authored.urdf", x);
+    p.to_str().unwrap().to_string()
+}
+
+/// The frame tree's JSON on several real trees validates against its schema,
+/// with `schema_version` first and `warnings` last, the warnings being those
+/// printed on standard error.
+#[test]
+fn frame_trees_match_their_schema() {
+    let dir = tempfile::tempdir().unwrap();
+    let urdf = authored_urdf(&dir);
+    let runs: [&[&str]; 6] = [
+        &[&urdf],
+        &[&urdf, "--from", "imu", "--to", "lidar"],
+        &["tests/fixtures/formats/ros1_tf_static_echo.yaml"],
+        &[
+            "tests/fixtures/formats/ros1_static_tf.launch",
+            "--from",
+            "imu",
+            "--to",
+            "os_lidar",
+        ],
+        // Two files, one graph; GEODE's four-digit rotation gives a warning.
+        &[
+            "calibrations/geode-alpha-vlp16.toml",
+            "tests/fixtures/formats/ros1_tf_static_echo.yaml",
+        ],
+        &[
+            "calibrations/geode-alpha-vlp16.toml",
+            "--from",
+            "IMU",
+            "--to",
+            "LiDAR",
+        ],
+    ];
+    let s = schema("frames");
+    let mut warned = 0;
+    for extra in runs {
+        let args = [extra, &["--frames", "--format", "json"]].concat();
+        let (code, out, err) = run_cli(&args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        let v: Value = serde_json::from_str(&out).expect("JSON output");
+        let errors: Vec<String> = s
+            .iter_errors(&v)
+            .map(|e| format!("{} at {}", e, e.instance_path))
+            .collect();
+        assert!(errors.is_empty(), "{args:?}: {errors:#?}");
+        assert!(out.starts_with("{\n  \"schema_version\": 1,\n"), "{out}");
+        let last_key = out.rfind("\n  \"").map(|i| &out[i + 4..]);
+        assert!(
+            last_key.is_some_and(|k| k.starts_with("warnings\"")),
+            "{out}"
+        );
+        let ws = v["warnings"].as_array().unwrap();
+        assert_eq!(ws.len(), err.lines().count(), "{args:?}: {err}");
+        warned += ws.len();
+    }
+    assert_eq!(
+        warned, 2,
+        "the GEODE rig's warning, in both runs that read it"
+    );
+    // The authored URDF: five frames, the chain imu -> base -> torso -> mount -> lidar.
+    let (_, out, _) = run_cli(&[
+        &urdf, "--from", "imu", "--to", "lidar", "--frames", "--format", "json",
+    ]);
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["frames"].as_array().unwrap().len(), 5);
+    assert_eq!(
+        v["chain"]["path"],
+        serde_json::json!(["imu", "base", "torso", "mount", "lidar"])
+    );
+    let torso = &v["edges"].as_array().unwrap()[0];
+    assert_eq!(
+        (&torso["child"], &torso["joint_type"]),
+        (&"torso".into(), &"revolute".into())
+    );
+}
+
+/// A change that makes a document wrong.
+type Spoil = fn(&mut Value);
+
+/// The frame-tree schema refuses what is not a frame tree.
+#[test]
+fn the_frame_tree_schema_refuses_a_wrong_document() {
+    let s = schema("frames");
+    let (_, out, _) = run_cli(&[
+        "tests/fixtures/formats/ros1_static_tf.launch",
+        "--frames",
+        "--format",
+        "json",
+    ]);
+    let good: Value = serde_json::from_str(&out).unwrap();
+    assert!(s.is_valid(&good));
+    let wrong: [(&str, Spoil); 6] = [
+        ("no warnings", |v| {
+            v.as_object_mut().unwrap().remove("warnings");
+        }),
+        ("a warning not a string", |v| {
+            v["warnings"] = serde_json::json!([1])
+        }),
+        ("another version", |v| v["schema_version"] = 2.into()),
+        ("an unknown joint type", |v| {
+            v["edges"][0]["joint_type"] = "helical".into()
+        }),
+        ("a translation of two numbers", |v| {
+            v["edges"][0]["translation_m"] = serde_json::json!([0.0, 1.0])
+        }),
+        ("an unknown field", |v| {
+            v["frames"][0]["colour"] = "red".into()
+        }),
+    ];
+    for (what, spoil) in wrong {
+        let mut v = good.clone();
+        spoil(&mut v);
+        assert!(!s.is_valid(&v), "accepted {what}");
+    }
+    // Another report is not a frame tree either.
+    let (_, out, _) = run_cli(&["tunnel", "--format", "json"]);
+    assert!(!s.is_valid(&serde_json::from_str::<Value>(&out).unwrap()));
 }
 
 #[test]

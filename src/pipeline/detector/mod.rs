@@ -25,8 +25,8 @@ use crate::diagnostic::{Error, Result};
 use crate::geometry::Transform;
 use crate::progress::ProgressFactory;
 use crate::report::detector::{
-    CorrectionJson, DegeneracyReport, FamilyComparison, FamilyEigen, FrameJson, FromTo, HmJson,
-    MatricesJson, PairJson, RigDecisionJson, SimulateReport, SubspaceJson, SweepFamilyJson,
+    CorrectionJson, DegeneracyReport, FamilyComparison, FamilyEigen, FromTo, HmJson, MatricesJson,
+    PairJson, PoseJson, RigDecisionJson, SimulateReport, SubspaceJson, SweepFamilyJson,
     SweepReport, ThresholdReport, TunnelFrameJson, TunnelReport,
 };
 use crate::tolerances::{
@@ -47,9 +47,9 @@ fn check_tau(tau: f64) -> Result<()> {
 }
 
 /// A pose as the reports print it.
-pub fn frame_json(t: &Transform) -> FrameJson {
+pub fn frame_json(t: &Transform) -> PoseJson {
     let d = t.translation();
-    FrameJson {
+    PoseJson {
         translation_m: [d.x, d.y, d.z],
         rpy_rad: t.rpy(),
     }

@@ -1,9 +1,8 @@
-//! Graphviz DOT: `digraph frames`, one node per frame (ids `n0`, `n1`, ...,
-//! the names only in quoted labels), one edge per frame edge.
+//! Graphviz DOT: `digraph frames`, one node per node of the graph (ids `n0`,
+//! `n1`, ..., the names only in quoted labels), one edge per link.
 
-use super::{label_lines, name, CHAIN_COLOUR};
-use crate::report::frames::FramesReport;
-use std::collections::HashMap;
+use super::shared::{shown, CHAIN_COLOUR};
+use crate::document::Graph;
 use std::fmt::Write as _;
 
 /// A DOT double-quoted string's body: `\` and `"` escaped, so that a name can
@@ -22,43 +21,44 @@ fn quoted(s: &str) -> String {
     out
 }
 
-/// The frame tree as a DOT digraph (left to right).
-pub fn dot(rep: &FramesReport) -> String {
+/// The graph as a DOT digraph (left to right).
+pub fn dot(g: &Graph) -> String {
     let mut out = String::from(
         "digraph frames {\n  rankdir=LR;\n  node [shape=box, fontname=\"monospace\", fontsize=10];\n  edge [fontname=\"monospace\", fontsize=8];\n",
     );
-    let ids: HashMap<&str, usize> = rep
-        .frames
-        .iter()
-        .enumerate()
-        .map(|(i, f)| (f.name.as_str(), i))
-        .collect();
-    for (i, f) in rep.frames.iter().enumerate() {
-        let hl = if f.on_chain {
+    let hl = |on: bool| {
+        if on {
             format!(", color=\"{CHAIN_COLOUR}\", fontcolor=\"{CHAIN_COLOUR}\", penwidth=2")
         } else {
             String::new()
-        };
-        let _ = writeln!(out, "  n{i} [label={}{hl}];", quoted(&name(&f.name)));
+        }
+    };
+    for (i, n) in g.nodes.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "  n{i} [label={}{}];",
+            quoted(&shown(&n.name)),
+            hl(n.on_chain)
+        );
     }
-    for e in &rep.edges {
-        let (Some(p), Some(c)) = (ids.get(e.parent.as_str()), ids.get(e.child.as_str())) else {
-            continue;
-        };
+    for l in &g.links {
         // Each line escaped, then joined with DOT's own `\n` line break.
-        let label: Vec<String> = label_lines(e)
+        let label: Vec<String> = l
+            .label
             .iter()
-            .map(|l| {
-                let q = quoted(l);
+            .map(|line| {
+                let q = quoted(&shown(line));
                 q[1..q.len() - 1].to_string()
             })
             .collect();
-        let hl = if e.on_chain {
-            format!(", color=\"{CHAIN_COLOUR}\", fontcolor=\"{CHAIN_COLOUR}\", penwidth=2")
-        } else {
-            String::new()
-        };
-        let _ = writeln!(out, "  n{p} -> n{c} [label=\"{}\"{hl}];", label.join("\\n"));
+        let _ = writeln!(
+            out,
+            "  n{} -> n{} [label=\"{}\"{}];",
+            l.from,
+            l.to,
+            label.join("\\n"),
+            hl(l.on_chain)
+        );
     }
     out.push_str("}\n");
     out

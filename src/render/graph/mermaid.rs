@@ -1,11 +1,10 @@
-//! Mermaid `flowchart LR`: one node per frame (ids `n0`, `n1`, ...), the
+//! Mermaid `flowchart LR`: one node per node (ids `n0`, `n1`, ...), the
 //! names in quoted labels with every character outside a small safe set
 //! written as a Mermaid entity code (`#35;`), so that no name can close a
 //! label, start a link or inject markup.
 
-use super::{label_lines, name, CHAIN_COLOUR};
-use crate::report::frames::FramesReport;
-use std::collections::HashMap;
+use super::shared::{shown, CHAIN_COLOUR};
+use crate::document::Graph;
 use std::fmt::Write as _;
 
 /// `s` with every character but ASCII letters, digits, space and `_.,:/[]-`
@@ -22,34 +21,31 @@ fn escaped(s: &str) -> String {
     out
 }
 
-/// The frame tree as a Mermaid flowchart (left to right).
-pub fn mermaid(rep: &FramesReport) -> String {
+/// The graph as a Mermaid flowchart (left to right).
+pub fn mermaid(g: &Graph) -> String {
     let mut out = String::from("flowchart LR\n");
-    let ids: HashMap<&str, usize> = rep
-        .frames
-        .iter()
-        .enumerate()
-        .map(|(i, f)| (f.name.as_str(), i))
-        .collect();
-    for (i, f) in rep.frames.iter().enumerate() {
-        let _ = writeln!(out, "  n{i}[\"{}\"]", escaped(&name(&f.name)));
+    for (i, n) in g.nodes.iter().enumerate() {
+        let _ = writeln!(out, "  n{i}[\"{}\"]", escaped(&shown(&n.name)));
     }
     let mut chain_links = Vec::new();
-    for (k, e) in rep.edges.iter().enumerate() {
-        let (Some(p), Some(c)) = (ids.get(e.parent.as_str()), ids.get(e.child.as_str())) else {
-            continue;
-        };
-        let label: Vec<String> = label_lines(e).iter().map(|l| escaped(l)).collect();
-        let _ = writeln!(out, "  n{p} -->|\"{}\"| n{c}", label.join("<br>"));
-        if e.on_chain {
+    for (k, l) in g.links.iter().enumerate() {
+        let label: Vec<String> = l.label.iter().map(|s| escaped(&shown(s))).collect();
+        let _ = writeln!(
+            out,
+            "  n{} -->|\"{}\"| n{}",
+            l.from,
+            label.join("<br>"),
+            l.to
+        );
+        if l.on_chain {
             chain_links.push(k.to_string());
         }
     }
-    let on: Vec<String> = rep
-        .frames
+    let on: Vec<String> = g
+        .nodes
         .iter()
         .enumerate()
-        .filter(|(_, f)| f.on_chain)
+        .filter(|(_, n)| n.on_chain)
         .map(|(i, _)| format!("n{i}"))
         .collect();
     if !on.is_empty() {

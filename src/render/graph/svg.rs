@@ -1,14 +1,13 @@
-//! SVG drawn here, no Graphviz: a layered tree read left to right, one frame
-//! a row in depth-first order (parents above their children), indented by
-//! depth, each frame's box joined to its parent's by an elbow and followed by
-//! its edge's label. Text is monospace, so widths are estimated from the
+//! SVG drawn here, no Graphviz: a layered tree read left to right, one node
+//! (frame) a row in depth-first order (parents above their children),
+//! indented by depth, each node's box joined to its parent's by an elbow and
+//! followed by the label of the link into it. Text is monospace, so widths are estimated from the
 //! character count. Levels deeper than [`TREE_MAX_INDENT`] are not indented
 //! further, so the picture stays linear in the number of frames.
 
-use super::{label_lines, name, CHAIN_COLOUR};
-use crate::report::frames::{FrameEdgeJson, FramesReport};
+use super::shared::{shown, CHAIN_COLOUR};
+use crate::document::{Graph, GraphLink};
 use crate::tolerances::TREE_MAX_INDENT;
-use std::collections::HashMap;
 use std::fmt::Write as _;
 
 const ROW: f64 = 24.0;
@@ -20,7 +19,7 @@ const CHAR_W: f64 = 7.3;
 const LABEL_CHAR_W: f64 = 6.1;
 
 /// Text for XML character data and attribute values: `& < > " '` as entities
-/// (after [`super::name`] made control characters, which XML 1.0 cannot
+/// (after [`shown`] made control characters, which XML 1.0 cannot
 /// carry at all, visible escapes).
 fn xml(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
@@ -44,55 +43,50 @@ struct Slot {
     w: f64,
 }
 
-fn slots(rep: &FramesReport) -> Vec<Slot> {
-    rep.frames
+fn slots(g: &Graph) -> Vec<Slot> {
+    g.nodes
         .iter()
         .enumerate()
-        .map(|(i, f)| Slot {
-            x: MARGIN + INDENT * f.depth.min(TREE_MAX_INDENT) as f64,
+        .map(|(i, n)| Slot {
+            x: MARGIN + INDENT * n.depth.min(TREE_MAX_INDENT) as f64,
             y: MARGIN + ROW * (i + 1) as f64,
-            w: name(&f.name).chars().count() as f64 * CHAR_W + 10.0,
+            w: shown(&n.name).chars().count() as f64 * CHAR_W + 10.0,
         })
         .collect()
 }
 
-fn label(e: &FrameEdgeJson) -> String {
-    let [a, b, c] = label_lines(e);
-    format!("{a}  {b}  {c}")
+/// A link's label on one line.
+fn label(l: &GraphLink) -> String {
+    shown(&l.label.join("  "))
 }
 
-/// The frame tree as a standalone SVG document.
-pub fn svg(rep: &FramesReport) -> String {
-    let slots = slots(rep);
-    let idx: HashMap<&str, usize> = rep
-        .frames
-        .iter()
-        .enumerate()
-        .map(|(i, f)| (f.name.as_str(), i))
-        .collect();
-    let into: HashMap<&str, &FrameEdgeJson> =
-        rep.edges.iter().map(|e| (e.child.as_str(), e)).collect();
-    let title = match &rep.chain {
-        Some(c) => format!(
-            "{} frames, {} edges; chain {} -> {} in red",
-            rep.frames.len(),
-            rep.edges.len(),
-            name(&c.from),
-            name(&c.to)
-        ),
-        None => format!("{} frames, {} edges", rep.frames.len(), rep.edges.len()),
-    };
+/// The line above the tree: the counts, and the chain drawn in red.
+fn title(g: &Graph) -> String {
+    let counts = format!("{} frames, {} edges", g.nodes.len(), g.links.len());
+    match g.chain.as_deref() {
+        Some(path @ [first, ..]) => {
+            let last = &path[path.len() - 1];
+            format!("{counts}; chain {} -> {} in red", shown(first), shown(last))
+        }
+        _ => counts,
+    }
+}
+
+/// The graph as a standalone SVG document.
+pub fn svg(g: &Graph) -> String {
+    let slots = slots(g);
+    let into = g.links_into();
+    let title = title(g);
     let mut width = MARGIN * 2.0 + title.chars().count() as f64 * CHAR_W;
     let mut body = String::new();
     // Chain elbows drawn last, over the grey ones sharing their vertical.
     let mut chain_paths = String::new();
-    for (i, f) in rep.frames.iter().enumerate() {
+    for (i, f) in g.nodes.iter().enumerate() {
         let s = &slots[i];
         let colour = if f.on_chain { CHAIN_COLOUR } else { "#34495e" };
         let stroke = if f.on_chain { 2.5 } else { 1.0 };
-        let edge = into.get(f.name.as_str());
-        if let Some(p) = f.parent.as_deref().and_then(|p| idx.get(p)) {
-            let ps = &slots[*p];
+        let edge = into[i];
+        if let Some(ps) = f.parent.and_then(|p| slots.get(p)) {
             let on = edge.is_some_and(|e| e.on_chain);
             let ec = if on { CHAIN_COLOUR } else { "#95a5a6" };
             let _ = writeln!(
@@ -112,7 +106,7 @@ pub fn svg(rep: &FramesReport) -> String {
             s.w,
             s.x + 5.0,
             s.y + 13.0,
-            xml(&name(&f.name))
+            xml(&shown(&f.name))
         );
         let mut right = s.x + s.w;
         if let Some(e) = edge {
@@ -130,7 +124,7 @@ pub fn svg(rep: &FramesReport) -> String {
         width = width.max(right + MARGIN);
     }
     body.push_str(&chain_paths);
-    let height = MARGIN * 2.0 + ROW * (rep.frames.len() + 1) as f64;
+    let height = MARGIN * 2.0 + ROW * (g.nodes.len() + 1) as f64;
     format!(
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width:.0}\" height=\"{height:.0}\" viewBox=\"0 0 {width:.0} {height:.0}\" font-family=\"DejaVu Sans Mono, Menlo, Consolas, monospace\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<text x=\"{MARGIN}\" y=\"{:.1}\" font-size=\"12\" fill=\"#2c3e50\">{}</text>\n{body}</svg>\n",
         MARGIN + 13.0,

@@ -3,13 +3,26 @@
 //! Each quantity is printed at a precision that fits it (the exact value
 //! stays in JSON): translations and lengths to 0.1 mm ([`metres`]), angles
 //! to 0.001 deg ([`degrees`]), ratios to four significant digits ([`ratio`]),
-//! unit-vector and rotation entries to six decimals ([`unit`]). A value
+//! unit-vector and rotation entries to six decimals ([`unit()`]). A value
 //! below the resolution prints `0` (never `-0.0000` nor `1.1102e-16`).
-//! Vectors are `[a, b, c]` everywhere ([`vector`]).
+//! Vectors are `[a, b, c]` everywhere ([`vector`]). The resolutions are
+//! defined here, where they are used: they are how numbers are printed, not
+//! tolerances of the analysis (which keeps every digit).
 
-use crate::tolerances::{
-    PRINT_ANGLE_RES_DEG, PRINT_LENGTH_RES_M, PRINT_RATIO_DIGITS, PRINT_RATIO_ZERO,
-};
+/// A translation or length printed for people has this resolution (m): 0.1 mm,
+/// finer than any published extrinsic calibration. Smaller magnitudes print 0.
+pub const PRINT_LENGTH_RES_M: f64 = 1e-4;
+
+/// An angle printed for people has this resolution (deg); smaller print 0.
+pub const PRINT_ANGLE_RES_DEG: f64 = 1e-3;
+
+/// Significant digits of a ratio printed for people (band edges, singular
+/// values, eigenvalue ratios).
+pub const PRINT_RATIO_DIGITS: usize = 4;
+
+/// A ratio or dimensionless value below this magnitude prints 0 (rounding of
+/// a composed chain, e.g. `1.1102e-16`); the exact value stays in JSON.
+pub const PRINT_RATIO_ZERO: f64 = 1e-12;
 
 /// Decimals of a resolution given as a power of ten (`1e-4` -> 4).
 fn decimals_of(res: f64) -> usize {
@@ -35,6 +48,18 @@ pub fn metres(x: f64) -> String {
 /// An angle (deg) to 0.001 deg ([`PRINT_ANGLE_RES_DEG`]).
 pub fn degrees(x: f64) -> String {
     at_resolution(x, PRINT_ANGLE_RES_DEG)
+}
+
+/// An angle (deg) to 0.001 deg with trailing zeros cut (`90`, `-1.5`): the
+/// pictures' edge labels, where every character counts.
+pub fn degrees_trimmed(x: f64) -> String {
+    let s = fixed(x, 3);
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.to_string()
+    }
 }
 
 /// An entry of a rotation matrix, a quaternion or a unit axis: six decimals
@@ -171,6 +196,10 @@ mod tests {
         assert_eq!(unit(1.0), "1");
         assert_eq!(unit(-std::f64::consts::FRAC_1_SQRT_2), "-0.707107");
         assert_eq!(unit(-1e-17), "0");
+        assert_eq!(degrees_trimmed(-90.0), "-90");
+        assert_eq!(degrees_trimmed(1.23456), "1.235");
+        assert_eq!(degrees_trimmed(12.5), "12.5");
+        assert_eq!(degrees_trimmed(-0.0001), "0");
     }
 
     #[test]

@@ -1,42 +1,5 @@
-//! The document model the renderers share: what a report says, without how a
-//! format draws it.
-
-use crate::diagnostic::Diagnostic;
-
-/// A report laid out as blocks, in reading order.
-#[derive(Debug, Clone, Default)]
-pub struct Document {
-    /// The blocks.
-    pub blocks: Vec<Block>,
-}
-
-/// One block of a document.
-#[derive(Debug, Clone)]
-pub enum Block {
-    /// The one-line answer that opens a report; `good` picks its colour.
-    Headline {
-        /// The sentence.
-        text: String,
-        /// Whether the news is good (green) or a caution (yellow).
-        good: bool,
-    },
-    /// A section title.
-    Section(String),
-    /// A line that explains a convention: dim on a terminal; markdown has its
-    /// own wording (with code spans), or omits it when `markdown` is `None`.
-    Note {
-        /// Terminal text.
-        text: String,
-        /// Markdown text.
-        markdown: Option<String>,
-    },
-    /// A paragraph (one or more lines).
-    Text(String),
-    /// A table.
-    Table(Table),
-    /// Diagnostics (errors, warnings, findings), one per line.
-    Diagnostics(Vec<Diagnostic>),
-}
+//! A table of a document, with the hints a terminal layout uses (which
+//! columns a narrow terminal keeps, bounds on widths, one line per row).
 
 /// A table with a header row.
 #[derive(Debug, Clone, Default)]
@@ -92,29 +55,5 @@ impl Table {
     pub fn one_line(mut self, elide: usize) -> Self {
         self.one_line = Some(elide);
         self
-    }
-}
-
-impl Document {
-    /// An empty document.
-    pub fn new() -> Self {
-        Self::default()
-    }
-    /// Append a block.
-    pub fn push(&mut self, b: Block) -> &mut Self {
-        self.blocks.push(b);
-        self
-    }
-    /// Append a section title.
-    pub fn section(&mut self, title: impl Into<String>) -> &mut Self {
-        self.push(Block::Section(title.into()))
-    }
-    /// Append a paragraph.
-    pub fn text(&mut self, text: impl Into<String>) -> &mut Self {
-        self.push(Block::Text(text.into()))
-    }
-    /// Append a table.
-    pub fn table(&mut self, t: Table) -> &mut Self {
-        self.push(Block::Table(t))
     }
 }
