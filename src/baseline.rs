@@ -121,7 +121,8 @@ pub fn is_baseline_file(path: &Path) -> bool {
     {
         return false;
     }
-    let Ok(text) = std::fs::read_to_string(path) else {
+    let cap = crate::tolerances::MAX_BASELINE_FILE_SIZE;
+    let Ok(text) = crate::input::read_text(path, cap, "the baseline size cap") else {
         return false;
     };
     match serde_json::from_str::<serde_json::Value>(&text) {

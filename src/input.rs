@@ -318,6 +318,14 @@ pub fn strip_bom_bytes(bytes: &[u8]) -> &[u8] {
     bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes)
 }
 
+/// The size the file system reports for `path` (symlinks followed), `None`
+/// when it cannot say. For decisions that may be wrong without harm (whether
+/// a read is long enough to show progress), never to bound a read: a device
+/// reports 0.
+pub fn reported_size(path: &Path) -> Option<u64> {
+    std::fs::metadata(path).ok().map(|m| m.len())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,10 +1,132 @@
-//! `audit`: the command-line front end of extrinsic-audit. Arguments and
-//! output live in `cli`; everything else is the library's.
+//! `audit`: the command-line front end of extrinsic-audit. This file holds
+//! the command tree and the dispatch; `cli` holds each command's arguments
+//! (parsed, handed to `extrinsic_audit::pipeline`, the report rendered) and
+//! the output. Everything else is the library's.
+//!
+//! Exit codes for every command: 0 ok, 1 the check found problems, 2 usage or
+//! input error (clap's own usage errors also exit 2).
 
 mod cli;
 
+use clap::{Parser, Subcommand};
+use cli::{audit, check, detector, diff, display, survey};
+use extrinsic_audit::diagnostic::Result;
+use std::io::Write;
 use std::process::ExitCode;
 
+const ABOUT: &str = "What your LiDAR extrinsic does to degeneracy detection";
+
+const LONG_ABOUT: &str = "\
+Loads a robot's extrinsics (URDF, static TF launch files and dumps, FAST-LIO / \
+LIO-SAM / Kalibr YAML, Ouster metadata JSON, TOML rig files), composes the \
+transform between two frames and reports lever arm, screw pitch, adjoint singular \
+values, certificate bands, the adapted metric when the pitch is zero, and which \
+degeneracy-detector families can be frame-invariant on that robot.
+
+Convention: T = (R, d) is the pose of --to in --from, p_from = R p_to + d \
+(what `tf2_echo FROM TO` prints). Twists are [omega; t], rotation first.";
+
+const AFTER_HELP: &str = "\
+Examples:
+  audit robot.urdf --from base_link --to lidar
+  audit robot.urdf --frames
+  audit robot.urdf --frames --from base_link --to lidar --format svg > frames.svg
+  audit diff old.urdf new.urdf --from base_link --to lidar --format markdown
+  audit robot.urdf lidar_calib.yaml --from base_link --to lidar --format json
+  audit fast_lio.yaml                      # one edge: imu -> lidar
+  audit robot.urdf --from base --to lidar --joint torso_joint=0.2
+  audit robot.urdf --from base --to lidar --kappa 0.01 --lambda 0.004
+  audit survey calibrations/
+  audit check calibrations/ --baseline calibrations/baseline.json
+  audit completions bash > /etc/bash_completion.d/audit";
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "audit",
+    version,
+    about = ABOUT,
+    long_about = LONG_ABOUT,
+    after_long_help = AFTER_HELP,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    audit: audit::AuditArgs,
+    #[command(flatten)]
+    display: display::DisplayArgs,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// The survey table over a directory of rig files (one row per rig)
+    Survey(survey::SurveyArgs),
+    /// CI check of calibration files: validation, drift against a baseline
+    Check(check::CheckArgs),
+    // about/long_about come from the Args struct.
+    Tunnel(detector::TunnelArgs),
+    // about/long_about come from the Args struct.
+    Simulate(detector::SimulateArgs),
+    // about/long_about come from the Args struct.
+    Degeneracy(detector::DegeneracyArgs),
+    // about/long_about come from the Args struct.
+    CalibrateThreshold(detector::CalibrateThresholdArgs),
+    // about/long_about come from the Args struct.
+    Diff(diff::DiffArgs),
+    Sweep(detector::SweepArgs),
+    /// Print shell completions (bash, zsh, fish, elvish, powershell)
+    #[command(
+        long_about = "Print a completion script for your shell to standard output.",
+        after_long_help = "Examples:\n  audit completions bash > ~/.local/share/bash-completion/completions/audit\n  audit completions zsh > ~/.zfunc/_audit\n  audit completions fish > ~/.config/fish/completions/audit.fish"
+    )]
+    Completions {
+        /// The shell
+        shell: clap_complete::Shell,
+    },
+}
+
 fn main() -> ExitCode {
-    cli::main()
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            // clap: 0 for --help / --version, 2 for usage errors.
+            return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
+        }
+    };
+    display::set(cli.display.clone());
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    let code = match run(cli, &mut out) {
+        Ok(code) => code,
+        Err(e) => {
+            let _ = out.flush();
+            cli::print_error(&e);
+            e.exit_code()
+        }
+    };
+    let _ = out.flush();
+    ExitCode::from(code.clamp(0, 255) as u8)
+}
+
+/// Run a parsed command line, writing the report to `out`; returns the exit code.
+fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
+    match cli.command {
+        Some(Command::Survey(args)) => survey::run(&args, out),
+        Some(Command::Check(args)) => check::run(&args, out),
+        Some(Command::Tunnel(args)) => detector::tunnel(&args, out),
+        Some(Command::Simulate(args)) => detector::simulate(&args, out),
+        Some(Command::Degeneracy(args)) => detector::degeneracy(&args, out),
+        Some(Command::CalibrateThreshold(args)) => detector::calibrate_threshold(&args, out),
+        Some(Command::Diff(args)) => diff::run(&args, out),
+        Some(Command::Sweep(args)) => detector::sweep(&args, out),
+        Some(Command::Completions { shell }) => {
+            let mut cmd = <Cli as clap::CommandFactory>::command();
+            clap_complete::generate(shell, &mut cmd, "audit", out);
+            Ok(0)
+        }
+        None => audit::run(&cli.audit, out),
+    }
 }

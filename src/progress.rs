@@ -21,6 +21,22 @@ pub struct NoProgress;
 
 impl Progress for NoProgress {}
 
+/// Hands out a fresh [`Progress`] for each piece of work that a command does
+/// in turn (reading a scan, then estimating its normals). The library asks
+/// only for work long enough to be worth showing (a point file of at least
+/// `tolerances::PROGRESS_MIN_BYTES`, at least `PROGRESS_MIN_POINTS` normals):
+/// the binary decides how to draw it, never whether.
+pub trait ProgressFactory: Sync {
+    /// The progress of one piece of work.
+    fn progress(&self) -> Box<dyn Progress>;
+}
+
+impl ProgressFactory for NoProgress {
+    fn progress(&self) -> Box<dyn Progress> {
+        Box::new(NoProgress)
+    }
+}
+
 /// A reader that reports the bytes it reads: the high-water mark of its
 /// position, so that bytes read again after a seek back are not counted twice.
 pub struct Counted<'a, R> {

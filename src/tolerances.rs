@@ -160,6 +160,14 @@ pub const MAX_YAML_DEPTH: usize = 32;
 /// holds one short record per edge, so 64 MiB is millions of edges.
 pub const MAX_BASELINE_FILE_SIZE: u64 = 64 * 1024 * 1024;
 
+/// Largest `audit.toml` read by `audit check` (bytes): a manifest names a few
+/// robots with their files, renames and pairs, well under a KiB each.
+pub const MAX_MANIFEST_FILE_SIZE: u64 = 1024 * 1024;
+
+/// Largest `--initial-guess-file` read (bytes): a 4x4 matrix as a registration
+/// tool or a person writes it is under 1 KiB.
+pub const MAX_MATRIX_FILE_SIZE: u64 = 64 * 1024;
+
 /// Longest value (characters) a message quotes from a file before it is
 /// shortened (the head and the tail kept, with the count of what was cut).
 pub const MAX_QUOTED_CHARS: usize = 120;
@@ -380,6 +388,19 @@ pub const MAX_SIM_NOISE_M: f64 = 1.0;
 /// Accepted voxel sizes `--voxel` of the simulation (m): below 2 cm the
 /// scenes hold millions of points; above 10 m a scene is one voxel.
 pub const SIM_VOXEL_RANGE_M: (f64, f64) = (0.02, 10.0);
+
+/// Most seeds per configuration and scene `calibrate-threshold --seeds`
+/// takes: each seed is three scenes per configuration (216 instances at the
+/// default eight); a thousand is hours of work.
+pub const MAX_CALIBRATION_SEEDS: u64 = 1000;
+
+/// Most worker threads `calibrate-threshold --threads` starts (the scenes are
+/// independent; more threads than cores only add memory).
+pub const MAX_CALIBRATION_THREADS: usize = 64;
+
+/// Most values a list option of `calibrate-threshold` takes (`--noise`,
+/// `--voxel`): each one multiplies the sweep.
+pub const MAX_LIST_VALUES: usize = 16;
 
 /// Footprint of a real scan's degenerate subspace (`audit degeneracy`): an
 /// axis is flagged when its score, the diagonal entry of the Euclidean

@@ -3,9 +3,12 @@
 //! equivariant, and the threshold calibrated on the synthetic corridors
 //! (`audit calibrate-threshold`; setup in `degeneracy::threshold`).
 //!
-//! Adding a family: a [`Family`] variant, its row in [`FAMILIES`], its verdict
-//! in `analysis::metric::family_verdicts` and its metric in
-//! `degeneracy::MetricRule` (the compiler flags both matches).
+//! Adding a family: a [`Family`] variant, its row in [`FAMILIES`] and its
+//! place in [`Family::ALL`]; its verdict in `analysis::metric::family_verdicts`;
+//! its `degeneracy::MetricRule`, with its metric and its place in
+//! `MetricRule::default_set` (the compiler flags every `match`). The rest of
+//! the code takes the families from these; docs/ARCHITECTURE.md lists what
+//! follows outside the code (schemas, references, snapshots).
 
 use serde::Serialize;
 
@@ -64,7 +67,7 @@ pub struct FamilySpec {
 }
 
 /// The family table, in report order.
-pub const FAMILIES: [FamilySpec; 6] = [
+pub const FAMILIES: [FamilySpec; Family::ALL.len()] = [
     FamilySpec {
         family: Family::Unnormalized,
         name: "unnormalized",

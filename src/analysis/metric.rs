@@ -326,7 +326,7 @@ pub struct FamilyVerdict {
 ///
 /// `d = 0` means `||d|| <= LENGTH_ZERO_TOL`; a signed permutation is tested with
 /// [`SIGNED_PERMUTATION_TOL`].
-pub fn family_verdicts(t: &Transform, s: &Screw) -> [FamilyVerdict; 6] {
+pub fn family_verdicts(t: &Transform, s: &Screw) -> [FamilyVerdict; Family::ALL.len()] {
     let no_lever = t.lever_arm() <= LENGTH_ZERO_TOL;
     Family::ALL.map(|family| {
         let (invariant, reason) = match family {
@@ -394,7 +394,7 @@ pub struct RigAnalysis {
     /// The adapted constant metric `M0` of this rig, or why there is none.
     pub adapted_metric: AdaptedMetric,
     /// In [`Family::ALL`] order.
-    pub detectors: [FamilyVerdict; 6],
+    pub detectors: [FamilyVerdict; Family::ALL.len()],
 }
 
 /// Analyse one transform: lever arm, angle and axis, screw, closed-form adjoint

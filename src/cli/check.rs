@@ -1,16 +1,15 @@
 //! `audit check PATHS...`: CI checks on calibration files.
 
-use super::{emit, parse_joint, parse_nonneg, parse_positive};
+use super::args::{
+    parse_nonneg, parse_positive, FileSizeArgs, JointArgs, OutputArgs, PitchTolArgs,
+};
+use super::emit;
 use clap::Args;
 use extrinsic_audit::baseline::Tolerances;
 use extrinsic_audit::diagnostic::{Code, Result};
 use extrinsic_audit::formats::LoadOptions;
-use extrinsic_audit::geometry::PitchTol;
 use extrinsic_audit::pipeline::{self, CheckOptions};
-use extrinsic_audit::render::OutputFormat;
-use extrinsic_audit::tolerances::{
-    DEFAULT_MAX_FILE_SIZE, DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT,
-};
+use extrinsic_audit::tolerances::{DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -61,12 +60,10 @@ pub struct CheckArgs {
     /// Drift tolerance on rotations against the baseline (deg)
     #[arg(long, default_value_t = DEFAULT_MAX_ROTATION_DRIFT_DEG, value_parser = parse_nonneg, value_name = "DEG")]
     pub max_rotation_drift: f64,
-    /// Zero-pitch tolerance: `auto` (three-way, from the uncertainty of h) or |h| in m
-    #[arg(long, default_value = "auto", value_name = "auto|M")]
-    pub pitch_tol: PitchTol,
-    /// Set a movable joint's position (rad or m); repeatable
-    #[arg(long = "joint", value_parser = parse_joint, value_name = "NAME=VALUE")]
-    pub joints: Vec<(String, f64)>,
+    #[command(flatten)]
+    pub pitch: PitchTolArgs,
+    #[command(flatten)]
+    pub joints: JointArgs,
     /// Accept findings of this code: reported as warnings, never a problem;
     /// repeatable (the policy table: docs/check.md)
     #[arg(long = "allow", value_name = "CODE", value_parser = parse_code)]
@@ -77,12 +74,10 @@ pub struct CheckArgs {
     /// Every warning is a problem (exit 1)
     #[arg(long)]
     pub deny_warnings: bool,
-    /// Refuse (as a problem) calibration files larger than this
-    #[arg(long, default_value_t = DEFAULT_MAX_FILE_SIZE, value_name = "BYTES")]
-    pub max_file_size: u64,
-    /// Output format
-    #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
-    pub format: OutputFormat,
+    #[command(flatten)]
+    pub size: FileSizeArgs,
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 fn parse_code(s: &str) -> std::result::Result<Code, String> {
@@ -99,10 +94,7 @@ fn parse_code(s: &str) -> std::result::Result<Code, String> {
 }
 
 fn parse_pair(s: &str) -> std::result::Result<(String, String), String> {
-    match s.split_once(':') {
-        Some((a, b)) if !a.is_empty() && !b.is_empty() => Ok((a.to_string(), b.to_string())),
-        _ => Err(format!("expected FROM:TO, found `{s}`")),
-    }
+    pipeline::manifest::parse_pair(s).ok_or_else(|| format!("expected FROM:TO, found `{s}`"))
 }
 
 pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
@@ -121,10 +113,10 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
                 translation_m: args.max_translation_drift,
                 rotation_deg: args.max_rotation_drift,
             },
-            pitch_tol: args.pitch_tol,
+            pitch_tol: args.pitch.pitch_tol,
             load: LoadOptions {
-                joints: args.joints.iter().cloned().collect(),
-                max_file_size: args.max_file_size,
+                joints: args.joints.positions(),
+                max_file_size: args.size.max_file_size,
                 ..LoadOptions::default()
             },
             allow: args.allow.clone(),
@@ -133,6 +125,6 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
         },
         &progress,
     )?;
-    emit(&report, args.format, out)?;
+    emit(&report, args.output.format, out)?;
     Ok(report.exit_code())
 }

@@ -1,39 +1,67 @@
-//! The detector commands: `degeneracy`, `tunnel`, `simulate`,
-//! `calibrate-threshold`. Arguments here; computations in
-//! `extrinsic_audit::pipeline::detector`.
+//! The detector commands: `degeneracy`, `sweep`, `tunnel`, `simulate`,
+//! `calibrate-threshold`. Arguments here, made into the options of
+//! `extrinsic_audit::pipeline::detector`, which reads the scans and computes.
 
-use super::{emit, parse_ell, parse_noise, parse_positive, parse_voxel};
-use extrinsic_audit::degeneracy::normals::NormalParams;
-use extrinsic_audit::degeneracy::pairs;
-use extrinsic_audit::degeneracy::points::{
-    accumulate_file_with, read_points_with, read_xyz_classes, read_xyz_with, PointData,
-};
-use extrinsic_audit::degeneracy::scene::{voxel_downsample_weighted, Cloud};
-use extrinsic_audit::degeneracy::scene::{SceneKind, TUNNEL_RADIUS};
-use extrinsic_audit::degeneracy::threshold::{Calibration, SEEDS};
-use extrinsic_audit::degeneracy::Assembly;
+use super::args::{parse_noise, parse_positive, parse_voxel, EllArgs, OutputArgs, TauArgs};
+use super::display::TermBars;
+use super::emit;
+use extrinsic_audit::analysis::Family;
+use extrinsic_audit::degeneracy::scene::TUNNEL_RADIUS;
+use extrinsic_audit::degeneracy::threshold::SEEDS;
 use extrinsic_audit::degeneracy::MetricRule;
-use extrinsic_audit::diagnostic::Warning;
 use extrinsic_audit::diagnostic::{Error, Result};
-use extrinsic_audit::geometry::Transform;
-use extrinsic_audit::pipeline::detector::{self as det, RawScan, SimulateParams, TunnelParams};
-use extrinsic_audit::pipeline::transform_between;
-use extrinsic_audit::progress::{NoProgress, Progress};
-use extrinsic_audit::render::OutputFormat;
-use extrinsic_audit::report::detector::{MatricesJson, NormalsJson, PairJson};
-use extrinsic_audit::tolerances::{
-    DEFAULT_ELLS, DEFAULT_TAU, MAX_SIM_NOISE_M, PAIR_GATE_M, PROGRESS_MIN_BYTES,
-    PROGRESS_MIN_POINTS, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
-    SIM_VOXEL_RANGE_M,
+use extrinsic_audit::pipeline::detector::{
+    self as det, CalibrateOptions, DegeneracyOptions, InitialGuess, ScanOptions, SimulateParams,
+    SimulateRig, SweepOptions, TunnelParams,
 };
-use nalgebra::Vector6;
+use extrinsic_audit::tolerances::{
+    DEFAULT_ELLS, PAIR_GATE_M, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
+};
 use std::io::Write;
 use std::path::PathBuf;
+
+/// Help text with the family lists of the family table filled in:
+/// `{per_point}` (the families whose eigenvalues add up over points),
+/// `{per_point_swept}` (those of them `calibrate-threshold` sweeps, comma
+/// separated) and `{count_free}` (the others).
+fn with_families(text: &str) -> String {
+    let label = |f: Family| match f {
+        Family::CharacteristicLength => format!("{} l=", f.label()),
+        _ => f.label().to_string(),
+    };
+    let list = |keep: &dyn Fn(Family) -> bool| -> Vec<String> {
+        Family::ALL
+            .into_iter()
+            .filter(|&f| keep(f))
+            .map(label)
+            .collect()
+    };
+    let per_point = |f: Family| f.spec().per_point;
+    let swept: Vec<Family> = MetricRule::default_set(&DEFAULT_ELLS, None)
+        .iter()
+        .map(MetricRule::family)
+        .collect();
+    text.replace("{per_point}", &prose(&list(&per_point)))
+        .replace(
+            "{per_point_swept}",
+            &list(&|f| per_point(f) && swept.contains(&f)).join(", "),
+        )
+        .replace("{count_free}", &prose(&list(&|f| !per_point(f))))
+}
+
+/// `a`, `a and b`, `a, b and c`.
+fn prose(names: &[String]) -> String {
+    match names.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+        None => String::new(),
+    }
+}
 
 #[derive(clap::Args, Debug, Clone)]
 #[command(
     about = "Degeneracy of your own scan (points with normals, or raw with --estimate-normals), for every detector family",
-    long_about = "Reads points with unit normals (CSV x,y,z,nx,ny,nz[,w] with or without a header; \
+    long_about = with_families("Reads points with unit normals (CSV x,y,z,nx,ny,nz[,w] with or without a header; \
 PLY ascii/binary and PCD ascii/binary/binary_compressed with normal fields) expressed in the body \
 frame, or a raw scan (x y z ..., the output of a LiDAR driver; LAS and LAZ files are raw scans) \
 with --estimate-normals: optional \
@@ -49,12 +77,11 @@ axis point; or a translation direction) and its per-axis footprint, which depend
 (R = Rz(y) Ry(p) Rx(r)), so p_new = R^T (p - d) and n_new = R^T n. The point displacement \
 eigenvalues do not change under either; the other families' may.\n\n\
 --tau is the point-displacement threshold (dimensionless, default 1e-2). The baselines' \
-eigenvalues are dimensioned; those of unnormalized, characteristic length l=, block scaling and \
-adapted constant add up \
+eigenvalues are dimensioned; those of {per_point} add up \
 over points, so they are compared per point (eigenvalue / sum of weights) with the threshold \
 `audit calibrate-threshold` finds for each on the synthetic corridors (paper's rule: the \
-midpoint of its interval in the 0.10 m voxel, 0.01 m noise configuration); Jacobi and point \
-displacement are count-free. The JSON gives each family's threshold on its eigenvalues and the \
+midpoint of its interval in the 0.10 m voxel, 0.01 m noise configuration); {count_free} \
+are count-free. The JSON gives each family's threshold on its eigenvalues and the \
 per-point one. A weight column (w) is kept with --estimate-normals: each voxel's weight is the \
 mean of its points' weights.\n\n\
 --show-matrices prints H and M. The degenerate subspace's screws are classified relative to the \
@@ -67,23 +94,21 @@ the pairs as point-to-plane ICP does (source point, target normal rotated into t
 Examples:\n  audit degeneracy scan.pcd\n  audit degeneracy raw_scan.pcd --estimate-normals --voxel 0.1\n  \
 audit degeneracy b.pcd --target a.pcd --estimate-normals --voxel 0.1 --initial-guess-file b_in_a.txt\n  \
 audit degeneracy scan.ply --shift 1,0,0 --format json --show-matrices\n  \
-audit degeneracy points.csv --rotate-rpy 0,0,1.5708 --tau 0.005 --ell 0.5,2"
+audit degeneracy points.csv --rotate-rpy 0,0,1.5708 --tau 0.005 --ell 0.5,2")
 )]
 pub struct DegeneracyArgs {
     /// Point file with normals (CSV, PLY or PCD; detected from the content).
     pub points: PathBuf,
-    /// Point-displacement threshold: an eigenvalue below it is degenerate (baselines use their calibrated thresholds).
-    #[arg(long, default_value_t = DEFAULT_TAU, value_parser = parse_positive, allow_hyphen_values = true)]
-    pub tau: f64,
+    #[command(flatten)]
+    pub tau: TauArgs,
     /// Origin of the new frame in the input frame, `x,y,z` (m).
     #[arg(long, allow_hyphen_values = true)]
     pub shift: Option<String>,
     /// Orientation of the new frame in the input frame, `roll,pitch,yaw` (rad).
     #[arg(long, allow_hyphen_values = true)]
     pub rotate_rpy: Option<String>,
-    /// Characteristic lengths (m) for the characteristic length family, comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
-    pub ell: Vec<f64>,
+    #[command(flatten)]
+    pub ell: EllArgs,
     /// A raw scan: estimate the normals (PCA within --normal-radius, oriented toward --viewpoint) instead of reading them.
     #[arg(long)]
     pub estimate_normals: bool,
@@ -123,9 +148,8 @@ pub struct DegeneracyArgs {
     /// With --target: the same as a file holding a 4x4 row-major matrix (16 numbers).
     #[arg(long, value_name = "FILE")]
     pub initial_guess_file: Option<PathBuf>,
-    /// Output format
-    #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
-    pub format: OutputFormat,
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 #[derive(clap::Args, Debug, Clone)]
@@ -157,28 +181,6 @@ pub struct SweepArgs {
     /// With --rig: the other frame.
     #[arg(long)]
     pub to: Option<String>,
-}
-
-/// `audit sweep`.
-pub fn sweep(args: &SweepArgs, out: &mut dyn Write) -> Result<i32> {
-    if args.rig.is_empty() && (args.from.is_some() || args.to.is_some()) {
-        return Err(Error::usage("--from/--to apply only with --rig"));
-    }
-    let s = &args.scan;
-    let (asm, _, _, _) = scan_assembly(s)?;
-    let rig = if args.rig.is_empty() {
-        None
-    } else {
-        Some(transform_between(
-            &args.rig,
-            args.from.as_deref(),
-            args.to.as_deref(),
-        )?)
-    };
-    let report = det::sweep(&asm, s.tau, &s.ell, args.seed, rig.as_ref())
-        .map_err(|e| e.in_file(&s.points))?;
-    emit(&report, s.format, out)?;
-    Ok(0)
 }
 
 /// `--voxel` of `degeneracy` within [`RAW_VOXEL_RANGE_M`].
@@ -221,12 +223,10 @@ pub struct TunnelArgs {
     /// Origin of the second frame in the first, `x,y,z` (m); no rotation.
     #[arg(long, default_value = "1,0,0", allow_hyphen_values = true)]
     pub shift: String,
-    /// Degeneracy threshold on the point displacement eigenvalues.
-    #[arg(long, default_value_t = DEFAULT_TAU, value_parser = parse_positive, allow_hyphen_values = true)]
-    pub tau: f64,
-    /// Output format
-    #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
-    pub format: OutputFormat,
+    #[command(flatten)]
+    pub tau: TauArgs,
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 #[derive(clap::Args, Debug, Clone)]
@@ -277,12 +277,10 @@ pub struct SimulateArgs {
     /// Keep the exact surface normals (no voxel grid, no normal estimation).
     #[arg(long)]
     pub exact_normals: bool,
-    /// Point-displacement threshold (baselines use their calibrated thresholds, see `audit degeneracy --help`).
-    #[arg(long, default_value_t = DEFAULT_TAU, value_parser = parse_positive, allow_hyphen_values = true)]
-    pub tau: f64,
-    /// Characteristic lengths (m), comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
-    pub ell: Vec<f64>,
+    #[command(flatten)]
+    pub tau: TauArgs,
+    #[command(flatten)]
+    pub ell: EllArgs,
     /// Pose update xi = `wx,wy,wz,tx,ty,tz` in frame A (rad, m) for the correction difference.
     #[arg(
         long,
@@ -290,15 +288,14 @@ pub struct SimulateArgs {
         allow_hyphen_values = true
     )]
     pub update: String,
-    /// Output format
-    #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
-    pub format: OutputFormat,
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 #[derive(clap::Args, Debug, Clone)]
 #[command(
     about = "Find each detector's threshold interval that reproduces analytically known degenerate counts",
-    long_about = "Sweeps the threshold tau over three synthetic corridors whose number of degenerate \
+    long_about = with_families("Sweeps the threshold tau over three synthetic corridors whose number of degenerate \
 directions follows from geometry (rectangular corridor: 1, circular tunnel of radius 2.85 m: 2, \
 right-angle L corner: 0) under nine preprocessing configurations (range noise 0, 0.01, 0.05 m x \
 voxel 0.05, 0.10, 0.20 m; eight seeds each; 216 instances) and reports, per metric family, the \
@@ -307,9 +304,9 @@ every instance of a configuration, and the intersection across configurations.\n
 The paper reports [5.3e-3, 8.3e-2] for the point displacement metric and empty intersections for \
 every other family; with the defaults this gives (5.1e-3, 7.0e-2] for point displacement, empty \
 intersections for characteristic length l=0.25 and l=10 and Jacobi, and non-empty ones for unnormalized, characteristic length l=2.85 and block scaling. \
-The families whose eigenvalues add up over points (unnormalized, characteristic length l=, block scaling) are swept per point \
-(eigenvalue / number of points), as `audit degeneracy` compares them; Jacobi and point \
-displacement are count-free. \
+The families whose eigenvalues add up over points ({per_point_swept}) are swept per point \
+(eigenvalue / number of points), as `audit degeneracy` compares them; {count_free} \
+are count-free. \
 Differences from the paper's setup: the noise levels (0.05 m chosen as the highest because at \
 0.03 m unnormalized and characteristic length l=10 kept a threshold where the paper reports them failing), the two finer voxel \
 sizes, the corridor dimensions (3.0 m x 2.5 m, 12 m long) and the sampling (regular grid at half \
@@ -318,7 +315,7 @@ from one cloud with its own estimated normals (no source/target pair, no corresp
 no dual-normal weighting). The pipeline otherwise follows the paper: range noise, voxel grid with a \
 random origin, PCA normals within 0.30 m from at least 8 points, estimated from the noisy points.\n\n\
 Examples:\n  audit calibrate-threshold\n  audit calibrate-threshold --seeds 2 --format json\n  \
-audit calibrate-threshold --noise 0 --voxel 0.1 --ell 0.5,5"
+audit calibrate-threshold --noise 0 --voxel 0.1 --ell 0.5,5")
 )]
 pub struct CalibrateThresholdArgs {
     /// Seeds per configuration and scene.
@@ -330,406 +327,137 @@ pub struct CalibrateThresholdArgs {
     /// Voxel sizes (m), comma-separated (at least 0.02).
     #[arg(long, default_value = "0.05,0.1,0.2")]
     pub voxel: String,
-    /// Characteristic lengths (m), comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
-    pub ell: Vec<f64>,
+    #[command(flatten)]
+    pub ell: EllArgs,
     /// Worker threads (0: all cores).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
-    /// Output format
-    #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
-    pub format: OutputFormat,
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
-/// Parse `x,y,z` (three finite numbers).
-fn parse_triple(s: &str, what: &str) -> Result<[f64; 3]> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(Error::usage(format!(
-            "{what}: expected three comma-separated numbers x,y,z, found {s:?}"
-        )));
-    }
-    let mut v = [0.0; 3];
-    for (k, p) in parts.iter().enumerate() {
-        v[k] = p
-            .parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| {
-                Error::usage(format!("{what}: expected a finite number, found {p:?}"))
-            })?;
-    }
-    Ok(v)
-}
-
-/// A comma-separated list of numbers in `[min, max]` (1 to 16 of them).
-fn parse_list(s: &str, what: &str, (min, max): (f64, f64)) -> Result<Vec<f64>> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(str::trim)
-        .filter(|p| !p.is_empty())
-        .map(|p| {
-            p.parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite() && (min..=max).contains(x))
-                .ok_or_else(|| {
-                    Error::usage(format!(
-                        "{what}: expected numbers from {min} to {max}, found {p:?}"
-                    ))
-                })
+impl DegeneracyArgs {
+    /// How the scan is read.
+    pub fn scan_options(&self) -> Result<ScanOptions> {
+        let frame = det::parse_frame(self.shift.as_deref(), self.rotate_rpy.as_deref())?;
+        let initial_guess = match (&self.initial_guess, &self.initial_guess_file) {
+            (Some(_), Some(_)) => {
+                return Err(Error::usage(
+                    "give --initial-guess or --initial-guess-file, not both",
+                ))
+            }
+            (Some(s), None) => InitialGuess::Pose(det::parse_initial_guess(s)?),
+            (None, Some(f)) => InitialGuess::File(f.clone()),
+            (None, None) => InitialGuess::Identity,
+        };
+        let viewpoint = match &self.viewpoint {
+            Some(s) => Some(det::parse_triple(s, "--viewpoint")?),
+            None => None,
+        };
+        Ok(ScanOptions {
+            points: self.points.clone(),
+            frame,
+            estimate_normals: self.estimate_normals,
+            voxel: self.voxel,
+            normal_radius: self.normal_radius,
+            knn: self.knn,
+            min_neighbours: self.min_neighbours,
+            min_planarity: self.min_planarity,
+            viewpoint,
+            classes: self.class.clone(),
+            target: self.target.clone(),
+            gate: self.gate,
+            initial_guess,
         })
-        .collect::<Result<_>>()?;
-    if v.is_empty() || v.len() > 16 {
-        return Err(Error::usage(format!(
-            "{what}: expected 1 to 16 values, found {}",
-            v.len()
-        )));
     }
-    Ok(v)
 }
 
-/// The frame the user asked for (identity without options).
-fn frame_from_args(shift: Option<&str>, rpy: Option<&str>) -> Result<Transform> {
-    let d = match shift {
-        Some(s) => parse_triple(s, "--shift")?,
-        None => [0.0; 3],
-    };
-    let r = match rpy {
-        Some(s) => parse_triple(s, "--rotate-rpy")?,
-        None => [0.0; 3],
-    };
-    Transform::from_rpy(r, d)
-}
-
+/// `audit degeneracy`.
 pub fn degeneracy(args: &DegeneracyArgs, out: &mut dyn Write) -> Result<i32> {
-    let (asm, warnings, normals, pair) = scan_assembly(args)?;
-    let frame = frame_from_args(args.shift.as_deref(), args.rotate_rpy.as_deref())?;
-    let mut report = det::degeneracy_of(&asm, &warnings, &frame, args.tau, &args.ell)
-        .map_err(|e| e.in_file(&args.points))?;
-    report.normals = normals;
-    report.pair = pair;
-    if args.show_matrices {
-        report.matrices = Some(MatricesJson::new(&asm));
-    }
-    emit(&report, args.format, out)?;
+    let opts = DegeneracyOptions {
+        scan: args.scan_options()?,
+        tau: args.tau.tau,
+        ells: args.ell.ell.clone(),
+        show_matrices: args.show_matrices,
+    };
+    emit(
+        &det::degeneracy_scan(&opts, &TermBars)?,
+        args.output.format,
+        out,
+    )?;
     Ok(0)
 }
 
-/// What a scan gives: its assembly in the requested frame, the file's
-/// warnings, the normal estimation and the pair, when asked.
-type ScanAssembly = (
-    Assembly,
-    Vec<Warning>,
-    Option<NormalsJson>,
-    Option<PairJson>,
-);
-
-/// The assembly `audit degeneracy` (and `audit sweep`) analyses.
-fn scan_assembly(args: &DegeneracyArgs) -> Result<ScanAssembly> {
-    let frame = frame_from_args(args.shift.as_deref(), args.rotate_rpy.as_deref())?;
-    let pair_only = args.initial_guess.is_some() || args.initial_guess_file.is_some();
-    if pair_only && args.target.is_none() {
-        return Err(Error::usage(
-            "--initial-guess and --initial-guess-file apply only with --target",
-        ));
-    }
-    let mut pair = None;
-    let (asm, warnings, normals) = if let Some(target) = &args.target {
-        let (asm, w, n, p) = pair_assembly(args, target, &frame)?;
-        pair = Some(p);
-        (asm, w, n)
-    } else if args.estimate_normals {
-        raw_assembly(args, &frame)?
-    } else {
-        if !args.class.is_empty() {
-            return Err(Error::usage(
-                "--class applies only with --estimate-normals (LAS and LAZ are raw scans)",
-            ));
-        }
-        if args.voxel.is_some() || args.viewpoint.is_some() || args.knn.is_some() {
-            return Err(Error::usage(
-                "--voxel, --viewpoint and --knn apply only with --estimate-normals",
-            ));
-        }
-        // Streamed: H and M without holding the points; the frame by congruence.
-        let acc = accumulate_file_with(&args.points, Some(&frame), &*read_progress(&args.points))
-            .map_err(raw_scan_hint)?;
-        (acc.assembly, acc.warnings, None)
+/// `audit sweep`.
+pub fn sweep(args: &SweepArgs, out: &mut dyn Write) -> Result<i32> {
+    let s = &args.scan;
+    let opts = SweepOptions {
+        scan: s.scan_options()?,
+        tau: s.tau.tau,
+        ells: s.ell.ell.clone(),
+        seed: args.seed,
+        rig: args.rig.clone(),
+        from: args.from.clone(),
+        to: args.to.clone(),
     };
-    Ok((asm, warnings, normals, pair))
+    emit(&det::sweep_scan(&opts, &TermBars)?, s.output.format, out)?;
+    Ok(0)
 }
 
-/// A file without normal fields is likely a raw scan: say how to read it.
-fn raw_scan_hint(mut e: Error) -> Error {
-    let m = &e.message;
-    if m.contains("missing normal_x") || m.contains("missing nx") || m.contains("6 or 7 columns") {
-        e.message
-            .push_str("; a raw scan (no normals)? add --estimate-normals");
-    }
-    e
-}
-
-/// The initial guess of a pair (identity without one).
-fn initial_guess(args: &DegeneracyArgs, warnings: &mut Vec<Warning>) -> Result<Transform> {
-    match (&args.initial_guess, &args.initial_guess_file) {
-        (Some(_), Some(_)) => Err(Error::usage(
-            "give --initial-guess or --initial-guess-file, not both",
-        )),
-        (Some(s), None) => {
-            let v = parse_update(s).map_err(|_| {
-                Error::usage(format!(
-                    "--initial-guess: expected six numbers x,y,z,roll,pitch,yaw, found {s:?}"
-                ))
-            })?;
-            Transform::from_rpy([v[3], v[4], v[5]], [v[0], v[1], v[2]])
-        }
-        (None, Some(f)) => {
-            let text = std::fs::read_to_string(f).map_err(|e| Error::io(f, &e))?;
-            let v: Vec<f64> = text
-                .split_whitespace()
-                .map(|t| t.trim_matches(',').parse::<f64>())
-                .collect::<std::result::Result<_, _>>()
-                .map_err(|_| {
-                    Error::parse("expected 16 numbers (a 4x4 row-major matrix)").in_file(f)
-                })?;
-            if v.len() != 16 {
-                return Err(Error::parse(format!(
-                    "expected 16 numbers (a 4x4 row-major matrix), found {}",
-                    v.len()
-                ))
-                .in_file(f));
-            }
-            let m: [[f64; 4]; 4] = std::array::from_fn(|i| std::array::from_fn(|j| v[4 * i + j]));
-            Transform::from_matrix4(m, warnings).map_err(|e| e.in_file(f))
-        }
-        (None, None) => Ok(Transform::identity()),
-    }
-}
-
-/// A scan pair's assembly in `frame`: the source's points (raw, voxel grid
-/// when asked), the target with normals (read, or estimated as a raw scan).
-fn pair_assembly(
-    args: &DegeneracyArgs,
-    target: &std::path::Path,
-    frame: &Transform,
-) -> Result<(Assembly, Vec<Warning>, Option<NormalsJson>, PairJson)> {
-    let mut warnings = Vec::new();
-    let guess = initial_guess(args, &mut warnings)?;
-    let src = read_raw(args, &args.points)?;
-    // The source's weights, as in the single-cloud path (the mean per voxel).
-    let (source, source_weights) = match args.voxel {
-        Some(v) => voxel_downsample_weighted(&src.points, src.weights.as_deref(), v, [0.0; 3]),
-        None => (src.points, src.weights),
-    };
-    warnings.extend(src.warnings);
-    let (cloud, normals) = if args.estimate_normals {
-        let data = read_raw(args, target)?;
-        warnings.extend(data.warnings);
-        let (c, nj) = det::raw_scan_cloud_with(
-            &data.points,
-            &raw_params(args)?,
-            &*normals_progress(&data.points),
-        )
-        .map_err(|e| e.in_file(target))?;
-        (c, Some(nj))
-    } else {
-        let data = read_points_with(target, &*read_progress(target))?;
-        warnings.extend(data.warnings);
-        (
-            Cloud {
-                points: data.points,
-                normals: data.normals,
-            },
-            None,
-        )
-    };
-    let (asm, st) = pairs::pair_assembly_weighted(
-        &source,
-        source_weights.as_deref(),
-        &cloud,
-        &guess,
-        args.gate,
-    )
-    .map_err(|e| e.in_file(&args.points))?;
-    let pj = PairJson {
-        target: target.display().to_string(),
-        gate_m: args.gate,
-        initial_guess: det::frame_json(&guess),
-        source_points: st.source,
-        target_points: st.target,
-        correspondences: st.matched,
-        mean_distance_m: st.mean_distance,
-    };
-    Ok((asm.congruence(&frame.adjoint()), warnings, normals, pj))
-}
-
-/// A raw scan's points: every point, or with --class the LAS/LAZ points of
-/// those classifications.
-fn read_raw(args: &DegeneracyArgs, path: &std::path::Path) -> Result<PointData> {
-    let progress = read_progress(path);
-    if args.class.is_empty() {
-        read_xyz_with(path, &*progress)
-    } else {
-        read_xyz_classes(path, &args.class, &*progress)
-    }
-}
-
-/// A bar on a terminal's standard error while reading `path`, when it is
-/// large enough to take about a second (issue 13).
-fn read_progress(path: &std::path::Path) -> Box<dyn Progress> {
-    let big = std::fs::metadata(path).is_ok_and(|m| m.len() >= PROGRESS_MIN_BYTES);
-    if big {
-        Box::new(super::display::TermProgress::new())
-    } else {
-        Box::new(NoProgress)
-    }
-}
-
-/// A bar while estimating the normals of `points`, when they are many.
-fn normals_progress(points: &[[f64; 3]]) -> Box<dyn Progress> {
-    if points.len() >= PROGRESS_MIN_POINTS {
-        Box::new(super::display::TermProgress::new())
-    } else {
-        Box::new(NoProgress)
-    }
-}
-
-/// The raw-scan options of the arguments.
-fn raw_params(args: &DegeneracyArgs) -> Result<RawScan> {
-    let viewpoint = match args.viewpoint.as_deref() {
-        Some(s) => parse_triple(s, "--viewpoint")?,
-        None => [0.0; 3],
-    };
-    Ok(RawScan {
-        voxel: args.voxel,
-        normals: NormalParams {
-            radius: args.normal_radius,
-            knn: args.knn,
-            min_neighbours: args.min_neighbours,
-            min_planarity: args.min_planarity,
-            viewpoint,
-        },
-        threads: 0,
-    })
-}
-
-/// A raw scan's assembly in `frame`: points read (normals not required),
-/// voxel grid, PCA normals in the input frame, then the frame by congruence.
-fn raw_assembly(
-    args: &DegeneracyArgs,
-    frame: &Transform,
-) -> Result<(Assembly, Vec<Warning>, Option<NormalsJson>)> {
-    let data = read_raw(args, &args.points)?;
-    let raw = raw_params(args)?;
-    let progress = normals_progress(&data.points);
-    let (asm, nj) =
-        det::raw_scan_assembly_with(&data.points, data.weights.as_deref(), &raw, &*progress)
-            .map_err(|e| e.in_file(&args.points))?;
-    Ok((asm.congruence(&frame.adjoint()), data.warnings, Some(nj)))
-}
-
+/// `audit tunnel`.
 pub fn tunnel(args: &TunnelArgs, out: &mut dyn Write) -> Result<i32> {
     let report = det::tunnel(&TunnelParams {
         radius: args.radius,
         length: args.length,
         ring_spacing: args.ring_spacing,
         points_per_ring: args.points_per_ring,
-        shift: parse_triple(&args.shift, "--shift")?,
-        tau: args.tau,
+        shift: det::parse_triple(&args.shift, "--shift")?,
+        tau: args.tau.tau,
     })?;
-    emit(&report, args.format, out)?;
+    emit(&report, args.output.format, out)?;
     Ok(0)
 }
 
-fn parse_update(s: &str) -> Result<Vector6<f64>> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|p| p.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
-        .collect::<Option<Vec<f64>>>()
-        .ok_or_else(|| Error::usage(format!("--update: expected six numbers, found {s:?}")))?;
-    if v.len() != 6 {
-        return Err(Error::usage(format!(
-            "--update: expected six numbers wx,wy,wz,tx,ty,tz, found {}",
-            v.len()
-        )));
-    }
-    Ok(Vector6::from_column_slice(&v))
-}
-
-/// The rig transform: composed from files, or given by --shift/--rotate-rpy.
-fn simulate_transform(args: &SimulateArgs) -> Result<Transform> {
-    if args.files.is_empty() {
-        if args.shift.is_none() && args.rotate_rpy.is_none() {
-            return Err(Error::usage(
-                "expected calibration FILE... with --from/--to, or --shift/--rotate-rpy",
-            ));
-        }
-        return frame_from_args(args.shift.as_deref(), args.rotate_rpy.as_deref());
-    }
-    if args.shift.is_some() || args.rotate_rpy.is_some() {
-        return Err(Error::usage("--shift/--rotate-rpy apply only without FILE"));
-    }
-    transform_between(&args.files, args.from.as_deref(), args.to.as_deref())
-}
-
+/// `audit simulate`.
 pub fn simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<i32> {
-    let t = simulate_transform(args)?;
-    let scene = SceneKind::parse(&args.scene).ok_or_else(|| {
-        Error::usage(format!(
-            "--scene: expected tunnel, corridor or corner, found {:?}",
-            args.scene
-        ))
-    })?;
+    let pose = if args.shift.is_some() || args.rotate_rpy.is_some() {
+        Some(det::parse_frame(
+            args.shift.as_deref(),
+            args.rotate_rpy.as_deref(),
+        )?)
+    } else {
+        None
+    };
     let params = SimulateParams {
-        scene,
+        scene: det::parse_scene(&args.scene)?,
         noise: args.noise,
         seed: args.seed,
         voxel: args.voxel,
         exact_normals: args.exact_normals,
-        tau: args.tau,
-        ells: args.ell.clone(),
-        update: parse_update(&args.update)?,
+        tau: args.tau.tau,
+        ells: args.ell.ell.clone(),
+        update: det::parse_update(&args.update)?,
     };
-    emit(&det::simulate(&params, &t)?, args.format, out)?;
+    let rig = SimulateRig {
+        files: args.files.clone(),
+        from: args.from.clone(),
+        to: args.to.clone(),
+        pose,
+    };
+    let t = det::simulate_transform(&rig)?;
+    emit(&det::simulate(&params, &t)?, args.output.format, out)?;
     Ok(0)
 }
 
-/// The sweep the arguments ask for.
-pub fn calibration_from_args(args: &CalibrateThresholdArgs) -> Result<Calibration> {
-    if args.seeds == 0 || args.seeds > 1000 {
-        return Err(Error::usage(format!(
-            "--seeds: expected 1 to 1000, found {}",
-            args.seeds
-        )));
-    }
-    let ells = &args.ell;
-    let mut rules = vec![MetricRule::Unnormalized];
-    rules.extend(ells.iter().map(|&l| MetricRule::CharacteristicLength(l)));
-    rules.extend([
-        MetricRule::BlockScaling,
-        MetricRule::Jacobi,
-        MetricRule::PointDisplacement,
-    ]);
-    let mut c = Calibration {
-        noise_levels: parse_list(&args.noise, "--noise", (0.0, MAX_SIM_NOISE_M))?,
-        voxel_sizes: parse_list(&args.voxel, "--voxel", SIM_VOXEL_RANGE_M)?,
-        seeds: args.seeds,
-        rules,
-        ..Calibration::default()
-    };
-    if args.threads > 0 {
-        c.threads = args.threads.min(64);
-    }
-    Ok(c)
-}
-
+/// `audit calibrate-threshold`.
 pub fn calibrate_threshold(args: &CalibrateThresholdArgs, out: &mut dyn Write) -> Result<i32> {
-    let c = calibration_from_args(args)?;
-    let progress = super::display::TermProgress::new();
-    emit(
-        &det::calibrate_threshold_with(&c, &progress)?,
-        args.format,
-        out,
-    )?;
+    let opts = CalibrateOptions {
+        seeds: args.seeds,
+        noise_levels: CalibrateOptions::parse_noise_levels(&args.noise)?,
+        voxel_sizes: CalibrateOptions::parse_voxel_sizes(&args.voxel)?,
+        ells: args.ell.ell.clone(),
+        threads: args.threads,
+    };
+    emit(&det::calibrate(&opts, &TermBars)?, args.output.format, out)?;
     Ok(0)
 }

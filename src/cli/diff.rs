@@ -1,17 +1,16 @@
 //! `audit diff OLD NEW [--from A --to B]`: what changed between two
 //! calibrations. Exit 1 when a change exceeds `--tolerance`, 0 otherwise.
 
-use super::audit::parse_rename;
-use super::{emit, parse_ell, parse_joint, parse_nonneg, print_warnings};
-use clap::Args;
-use extrinsic_audit::diagnostic::Result;
-use extrinsic_audit::formats::LoadOptions;
-use extrinsic_audit::pipeline::{self, DiffOptions, Rename, RigOptions, SideRead};
-use extrinsic_audit::render::OutputFormat;
-use extrinsic_audit::report::diff::DiffToleranceJson;
-use extrinsic_audit::tolerances::{
-    DEFAULT_DIFF_ROTATION_TOL_DEG, DEFAULT_DIFF_TRANSLATION_TOL_MM, DEFAULT_ELLS,
+use super::args::{
+    parse_nonneg, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs, RenameArgs,
 };
+use super::{emit, print_warnings};
+use clap::Args;
+use extrinsic_audit::diagnostic::{Error, Result};
+use extrinsic_audit::formats::LoadOptions;
+use extrinsic_audit::pipeline::{self, DiffOptions, RigOptions, SideRead};
+use extrinsic_audit::report::diff::DiffToleranceJson;
+use extrinsic_audit::tolerances::{DEFAULT_DIFF_ROTATION_TOL_DEG, DEFAULT_DIFF_TRANSLATION_TOL_MM};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -28,7 +27,7 @@ or a verdict changed (screw kind, adapted metric, a family); 0 otherwise; 2 on b
 input. Edges in only one file are listed but do not by themselves fail.\n\nEach file is \
 read as the rig report reads it; per side, --key-old/--key-new pick one key of a YAML/JSON \
 file with several transforms (--key: the same key in both), and --invert-old/--invert-new \
-read a file whose numbers are the pose of the parent in the child.",
+(--invert: both) read a file whose numbers are the pose of the parent in the child.",
     after_long_help = "Examples:\n  audit diff old/robot.urdf new/robot.urdf --from base_link --to lidar\n  audit diff robot.urdf kalibr.yaml --from imu_link --to lidar --rename kalibr.yaml:imu0=imu_link --rename kalibr.yaml:lidar0=lidar\n  audit diff calibrations/anymal-d.urdf calibrations/anymal-d-lidar-imu.toml --format markdown\n  audit diff a.urdf b.urdf --from base --to lidar --tolerance 0.5,0.01\n  audit diff calibrations/geode-gamma-avia.toml gamma_config.yaml --key-new T_IMU_LiDAR\n  audit diff run1/camchain-imucam.yaml run2/camchain-imucam.yaml --key cam0 --from imu --to cam0"
 )]
 pub struct DiffArgs {
@@ -44,31 +43,25 @@ pub struct DiffArgs {
     /// Child frame of the chain compared
     #[arg(long, value_name = "FRAME")]
     pub to: Option<String>,
-    /// Rename a frame as it is loaded, in both files or only in FILE; repeatable
-    #[arg(long = "rename", value_parser = parse_rename, value_name = "[FILE:]OLD=NEW")]
-    pub renames: Vec<Rename>,
+    #[command(flatten)]
+    pub renames: RenameArgs,
     /// Largest change that passes: translation (mm), rotation (deg)
     #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_nonneg, value_name = "MM,DEG", default_values_t = [DEFAULT_DIFF_TRANSLATION_TOL_MM, DEFAULT_DIFF_ROTATION_TOL_DEG])]
     pub tolerance: Vec<f64>,
-    /// Characteristic lengths (m) for the certificate bands
-    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ELLS, value_parser = parse_ell, allow_hyphen_values = true, value_name = "M,...")]
-    pub ell: Vec<f64>,
-    /// Zero-pitch tolerance: `auto` (zero within 3 standard uncertainties of h,
-    /// from the rounding of the numbers as written) or |h| in m
-    #[arg(long, default_value = "auto", value_name = "auto|M")]
-    pub pitch_tol: extrinsic_audit::geometry::PitchTol,
-    /// Set a movable joint's position (rad or m) in both files; repeatable
-    #[arg(long = "joint", value_parser = parse_joint, value_name = "NAME=VALUE")]
-    pub joints: Vec<(String, f64)>,
-    /// Read only this key of both files (YAML/JSON with several transforms,
-    /// e.g. T_imu_lidar); see --key-old, --key-new
-    #[arg(long, value_name = "NAME", conflicts_with_all = ["key_old", "key_new"])]
-    pub key: Option<String>,
+    #[command(flatten)]
+    pub ell: EllArgs,
+    #[command(flatten)]
+    pub pitch: PitchTolArgs,
+    #[command(flatten)]
+    pub joints: JointArgs,
+    // --key and --invert: both files (--key-old, --invert-new, ...: one).
+    #[command(flatten)]
+    pub read: ReadArgs,
     /// Read only this key of the old file
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", conflicts_with = "key")]
     pub key_old: Option<String>,
     /// Read only this key of the new file
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", conflicts_with = "key")]
     pub key_new: Option<String>,
     /// The old file stores the other direction (the pose of the parent in the
     /// child): invert its transforms as they are read
@@ -77,14 +70,13 @@ pub struct DiffArgs {
     /// The same for the new file
     #[arg(long)]
     pub invert_new: bool,
-    /// Output format (text, markdown for a pull-request comment, json)
-    #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
-    pub format: OutputFormat,
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
     let [translation_mm, rotation_deg] = args.tolerance[..] else {
-        return Err(extrinsic_audit::diagnostic::Error::usage(format!(
+        return Err(Error::usage(format!(
             "--tolerance: expected MM,DEG (two numbers), found {} number(s)",
             args.tolerance.len()
         )));
@@ -94,22 +86,22 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
         new: args.new.clone(),
         from: args.from.clone(),
         to: args.to.clone(),
-        renames: args.renames.clone(),
+        renames: args.renames.renames.clone(),
         load: LoadOptions {
-            joints: args.joints.iter().cloned().collect(),
+            joints: args.joints.positions(),
             ..LoadOptions::default()
         },
         old_read: SideRead {
-            key: args.key.clone().or_else(|| args.key_old.clone()),
-            invert: args.invert_old,
+            key: args.read.key.clone().or_else(|| args.key_old.clone()),
+            invert: args.read.invert || args.invert_old,
         },
         new_read: SideRead {
-            key: args.key.clone().or_else(|| args.key_new.clone()),
-            invert: args.invert_new,
+            key: args.read.key.clone().or_else(|| args.key_new.clone()),
+            invert: args.read.invert || args.invert_new,
         },
         rig: RigOptions {
-            ells: args.ell.clone(),
-            pitch_tol: args.pitch_tol,
+            ells: args.ell.ell.clone(),
+            pitch_tol: args.pitch.pitch_tol,
             sigma: None,
             kappa_lambda: None,
         },
@@ -119,6 +111,6 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
         },
     })?;
     print_warnings(&warnings);
-    emit(&report, args.format, out)?;
+    emit(&report, args.output.format, out)?;
     Ok(if report.exceeded.is_empty() { 0 } else { 1 })
 }

@@ -119,3 +119,12 @@ impl extrinsic_audit::progress::Progress for TermProgress {
         self.bar.finish_and_clear();
     }
 }
+
+/// A [`TermProgress`] for each piece of work the library reports.
+pub struct TermBars;
+
+impl extrinsic_audit::progress::ProgressFactory for TermBars {
+    fn progress(&self) -> Box<dyn extrinsic_audit::progress::Progress> {
+        Box::new(TermProgress::new())
+    }
+}

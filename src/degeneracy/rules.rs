@@ -137,31 +137,33 @@ impl MetricRule {
     }
 
     /// The paper's eight configurations: I6, l = 0.25, 1, 2.85, 10, block
-    /// scaling, Jacobi, point displacement.
+    /// scaling, Jacobi, point displacement (the default set at the default
+    /// lengths).
     pub fn paper_configs() -> Vec<MetricRule> {
-        let mut v = vec![MetricRule::Unnormalized];
-        v.extend(
-            DEFAULT_ELLS
-                .iter()
-                .map(|&l| MetricRule::CharacteristicLength(l)),
-        );
-        v.push(MetricRule::BlockScaling);
-        v.push(MetricRule::Jacobi);
-        v.push(MetricRule::PointDisplacement);
-        v
+        Self::default_set(&DEFAULT_ELLS, None)
     }
 
-    /// The families reported by default (`ells` for the characteristic length;
-    /// `adapted`, when given, adds the adapted constant metric of a rig).
+    /// The families reported by default, in the family table's order: one
+    /// rule per family, `ells` for the characteristic length, and the adapted
+    /// constant metric only when `adapted` gives a rig's. Every command that
+    /// runs several families takes them from here, so a new family is added
+    /// to them all in this one place (with its `match` arms above).
     pub fn default_set(ells: &[f64], adapted: Option<Matrix6<f64>>) -> Vec<MetricRule> {
-        let mut v = vec![MetricRule::Unnormalized];
-        v.extend(ells.iter().map(|&l| MetricRule::CharacteristicLength(l)));
-        v.push(MetricRule::BlockScaling);
-        v.push(MetricRule::Jacobi);
-        if let Some(m0) = adapted {
-            v.push(MetricRule::AdaptedConstant(Box::new(m0)));
+        let mut v = Vec::new();
+        for family in Family::ALL {
+            match family {
+                Family::Unnormalized => v.push(MetricRule::Unnormalized),
+                Family::CharacteristicLength => {
+                    v.extend(ells.iter().map(|&l| MetricRule::CharacteristicLength(l)));
+                }
+                Family::BlockScaling => v.push(MetricRule::BlockScaling),
+                Family::Jacobi => v.push(MetricRule::Jacobi),
+                Family::AdaptedConstant => {
+                    v.extend(adapted.map(|m0| MetricRule::AdaptedConstant(Box::new(m0))));
+                }
+                Family::PointDisplacement => v.push(MetricRule::PointDisplacement),
+            }
         }
-        v.push(MetricRule::PointDisplacement);
         v
     }
 

@@ -21,6 +21,7 @@
 use super::walk::Found;
 use super::Rename;
 use crate::diagnostic::{Error, Result};
+use crate::tolerances::MAX_MANIFEST_FILE_SIZE;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -66,7 +67,8 @@ pub struct ManifestRobot {
     pub pairs: Vec<(String, String)>,
 }
 
-fn pair(s: &str) -> Option<(String, String)> {
+/// `FROM:TO`, two non-empty frame names (a manifest's `pairs`, `check --pair`).
+pub fn parse_pair(s: &str) -> Option<(String, String)> {
     match s.split_once(':') {
         Some((a, b)) if !a.is_empty() && !b.is_empty() => Some((a.into(), b.into())),
         _ => None,
@@ -79,7 +81,7 @@ pub fn read(dir: &Path) -> Result<Vec<ManifestRobot>> {
     if !path.is_file() {
         return Ok(Vec::new());
     }
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, &e))?;
+    let text = crate::input::read_text(&path, MAX_MANIFEST_FILE_SIZE, "the audit.toml size cap")?;
     let m: Manifest = toml::from_str(&text).map_err(|e| {
         let line = e
             .span()
@@ -126,7 +128,9 @@ pub fn read(dir: &Path) -> Result<Vec<ManifestRobot>> {
         let pairs = r
             .pairs
             .iter()
-            .map(|s| pair(s).ok_or_else(|| bad(format!("expected a pair FROM:TO, found {s:?}"))))
+            .map(|s| {
+                parse_pair(s).ok_or_else(|| bad(format!("expected a pair FROM:TO, found {s:?}")))
+            })
             .collect::<Result<Vec<_>>>()?;
         out.push(ManifestRobot {
             name: r.name.clone(),

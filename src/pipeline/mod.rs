@@ -16,7 +16,7 @@ pub use diff::{diff, DiffOptions, SideRead};
 pub use files::{expand_paths, write_atomic};
 pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};
 
-use crate::diagnostic::{Error, Result};
+use crate::diagnostic::{Code, Error, Result, Warning};
 use crate::formats::{self, LoadOptions};
 use crate::frames::{Chain, FrameGraph};
 use crate::geometry::{PitchTol, UserSigma};
@@ -185,6 +185,25 @@ impl Loaded {
         }
         Ok(())
     }
+}
+
+/// `--strict`: warnings (already printed) stop the command, an error naming
+/// their codes.
+pub fn deny_warnings(strict: bool, warnings: &[Warning]) -> Result<()> {
+    if !strict || warnings.is_empty() {
+        return Ok(());
+    }
+    let mut codes: Vec<&str> = warnings.iter().map(|w| w.code.name()).collect();
+    codes.sort_unstable();
+    codes.dedup();
+    Err(Error::new(
+        Code::WarningsDenied,
+        format!(
+            "--strict: expected no warnings, found {} ({})",
+            warnings.len(),
+            codes.join(", ")
+        ),
+    ))
 }
 
 /// What the rig report is asked for besides the chain.

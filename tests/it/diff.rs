@@ -444,6 +444,22 @@ fn key_new_reads_one_matrix_of_a_file_with_several() {
     assert_eq!(code, 2, "{err}");
 }
 
+/// `--invert` inverts both files, as `--key` picks a key in both: the same
+/// report as `--invert-old --invert-new`, both sides marked inverted.
+#[test]
+fn invert_reads_both_files_the_other_way() {
+    let common = [GEODE_TOML, GEODE_YAML, "--key-new", "T_IMU_LiDAR"];
+    let (code, both) = diff_json(&[&common[..], &["--invert"]].concat());
+    let (code_each, each) = diff_json(&[&common[..], &["--invert-old", "--invert-new"]].concat());
+    assert_eq!(code, code_each);
+    assert_eq!(both, each);
+    assert_eq!(both["old_read"]["inverted"], true);
+    assert_eq!(both["new_read"]["inverted"], true);
+    // Inverting one side only moves the chain (exit 1); both sides, not.
+    let (code_new, _) = diff_json(&[&common[..], &["--invert-new"]].concat());
+    assert_eq!((code, code_new), (0, 1));
+}
+
 /// `--invert-new`: the new file's numbers read as the pose of the parent in
 /// the child: IMU -> LiDAR is the inverse of T_IMU_LiDAR, a change of
 /// |d_inv - d| and twice the angle (numpy, key_invert_expected.json); the

@@ -273,16 +273,8 @@ fn a_macro_called_without_prefix_is_copied_with_a_warning() {
 #[cfg(unix)]
 #[test]
 fn external_xacro_on_request() {
-    use std::os::unix::fs::PermissionsExt;
-
     let dir = tempfile::tempdir().expect("tempdir");
-    let script = dir.path().join("xacro");
-    std::fs::write(
-        &script,
-        "#!/bin/sh\nprintf '%s\\n' '<robot name=\"r\">' '<link name=\"base\"/>' '<link name=\"lidar\"/>' '<joint name=\"j\" type=\"fixed\">' '<origin xyz=\"0 0 0.5\"/>' '<parent link=\"base\"/>' '<child link=\"lidar\"/>' '</joint>' '</robot>'\n",
-    )
-    .expect("write");
-    std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    crate::common::fake_xacro(dir.path());
     let l = load_file(
         Path::new("tests/fixtures/formats/norlab-warthog-rs32-mti10__warthog.urdf.xacro"),
         &LoadOptions {

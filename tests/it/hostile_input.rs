@@ -135,3 +135,44 @@ fn standard_input_is_read_for_one_file_and_bounded() {
     assert_eq!(out.status.code(), Some(2), "{se}");
     assert!(se.contains("more than 1000 bytes"), "{se}");
 }
+
+/// `degeneracy --initial-guess-file` reads through the safe reader: a FIFO or
+/// a device is refused at once (it was read to its end, waiting on a FIFO
+/// forever), before either scan is read.
+#[test]
+fn degeneracy_refuses_a_fifo_or_a_device_as_the_initial_guess() {
+    let d = tempfile::tempdir().unwrap();
+    let f = mkfifo(d.path(), "guess.txt");
+    for guess in [s(&f), "/dev/zero"] {
+        let o = run_audit(
+            &[
+                "degeneracy",
+                "source.pcd",
+                "--target",
+                "target.pcd",
+                "--initial-guess-file",
+                guess,
+            ],
+            1,
+        );
+        refused(&o, guess);
+    }
+}
+
+/// `audit.toml` is read through the safe reader, bounded: a manifest over
+/// its cap (1 MiB) is refused, naming it, instead of being read whole.
+#[test]
+fn check_refuses_an_oversized_manifest() {
+    let d = tempfile::tempdir().unwrap();
+    write_tmp(&d, "good.yaml", FASTLIO);
+    let manifest = format!("# {}\n", "x".repeat(2 << 20));
+    write_tmp(&d, "audit.toml", &manifest);
+    let o = run_audit(&["check", s(d.path())], 1);
+    assert_eq!(o.code, Some(2), "{}{}", o.stdout, o.stderr);
+    assert!(o.stderr.contains("audit.toml"), "{}", o.stderr);
+    assert!(
+        o.stderr.contains("expected at most 1048576 bytes"),
+        "{}",
+        o.stderr
+    );
+}

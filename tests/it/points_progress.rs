@@ -9,7 +9,8 @@ use extrinsic_audit::degeneracy::normals::{estimate_normals_progress, NormalPara
 use extrinsic_audit::degeneracy::points::{
     accumulate_file_with, read_xyz_with, write_pcd, write_ply, Encoding,
 };
-use extrinsic_audit::progress::Progress;
+use extrinsic_audit::pipeline::detector::{read_scan, ScanOptions};
+use extrinsic_audit::progress::{NoProgress, Progress, ProgressFactory};
 use extrinsic_audit::tolerances::PROGRESS_MIN_BYTES;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -34,6 +35,17 @@ impl Progress for Record {
     }
     fn finish(&self) {
         self.finished.fetch_add(1, Ordering::SeqCst);
+    }
+}
+
+/// Counts the progress bars the library asks for.
+#[derive(Default)]
+struct Asks(AtomicU64);
+
+impl ProgressFactory for Asks {
+    fn progress(&self) -> Box<dyn Progress> {
+        self.0.fetch_add(1, Ordering::SeqCst);
+        Box::new(NoProgress)
     }
 }
 
@@ -137,6 +149,14 @@ fn a_big_file_draws_a_bar_on_a_terminal_and_nothing_in_a_pipe() {
         write_pcd(&p[..3000], &nn[..3000], Encoding::BinaryLittleEndian),
     )
     .unwrap();
+    // The library decides, the binary only draws: one bar asked for the big
+    // file, none for the small one.
+    let asked = Asks::default();
+    let big = read_scan(&ScanOptions::new(&path), &asked).unwrap();
+    assert_eq!(big.assembly.count, n);
+    assert_eq!(asked.0.load(Ordering::SeqCst), 1);
+    read_scan(&ScanOptions::new(&small), &asked).unwrap();
+    assert_eq!(asked.0.load(Ordering::SeqCst), 1);
     if !have_pty() {
         return;
     }

@@ -333,3 +333,43 @@ fn invert_reads_the_files_the_other_way() {
         - x["kalibr_cam0_cam1"]["lever_arm_m"].as_f64().unwrap();
     assert!(d > 4e-5, "{d}");
 }
+
+/// `survey --xacro external` expands a xacro with the `xacro` program, as
+/// `audit --xacro external` does (the one flag group): a stand-in program on
+/// PATH prints base -> lidar at z = 0.5 m, where the file itself (expanded
+/// natively) puts lidar at x = 0.3 m.
+#[cfg(unix)]
+#[test]
+fn xacro_external_reaches_the_survey() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    crate::common::fake_xacro(dir.path());
+    let input = dir.path().join("r.urdf.xacro");
+    std::fs::write(
+        &input,
+        r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:property name="x" value="0.3"/>
+  <link name="base"/>
+  <link name="lidar"/>
+  <joint name="j" type="fixed">
+    <parent link="base"/><child link="lidar"/><origin xyz="${x} 0 0"/>
+  </joint>
+</robot>
+"#,
+    )
+    .expect("write");
+    let target = format!("{}:base:lidar", input.display());
+    let id = input.display().to_string();
+    let lever = |mode: &str| {
+        let out = crate::common::audit()
+            .env("PATH", dir.path())
+            .args(["survey", &target, "--xacro", mode, "--format", "json"])
+            .output()
+            .expect("run");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{err}");
+        let v: Value = serde_json::from_slice(&out.stdout).expect("json");
+        row(&v, &id)["lever_arm_m"].as_f64().expect("lever arm")
+    };
+    assert_eq!(lever("native"), 0.3);
+    assert_eq!(lever("external"), 0.5);
+}

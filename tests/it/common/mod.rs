@@ -43,6 +43,22 @@ pub fn vlp16_rig_xacro(dir: &std::path::Path) -> std::path::PathBuf {
     input
 }
 
+/// A stand-in `xacro` program in `dir` that prints a fixed URDF, base ->
+/// lidar at z = 0.5 m, whatever it is given: `--xacro external` with `dir`
+/// as the search path (or PATH) runs it.
+#[cfg(unix)]
+pub fn fake_xacro(dir: &std::path::Path) -> std::path::PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let script = dir.join("xacro");
+    std::fs::write(
+        &script,
+        "#!/bin/sh\nprintf '%s\\n' '<robot name=\"r\">' '<link name=\"base\"/>' '<link name=\"lidar\"/>' '<joint name=\"j\" type=\"fixed\">' '<origin xyz=\"0 0 0.5\"/>' '<parent link=\"base\"/>' '<child link=\"lidar\"/>' '</joint>' '</robot>'\n",
+    )
+    .expect("write");
+    std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    script
+}
+
 /// Every number in a JSON value (nested arrays flattened, row by row).
 pub fn nums(v: &serde_json::Value) -> Vec<f64> {
     match v {

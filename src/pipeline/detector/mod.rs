@@ -1,14 +1,19 @@
-//! The detector commands' computations: every family on the user's points, the
-//! paper's circular tunnel, a synthetic scene seen from both frames of a rig,
-//! and the threshold calibration. Each returns its typed report.
+//! The detector commands' computations: every family on the user's scan
+//! (`scan` reads it), the paper's frame sweep on it, the paper's circular
+//! tunnel, a synthetic scene seen from both frames of a rig, and the
+//! threshold calibration. Each takes a plain options struct and returns its
+//! typed report; `values` parses the options' textual forms (`x,y,z`, lists).
+
+mod scan;
+mod values;
+
+pub use scan::{read_scan, InitialGuess, Scan, ScanOptions, ScanPair};
+pub use values::{parse_frame, parse_initial_guess, parse_scene, parse_triple, parse_update};
 
 use crate::analysis::metric::adapted_metric_matrix;
 use crate::analysis::Family;
-use crate::degeneracy::normals::{estimate_normals_progress, NormalParams};
 use crate::degeneracy::points::PointData;
-use crate::degeneracy::scene::{
-    synthesize, tunnel_exact, voxel_downsample_weighted, Cloud, Preprocess, SceneKind,
-};
+use crate::degeneracy::scene::{synthesize, tunnel_exact, Preprocess, SceneKind};
 use crate::degeneracy::threshold::default_threshold;
 use crate::degeneracy::threshold::Calibration;
 use crate::degeneracy::{
@@ -18,13 +23,18 @@ use crate::degeneracy::{
 use crate::degeneracy::{frame_sweep, paper_frame_changes, Arm};
 use crate::diagnostic::{Error, Result};
 use crate::geometry::Transform;
+use crate::progress::ProgressFactory;
 use crate::report::detector::{
-    CorrectionJson, DegeneracyReport, FamilyComparison, FamilyEigen, FromTo, HmJson, NormalsJson,
-    PoseJson, RigDecisionJson, SimulateReport, SubspaceJson, SweepFamilyJson, SweepReport,
-    ThresholdReport, TunnelFrameJson, TunnelReport,
+    CorrectionJson, DegeneracyReport, FamilyComparison, FamilyEigen, FromTo, HmJson, MatricesJson,
+    PairJson, PoseJson, RigDecisionJson, SimulateReport, SubspaceJson, SweepFamilyJson,
+    SweepReport, ThresholdReport, TunnelFrameJson, TunnelReport,
 };
-use crate::tolerances::DEFAULT_PITCH_TOL;
+use crate::tolerances::{
+    DEFAULT_PITCH_TOL, MAX_CALIBRATION_SEEDS, MAX_CALIBRATION_THREADS, MAX_SIM_NOISE_M,
+    SIM_VOXEL_RANGE_M,
+};
 use nalgebra::{DMatrix, Vector6};
+use std::path::PathBuf;
 
 fn check_tau(tau: f64) -> Result<()> {
     if tau.is_finite() && tau > 0.0 {
@@ -42,6 +52,19 @@ pub fn frame_json(t: &Transform) -> PoseJson {
     PoseJson {
         translation_m: [d.x, d.y, d.z],
         rpy_rad: t.rpy(),
+    }
+}
+
+/// A scan pair as the report prints it.
+fn pair_json(p: &ScanPair) -> PairJson {
+    PairJson {
+        target: p.target.display().to_string(),
+        gate_m: p.gate,
+        initial_guess: frame_json(&p.initial_guess),
+        source_points: p.stats.source,
+        target_points: p.stats.target,
+        correspondences: p.stats.matched,
+        mean_distance_m: p.stats.mean_distance,
     }
 }
 
@@ -123,6 +146,42 @@ pub fn degeneracy_of(
         pair: None,
         warnings: DegeneracyReport::warning_lines(warnings),
     })
+}
+
+/// What `audit degeneracy` is asked for.
+#[derive(Debug, Clone)]
+pub struct DegeneracyOptions {
+    /// The scan and the frame.
+    pub scan: ScanOptions,
+    /// Point-displacement threshold (the other families use their calibrated
+    /// thresholds).
+    pub tau: f64,
+    /// Characteristic lengths (m) of the characteristic length family.
+    pub ells: Vec<f64>,
+    /// Add `H` and `M` to the report.
+    pub show_matrices: bool,
+}
+
+/// Every family on the user's scan ([`read_scan`], then [`degeneracy_of`]).
+pub fn degeneracy_scan(
+    opts: &DegeneracyOptions,
+    bars: &dyn ProgressFactory,
+) -> Result<DegeneracyReport> {
+    let scan = read_scan(&opts.scan, bars)?;
+    let mut report = degeneracy_of(
+        &scan.assembly,
+        &scan.warnings,
+        &opts.scan.frame,
+        opts.tau,
+        &opts.ells,
+    )
+    .map_err(|e| e.in_file(&opts.scan.points))?;
+    report.normals = scan.normals;
+    report.pair = scan.pair.as_ref().map(pair_json);
+    if opts.show_matrices {
+        report.matrices = Some(MatricesJson::new(&scan.assembly));
+    }
+    Ok(report)
 }
 
 /// The tunnel's parameters.
@@ -340,6 +399,33 @@ pub fn simulate(p: &SimulateParams, t: &Transform) -> Result<SimulateReport> {
     })
 }
 
+/// Where `audit simulate` takes the rig's transform from.
+#[derive(Debug, Clone, Default)]
+pub struct SimulateRig {
+    /// Calibration files; the transform is the chain `from` -> `to`.
+    pub files: Vec<PathBuf>,
+    /// The body frame (frame A).
+    pub from: Option<String>,
+    /// The sensor frame (frame B).
+    pub to: Option<String>,
+    /// Without files: the pose of frame B in frame A (`--shift`, `--rotate-rpy`).
+    pub pose: Option<Transform>,
+}
+
+/// The pose of frame B in frame A: composed from the files, or given.
+pub fn simulate_transform(rig: &SimulateRig) -> Result<Transform> {
+    match (&rig.pose, rig.files.is_empty()) {
+        (None, true) => Err(Error::usage(
+            "expected calibration FILE... with --from/--to, or --shift/--rotate-rpy",
+        )),
+        (Some(t), true) => Ok(*t),
+        (Some(_), false) => Err(Error::usage("--shift/--rotate-rpy apply only without FILE")),
+        (None, false) => {
+            super::transform_between(&rig.files, rig.from.as_deref(), rig.to.as_deref())
+        }
+    }
+}
+
 /// The threshold calibration over the synthetic corridors.
 pub fn calibrate_threshold(c: &Calibration) -> Result<ThresholdReport> {
     calibrate_threshold_with(c, &crate::progress::NoProgress)
@@ -359,108 +445,76 @@ pub fn calibrate_threshold_with(
     ))
 }
 
-/// How a raw scan (points without normals) becomes points with normals.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RawScan {
-    /// Voxel edge (m) of the down-sampling (one centroid per voxel, grid
-    /// anchored at the frame's origin); `None`: every point.
-    pub voxel: Option<f64>,
-    /// Normal estimation.
-    pub normals: NormalParams,
-    /// Threads for the normal estimation (0: one per core).
+/// What `audit calibrate-threshold` is asked for: the sweep over the
+/// synthetic corridors, every default family ([`MetricRule::default_set`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CalibrateOptions {
+    /// Seeds per configuration and scene, 1 to [`MAX_CALIBRATION_SEEDS`].
+    pub seeds: u64,
+    /// Range-noise levels (m), 0 to [`MAX_SIM_NOISE_M`].
+    pub noise_levels: Vec<f64>,
+    /// Voxel sizes (m), in [`SIM_VOXEL_RANGE_M`].
+    pub voxel_sizes: Vec<f64>,
+    /// Characteristic lengths (m) of the characteristic length family.
+    pub ells: Vec<f64>,
+    /// Worker threads (0: the default, one per core up to 8; at most
+    /// [`MAX_CALIBRATION_THREADS`]).
     pub threads: usize,
 }
 
-/// `H` and `M` of a raw scan in its own frame: voxel grid, PCA normals
-/// toward the viewpoint, the file's weights (the mean per voxel, see
-/// [`voxel_downsample_weighted`]) or unit weights; with what the estimation kept.
-pub fn raw_scan_assembly(
-    points: &[[f64; 3]],
-    weights: Option<&[f64]>,
-    raw: &RawScan,
-) -> Result<(Assembly, NormalsJson)> {
-    raw_scan_assembly_with(points, weights, raw, &crate::progress::NoProgress)
-}
+impl CalibrateOptions {
+    /// `--noise` as text: a list of range-noise levels.
+    pub fn parse_noise_levels(s: &str) -> Result<Vec<f64>> {
+        values::parse_list(s, "--noise", (0.0, MAX_SIM_NOISE_M))
+    }
 
-/// [`raw_scan_assembly`], reporting the normal estimation to `progress`.
-pub fn raw_scan_assembly_with(
-    points: &[[f64; 3]],
-    weights: Option<&[f64]>,
-    raw: &RawScan,
-    progress: &dyn crate::progress::Progress,
-) -> Result<(Assembly, NormalsJson)> {
-    let (cloud, w, nj) = raw_scan_weighted(points, weights, raw, progress)?;
-    let asm = Assembly::from_points(&cloud.points, &cloud.normals, w.as_deref())?;
-    Ok((asm, nj))
-}
+    /// `--voxel` as text: a list of voxel sizes.
+    pub fn parse_voxel_sizes(s: &str) -> Result<Vec<f64>> {
+        values::parse_list(s, "--voxel", SIM_VOXEL_RANGE_M)
+    }
 
-/// A raw scan's points with estimated normals (see [`raw_scan_assembly`]).
-pub fn raw_scan_cloud(points: &[[f64; 3]], raw: &RawScan) -> Result<(Cloud, NormalsJson)> {
-    raw_scan_cloud_with(points, raw, &crate::progress::NoProgress)
-}
-
-/// [`raw_scan_cloud`], reporting the normal estimation to `progress`.
-pub fn raw_scan_cloud_with(
-    points: &[[f64; 3]],
-    raw: &RawScan,
-    progress: &dyn crate::progress::Progress,
-) -> Result<(Cloud, NormalsJson)> {
-    raw_scan_weighted(points, None, raw, progress).map(|(c, _, nj)| (c, nj))
-}
-
-/// [`raw_scan_cloud`] with the weights of the points kept (when given).
-fn raw_scan_weighted(
-    points: &[[f64; 3]],
-    weights: Option<&[f64]>,
-    raw: &RawScan,
-    progress: &dyn crate::progress::Progress,
-) -> Result<(Cloud, Option<Vec<f64>>, NormalsJson)> {
-    let grid;
-    let (pts, wts) = match raw.voxel {
-        Some(v) => {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(Error::usage(format!(
-                    "--voxel: expected a positive number of metres, found {v}"
-                )));
-            }
-            let (g, w) = voxel_downsample_weighted(points, weights, v, [0.0; 3]);
-            grid = g;
-            (&grid[..], w)
+    /// The calibration these options describe, checked.
+    pub fn calibration(&self) -> Result<Calibration> {
+        if self.seeds == 0 || self.seeds > MAX_CALIBRATION_SEEDS {
+            return Err(Error::usage(format!(
+                "--seeds: expected 1 to {MAX_CALIBRATION_SEEDS}, found {}",
+                self.seeds
+            )));
         }
-        None => (points, weights.map(<[f64]>::to_vec)),
-    };
-    let (cloud, st, kept) = estimate_normals_progress(pts, &raw.normals, raw.threads, progress)?;
-    let wts = wts.map(|w| {
-        kept.iter()
-            .map(|&i| w.get(i).copied().unwrap_or(1.0))
-            .collect()
-    });
-    if cloud.is_empty() {
-        return Err(Error::invalid(format!(
-            "no point got a normal: {} points, none with {} neighbours within {} m (raise --normal-radius or lower --min-neighbours)",
-            pts.len(),
-            raw.normals.min_neighbours,
-            raw.normals.radius
+        check_levels(&self.noise_levels, "--noise", (0.0, MAX_SIM_NOISE_M))?;
+        check_levels(&self.voxel_sizes, "--voxel", SIM_VOXEL_RANGE_M)?;
+        let mut c = Calibration {
+            noise_levels: self.noise_levels.clone(),
+            voxel_sizes: self.voxel_sizes.clone(),
+            seeds: self.seeds,
+            rules: MetricRule::default_set(&self.ells, None),
+            ..Calibration::default()
+        };
+        if self.threads > 0 {
+            c.threads = self.threads.min(MAX_CALIBRATION_THREADS);
+        }
+        Ok(c)
+    }
+}
+
+/// A list of levels: 1 to [`MAX_LIST_VALUES`](crate::tolerances::MAX_LIST_VALUES) finite numbers in `[min, max]`.
+fn check_levels(v: &[f64], what: &str, (min, max): (f64, f64)) -> Result<()> {
+    if let Some(x) = v
+        .iter()
+        .find(|x| !(x.is_finite() && (min..=max).contains(*x)))
+    {
+        return Err(Error::usage(format!(
+            "{what}: expected numbers from {min} to {max}, found {x}"
         )));
     }
-    let n = &raw.normals;
-    Ok((
-        cloud,
-        wts,
-        NormalsJson {
-            points_read: points.len(),
-            voxel_m: raw.voxel,
-            points_after_voxel: pts.len(),
-            radius_m: n.radius,
-            knn: n.knn,
-            min_neighbours: n.min_neighbours,
-            min_planarity: n.min_planarity,
-            viewpoint_m: n.viewpoint,
-            kept: st.kept,
-            dropped_sparse: st.sparse,
-            dropped_not_planar: st.not_planar,
-        },
-    ))
+    values::check_count(v.len(), what)
+}
+
+/// The threshold calibration `opts` describe ([`CalibrateOptions::calibration`]),
+/// its sweep reported to a progress from `bars` once the options are checked.
+pub fn calibrate(opts: &CalibrateOptions, bars: &dyn ProgressFactory) -> Result<ThresholdReport> {
+    let c = opts.calibration()?;
+    calibrate_threshold_with(&c, &*bars.progress())
 }
 
 /// Wilson score interval (95 %, `z = 1.96`) of `k` successes in `n` trials;
@@ -531,4 +585,49 @@ pub fn sweep(
         rig: rig.map(frame_json),
         families,
     })
+}
+
+/// What `audit sweep` is asked for.
+#[derive(Debug, Clone)]
+pub struct SweepOptions {
+    /// The scan and the frame.
+    pub scan: ScanOptions,
+    /// Point-displacement threshold.
+    pub tau: f64,
+    /// Characteristic lengths (m) of the characteristic length family.
+    pub ells: Vec<f64>,
+    /// Seed of the random frame changes.
+    pub seed: u64,
+    /// Calibration files of the user's rig (empty: no rig).
+    pub rig: Vec<PathBuf>,
+    /// With `rig`: the cloud's frame.
+    pub from: Option<String>,
+    /// With `rig`: the other frame.
+    pub to: Option<String>,
+}
+
+/// The paper's frame sweep on the user's scan ([`read_scan`], then
+/// [`sweep`]), with the rig's other frame when files are given.
+pub fn sweep_scan(opts: &SweepOptions, bars: &dyn ProgressFactory) -> Result<SweepReport> {
+    if opts.rig.is_empty() && (opts.from.is_some() || opts.to.is_some()) {
+        return Err(Error::usage("--from/--to apply only with --rig"));
+    }
+    let scan = read_scan(&opts.scan, bars)?;
+    let rig = if opts.rig.is_empty() {
+        None
+    } else {
+        Some(super::transform_between(
+            &opts.rig,
+            opts.from.as_deref(),
+            opts.to.as_deref(),
+        )?)
+    };
+    sweep(
+        &scan.assembly,
+        opts.tau,
+        &opts.ells,
+        opts.seed,
+        rig.as_ref(),
+    )
+    .map_err(|e| e.in_file(&opts.scan.points))
 }
