@@ -82,7 +82,7 @@ fields!(u8, i8, u16, i16, u32, i32, u64, i64, f32, f64);
 pub fn slice_at(b: &[u8], at: usize, len: usize) -> Result<&[u8], Short> {
     at.checked_add(len)
         .and_then(|end| b.get(at..end))
-        .ok_or(Short {
+        .ok_or_else(|| Short {
             at,
             wanted: len,
             left: b.len().saturating_sub(at),
@@ -95,10 +95,12 @@ pub fn read_at<T: Primitive>(b: &[u8], at: usize, endian: Endian) -> Result<T, S
     slice_at(b, at, T::SIZE).map(|s| T::decode(s, endian))
 }
 
-/// [`read_at`] as an `Option` (for decoders that give a missing field a value).
+/// [`read_at`] as an `Option` (for decoders that give a missing field a
+/// value): the record decoders' hot path, so no error is built.
 #[inline(always)]
 pub fn get_at<T: Primitive>(b: &[u8], at: usize, endian: Endian) -> Option<T> {
-    read_at(b, at, endian).ok()
+    let s = b.get(at..at.checked_add(T::SIZE)?)?;
+    Some(T::decode(s, endian))
 }
 
 /// A cursor over bytes: every read is bounded by the bytes left and moves past
