@@ -11,7 +11,6 @@ use extrinsic_audit::degeneracy::points::{
 };
 use extrinsic_audit::progress::Progress;
 use extrinsic_audit::tolerances::PROGRESS_MIN_BYTES;
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 

@@ -302,7 +302,7 @@ fn skip(e: &Entry) {
 /// Skip the calling test (it returns next) for want of real data: say why,
 /// and count it in the summary line.
 pub fn skip_because(why: &str) {
-    eprintln!("skipped: {why}");
+    eprintln!("skipped: {}: {why}", test_name());
     TESTS.lock().unwrap().insert(test_name(), false);
     at_exit();
 }
