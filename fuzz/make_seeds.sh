@@ -5,7 +5,7 @@
 # committed). SRC are directories or files; by default the project's own
 # fixtures (tests/fixtures, calibrations) and every third-party file of the
 # test-data folder (docs/test-data.md: $EXTRINSIC_AUDIT_TEST_DATA, else
-# ../shared/test-data beside the checkout), read in place, each checked
+# shared/test-data beside the checkout), read in place, each checked
 # against its sha256 by tools/testdata.py; where the folder is absent, that
 # is said and the project's fixtures alone are used.
 # Each seed is `selector byte + file` (the targets read the first byte as the

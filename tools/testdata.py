@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The test-data folder for scripts: the same lookup as tests/it/common/testdata.rs.
 
-The folder is $EXTRINSIC_AUDIT_TEST_DATA, else ../shared/test-data beside the
+The folder is $EXTRINSIC_AUDIT_TEST_DATA, else shared/test-data beside the
 checkout; its MANIFEST.tsv lists each third-party file (path in the folder,
 repository, commit, path in the repository, sha256, licence). Where the folder
 has no MANIFEST.tsv, the table of docs/test-data.md stands in.
