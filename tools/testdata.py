@@ -48,10 +48,12 @@ def read_manifest(path):
 def read_doc_table():
     rows = []
     with open(DOC, encoding="utf-8") as f:
-        for line in f:
-            if line.startswith("| `"):
-                c = [x.strip() for x in line.strip().strip("|").split(" | ")]
-                rows.append(dict(zip(COLUMNS, [x.strip("`") for x in c[:5]] + [c[5]])))
+        text = f.read()
+    table = text[text.index(BEGIN) + len(BEGIN):text.index(END)]
+    for line in table.splitlines():
+        if line.startswith("| `"):
+            c = [x.strip() for x in line.strip().strip("|").split(" | ")]
+            rows.append(dict(zip(COLUMNS, [x.strip("`") for x in c[:5]] + [c[5]])))
     return rows
 
 

@@ -91,6 +91,7 @@ fn no_committed_file_is_a_copy_of_a_shared_file() {
         ));
         return;
     }
+    testdata::used();
     let mut seen = 0;
     for d in &dirs {
         let mut shared = Vec::new();
@@ -147,6 +148,7 @@ fn the_docs_table_is_the_manifest() {
             e.licence.clone(),
         ]
     };
+    testdata::used();
     let want: BTreeSet<_> = testdata::parse_manifest(&text).iter().map(row).collect();
     let got: Vec<_> = doc_table().iter().map(row).collect();
     let got_set: BTreeSet<_> = got.iter().cloned().collect();

@@ -21,8 +21,11 @@ use std::sync::{Mutex, Once, OnceLock};
 /// The override of the folder's location.
 pub const ENV: &str = "EXTRINSIC_AUDIT_TEST_DATA";
 
-/// The documentation of the folder, with the manifest's table.
+/// The documentation of the folder, with the manifest's table between these
+/// markers.
 pub const DOC: &str = "docs/test-data.md";
+const TABLE_BEGIN: &str = "<!-- table:begin -->";
+const TABLE_END: &str = "<!-- table:end -->";
 
 // Files several modules read (paths inside the test-data folder).
 pub const ANYMAL_C: &str =
@@ -153,6 +156,8 @@ pub fn doc_table() -> Vec<Entry> {
     let text = std::fs::read_to_string(&doc).unwrap_or_else(|e| panic!("{}: {e}", doc.display()));
     let cell = |s: &str| s.trim().trim_matches('`').to_string();
     text.lines()
+        .skip_while(|l| !l.starts_with(TABLE_BEGIN))
+        .take_while(|l| !l.starts_with(TABLE_END))
         .filter(|l| l.starts_with("| `"))
         .map(|l| {
             let c: Vec<&str> = l.trim_matches('|').split(" | ").collect();
@@ -282,7 +287,9 @@ fn test_name() -> String {
     std::thread::current().name().unwrap_or("main").to_string()
 }
 
-fn used() {
+/// Count the calling test among those that read real data (done by [`file`]
+/// and [`dir`]; for a test that reads the folder otherwise).
+pub fn used() {
     TESTS.lock().unwrap().entry(test_name()).or_insert(true);
     at_exit();
 }
