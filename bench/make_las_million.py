@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The LAS/LAZ read benchmark's files: the las-rs airborne strip
-tests/fixtures/detector/scans/32-1-472-150-76.laz (5,658 points) tiled 177
+32-1-472-150-76.laz (5,658 points; read in place from the test-data
+folder, docs/test-data.md) tiled 177
 times, each copy 30 m further in y: 1,001,466 points, written by laspy as
 LAS 1.2 point format 1 (uncompressed) and, with lazrs, as LAZ.
 Usage: make_las_million.py OUTDIR   (writes million.las and million.laz)"""
@@ -11,7 +12,10 @@ import laspy
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SRC = os.path.join(HERE, "..", "tests", "fixtures", "detector", "scans", "32-1-472-150-76.laz")
+sys.path.insert(0, os.path.join(HERE, "..", "tools"))
+import testdata  # noqa: E402
+
+SRC = testdata.need("gadomski__las-rs/tests/data/32-1-472-150-76.laz")
 
 
 def main():

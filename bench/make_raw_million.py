@@ -1,17 +1,22 @@
 #!/usr/bin/env python3
 """A raw LiDAR scan of about a million points for the `--estimate-normals`
 benchmark (issue 16): the real Velodyne scan
-tests/fixtures/detector/scans/251370668.pcd (69,088 points, x y z intensity)
+251370668.pcd of koide3/fast_gicp (69,088 points, x y z intensity; read in
+place from the test-data folder, docs/test-data.md)
 tiled 15 times, copy k shifted by 200 k m in x (so no neighbourhood spans two
 copies), written as a binary PCD with the same fields: 1,036,320 points.
 
     python3 bench/make_raw_million.py OUT.pcd
 """
+import os
 import sys
 
 import numpy as np
 
-SRC = "tests/fixtures/detector/scans/251370668.pcd"
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+import testdata  # noqa: E402
+
+SRC = testdata.need("koide3__fast_gicp/data/251370668.pcd")
 
 
 def main(out):

@@ -14,15 +14,16 @@ OUT=${1:-/tmp/rig-bench}
 mkdir -p "$OUT"
 cargo build --release -q
 AUDIT=target/release/audit
-U=tests/fixtures/urdf
+# The real robots, read in place from the test-data folder (docs/test-data.md).
 while read -r name file from to; do
+  f=$(python3 tools/testdata.py path "$file")
   hyperfine -N --warmup 3 --runs 30 --export-json "$OUT/rig_$name.json" \
-    "$AUDIT $U/$file --from $from --to $to --format json" \
-    "$PY bench/rig_pytransform3d.py $U/$file $from $to" >/dev/null
+    "$AUDIT $f --from $from --to $to --format json" \
+    "$PY bench/rig_pytransform3d.py $f $from $to" >/dev/null
 done <<'ROBOTS'
-anymal_c anymal_c.urdf base lidar
-pr2 pr2.urdf base_laser_link laser_tilt_link
-unitree_h1 unitree_h1.urdf pelvis mid360_link
+anymal_c Gepetto__example-robot-data/robots/anymal_c_simple_description/urdf/anymal.urdf base lidar
+pr2 Gepetto__example-robot-data/robots/pr2_description/urdf/pr2.urdf base_laser_link laser_tilt_link
+unitree_h1 unitreerobotics__unitree_ros/robots/h1_description/urdf/h1.urdf pelvis mid360_link
 ROBOTS
 hyperfine -N --warmup 3 --runs 30 --export-json "$OUT/survey.json" \
   "$AUDIT survey calibrations --format json" \

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Run every fuzz target for SECONDS (default 600), JOBS at a time (default 2),
-# from the committed seeds (fuzz/seeds/<target>) plus any EXTRA_SEEDS dirs
-# (e.g. EXTRA_SEEDS="/work/shared/rig-sources /work/shared/urdf-corpus"), and
-# print one summary line per target from libFuzzer's final stats.
+# from the seeds make_seeds.sh builds (the project's fixtures and the test-data
+# folder's real files, into the gitignored corpus-seeds/), the hand-written
+# seeds committed in fuzz/seeds/<target>, plus any EXTRA_SEEDS dirs (passed
+# through make_seeds.sh), and print one summary line per target from
+# libFuzzer's final stats.
 #   fuzz/run.sh [SECONDS] [TARGET...]
 # Needs cargo-fuzz; on a stable toolchain RUSTC_BOOTSTRAP=1 is set for it.
 # Logs: fuzz/logs/<target>.log; crashes: fuzz/artifacts/<target>/.
@@ -15,12 +17,14 @@ jobs=${JOBS:-2}
 sanitizer=${SANITIZER:-address}
 export RUSTC_BOOTSTRAP=1
 mkdir -p logs
+./make_seeds.sh corpus-seeds
 if [ -n "${EXTRA_SEEDS:-}" ]; then
-    ./make_seeds.sh corpus-extra $EXTRA_SEEDS >/dev/null
+    ./make_seeds.sh corpus-extra $EXTRA_SEEDS
 fi
 for t in "${targets[@]}"; do
     mkdir -p "corpus/$t" "artifacts/$t"
     [ -d "seeds/$t" ] && cp -n seeds/$t/* "corpus/$t/" 2>/dev/null
+    [ -d "corpus-seeds/$t" ] && cp -n corpus-seeds/$t/* "corpus/$t/" 2>/dev/null
     [ -d "corpus-extra/$t" ] && cp -n corpus-extra/$t/* "corpus/$t/" 2>/dev/null
 done
 cargo fuzz build -O --sanitizer "$sanitizer" >logs/build.log 2>&1 || { echo "build failed: see fuzz/logs/build.log"; exit 2; }

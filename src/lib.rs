@@ -23,7 +23,7 @@
 //! use std::path::PathBuf;
 //!
 //! # fn main() -> extrinsic_audit::diagnostic::Result<()> {
-//! let urdf = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/urdf/anymal_c.urdf");
+//! let urdf = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/urdf/anymal_c_lidar.urdf");
 //! // Files -> one frame graph (no renames; movable joints at 0 unless
 //! // `LoadOptions::joints` gives a value).
 //! let loaded = pipeline::load(&[urdf], &LoadOptions::default(), &[])?;

@@ -39,10 +39,13 @@ fn urdf_reports_match_independent_fixture() {
     let reports = fx["reports"].as_array().expect("reports");
     assert!(reports.len() >= 6);
     for r in reports {
-        let file = format!("tests/fixtures/urdf/{}", r["file"].as_str().unwrap());
+        let Some(file) = crate::common::testdata::urdf(r["file"].as_str().unwrap()) else {
+            continue;
+        };
+        let file = file.to_str().unwrap();
         let (from, to) = (r["from"].as_str().unwrap(), r["to"].as_str().unwrap());
         let what = format!("{file} {from}->{to}");
-        let j = json_out(&[&file, "--from", from, "--to", to, "--format", "json"]);
+        let j = json_out(&[file, "--from", from, "--to", to, "--format", "json"]);
         let errs = schema::check(&j, &schema::rig_report_spec(), "$");
         assert!(errs.is_empty(), "{what}: {errs:?}");
         for k in 0..3 {
@@ -132,14 +135,9 @@ fn urdf_reports_match_independent_fixture() {
 
 #[test]
 fn table_report_opens_with_verdict_and_lists_chain() {
+    let urdf = crate::real!(crate::common::testdata::ANYMAL_C);
     let out = audit()
-        .args([
-            "tests/fixtures/urdf/anymal_c.urdf",
-            "--from",
-            "base",
-            "--to",
-            "lidar",
-        ])
+        .args([urdf.to_str().unwrap(), "--from", "base", "--to", "lidar"])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(0));
@@ -149,10 +147,7 @@ fn table_report_opens_with_verdict_and_lists_chain() {
         first,
         "lever arm 0.391 m, h = -0.1422 +- 4.082e-5 m (rounding), pitch nonzero: no constant metric is frame-invariant on this rig; only the point-displacement metric is. To do: use the point-displacement metric (frame-invariant on every rig); no adapted metric M0 exists for this rig."
     );
-    assert!(
-        s.contains("anymal_c.urdf:666"),
-        "chain names file:line:\n{s}"
-    );
+    assert!(s.contains("anymal.urdf:666"), "chain names file:line:\n{s}");
     assert!(s.contains("joint \"lidar_cage_to_lidar\" <origin>"));
     assert!(!s.contains('\x1b'), "no colour when not a terminal");
 }
@@ -160,9 +155,10 @@ fn table_report_opens_with_verdict_and_lists_chain() {
 #[test]
 fn zero_pitch_rig_gets_adapted_metric_in_markdown() {
     // Unitree H1: pelvis -> mid360_link through the revolute torso joint at 0.
+    let h1 = crate::real!(crate::common::testdata::UNITREE_H1);
     let out = audit()
         .args([
-            "tests/fixtures/urdf/unitree_h1.urdf",
+            h1.to_str().unwrap(),
             "--from",
             "pelvis",
             "--to",
@@ -186,8 +182,10 @@ fn zero_pitch_rig_gets_adapted_metric_in_markdown() {
 
 #[test]
 fn joint_value_changes_the_transform() {
+    let h1 = crate::real!(crate::common::testdata::UNITREE_H1);
+    let h1 = h1.to_str().unwrap();
     let base = json_out(&[
-        "tests/fixtures/urdf/unitree_h1.urdf",
+        h1,
         "--from",
         "pelvis",
         "--to",
@@ -196,7 +194,7 @@ fn joint_value_changes_the_transform() {
         "json",
     ]);
     let turned = json_out(&[
-        "tests/fixtures/urdf/unitree_h1.urdf",
+        h1,
         "--from",
         "pelvis",
         "--to",
@@ -212,7 +210,7 @@ fn joint_value_changes_the_transform() {
     // A typo in a joint name is an error that suggests the real one.
     let out = audit()
         .args([
-            "tests/fixtures/urdf/unitree_h1.urdf",
+            h1,
             "--from",
             "pelvis",
             "--to",
@@ -287,8 +285,9 @@ fn single_edge_file_needs_no_frames() {
 
 #[test]
 fn frames_lists_tree() {
+    let urdf = crate::real!(crate::common::testdata::ANYMAL_C);
     let out = audit()
-        .args(["tests/fixtures/urdf/anymal_c.urdf", "--frames"])
+        .args([urdf.to_str().unwrap(), "--frames"])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(0));
@@ -302,7 +301,7 @@ fn frames_lists_tree() {
 fn unknown_frame_suggests_and_exits_2() {
     let out = audit()
         .args([
-            "tests/fixtures/urdf/anymal_c.urdf",
+            "tests/fixtures/urdf/anymal_c_lidar.urdf",
             "--from",
             "base",
             "--to",
@@ -327,14 +326,14 @@ fn usage_errors_exit_2() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/file.urdf"));
     // Only one of --from / --to.
     let out = audit()
-        .args(["tests/fixtures/urdf/anymal_c.urdf", "--from", "base"])
+        .args(["tests/fixtures/urdf/anymal_c_lidar.urdf", "--from", "base"])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     // A non-positive characteristic length.
     let out = audit()
         .args([
-            "tests/fixtures/urdf/anymal_c.urdf",
+            "tests/fixtures/urdf/anymal_c_lidar.urdf",
             "--from",
             "base",
             "--to",
@@ -347,7 +346,7 @@ fn usage_errors_exit_2() {
     assert_eq!(out.status.code(), Some(2));
     // Several edges and no frames named.
     let out = audit()
-        .args(["tests/fixtures/urdf/anymal_c.urdf"])
+        .args(["tests/fixtures/urdf/anymal_c_lidar.urdf"])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
@@ -432,8 +431,10 @@ fn rename_attaches_a_nameless_file_to_a_urdf() {
         "mapping:\n  extrinsic_T: [ 0.04165, 0.02326, -0.0284 ]\n  extrinsic_R: [ 0, -1, 0, 1, 0, 0, 0, 0, 1 ]\n",
     )
     .unwrap();
+    let urdf = crate::real!(crate::common::testdata::ANYMAL_C);
+    let urdf = urdf.to_str().unwrap();
     let j = json_out(&[
-        "tests/fixtures/urdf/anymal_c.urdf",
+        urdf,
         fl.to_str().unwrap(),
         "--rename",
         "fast_lio.yaml:imu=imu_link",
@@ -485,13 +486,7 @@ fn rename_attaches_a_nameless_file_to_a_urdf() {
     // A rename that matches nothing is a usage error.
     let out = audit()
         .args([
-            "tests/fixtures/urdf/anymal_c.urdf",
-            "--rename",
-            "imuu=x",
-            "--from",
-            "base",
-            "--to",
-            "lidar",
+            urdf, "--rename", "imuu=x", "--from", "base", "--to", "lidar",
         ])
         .output()
         .unwrap();
@@ -596,9 +591,13 @@ fn invert_reads_the_file_the_other_way() {
 /// command that reads it (not "expected UTF-8 text").
 #[test]
 fn a_las_scan_given_as_extrinsics_points_to_degeneracy() {
-    for f in ["autzen.las", "autzen.laz"] {
-        let p = format!("tests/fixtures/detector/scans/{f}");
-        let out = audit().args([p.as_str(), "--frames"]).output().unwrap();
+    use crate::common::testdata::{AUTZEN_LAS, AUTZEN_LAZ};
+    for (f, real) in [("autzen.las", AUTZEN_LAS), ("autzen.laz", AUTZEN_LAZ)] {
+        let p = crate::real!(real);
+        let out = audit()
+            .args([p.to_str().unwrap(), "--frames"])
+            .output()
+            .unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{f}: {err}");
         assert!(err.contains(f), "{f}: names the file: {err}");

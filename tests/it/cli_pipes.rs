@@ -61,8 +61,9 @@ fn a_closed_stdout_ends_quietly_with_status_zero() {
 #[test]
 fn a_closed_pipe_for_stdout_and_stderr_is_not_a_panic() {
     // LIO-SAM's parameters give two warnings on stderr before the report.
-    let f = format!("{FORMATS}/liosam-default__params.yaml");
-    let (code, _) = into_closed_pipe(&[&f, "--from", "lidar", "--to", "imu"], true);
+    let f = crate::real!(crate::common::testdata::LIOSAM_PARAMS);
+    let f = f.to_str().unwrap();
+    let (code, _) = into_closed_pipe(&[f, "--from", "lidar", "--to", "imu"], true);
     assert_eq!(code, Some(0));
     // An error on a closed stderr still exits 2, without a panic (101).
     let (code, _) = into_closed_pipe(&["/nonexistent.yaml"], true);

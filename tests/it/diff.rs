@@ -9,7 +9,6 @@
 use crate::common::run_cli;
 use serde_json::Value;
 
-const C: &str = "tests/fixtures/urdf/anymal_c.urdf";
 const D: &str = "calibrations/anymal-d.urdf";
 const D_TOML: &str = "calibrations/anymal-d-lidar-imu.toml";
 const FASTLIO: &str = "tests/fixtures/diff/anymal_d_fastlio.yaml";
@@ -64,8 +63,10 @@ fn edge<'a>(v: &'a Value, parent: &str, child: &str) -> &'a Value {
 
 #[test]
 fn anymal_c_against_anymal_d() {
+    let anymal_c = crate::real!(crate::common::testdata::ANYMAL_C);
+    let anymal_c = anymal_c.to_str().unwrap();
     let x = &expected()["anymal_c_vs_d"];
-    let (code, v) = diff_json(&[C, D, "--from", "base", "--to", "lidar"]);
+    let (code, v) = diff_json(&[anymal_c, D, "--from", "base", "--to", "lidar"]);
     assert_eq!(code, 1);
     let c = &v["chain"];
     close(
@@ -129,7 +130,7 @@ fn anymal_c_against_anymal_d() {
     }
     // Text and markdown carry the same verdict.
     let (code, md, _) = run_cli(&[
-        "diff", C, D, "--from", "base", "--to", "lidar", "--format", "markdown",
+        "diff", anymal_c, D, "--from", "base", "--to", "lidar", "--format", "markdown",
     ]);
     assert_eq!(code, 1);
     assert!(
@@ -241,7 +242,9 @@ fn a_urdf_against_a_fastlio_extrinsic_with_renames() {
 
 #[test]
 fn a_file_against_itself_is_unchanged_everywhere() {
-    let (code, v) = diff_json(&[C, C, "--from", "base", "--to", "lidar"]);
+    let anymal_c = crate::real!(crate::common::testdata::ANYMAL_C);
+    let anymal_c = anymal_c.to_str().unwrap();
+    let (code, v) = diff_json(&[anymal_c, anymal_c, "--from", "base", "--to", "lidar"]);
     assert_eq!(code, 0);
     assert_eq!(v["chain"]["translation_change_mm"], 0.0);
     assert!(v["edges"]
@@ -258,15 +261,24 @@ fn a_file_against_itself_is_unchanged_everywhere() {
 
 #[test]
 fn bad_input_exits_2_with_a_message() {
+    let anymal_c = "tests/fixtures/urdf/anymal_c_lidar.urdf";
     let cases: [(&[&str], &str); 6] = [
         (
-            &["diff", C, "no/such.urdf", "--from", "base", "--to", "lidar"],
+            &[
+                "diff",
+                anymal_c,
+                "no/such.urdf",
+                "--from",
+                "base",
+                "--to",
+                "lidar",
+            ],
             "no/such.urdf",
         ),
         (
             &[
                 "diff",
-                C,
+                anymal_c,
                 D,
                 "--from",
                 "base",
@@ -280,7 +292,7 @@ fn bad_input_exits_2_with_a_message() {
         (
             &[
                 "diff",
-                C,
+                anymal_c,
                 D,
                 "--from",
                 "base",
@@ -291,15 +303,15 @@ fn bad_input_exits_2_with_a_message() {
             ],
             "-2",
         ),
-        (&["diff", C, D], "--from"),
+        (&["diff", anymal_c, D], "--from"),
         (
-            &["diff", C, D, "--from", "base", "--to", "nowhere"],
+            &["diff", anymal_c, D, "--from", "base", "--to", "nowhere"],
             "nowhere",
         ),
         (
             &[
                 "diff",
-                C,
+                anymal_c,
                 D,
                 "--from",
                 "base",
@@ -320,6 +332,8 @@ fn bad_input_exits_2_with_a_message() {
 
 #[test]
 fn a_urdf_against_a_kalibr_matrix_within_tolerance() {
+    let anymal_c = crate::real!(crate::common::testdata::ANYMAL_C);
+    let anymal_c = anymal_c.to_str().unwrap();
     let x = &expected()["urdf_vs_kalibr"];
     let (code, v) = diff_json(&[
         D,
@@ -370,7 +384,7 @@ fn a_urdf_against_a_kalibr_matrix_within_tolerance() {
         "{text}"
     );
     // A rig far from a half-turn never gets the note.
-    let (_, same) = diff_json(&[C, C, "--from", "base", "--to", "lidar"]);
+    let (_, same) = diff_json(&[anymal_c, anymal_c, "--from", "base", "--to", "lidar"]);
     assert_eq!(same["chain"]["screw_sign_flip_at_half_turn"], false);
 }
 

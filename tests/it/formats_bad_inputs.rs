@@ -107,3 +107,35 @@ fn catalogue() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// The two damaged point files of the catalogue (60-*, 61-*) are made at run
+/// time from the real scans (the test-data folder) and refused with the
+/// catalogue's message: the first 3000 bytes of autzen.las, and autzen.laz
+/// with its legacy point count (byte 108, 1-based) set from 106 to 100.
+#[test]
+fn damaged_las_and_laz_made_from_the_real_files() {
+    use crate::common::testdata::{read, AUTZEN_LAS, AUTZEN_LAZ};
+    let (Some(las), Some(mut laz)) = (read(AUTZEN_LAS), read(AUTZEN_LAZ)) else {
+        return;
+    };
+    assert_eq!(laz[107], 106, "autzen.laz: the legacy point count");
+    laz[107] = 100;
+    let tmp = tempfile::tempdir().expect("tempdir");
+    for (name, bytes) in [
+        ("60-las-truncated.las", &las[..3000]),
+        ("61-laz-count-below-data.laz", &laz[..]),
+    ] {
+        let p = tmp.path().join(name);
+        std::fs::write(&p, bytes).expect("write");
+        let got = run(&p)
+            .expect_err("refused")
+            .replace(&format!("{}/", tmp.path().display()), &format!("{DIR}/"));
+        let exp = Path::new(DIR).join(format!("{}.expected", stem(&p)));
+        if std::env::var_os("BLESS").is_some() {
+            std::fs::write(&exp, format!("{got}\n")).expect("write");
+            continue;
+        }
+        let want = std::fs::read_to_string(&exp).expect("expected message");
+        assert_eq!(want.trim_end(), got, "{name}");
+    }
+}

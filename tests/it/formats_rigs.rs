@@ -1,14 +1,23 @@
-//! Table-driven: every format of shared/rig-sources/raw and authored/ (through the
-//! project's own fixtures in tests/fixtures/formats) yields the `T_body_lidar`
-//! recorded for its rig (tests/fixtures/formats/expected_rigs.json, copied from
-//! rigs.json).
+//! Table-driven: every format of the published rigs (the real files, read in
+//! place from the test-data folder, and the project's own fixtures in
+//! tests/fixtures/formats) yields the `T_body_lidar` recorded for its rig
+//! (tests/fixtures/formats/expected_rigs.json, copied from rigs.json).
 
 use extrinsic_audit::formats;
 use extrinsic_audit::formats::{load_file, Format, LoadOptions};
 use extrinsic_audit::frames::FrameGraph;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 const DIR: &str = "tests/fixtures/formats";
+
+/// The path of case `file`: `test-data/...` in the test-data folder (`None`
+/// where absent: the case is skipped), else in DIR.
+fn fixture(file: &str) -> Option<PathBuf> {
+    match file.strip_prefix("test-data/") {
+        Some(real) => crate::common::testdata::file(real),
+        None => Some(Path::new(DIR).join(file)),
+    }
+}
 
 struct Case {
     file: &'static str,
@@ -62,7 +71,7 @@ const CASES: &[Case] = &[
         1e-9,
     ),
     c(
-        "liosam-default__params.yaml",
+        "test-data/TixiaoShan__LIO-SAM/config/params.yaml",
         None,
         "imu",
         "lidar",
@@ -71,7 +80,7 @@ const CASES: &[Case] = &[
         1e-9,
     ),
     c(
-        "liosam-mid360-9axis__params9axisIMU.yaml",
+        "test-data/nkymzsy__LIO-SAM-MID360/config/params9axisIMU.yaml",
         None,
         "imu",
         "lidar",
@@ -80,7 +89,7 @@ const CASES: &[Case] = &[
         1e-9,
     ),
     c(
-        "ouster-os0-128-fw2.3__OS-0-128-U1_v2.3.0_1024x10.json",
+        "test-data/ouster-lidar__ouster-sdk/tests/pcaps/OS-0-128-U1_v2.3.0_1024x10.json",
         None,
         "os_imu",
         "os_lidar",
@@ -89,7 +98,7 @@ const CASES: &[Case] = &[
         1e-9,
     ),
     c(
-        "ouster-os1-128-fw3.0__3_0_1_os-122246000293-128.json",
+        "test-data/ouster-lidar__ouster-sdk/tests/metadata/3_0_1_os-122246000293-128.json",
         None,
         "os_imu",
         "os_lidar",
@@ -98,7 +107,7 @@ const CASES: &[Case] = &[
         1e-9,
     ),
     c(
-        "grandtour-hesai-cpt7__calibration_latest.yaml",
+        "test-data/leggedrobotics__grand_tour_box/box_calibration/box_calibration/calibration/tf/calibration_latest.yaml",
         None,
         "box_base",
         "hesai_lidar",
@@ -107,7 +116,7 @@ const CASES: &[Case] = &[
         1e-9,
     ),
     c(
-        "grandtour-hesai-cpt7__calibration_latest.yaml",
+        "test-data/leggedrobotics__grand_tour_box/box_calibration/box_calibration/calibration/tf/calibration_latest.yaml",
         None,
         "livox_imu",
         "livox_lidar",
@@ -116,7 +125,7 @@ const CASES: &[Case] = &[
         1e-9,
     ),
     c(
-        "liolivox-mid360__mid360.launch",
+        "test-data/Livox-SDK__LIO-Livox/launch/mid360.launch",
         None,
         "imu",
         "lidar",
@@ -155,7 +164,7 @@ const CASES: &[Case] = &[
         1e-9,
     ),
     c(
-        "m2dgr-vlp32c-handsfree__calibration_results.txt",
+        "test-data/SJTU-ViSYS__M2DGR/calibration_results.txt",
         None,
         "handsfree_imu",
         "velodyne",
@@ -164,7 +173,7 @@ const CASES: &[Case] = &[
         1e-9,
     ),
     c(
-        "m2dgr-vlp32c-handsfree__calibration_results.txt",
+        "test-data/SJTU-ViSYS__M2DGR/calibration_results.txt",
         None,
         "xsens_imu",
         "velodyne",
@@ -236,7 +245,7 @@ const CASES: &[Case] = &[
         1e-8,
     ),
     c(
-        "../urdf/anymal_d.urdf",
+        "test-data/ANYbotics__anymal_d_simple_description/urdf/anymal.urdf",
         None,
         "imu_link",
         "lidar",
@@ -374,7 +383,9 @@ fn every_fixture_yields_its_rig() {
     let exp = expected();
     let mut failures = Vec::new();
     for case in CASES {
-        let path = Path::new(DIR).join(case.file);
+        let Some(path) = fixture(case.file) else {
+            continue;
+        };
         let opts = LoadOptions {
             key: case.key.map(String::from),
             ..Default::default()

@@ -131,15 +131,10 @@ fn two_parents_cycle_unknown_not_connected() {
 #[test]
 fn several_files_in_one_graph() {
     // A URDF plus a calibration file that hangs the LiDAR under its IMU link.
+    let urdf = crate::real!(crate::common::testdata::ANYMAL_D);
     let mut g = FrameGraph::new();
-    g.add(
-        load_file(
-            Path::new("tests/fixtures/urdf/anymal_d.urdf"),
-            &LoadOptions::default(),
-        )
-        .expect("urdf"),
-    )
-    .expect("add");
+    g.add(load_file(&urdf, &LoadOptions::default()).expect("urdf"))
+        .expect("add");
     let text = "ros2 run tf2_ros static_transform_publisher --x 0.04165 --y 0.02326 --z -0.0284 --frame-id imu_link --child-frame-id livox_frame\n";
     g.add(load_str(text, Path::new("cmd.txt"), &LoadOptions::default()).expect("cmd"))
         .expect("add");
@@ -318,11 +313,14 @@ fn invert_key_format_and_size_options() {
 
 #[test]
 fn ouster_is_millimetres_and_lio_sam_direction() {
-    let l = load_file(
-        Path::new("tests/fixtures/formats/ouster-os0-128-fw2.3__OS-0-128-U1_v2.3.0_1024x10.json"),
-        &LoadOptions::default(),
-    )
-    .expect("ouster");
+    use crate::common::testdata::{LIOSAM_MID360, OUSTER_OS0_JSON};
+    let (Some(ouster), Some(liosam)) = (
+        crate::common::testdata::file(OUSTER_OS0_JSON),
+        crate::common::testdata::file(LIOSAM_MID360),
+    ) else {
+        return;
+    };
+    let l = load_file(&ouster, &LoadOptions::default()).expect("ouster");
     let lidar = l
         .edges
         .iter()
@@ -330,11 +328,7 @@ fn ouster_is_millimetres_and_lio_sam_direction() {
         .expect("os_lidar");
     assert!((lidar.transform.translation().z - 0.03618).abs() < 1e-15);
     assert_eq!(lidar.parent, "os_sensor");
-    let l = load_file(
-        Path::new("tests/fixtures/formats/liosam-mid360-9axis__params9axisIMU.yaml"),
-        &LoadOptions::default(),
-    )
-    .expect("liosam");
+    let l = load_file(&liosam, &LoadOptions::default()).expect("liosam");
     assert_eq!(
         (l.edges[0].parent.as_str(), l.edges[0].child.as_str()),
         ("lidar", "imu")

@@ -8,14 +8,18 @@ use std::path::Path;
 
 const FORMATS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/formats");
 
-/// (fixture, extra arguments) covering every text format the readers detect.
+/// (fixture, extra arguments) covering every text format the readers detect;
+/// `test-data/...` is a real file of the test-data folder.
 const FIXTURES: &[(&str, &[&str])] = &[
     ("ros1_tf_static_echo.yaml", &[]),
     ("ros2_tf_static_echo.yaml", &[]),
-    ("ouster-os0-128-fw2.3__OS-0-128-U1_v2.3.0_1024x10.json", &[]),
+    (
+        "test-data/ouster-lidar__ouster-sdk/tests/pcaps/OS-0-128-U1_v2.3.0_1024x10.json",
+        &[],
+    ),
     ("geode_gamma_opencv.yaml", &["--key", "T_IMU_LiDAR"]),
     ("fastlio_avia.yaml", &[]),
-    ("liosam-default__params.yaml", &[]),
+    ("test-data/TixiaoShan__LIO-SAM/config/params.yaml", &[]),
     ("ros2_static_tf_commands.txt", &[]),
     ("calib_imu_to_velo.txt", &[]),
     ("ros1_static_tf.launch", &[]),
@@ -37,10 +41,27 @@ fn frames(dir: &Path, name: &str, text: &[u8], args: &[&str]) -> (i32, String) {
     (code, format!("{out}{err}").replace(&d, ""))
 }
 
+/// The fixtures there are: (file name, bytes, arguments).
+fn fixtures() -> Vec<(String, Vec<u8>, &'static [&'static str])> {
+    let mut out = Vec::new();
+    for (file, args) in FIXTURES {
+        let text = match file.strip_prefix("test-data/") {
+            Some(real) => match crate::common::testdata::read(real) {
+                Some(t) => t,
+                None => continue,
+            },
+            None => std::fs::read(Path::new(FORMATS).join(file)).unwrap(),
+        };
+        let name = file.rsplit('/').next().unwrap().to_string();
+        out.push((name, text, *args));
+    }
+    out
+}
+
 #[test]
 fn a_byte_order_mark_is_stripped_in_every_text_format() {
-    for (name, args) in FIXTURES {
-        let text = std::fs::read(Path::new(FORMATS).join(name)).unwrap();
+    for (name, text, args) in fixtures() {
+        let name = name.as_str();
         let plain = tempfile::tempdir().unwrap();
         let bom = tempfile::tempdir().unwrap();
         let (c0, want) = frames(plain.path(), name, &text, args);
@@ -53,8 +74,8 @@ fn a_byte_order_mark_is_stripped_in_every_text_format() {
 
 #[test]
 fn lone_cr_line_endings_read_as_line_breaks() {
-    for (name, args) in FIXTURES {
-        let text = std::fs::read_to_string(Path::new(FORMATS).join(name)).unwrap();
+    for (name, text, args) in fixtures() {
+        let (name, text) = (name.as_str(), String::from_utf8(text).unwrap());
         let plain = tempfile::tempdir().unwrap();
         let cr = tempfile::tempdir().unwrap();
         let (c0, want) = frames(plain.path(), name, text.as_bytes(), args);

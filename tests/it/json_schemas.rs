@@ -25,9 +25,9 @@ fn assert_valid(name: &str, args: &[&str]) {
     assert!(errors.is_empty(), "{args:?} against {name}: {errors:#?}");
 }
 
-/// The ANYmal C rig report as JSON.
+/// The ANYmal C rig report as JSON (its base -> lidar chain, written here).
 const ANYMAL_JSON: [&str; 7] = [
-    "tests/fixtures/urdf/anymal_c.urdf",
+    "tests/fixtures/urdf/anymal_c_lidar.urdf",
     "--from",
     "base",
     "--to",
@@ -83,7 +83,7 @@ fn json_outputs_match_the_committed_schemas() {
             "--voxel",
             "0.1",
             "--rig",
-            "tests/fixtures/urdf/anymal_c.urdf",
+            "tests/fixtures/urdf/anymal_c_lidar.urdf",
             "--from",
             "base",
             "--to",
@@ -194,7 +194,7 @@ fn every_json_output_has_a_version_and_warnings() {
 #[test]
 fn an_unsupported_format_is_refused() {
     let (code, out, err) = run_cli(&[
-        "tests/fixtures/urdf/anymal_c.urdf",
+        "tests/fixtures/urdf/anymal_c_lidar.urdf",
         "--frames",
         "--format",
         "sarif",

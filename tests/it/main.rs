@@ -51,6 +51,7 @@ mod scene_simulate;
 mod scene_tunnel;
 mod snapshots;
 mod survey_any;
+mod test_data;
 mod uncertainty;
 mod urdf_conformance;
 mod widths;

@@ -12,6 +12,29 @@ fn dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/detector/scans")
 }
 
+/// A scan: a real one from the test-data folder (`None` where absent), else
+/// the ground crop in dir().
+fn scan(file: &str) -> Option<PathBuf> {
+    use crate::common::testdata::{file as real, AUTZEN_LAS, AUTZEN_LAZ, GICP_SCAN, LAS_1_4};
+    match file {
+        "autzen.las" => real(AUTZEN_LAS),
+        "autzen.laz" => real(AUTZEN_LAZ),
+        "32-1-472-150-76.laz" => real(LAS_1_4),
+        "251370668.pcd" => real(GICP_SCAN),
+        _ => Some(dir().join(file)),
+    }
+}
+
+/// [`scan`], the test returning (skipped) where it is absent.
+macro_rules! scan {
+    ($file:expr) => {
+        match scan($file) {
+            Some(p) => p,
+            None => return,
+        }
+    };
+}
+
 fn expected() -> Value {
     let text = std::fs::read_to_string(dir().join("expected_las.json")).unwrap();
     serde_json::from_str(&text).unwrap()
@@ -40,7 +63,7 @@ fn las_and_laz_read_like_laspy_with_the_scale_and_offset_exact() {
         ("autzen.las", "autzen_las", PointFormat::Las),
         ("autzen.laz", "autzen_laz", PointFormat::Laz),
     ] {
-        let d = read_xyz(&dir().join(file)).unwrap();
+        let d = read_xyz(&scan!(file)).unwrap();
         let e = &e[key];
         assert_eq!(d.format, format);
         assert_eq!(d.points.len() as u64, e["count"].as_u64().unwrap());
@@ -58,15 +81,15 @@ fn las_and_laz_read_like_laspy_with_the_scale_and_offset_exact() {
         assert!(d.warnings.is_empty(), "{:?}", d.warnings);
     }
     // The same points, uncompressed (format 1) and compressed (format 3).
-    let a = read_xyz(&dir().join("autzen.las")).unwrap();
-    let b = read_xyz(&dir().join("autzen.laz")).unwrap();
+    let a = read_xyz(&scan!("autzen.las")).unwrap();
+    let b = read_xyz(&scan!("autzen.laz")).unwrap();
     assert_eq!(a.points, b.points);
 }
 
 #[test]
 fn las_without_estimate_normals_is_refused_like_a_raw_pcd() {
     for file in ["autzen.las", "autzen.laz"] {
-        let p = dir().join(file);
+        let p = scan!(file);
         let (code, _, err) = run_cli(&["degeneracy", p.to_str().unwrap()]);
         assert_eq!(code, 2, "{err}");
         assert!(err.contains(file), "{err}");
@@ -82,11 +105,11 @@ fn las_without_estimate_normals_is_refused_like_a_raw_pcd() {
 fn las_is_detected_by_its_magic_from_a_file_a_stream_and_memory() {
     let tmp = tempfile::tempdir().unwrap();
     let renamed = tmp.path().join("scan.dat");
-    std::fs::copy(dir().join("autzen.laz"), &renamed).unwrap();
+    std::fs::copy(scan!("autzen.laz"), &renamed).unwrap();
     let d = read_xyz(&renamed).unwrap();
     assert_eq!((d.format, d.points.len()), (PointFormat::Laz, 106));
     // In memory, the normal-reading path refuses it, naming the normals.
-    let bytes = std::fs::read(dir().join("autzen.las")).unwrap();
+    let bytes = std::fs::read(scan!("autzen.las")).unwrap();
     let e = parse_points(&bytes).unwrap_err();
     assert!(e.message.contains("missing normal_x"), "{e}");
     // From standard input: the same answer as from the file.
@@ -126,7 +149,7 @@ fn an_airborne_laz_strip_in_utm_matches_numpy() {
     // 5,658 points about 5e6 m from the origin: H and M in the file's frame,
     // point-displacement eigenvalues (frame-invariant) against numpy's about
     // the centroid.
-    let p = dir().join("32-1-472-150-76.laz");
+    let p = scan!("32-1-472-150-76.laz");
     let r = json(&[
         "degeneracy",
         p.to_str().unwrap(),
@@ -164,7 +187,7 @@ fn a_scan_pair_honours_the_source_weights() {
         "degeneracy",
         d.join("ground_crop_weighted.csv").to_str().unwrap(),
         "--target",
-        d.join("251370668.pcd").to_str().unwrap(),
+        scan!("251370668.pcd").to_str().unwrap(),
         "--estimate-normals",
         "--voxel",
         "0.1",
@@ -220,7 +243,7 @@ fn refused(tmp: &Path, name: &str, bytes: &[u8]) -> String {
 #[test]
 fn lying_and_truncated_las_headers_are_errors_naming_the_counts() {
     let tmp = tempfile::tempdir().unwrap();
-    let las = std::fs::read(dir().join("autzen.las")).unwrap();
+    let las = std::fs::read(scan!("autzen.las")).unwrap();
     // Truncated in the records: 106 claimed, fewer held.
     let e = refused(tmp.path(), "cut.las", &las[..las.len() - 50]);
     assert!(
@@ -245,7 +268,7 @@ fn lying_and_truncated_las_headers_are_errors_naming_the_counts() {
     assert!(e.contains("at least 227 bytes"), "{e}");
     // A record too short to hold x, y, z (LAS and LAZ).
     for (file, name) in [("autzen.las", "short.las"), ("autzen.laz", "short.laz")] {
-        let mut short = std::fs::read(dir().join(file)).unwrap();
+        let mut short = std::fs::read(scan!(file)).unwrap();
         short[105..107].copy_from_slice(&10u16.to_le_bytes());
         let e = refused(tmp.path(), name, &short);
         assert!(e.contains("at least 20 bytes, found 10"), "{e}");
@@ -260,7 +283,7 @@ fn lying_and_truncated_las_headers_are_errors_naming_the_counts() {
 #[test]
 fn lying_and_truncated_laz_files_are_errors() {
     let tmp = tempfile::tempdir().unwrap();
-    let laz = std::fs::read(dir().join("32-1-472-150-76.laz")).unwrap();
+    let laz = std::fs::read(scan!("32-1-472-150-76.laz")).unwrap();
     // Truncated: the chunk table (at the end) is gone.
     let e = refused(tmp.path(), "cut.laz", &laz[..laz.len() / 2]);
     assert!(e.contains("chunk table"), "{e}");
@@ -283,7 +306,7 @@ fn every_byte_of_a_las_or_laz_header_damaged_is_an_answer_not_a_panic() {
     // read or refused, never a panic or an abort.
     let tmp = tempfile::tempdir().unwrap();
     for file in ["autzen.las", "autzen.laz"] {
-        let orig = std::fs::read(dir().join(file)).unwrap();
+        let orig = std::fs::read(scan!(file)).unwrap();
         for fill in [0xffu8, 0x00] {
             for at in 0..400.min(orig.len()) {
                 let mut b = orig.clone();
@@ -304,7 +327,7 @@ fn class_keeps_the_ground_points_like_laspy() {
     let e = expected();
     // Both decoders (las for LAS, laz for LAZ) read the classification.
     for (file, key) in [("autzen.las", "autzen_las"), ("autzen.laz", "autzen_laz")] {
-        let d = read_xyz_classes(&dir().join(file), &[2], &NoProgress).unwrap();
+        let d = read_xyz_classes(&scan!(file), &[2], &NoProgress).unwrap();
         assert_eq!(
             d.points.len() as u64,
             e[key]["ground_count"].as_u64().unwrap()
@@ -315,7 +338,7 @@ fn class_keeps_the_ground_points_like_laspy() {
         assert!(rel(&sum, &nums(&e[key]["ground_sum"])) < 1e-14, "{file}");
     }
     // The strip's ground: H, M and eigenvalues against numpy.
-    let p = dir().join("32-1-472-150-76.laz");
+    let p = scan!("32-1-472-150-76.laz");
     let r = json(&[
         "degeneracy",
         p.to_str().unwrap(),
@@ -364,7 +387,7 @@ fn damaged_compressed_points_are_an_error_not_a_panic() {
     // Bytes of the LASzip stream overwritten: laz-rs trips its debug
     // assertions or overflow checks on some (caught), errors on others.
     let tmp = tempfile::tempdir().unwrap();
-    let orig = std::fs::read(dir().join("32-1-472-150-76.laz")).unwrap();
+    let orig = std::fs::read(scan!("32-1-472-150-76.laz")).unwrap();
     let start = u32::from_le_bytes(orig[96..100].try_into().unwrap()) as usize;
     let mut failed = 0;
     for k in 0..60 {

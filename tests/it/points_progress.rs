@@ -12,7 +12,6 @@ use extrinsic_audit::degeneracy::points::{
 use extrinsic_audit::pipeline::detector::{read_scan, ScanOptions};
 use extrinsic_audit::progress::{NoProgress, Progress, ProgressFactory};
 use extrinsic_audit::tolerances::PROGRESS_MIN_BYTES;
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
@@ -68,10 +67,6 @@ fn corner(n: usize) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
     (p, nn)
 }
 
-fn scans() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/detector/scans")
-}
-
 #[test]
 fn readers_report_every_byte_once_and_las_every_point() {
     let tmp = tempfile::tempdir().unwrap();
@@ -100,9 +95,11 @@ fn readers_report_every_byte_once_and_las_every_point() {
             "{name}: {done} of {len}"
         );
     }
-    for file in ["autzen.las", "32-1-472-150-76.laz"] {
+    // The real LAS and LAZ scans (the test-data folder), where they are there.
+    use crate::common::testdata::{file, AUTZEN_LAS, LAS_1_4};
+    for path in [AUTZEN_LAS, LAS_1_4].into_iter().filter_map(file) {
         let r = Record::default();
-        let d = read_xyz_with(&scans().join(file), &r).unwrap();
+        let d = read_xyz_with(&path, &r).unwrap();
         assert_eq!(r.total.load(Ordering::SeqCst), d.points.len() as u64);
         assert_eq!(r.done.load(Ordering::SeqCst), d.points.len() as u64);
         assert_eq!(*r.what.lock().unwrap(), ["points read"]);

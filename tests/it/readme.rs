@@ -48,7 +48,7 @@ fn example_report_is_current() {
         .unwrap()
         .env("NO_COLOR", "1")
         .args([
-            "tests/fixtures/urdf/anymal_c.urdf",
+            "tests/fixtures/urdf/anymal_c_lidar.urdf",
             "--from",
             "base",
             "--to",

@@ -40,7 +40,15 @@ fn expected_diff() -> Value {
 
 #[test]
 fn a_directory_of_urdfs_with_a_frame_pair() {
-    let (v, err) = survey_json(&["tests/fixtures/urdf/", "--from", "base", "--to", "lidar"]);
+    use crate::common::testdata::{file, ANYMAL_C, ANYMAL_D, PR2};
+    // The real robots, copied into a directory of their own at run time.
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (name, real) in [("anymal_c", ANYMAL_C), ("anymal_d", ANYMAL_D), ("pr2", PR2)] {
+        let Some(p) = file(real) else { return };
+        std::fs::copy(p, dir.path().join(format!("{name}.urdf"))).expect("copy");
+    }
+    let d = format!("{}/", dir.path().display());
+    let (v, err) = survey_json(&[&d, "--from", "base", "--to", "lidar"]);
     let ids: Vec<&str> = v["rigs"]
         .as_array()
         .unwrap()
@@ -49,15 +57,12 @@ fn a_directory_of_urdfs_with_a_frame_pair() {
         .collect();
     assert_eq!(
         ids,
-        [
-            "tests/fixtures/urdf/anymal_c.urdf",
-            "tests/fixtures/urdf/anymal_d.urdf"
-        ]
+        [format!("{d}anymal_c.urdf"), format!("{d}anymal_d.urdf")]
     );
     // numpy / pytransform3d (tests/fixtures/diff/gen_expected.py).
     let x = &expected_diff()["anymal_c_vs_d"];
     for (id, side) in [("anymal_c", "old"), ("anymal_d", "new")] {
-        let r = row(&v, &format!("tests/fixtures/urdf/{id}.urdf"));
+        let r = row(&v, &format!("{d}{id}.urdf"));
         close(
             &r["lever_arm_m"],
             x[side]["lever_arm_m"].as_f64().unwrap(),
@@ -72,7 +77,7 @@ fn a_directory_of_urdfs_with_a_frame_pair() {
     }
     // The robots without those frames are named on stderr, with why.
     assert!(
-        err.contains("warning[ignored]: tests/fixtures/urdf/pr2.urdf")
+        err.contains(&format!("warning[ignored]: {d}pr2.urdf"))
             && err.contains("unknown frame 'base'"),
         "{err}"
     );
@@ -136,7 +141,7 @@ fn rig_tomls_keep_their_pairs_beside_a_urdf() {
 
 #[test]
 fn a_named_file_without_a_pair_is_an_error() {
-    let (code, _, err) = run_cli(&["survey", "tests/fixtures/urdf/anymal_c.urdf"]);
+    let (code, _, err) = run_cli(&["survey", "tests/fixtures/urdf/anymal_c_lidar.urdf"]);
     assert_eq!(code, 2);
     assert!(
         err.contains("--from FRAME --to FRAME") && err.contains("FILE:FROM:TO"),
@@ -148,7 +153,10 @@ fn a_named_file_without_a_pair_is_an_error() {
         err.contains("no rig files (*.toml)") && err.contains("--from"),
         "{err}"
     );
-    let (code, _, err) = run_cli(&["survey", "tests/fixtures/urdf/anymal_c.urdf:base:nowhere"]);
+    let (code, _, err) = run_cli(&[
+        "survey",
+        "tests/fixtures/urdf/anymal_c_lidar.urdf:base:nowhere",
+    ]);
     assert_eq!(code, 2);
     assert!(err.contains("nowhere"), "{err}");
     let (code, _, err) = run_cli(&["survey", "calibrations/", "--from", "imu"]);
@@ -268,7 +276,8 @@ fn a_xacro_with_find_is_surveyed_with_package_path() {
     let (code, _, err) = run_cli(&["survey", &target, "--format", "json"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--package-path"), "{err}");
-    let pkg = "tests/fixtures/xacro/velodyne_simulator";
+    let pkg = crate::real_dir!(crate::common::testdata::VELODYNE_SIMULATOR);
+    let pkg = pkg.to_str().unwrap();
     let (v, err) = survey_json(&[&target, "--package-path", pkg]);
     let r = row(&v, &input.display().to_string());
     close(&r["lever_arm_m"], 0.1f64.hypot(0.25 + 0.0377), 1e-12);

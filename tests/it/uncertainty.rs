@@ -104,7 +104,7 @@ fn pi_to_15_digits_is_zero() {
 #[test]
 fn anymal_c_stays_nonzero_by_default_and_with_sigma_r() {
     let base = [
-        "tests/fixtures/urdf/anymal_c.urdf",
+        "tests/fixtures/urdf/anymal_c_lidar.urdf",
         "--from",
         "base",
         "--to",

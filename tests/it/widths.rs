@@ -12,7 +12,7 @@ pub const COMMANDS: [(&str, &[&str]); 11] = [
     (
         "rig-report",
         &[
-            "tests/fixtures/urdf/anymal_c.urdf",
+            "tests/fixtures/urdf/anymal_c_lidar.urdf",
             "--from",
             "base",
             "--to",
@@ -62,7 +62,7 @@ pub const COMMANDS: [(&str, &[&str]); 11] = [
     (
         "frames",
         &[
-            "tests/fixtures/urdf/anymal_c.urdf",
+            "tests/fixtures/urdf/anymal_c_lidar.urdf",
             "--frames",
             "--from",
             "base",
@@ -73,7 +73,7 @@ pub const COMMANDS: [(&str, &[&str]); 11] = [
     (
         "error",
         &[
-            "tests/fixtures/urdf/anymal_c.urdf",
+            "tests/fixtures/urdf/anymal_c_lidar.urdf",
             "--from",
             "base",
             "--to",
@@ -83,7 +83,7 @@ pub const COMMANDS: [(&str, &[&str]); 11] = [
     (
         "kappa",
         &[
-            "tests/fixtures/urdf/anymal_c.urdf",
+            "tests/fixtures/urdf/anymal_c_lidar.urdf",
             "--from",
             "base",
             "--to",
@@ -289,7 +289,7 @@ fn check_shows_its_progress_on_a_terminal_only() {
 #[test]
 fn color_is_chosen_by_the_flag_then_the_terminal() {
     let args = [
-        "tests/fixtures/urdf/anymal_c.urdf",
+        "tests/fixtures/urdf/anymal_c_lidar.urdf",
         "--from",
         "base",
         "--to",
@@ -419,7 +419,7 @@ fn wide_on_a_narrow_terminal_falls_back_to_records() {
     let report = pty_run_stdout(
         80,
         &[
-            "tests/fixtures/urdf/anymal_c.urdf",
+            "tests/fixtures/urdf/anymal_c_lidar.urdf",
             "--from",
             "base",
             "--to",
@@ -429,7 +429,7 @@ fn wide_on_a_narrow_terminal_falls_back_to_records() {
     );
     assert!(report.lines().all(|l| width(l) <= 80), "{report}");
     assert!(
-        report.contains("file:line: tests/fixtures/urdf/anymal_c.urdf:666:5"),
+        report.contains("file:line: tests/fixtures/urdf/anymal_c_lidar.urdf:15:3"),
         "{report}"
     );
     assert!(report.contains("│ quantity "), "{report}");
@@ -441,12 +441,13 @@ fn the_frame_tree_fits_80_columns() {
     if !have_pty() {
         return;
     }
-    let args = [
-        "tests/fixtures/urdf/anymal_c.urdf",
-        "--frames",
-        "--color",
-        "never",
-    ];
+    // The whole real robot (deep tree, long frame names), under a short path.
+    let real = crate::real!(crate::common::testdata::ANYMAL_C);
+    let dir = tempfile::tempdir().unwrap();
+    let urdf = dir.path().join("anymal_c.urdf");
+    std::fs::copy(real, &urdf).unwrap();
+    let place = format!("[{}:250:5", urdf.display());
+    let args = [urdf.to_str().unwrap(), "--frames", "--color", "never"];
     let out = pty_run_stdout(80, &args);
     assert!(out.lines().all(|l| width(l) <= 80), "{out}");
     let at = out
@@ -458,11 +459,9 @@ fn the_frame_tree_fits_80_columns() {
             .nth(at + 1)
             .unwrap()
             .trim_start_matches(['│', ' '])
-            .starts_with("[tests/fixtures/urdf/anymal_c.urdf:250:5"),
+            .starts_with(&place),
         "{out}"
     );
     let (_, piped, _) = run_cli(&args[..2]);
-    assert!(piped.contains(
-        "depth_camera_front_color_optical_frame  [tests/fixtures/urdf/anymal_c.urdf:250:5"
-    ));
+    assert!(piped.contains(&format!("depth_camera_front_color_optical_frame  {place}")));
 }

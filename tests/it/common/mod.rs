@@ -4,6 +4,7 @@
 
 pub mod hostile;
 pub mod schema;
+pub mod testdata;
 
 /// The `audit` binary with `NO_COLOR` set: the one command builder of the suite.
 pub fn audit() -> assert_cmd::Command {
