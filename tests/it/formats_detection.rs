@@ -6,8 +6,8 @@
 //!
 //! Fixtures are the project's own where it has one; a format whose only
 //! fixtures are third-party files reads them in place from the test-data
-//! folder (`$EXTRINSIC_AUDIT_TEST_DATA`, else `../shared/test-data` beside the
-//! checkout) and skips its row, saying so, when the folder is absent.
+//! folder (`common::testdata`), and its row is skipped, saying so, where the
+//! folder does not have them.
 
 use extrinsic_audit::formats::{all_formats, detect_file, LoadOptions};
 use std::path::{Path, PathBuf};
@@ -36,7 +36,7 @@ use By::{Content, Name};
 const TABLE: &[(At, &str, By)] = &[
     (Own("tests/fixtures/bags/robot.urdf"), "urdf", Name),
     (Own("tests/fixtures/bags/robot.urdf"), "urdf", Content),
-    (Own("tests/fixtures/xacro/own/lidar_rig/urdf/rig.urdf.xacro"), "xacro", Name),
+    (Own("tests/fixtures/xacro/own/lidar_rig/urdf/semantics.urdf.xacro"), "xacro", Name),
     (Own("tests/fixtures/formats/ros1_static_tf.launch"), "launch-xml", Name),
     (Own("tests/fixtures/formats/ros1_static_tf.launch"), "launch-xml", Content),
     (Own("tests/fixtures/formats/ros2_static_tf.launch.xml"), "launch-xml", Name),
@@ -67,7 +67,7 @@ const TABLE: &[(At, &str, By)] = &[
     (Own("tests/fixtures/extrinsics/kalibr_openvins_euroc_imucam_chain.yaml"), "matrix-yaml", Name),
     (Own("tests/fixtures/extrinsics/geode_style_ambiguous.yaml"), "matrix-yaml", Content),
     (Own("tests/fixtures/extrinsics/nuscenes/calibrated_sensor.json"), "nuscenes-json", Name),
-    (Own("tests/fixtures/extrinsics/ouster_sdk_docs_extrinsics.json"), "ouster-extrinsics", Name),
+    (Own("tests/fixtures/extrinsics/ouster_extrinsics_example.json"), "ouster-extrinsics", Name),
     (Own("tests/fixtures/extrinsics/av2/av2_test_log_egovehicle_SE3_sensor.json"), "av2-json", Name),
     (Shared("ouster-lidar__ouster-sdk/tests/pcaps/OS-0-128-U1_v2.3.0_1024x10.json"), "ouster-json", Name),
     (Own("tests/fixtures/bags/description.mcap"), "bag", Name),
@@ -94,27 +94,10 @@ const TABLE: &[(At, &str, By)] = &[
 /// format's text).
 const NAME_ONLY: &[&str] = &["xacro", "rig-toml"];
 
-/// A file of the test-data folder, or `None` (with a message) when the folder
-/// or the file is absent.
-fn shared(name: &str) -> Option<PathBuf> {
-    let root = std::env::var_os("EXTRINSIC_AUDIT_TEST_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/test-data"));
-    let p = root.join(name);
-    if p.exists() {
-        return Some(p);
-    }
-    eprintln!(
-        "skipped: {} is absent (the test-data folder, see MANIFEST.tsv)",
-        p.display()
-    );
-    None
-}
-
 fn path_of(at: At) -> Option<PathBuf> {
     match at {
         Own(p) => Some(Path::new(env!("CARGO_MANIFEST_DIR")).join(p)),
-        Shared(p) => shared(p),
+        Shared(p) => crate::common::testdata::file(p),
     }
 }
 
@@ -156,7 +139,7 @@ fn every_fixture_is_detected_as_its_format() {
         assert_eq!(found.name(), id, "{} {how}", name_of(at));
     }
     if skipped > 0 {
-        eprintln!("{skipped} rows skipped: third-party fixtures absent");
+        eprintln!("{skipped} rows skipped: their third-party fixtures are absent");
     }
 }
 
