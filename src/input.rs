@@ -24,34 +24,93 @@ pub fn is_stdin(path: &Path) -> bool {
     path.as_os_str() == STDIN
 }
 
-/// Open `path` for reading without blocking and refuse anything but a regular
-/// file ("not a regular file", naming its kind).
-pub fn open_regular(path: &Path) -> Result<File> {
+/// Why a file could not be opened or read, typed so that a reader with its own
+/// wording (an xacro include, a bag's `metadata.yaml`) can say it its way;
+/// [`ReadError::into_error`] gives the wording of this module.
+#[derive(Debug)]
+pub enum ReadError {
+    /// Opening, inspecting or reading it failed.
+    Io(std::io::Error),
+    /// It is a directory.
+    Directory,
+    /// It is a FIFO, socket or device (which one).
+    NotRegular(&'static str),
+    /// It holds more than `cap` bytes (`len`: the size its descriptor
+    /// reports, when that already says so).
+    TooLarge {
+        /// The size reported before reading.
+        len: Option<u64>,
+        /// The cap.
+        cap: u64,
+    },
+}
+
+impl ReadError {
+    /// The error naming `path` (`what` names the cap in a `limit` error).
+    pub fn into_error(self, path: &Path, what: &str) -> Error {
+        match self {
+            ReadError::Io(e) => Error::io(path, &e),
+            ReadError::Directory => {
+                Error::new(Code::Io, "is a directory: expected a file").in_file(path)
+            }
+            ReadError::NotRegular(kind) => not_regular(path, kind),
+            ReadError::TooLarge {
+                len: Some(len),
+                cap,
+            } => Error::limit(format!(
+                "file is {len} bytes: expected at most {cap} bytes ({what})"
+            ))
+            .in_file(path),
+            ReadError::TooLarge { len: None, cap } => Error::limit(format!(
+                "file is more than {cap} bytes: expected at most {cap} bytes ({what})"
+            ))
+            .in_file(path),
+        }
+    }
+}
+
+/// Open `path` for reading without blocking (a FIFO cannot hold the open) and
+/// refuse anything but a regular file; with the size its descriptor reports.
+pub fn open_file(path: &Path) -> std::result::Result<(File, u64), ReadError> {
     let f = match open_nonblocking(path) {
         Ok(f) => f,
         // A socket cannot be opened at all: say what it is (stat does not block).
         Err(e) => match std::fs::metadata(path) {
-            Ok(m) if !m.is_file() && !m.is_dir() => return Err(not_regular(path, &m.file_type())),
-            _ => return Err(Error::io(path, &e)),
+            Ok(m) if !m.is_file() && !m.is_dir() => {
+                return Err(ReadError::NotRegular(kind_of(&m.file_type())))
+            }
+            _ => return Err(ReadError::Io(e)),
         },
     };
-    let meta = f.metadata().map_err(|e| Error::io(path, &e))?;
+    let meta = f.metadata().map_err(ReadError::Io)?;
     let ft = meta.file_type();
     if ft.is_file() {
-        return Ok(f);
+        return Ok((f, meta.len()));
     }
     if ft.is_dir() {
-        return Err(Error::new(Code::Io, "is a directory: expected a file").in_file(path));
+        return Err(ReadError::Directory);
     }
-    Err(not_regular(path, &ft))
+    Err(ReadError::NotRegular(kind_of(&ft)))
 }
 
-fn not_regular(path: &Path, ft: &std::fs::FileType) -> Error {
+/// Open `path` for reading without blocking and refuse anything but a regular
+/// file ("not a regular file", naming its kind).
+pub fn open_regular(path: &Path) -> Result<File> {
+    open_stream(path).map(|(f, _)| f)
+}
+
+/// [`open_regular`] with the file's size: the one way to open a file read in
+/// a stream (a bag through its index, a point file in bounded pieces) rather
+/// than whole.
+pub fn open_stream(path: &Path) -> Result<(File, u64)> {
+    open_file(path).map_err(|e| e.into_error(path, "a file"))
+}
+
+fn not_regular(path: &Path, kind: &str) -> Error {
     Error::new(
         Code::Io,
         format!(
-            "not a regular file ({}): expected a regular file (to read a pipe, pass `-` and redirect it to standard input)",
-            kind_of(ft)
+            "not a regular file ({kind}): expected a regular file (to read a pipe, pass `-` and redirect it to standard input)"
         ),
     )
     .in_file(path)
@@ -152,18 +211,47 @@ pub fn read_bytes(path: &Path, cap: u64, what: &str) -> Result<Vec<u8>> {
     if is_stdin(path) {
         return read_capped(std::io::stdin().lock(), cap, Path::new("<stdin>"), what);
     }
-    let f = open_regular(path)?;
-    // The reported size refuses a large regular file before reading it.
-    if let Ok(m) = f.metadata() {
-        if m.len() > cap {
-            return Err(Error::limit(format!(
-                "file is {} bytes: expected at most {cap} bytes ({what})",
-                m.len()
-            ))
-            .in_file(path));
-        }
+    read_file(path, cap).map_err(|e| e.into_error(path, what))
+}
+
+/// The bytes of the regular file `path`, at most `cap` (typed errors).
+pub fn read_file(path: &Path, cap: u64) -> std::result::Result<Vec<u8>, ReadError> {
+    let (f, len) = open_file(path)?;
+    read_open(f, len, cap)
+}
+
+/// The rest of a file opened by [`open_file`] (`len` bytes by its
+/// descriptor), at most `cap`: the reported size refuses a large file before
+/// reading it, the bytes read refuse one that grows.
+pub fn read_open(f: impl Read, len: u64, cap: u64) -> std::result::Result<Vec<u8>, ReadError> {
+    if len > cap {
+        return Err(ReadError::TooLarge {
+            len: Some(len),
+            cap,
+        });
     }
-    read_capped(f, cap, path, what)
+    let mut buf = Vec::new();
+    f.take(cap.saturating_add(1))
+        .read_to_end(&mut buf)
+        .map_err(ReadError::Io)?;
+    if buf.len() as u64 > cap {
+        return Err(ReadError::TooLarge { len: None, cap });
+    }
+    Ok(buf)
+}
+
+/// At most the first `n` bytes of the regular file `path` (`None`: it is not
+/// one, or cannot be read): for magic bytes.
+pub fn read_head(path: &Path, n: usize) -> Option<Vec<u8>> {
+    let (f, _) = open_file(path).ok()?;
+    head_of(f, n).ok()
+}
+
+/// At most the first `n` bytes of `r` (fewer only at its end).
+pub fn head_of(r: impl Read, n: usize) -> std::io::Result<Vec<u8>> {
+    let mut head = Vec::with_capacity(n);
+    r.take(n as u64).read_to_end(&mut head)?;
+    Ok(head)
 }
 
 /// The text of a file: [`read_bytes`], then [`decode`].
@@ -176,7 +264,11 @@ pub fn read_text(path: &Path, cap: u64, what: &str) -> Result<String> {
 /// byte that is not UTF-8 is an error at its line and column.
 pub fn decode(bytes: Vec<u8>) -> Result<String> {
     match String::from_utf8(bytes) {
-        Ok(t) => Ok(normalize(&t).into_owned()),
+        // The text itself when there is nothing to change (no copy).
+        Ok(t) => Ok(match normalize(&t) {
+            Cow::Borrowed(b) if b.len() == t.len() => t,
+            n => n.into_owned(),
+        }),
         Err(e) => {
             let off = e.utf8_error().valid_up_to();
             let valid = std::str::from_utf8(&e.as_bytes()[..off]).unwrap_or("");

@@ -72,6 +72,7 @@
 
 pub mod analysis;
 pub mod baseline;
+pub(crate) mod bytes;
 pub mod degeneracy;
 pub mod diagnostic;
 pub mod document;

@@ -34,6 +34,7 @@
 //! types (List, Struct, ...), dictionary-encoded columns, big-endian files and
 //! Arrow's view types are refused with a message naming the column.
 
+use crate::bytes::{self, Endian, Primitive, Short};
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::ARROW_ZSTD_MIN_WINDOW_LOG;
 use std::io::Read;
@@ -69,37 +70,36 @@ fn err(msg: impl std::fmt::Display) -> Error {
 }
 
 // ---------------------------------------------------------------------------
-// Bounds-checked little-endian reads
+// Bounds-checked little-endian reads (the crate's byte reader)
 // ---------------------------------------------------------------------------
 
-fn slice(b: &[u8], pos: usize, len: usize) -> Result<&[u8]> {
-    pos.checked_add(len)
-        .and_then(|end| b.get(pos..end))
-        .ok_or_else(|| {
-            err(format!(
-                "expected {len} bytes at byte {pos}, found {} (truncated or corrupt)",
-                b.len().saturating_sub(pos)
-            ))
-        })
+fn short(s: Short) -> Error {
+    err(format!(
+        "expected {} bytes at byte {}, found {} (truncated or corrupt)",
+        s.wanted, s.at, s.left
+    ))
 }
 
-fn arr<const N: usize>(b: &[u8], pos: usize) -> Result<[u8; N]> {
-    let mut a = [0u8; N];
-    a.copy_from_slice(slice(b, pos, N)?);
-    Ok(a)
+fn slice(b: &[u8], pos: usize, len: usize) -> Result<&[u8]> {
+    bytes::slice_at(b, pos, len).map_err(short)
+}
+
+/// The little-endian field of type `T` at byte `pos` of `b`.
+fn at<T: Primitive>(b: &[u8], pos: usize) -> Result<T> {
+    bytes::read_at(b, pos, Endian::Little).map_err(short)
 }
 
 fn u16_at(b: &[u8], pos: usize) -> Result<u16> {
-    Ok(u16::from_le_bytes(arr(b, pos)?))
+    at(b, pos)
 }
 fn u32_at(b: &[u8], pos: usize) -> Result<u32> {
-    Ok(u32::from_le_bytes(arr(b, pos)?))
+    at(b, pos)
 }
 fn i32_at(b: &[u8], pos: usize) -> Result<i32> {
-    Ok(i32::from_le_bytes(arr(b, pos)?))
+    at(b, pos)
 }
 fn i64_at(b: &[u8], pos: usize) -> Result<i64> {
-    Ok(i64::from_le_bytes(arr(b, pos)?))
+    at(b, pos)
 }
 
 /// A non-negative int64 from the file as a size, else an error naming it.
@@ -164,13 +164,13 @@ impl<'a> Fb<'a> {
 
     fn u8_or(&self, slot: usize, default: u8) -> Result<u8> {
         match self.field(slot)? {
-            Some(p) => Ok(arr::<1>(self.buf, p)?[0]),
+            Some(p) => at(self.buf, p),
             None => Ok(default),
         }
     }
     fn i16_or(&self, slot: usize, default: i16) -> Result<i16> {
         match self.field(slot)? {
-            Some(p) => Ok(i16::from_le_bytes(arr(self.buf, p)?)),
+            Some(p) => at(self.buf, p),
             None => Ok(default),
         }
     }
@@ -626,14 +626,12 @@ fn floats(
                 data.len()
             ))
         })?;
-    Ok(data[..need]
-        .chunks_exact(8)
-        .enumerate()
-        .map(|(r, c)| {
-            let v = f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]);
-            valid.as_ref().is_none_or(|m| m[r]).then_some(v)
+    (0..need / 8)
+        .map(|r| {
+            let v: f64 = at(data, 8 * r)?;
+            Ok(valid.as_ref().is_none_or(|m| m[r]).then_some(v))
         })
-        .collect())
+        .collect()
 }
 
 fn strings(

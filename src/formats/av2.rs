@@ -21,10 +21,13 @@
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::arrow_ipc::{self, Column};
-use crate::formats::registry::{FormatSpec, Sniff, CERTAIN};
+use crate::formats::json::json_documents;
+use crate::formats::spec::{
+    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+};
 use crate::formats::yaml::{Node, Value};
-use crate::formats::yaml_dialects::{err_at, loc_of};
-use crate::formats::{check_metres, locate_warnings, Edge, LoadOptions, Loaded};
+use crate::formats::yaml_shapes::{err_at, loc_of};
+use crate::frames::Edge;
 use crate::geometry::se3::{QuatOrder, Transform};
 use crate::geometry::uncertainty::{written_precision, Written};
 use std::collections::BTreeMap;
@@ -203,7 +206,7 @@ fn finish(rows: Vec<Row>, what: &str, format: &'static str, opts: &LoadOptions) 
 
 /// Parse Argoverse 2 `egovehicle_SE3_sensor` rows (JSON).
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    let docs = crate::formats::ouster::json_documents(text)?;
+    let docs = json_documents(text)?;
     let Some(Value::Seq(rows)) = docs.first().map(|d| &d.value) else {
         return Err(Error::parse(format!(
             "Argoverse 2 egovehicle_SE3_sensor JSON: expected a list of rows {ROW}, found another value"
@@ -221,11 +224,10 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     finish(read, "JSON", AV2_JSON.id, opts)
 }
 
-fn sniff(s: &Sniff) -> Option<u8> {
-    (s.trimmed.starts_with('[')
-        && s.head.contains("\"sensor_name\"")
-        && s.head.contains("\"tx_m\""))
-    .then_some(85)
+fn sniff(i: &Input) -> Option<Confidence> {
+    let head = i.text_head();
+    (i.trimmed().starts_with('[') && head.contains("\"sensor_name\"") && head.contains("\"tx_m\""))
+        .then_some(Confidence::Document)
 }
 
 /// Argoverse 2 egovehicle_SE3_sensor rows as JSON.
@@ -235,8 +237,10 @@ pub const AV2_JSON: FormatSpec = FormatSpec {
     // Not claimed by extension: other `.json` formats share it.
     extensions: &[],
     walk: &[".json"],
+    magic: &[],
     sniff,
-    parse,
+    parse: |i, o| parse(i.text()?, i.path(), o),
+    checked: true,
 };
 
 /// The table's columns: name and whether it holds text.
@@ -312,22 +316,14 @@ pub fn parse_feather(bytes: &[u8], path: &Path, opts: &LoadOptions) -> Result<Lo
     finish(rows, "table (.feather)", AV2_FEATHER.id, opts)
 }
 
-/// The text parser of `av2-feather`: the bytes of a file that happened to be
-/// UTF-8 (`load_file` passes the bytes themselves to [`parse_feather`]).
-fn parse_feather_text(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    parse_feather(text.as_bytes(), path, opts)
-}
-
-fn sniff_feather(s: &Sniff) -> Option<u8> {
-    s.text.starts_with("ARROW1").then_some(CERTAIN)
-}
-
 /// Argoverse 2 egovehicle_SE3_sensor.feather (Arrow IPC file).
 pub const AV2_FEATHER: FormatSpec = FormatSpec {
     id: "av2-feather",
     description: "Argoverse 2 `egovehicle_SE3_sensor.feather` (Arrow IPC file, uncompressed, LZ4 or ZSTD: `sensor_name`, `qw qx qy qz`, `tx_m ty_m tz_m`, the av2 API's ego_SE3_sensor): the sensor pose in the egovehicle frame, edges egovehicle -> sensor_name; --key SENSOR_NAME reads one row",
     extensions: &["feather"],
     walk: &[".feather"],
-    sniff: sniff_feather,
-    parse: parse_feather_text,
+    magic: &[arrow_ipc::MAGIC],
+    sniff: |_| None,
+    parse: |i, o| parse_feather(i.bytes()?, i.path(), o),
+    checked: true,
 };

@@ -13,8 +13,10 @@
 //!   skipped.
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::formats::registry::FormatSpec;
-use crate::formats::{check_metres, locate_warnings, parse_number, Edge, LoadOptions, Loaded};
+use crate::formats::spec::{
+    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, LoadOptions, Loaded,
+};
+use crate::frames::Edge;
 use crate::geometry::se3::Transform;
 use crate::geometry::uncertainty::{written_precision, Written};
 use std::path::Path;
@@ -228,11 +230,13 @@ pub const KITTI_CALIB: FormatSpec = FormatSpec {
     description: "KITTI calib text (`R:` 9 numbers row-major, `T:` 3 numbers; calib_A_to_B.txt maps A coordinates into B): edge B -> A",
     extensions: &[],
     walk: &[".txt"],
-    sniff: |s| {
-        let has = |p: &str| s.text.lines().any(|l| l.trim_start().starts_with(p));
-        (has("R:") && has("T:")).then_some(30)
+    magic: &[],
+    sniff: |i| {
+        let has = |p: &str| i.text().unwrap_or("").lines().any(|l| l.trim_start().starts_with(p));
+        (has("R:") && has("T:")).then_some(Confidence::Lines)
     },
-    parse: parse_kitti,
+    parse: |i, o| parse_kitti(i.text()?, i.path(), o),
+    checked: true,
 };
 
 /// M2DGR calibration_results.txt.
@@ -241,6 +245,8 @@ pub const M2DGR_TXT: FormatSpec = FormatSpec {
     description: "M2DGR calibration_results.txt: `%% NAME` blocks with `% Extrinsic [to LIDAR]` 4x4 or 3x4 `data:`: the sensor's pose in the LiDAR frame, edges velodyne -> <name>",
     extensions: &[],
     walk: &[".txt"],
-    sniff: |s| (s.text.contains("% Extrinsic") && s.text.contains("data:")).then_some(40),
-    parse: parse_m2dgr,
+    magic: &[],
+    sniff: |i| (i.contains("% Extrinsic") && i.contains("data:")).then_some(Confidence::Markers),
+    parse: |i, o| parse_m2dgr(i.text()?, i.path(), o),
+    checked: true,
 };

@@ -21,8 +21,10 @@
 //! `cam0_rect`, `cam1_rect`, `cam2_rect`, `cam3_rect`.
 
 use crate::diagnostic::{Error, Location, Result};
-use crate::formats::registry::{FormatSpec, Sniff};
-use crate::formats::{check_metres, locate_warnings, parse_number, Edge, LoadOptions, Loaded};
+use crate::formats::spec::{
+    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+};
+use crate::frames::Edge;
 use crate::geometry::se3::Transform;
 use nalgebra::{Matrix3, Vector3};
 use std::path::Path;
@@ -179,9 +181,10 @@ pub fn parse(text: &str, path: &Path, _opts: &LoadOptions) -> Result<Loaded> {
     Ok(out)
 }
 
-fn sniff(s: &Sniff) -> Option<u8> {
-    let keyed = |k: &str| s.head.lines().any(|l| l.trim_start().starts_with(k));
-    (keyed("Tr_velo_to_cam") || keyed("Tr_velo_cam") || keyed("Tr_imu_to_velo")).then_some(60)
+fn sniff(i: &Input) -> Option<Confidence> {
+    let keyed = |k: &str| i.text_head().lines().any(|l| l.trim_start().starts_with(k));
+    (keyed("Tr_velo_to_cam") || keyed("Tr_velo_cam") || keyed("Tr_imu_to_velo"))
+        .then_some(Confidence::Names)
 }
 
 /// KITTI object-detection / tracking calib text.
@@ -190,6 +193,8 @@ pub const KITTI_OBJECT: FormatSpec = FormatSpec {
     description: "KITTI object/tracking calib (`P0`..`P3`, `R0_rect`, `Tr_velo_to_cam`, `Tr_imu_to_velo`; devkit: x = P2 R0_rect Tr_velo_to_cam y): edges cam0 -> velo, velo -> imu, cam0_rect -> cam0 (R0_rect), cam0_rect -> camN_rect (from PN)",
     extensions: &[],
     walk: &[".txt"],
+    magic: &[],
     sniff,
-    parse,
+    parse: |i, o| parse(i.text()?, i.path(), o),
+    checked: true,
 };

@@ -43,14 +43,15 @@
 //! offset); the file does not say which direction it is, so an
 //! `assumed-convention` warning says so and `--invert` flips it.
 
-use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::formats::launch_subst::{ArgDecl, Condition, LaunchArgs};
-use crate::formats::registry::{FormatSpec, Sniff};
-use crate::formats::source::LineIndex;
-use crate::formats::yaml::{self, Node, Value};
-use crate::formats::{
-    check_metres, line_col, locate_warnings, parse_number, Edge, LoadOptions, Loaded,
+use super::launch_subst::{ArgDecl, Condition, LaunchArgs};
+use super::source::{line_col, LineIndex};
+use super::spec::{
+    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, Input, LoadOptions, Loaded,
 };
+use super::xml;
+use super::yaml::{self, Node, Value};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
+use crate::frames::Edge;
 use crate::geometry::se3::{QuatOrder, Transform};
 use crate::geometry::uncertainty::{matrix4_precision, written_precision, Written};
 use crate::sanitize::clip;
@@ -106,213 +107,263 @@ pub fn parse_stp_args(
     context: &str,
     warnings: &mut Vec<Warning>,
 ) -> Result<Edge> {
-    // Drop ROS arguments and remappings.
-    let mut toks: Vec<&str> = Vec::new();
-    for a in args {
-        if a == "--ros-args" {
-            break;
-        }
-        if a.contains(":=") || a.starts_with("__") {
-            continue;
-        }
-        toks.push(a.as_str());
-    }
-    let joined = toks.join(" ");
-    if let Some(at) = joined.find("$(").or_else(|| joined.find("${")) {
-        let end = joined[at..]
-            .find([')', '}'])
-            .map(|e| at + e + 1)
-            .unwrap_or(joined.len());
-        return Err(Error::parse(format!(
-            "static_transform_publisher arguments hold the substitution {:?}: expected literal values; resolve it (roslaunch / ros2 launch --print) or write the value",
-            &joined[at..end]
-        ))
-        .at(loc));
-    }
+    let toks = publisher_tokens(args);
+    refuse_substitutions(&toks, loc)?;
     let mut ws = Vec::new();
-    let edge = if toks.iter().any(|t| t.starts_with("--")) {
-        let mut vals: std::collections::BTreeMap<&str, &str> = Default::default();
-        let mut i = 0;
-        while i < toks.len() {
-            let t = toks[i];
-            let (flag, inline) = match t.split_once('=') {
-                Some((f, v)) if t.starts_with("--") => (f, Some(v)),
-                _ => (t, None),
-            };
-            if !FLAGS.contains(&flag) {
-                return Err(Error::parse(format!(
-                    "static_transform_publisher: expected one of {}, found {:?}",
-                    FLAGS.join(" "),
-                    clip(t)
-                ))
-                .at(loc));
-            }
-            let v = match inline {
-                Some(v) => v,
-                None => {
-                    i += 1;
-                    *toks.get(i).ok_or_else(|| {
-                        Error::parse(format!(
-                            "static_transform_publisher: expected a value after {flag}, found the end"
-                        ))
-                        .at(loc)
-                    })?
-                }
-            };
-            if vals.insert(flag, v).is_some() {
-                return Err(Error::parse(format!(
-                    "static_transform_publisher: {flag} given twice"
-                ))
-                .at(loc));
-            }
-            i += 1;
-        }
-        let num = |f: &str, def: f64, ws: &mut Vec<Warning>| -> Result<f64> {
-            match vals.get(f) {
-                None => Ok(def),
-                Some(v) => number_arg(v, 0, ws, loc).map_err(|_| {
-                    Error::parse(format!(
-                        "static_transform_publisher {f}: expected a number, found {:?}",
-                        clip(v)
-                    ))
-                    .at(loc)
-                }),
-            }
-        };
-        let parent = vals.get("--frame-id").ok_or_else(|| {
-            Error::parse("static_transform_publisher: expected --frame-id NAME, found none").at(loc)
-        })?;
-        let child = vals.get("--child-frame-id").ok_or_else(|| {
-            Error::parse("static_transform_publisher: expected --child-frame-id NAME, found none")
-                .at(loc)
-        })?;
-        let d = [
-            num("--x", 0.0, &mut ws)?,
-            num("--y", 0.0, &mut ws)?,
-            num("--z", 0.0, &mut ws)?,
-        ];
-        let has_q = ["--qx", "--qy", "--qz", "--qw"]
-            .iter()
-            .any(|f| vals.contains_key(f));
-        let has_a = ["--roll", "--pitch", "--yaw"]
-            .iter()
-            .any(|f| vals.contains_key(f));
-        if has_q && has_a {
-            return Err(Error::parse(
-                "static_transform_publisher: expected either --roll/--pitch/--yaw or --qx/--qy/--qz/--qw, found both",
-            )
-            .at(loc));
-        }
-        let (t, how, written) = if has_q {
-            let q = [
-                num("--qx", 0.0, &mut ws)?,
-                num("--qy", 0.0, &mut ws)?,
-                num("--qz", 0.0, &mut ws)?,
-                num("--qw", 1.0, &mut ws)?,
-            ];
-            (
-                Transform::from_quaternion(q, QuatOrder::Xyzw, d, &mut ws)
-                    .map_err(|e| e.at(loc))?,
-                "--x --y --z --qx --qy --qz --qw",
-                Written::Quat(q, QuatOrder::Xyzw),
-            )
-        } else {
-            let rpy = [
-                num("--roll", 0.0, &mut ws)?,
-                num("--pitch", 0.0, &mut ws)?,
-                num("--yaw", 0.0, &mut ws)?,
-            ];
-            (
-                Transform::from_rpy(rpy, d).map_err(|e| e.at(loc))?,
-                "--x --y --z --roll --pitch --yaw",
-                Written::Rpy(rpy),
-            )
-        };
-        check_metres(&d, "static_transform_publisher --x --y --z", loc, &mut ws);
-        Edge::new(
-            frame_name(parent),
-            frame_name(child),
-            t,
-            loc.clone(),
-            format,
-            format!("{context}static_transform_publisher {how}"),
-        )
-        .with_precision(written_precision(written, d, 1.0))
+    let (parent, child, read) = if toks.iter().any(|t| t.starts_with("--")) {
+        flag_form(&toks, loc, &mut ws)?
     } else {
-        let nnum = toks
-            .iter()
-            .take_while(|t| {
-                parse_number(t).is_some() || t.strip_suffix(',').and_then(parse_number).is_some()
-            })
-            .count();
-        let (nrot, how) = match nnum {
-            6 => (3, "x y z yaw pitch roll"),
-            7 => (4, "x y z qx qy qz qw"),
-            n if n < 6 && toks.len() >= 8 => {
-                return Err(Error::parse(format!(
-                    "static_transform_publisher argument {}: expected a number, found {:?}",
-                    n + 1,
-                    clip(toks[n])
-                ))
-                .at(loc))
-            }
-            _ => {
-                return Err(Error::parse(format!(
-                    "static_transform_publisher: expected `x y z yaw pitch roll parent child [period_ms]` or `x y z qx qy qz qw parent child [period_ms]`, found {} leading numbers in {:?}",
-                    nnum,
-                    toks.join(" ")
-                ))
-                .at(loc))
-            }
-        };
-        let rest = &toks[nnum..];
-        match rest.len() {
-            2 => {}
-            3 if parse_number(rest[2]).is_some() => {}
-            _ => {
-                return Err(Error::parse(format!(
-                    "static_transform_publisher: expected `parent child [period_ms]` after the {nnum} numbers, found {:?}",
-                    clip(&rest.join(" "))
-                ))
-                .at(loc))
-            }
-        }
-        let mut v = Vec::with_capacity(nnum);
-        for (i, t) in toks[..nnum].iter().enumerate() {
-            v.push(number_arg(t, i + 1, &mut ws, loc)?);
-        }
-        let d = [v[0], v[1], v[2]];
-        let (t, written) = if nrot == 3 {
-            let ypr = [v[3], v[4], v[5]];
-            (
-                Transform::from_ypr(ypr, d).map_err(|e| e.at(loc))?,
-                Written::Ypr(ypr),
-            )
-        } else {
-            let q = [v[3], v[4], v[5], v[6]];
-            (
-                Transform::from_quaternion(q, QuatOrder::Xyzw, d, &mut ws)
-                    .map_err(|e| e.at(loc))?,
-                Written::Quat(q, QuatOrder::Xyzw),
-            )
-        };
-        check_metres(&d, "static_transform_publisher x y z", loc, &mut ws);
-        Edge::new(
-            frame_name(rest[0]),
-            frame_name(rest[1]),
-            t,
-            loc.clone(),
-            format,
-            format!("{context}static_transform_publisher {how}"),
-        )
-        .with_precision(written_precision(written, d, 1.0))
+        positional_form(&toks, loc, &mut ws)?
     };
+    let edge = Edge::new(
+        frame_name(parent),
+        frame_name(child),
+        read.transform,
+        loc.clone(),
+        format,
+        format!("{context}static_transform_publisher {}", read.form),
+    )
+    .with_precision(written_precision(read.written, read.d, 1.0));
     locate_warnings(ws, loc, warnings);
     Ok(edge)
 }
 
+/// A publisher's transform, the argument form it was written in, and its
+/// numbers as written (for their rounding).
+struct Published {
+    transform: Transform,
+    form: &'static str,
+    written: Written,
+    d: [f64; 3],
+}
+
+/// The arguments without ROS arguments (everything after `--ros-args`) and
+/// remappings (`name:=value`, `__name:=...`).
+fn publisher_tokens(args: &[String]) -> Vec<&str> {
+    args.iter()
+        .take_while(|a| *a != "--ros-args")
+        .filter(|a| !(a.contains(":=") || a.starts_with("__")))
+        .map(String::as_str)
+        .collect()
+}
+
+/// A `$(...)` or `${...}` left in the arguments: the launch system would
+/// substitute it, the tool does not.
+fn refuse_substitutions(toks: &[&str], loc: &Location) -> Result<()> {
+    let joined = toks.join(" ");
+    let Some(at) = joined.find("$(").or_else(|| joined.find("${")) else {
+        return Ok(());
+    };
+    let end = joined[at..]
+        .find([')', '}'])
+        .map(|e| at + e + 1)
+        .unwrap_or(joined.len());
+    Err(Error::parse(format!(
+        "static_transform_publisher arguments hold the substitution {:?}: expected literal values; resolve it (roslaunch / ros2 launch --print) or write the value",
+        &joined[at..end]
+    ))
+    .at(loc))
+}
+
+/// ROS 2 flags (`--x 1 --frame-id a ...`, or `--x=1`): each known, given once.
+fn flag_values<'t>(
+    toks: &[&'t str],
+    loc: &Location,
+) -> Result<std::collections::BTreeMap<&'t str, &'t str>> {
+    let mut vals = std::collections::BTreeMap::new();
+    let mut i = 0;
+    while i < toks.len() {
+        let t = toks[i];
+        let (flag, inline) = match t.split_once('=') {
+            Some((f, v)) if t.starts_with("--") => (f, Some(v)),
+            _ => (t, None),
+        };
+        if !FLAGS.contains(&flag) {
+            return Err(Error::parse(format!(
+                "static_transform_publisher: expected one of {}, found {:?}",
+                FLAGS.join(" "),
+                clip(t)
+            ))
+            .at(loc));
+        }
+        let v = match inline {
+            Some(v) => v,
+            None => {
+                i += 1;
+                *toks.get(i).ok_or_else(|| {
+                    Error::parse(format!(
+                        "static_transform_publisher: expected a value after {flag}, found the end"
+                    ))
+                    .at(loc)
+                })?
+            }
+        };
+        if vals.insert(flag, v).is_some() {
+            return Err(
+                Error::parse(format!("static_transform_publisher: {flag} given twice")).at(loc),
+            );
+        }
+        i += 1;
+    }
+    Ok(vals)
+}
+
+/// The ROS 2 flag form: frames from `--frame-id` / `--child-frame-id`,
+/// missing numbers 0 (`--qw` 1), angles or a quaternion but not both.
+fn flag_form<'t>(
+    toks: &[&'t str],
+    loc: &Location,
+    ws: &mut Vec<Warning>,
+) -> Result<(&'t str, &'t str, Published)> {
+    let vals = flag_values(toks, loc)?;
+    let num = |f: &str, def: f64, ws: &mut Vec<Warning>| -> Result<f64> {
+        match vals.get(f) {
+            None => Ok(def),
+            Some(v) => number_arg(v, 0, ws, loc).map_err(|_| {
+                Error::parse(format!(
+                    "static_transform_publisher {f}: expected a number, found {:?}",
+                    clip(v)
+                ))
+                .at(loc)
+            }),
+        }
+    };
+    let parent = vals.get("--frame-id").ok_or_else(|| {
+        Error::parse("static_transform_publisher: expected --frame-id NAME, found none").at(loc)
+    })?;
+    let child = vals.get("--child-frame-id").ok_or_else(|| {
+        Error::parse("static_transform_publisher: expected --child-frame-id NAME, found none")
+            .at(loc)
+    })?;
+    let d = [
+        num("--x", 0.0, ws)?,
+        num("--y", 0.0, ws)?,
+        num("--z", 0.0, ws)?,
+    ];
+    let given = |fs: &[&str]| fs.iter().any(|f| vals.contains_key(f));
+    let (has_q, has_a) = (
+        given(&["--qx", "--qy", "--qz", "--qw"]),
+        given(&["--roll", "--pitch", "--yaw"]),
+    );
+    if has_q && has_a {
+        return Err(Error::parse(
+            "static_transform_publisher: expected either --roll/--pitch/--yaw or --qx/--qy/--qz/--qw, found both",
+        )
+        .at(loc));
+    }
+    let read = if has_q {
+        let q = [
+            num("--qx", 0.0, ws)?,
+            num("--qy", 0.0, ws)?,
+            num("--qz", 0.0, ws)?,
+            num("--qw", 1.0, ws)?,
+        ];
+        Published {
+            transform: Transform::from_quaternion(q, QuatOrder::Xyzw, d, ws)
+                .map_err(|e| e.at(loc))?,
+            form: "--x --y --z --qx --qy --qz --qw",
+            written: Written::Quat(q, QuatOrder::Xyzw),
+            d,
+        }
+    } else {
+        let rpy = [
+            num("--roll", 0.0, ws)?,
+            num("--pitch", 0.0, ws)?,
+            num("--yaw", 0.0, ws)?,
+        ];
+        Published {
+            transform: Transform::from_rpy(rpy, d).map_err(|e| e.at(loc))?,
+            form: "--x --y --z --roll --pitch --yaw",
+            written: Written::Rpy(rpy),
+            d,
+        }
+    };
+    check_metres(&d, "static_transform_publisher --x --y --z", loc, ws);
+    Ok((parent, child, read))
+}
+
+/// How many numbers lead the positional form: 6 (x y z yaw pitch roll) or 7
+/// (x y z qx qy qz qw), then `parent child [period_ms]`.
+fn positional_count(toks: &[&str], loc: &Location) -> Result<(usize, &'static str)> {
+    let nnum = toks
+        .iter()
+        .take_while(|t| {
+            parse_number(t).is_some() || t.strip_suffix(',').and_then(parse_number).is_some()
+        })
+        .count();
+    let form = match nnum {
+        6 => "x y z yaw pitch roll",
+        7 => "x y z qx qy qz qw",
+        n if n < 6 && toks.len() >= 8 => {
+            return Err(Error::parse(format!(
+                "static_transform_publisher argument {}: expected a number, found {:?}",
+                n + 1,
+                clip(toks[n])
+            ))
+            .at(loc))
+        }
+        _ => {
+            return Err(Error::parse(format!(
+                "static_transform_publisher: expected `x y z yaw pitch roll parent child [period_ms]` or `x y z qx qy qz qw parent child [period_ms]`, found {} leading numbers in {:?}",
+                nnum,
+                toks.join(" ")
+            ))
+            .at(loc))
+        }
+    };
+    let rest = &toks[nnum..];
+    match rest.len() {
+        2 => {}
+        3 if parse_number(rest[2]).is_some() => {}
+        _ => {
+            return Err(Error::parse(format!(
+                "static_transform_publisher: expected `parent child [period_ms]` after the {nnum} numbers, found {:?}",
+                clip(&rest.join(" "))
+            ))
+            .at(loc))
+        }
+    }
+    Ok((nnum, form))
+}
+
+/// The positional form: `x y z yaw pitch roll parent child [period_ms]` (yaw
+/// first) or `x y z qx qy qz qw parent child [period_ms]`.
+fn positional_form<'t>(
+    toks: &[&'t str],
+    loc: &Location,
+    ws: &mut Vec<Warning>,
+) -> Result<(&'t str, &'t str, Published)> {
+    let (nnum, form) = positional_count(toks, loc)?;
+    let mut v = Vec::with_capacity(nnum);
+    for (i, t) in toks[..nnum].iter().enumerate() {
+        v.push(number_arg(t, i + 1, ws, loc)?);
+    }
+    let d = [v[0], v[1], v[2]];
+    let (transform, written) = if nnum == 6 {
+        let ypr = [v[3], v[4], v[5]];
+        (
+            Transform::from_ypr(ypr, d).map_err(|e| e.at(loc))?,
+            Written::Ypr(ypr),
+        )
+    } else {
+        let q = [v[3], v[4], v[5], v[6]];
+        (
+            Transform::from_quaternion(q, QuatOrder::Xyzw, d, ws).map_err(|e| e.at(loc))?,
+            Written::Quat(q, QuatOrder::Xyzw),
+        )
+    };
+    check_metres(&d, "static_transform_publisher x y z", loc, ws);
+    let read = Published {
+        transform,
+        form,
+        written,
+        d,
+    };
+    Ok((toks[nnum], toks[nnum + 1], read))
+}
+
 fn xml_doc(text: &str) -> Result<roxmltree::Document<'_>> {
-    crate::formats::xml::parse(text)
+    xml::parse(text)
 }
 
 /// ROS 1 / ROS 2 launch XML: every `static_transform_publisher` node that
@@ -335,7 +386,7 @@ pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<L
         if exe != "static_transform_publisher" {
             continue;
         }
-        let (row, col) = crate::formats::xml::pos_of(&idx, n);
+        let (row, col) = xml::pos_of(&idx, n);
         let loc = Location::at(path, row, Some(col));
         if let Some(why) = args.switched_off(n, &loc)? {
             if skipped.is_none() {
@@ -397,7 +448,7 @@ pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
         if param != want {
             continue;
         }
-        let (row, col) = crate::formats::xml::pos_of(&LineIndex::new(text), n);
+        let (row, col) = xml::pos_of(&LineIndex::new(text), n);
         let loc = Location::at(path, row, Some(col));
         let body: String = n.text().unwrap_or("").to_string();
         let cleaned = body.replace(['[', ']', ','], " ");
@@ -983,12 +1034,35 @@ pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
 
 /// Whether XML text is a launch file, and whether it holds static transform
 /// publishers or a LIO-Livox extrinsic.
-fn launch_xml(s: &Sniff) -> Option<(bool, bool)> {
-    (s.xml_candidate() && s.text.contains("<launch")).then(|| {
+fn launch_xml(i: &Input) -> Option<(bool, bool)> {
+    (xml::candidate(i) && i.contains("<launch")).then(|| {
         (
-            s.text.contains("static_transform_publisher"),
-            s.text.contains("Extrinsic_Tlb"),
+            i.contains("static_transform_publisher"),
+            i.contains("Extrinsic_Tlb"),
         )
+    })
+}
+
+/// A file named like a launch file (`.launch`, `.launch.py`, `.launch.xml`,
+/// `.launch.yaml`) that names neither `static_transform_publisher` nor
+/// `Extrinsic_Tlb` holds no calibration: most launch files of a ROS package
+/// start nodes. `false` when it cannot be read within `max_size` bytes (the
+/// reader then says why).
+pub(crate) fn holds_no_calibration(path: &Path, max_size: u64) -> bool {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    let launch = name.ends_with(".launch")
+        || [".launch.py", ".launch.xml", ".launch.yaml", ".launch.yml"]
+            .iter()
+            .any(|x| name.ends_with(x));
+    if !launch {
+        return false;
+    }
+    crate::input::read_file(path, max_size).is_ok_and(|b| {
+        let t = String::from_utf8_lossy(&b);
+        !t.contains("static_transform_publisher") && !t.contains("Extrinsic_Tlb")
     })
 }
 
@@ -998,12 +1072,14 @@ pub const LAUNCH_XML: FormatSpec = FormatSpec {
     description: "ROS 1 / ROS 2 launch XML: static_transform_publisher nodes (x y z yaw pitch roll | x y z qx qy qz qw, or ROS 2 --flags): child pose in parent",
     extensions: &[],
     walk: &[".launch", ".xml"],
-    sniff: |s| match launch_xml(s)? {
-        (true, _) => Some(super::registry::CERTAIN),
+    magic: &[],
+    sniff: |i| match launch_xml(i)? {
+        (true, _) => Some(Confidence::Certain),
         (false, true) => None,
-        (false, false) => Some(85),
+        (false, false) => Some(Confidence::Document),
     },
-    parse: parse_launch_xml,
+    parse: |i, o| parse_launch_xml(i.text()?, i.path(), o),
+    checked: true,
 };
 
 /// LIO-Livox launch files with `Extrinsic_Tlb`.
@@ -1012,8 +1088,10 @@ pub const LIO_LIVOX_LAUNCH: FormatSpec = FormatSpec {
     description: "LIO-Livox launch `<rosparam param=\"Extrinsic_Tlb\">` 4x4 row-major: read as the LiDAR pose in the IMU frame (FAST-LIO sign, as mid360.launch uses), edge imu -> lidar; the direction is assumed (--invert flips it)",
     extensions: &[],
     walk: &[".launch"],
-    sniff: |s| matches!(launch_xml(s)?, (false, true)).then_some(88),
-    parse: parse_lio_livox,
+    magic: &[],
+    sniff: |i| matches!(launch_xml(i)?, (false, true)).then_some(Confidence::Certain),
+    parse: |i, o| parse_lio_livox(i.text()?, i.path(), o),
+    checked: true,
 };
 
 /// ROS 2 launch YAML.
@@ -1022,8 +1100,13 @@ pub const LAUNCH_YAML: FormatSpec = FormatSpec {
     description: "ROS 2 launch YAML: static_transform_publisher nodes with literal args; child pose in parent",
     extensions: &["launch.yaml", "launch.yml"],
     walk: &[".yaml", ".yml"],
-    sniff: |s| (s.yaml_dialect() == "launch-yaml").then_some(10),
-    parse: parse_launch_yaml,
+    magic: &[],
+    sniff: |i| {
+        let node = i.has_key("exec") || i.has_key("- node") || i.has_key("node");
+        (node && i.contains("static_transform_publisher")).then_some(Confidence::Keys)
+    },
+    parse: |i, o| parse_launch_yaml(i.text()?, i.path(), o),
+    checked: true,
 };
 
 /// ROS 2 Python launch.
@@ -1032,8 +1115,10 @@ pub const LAUNCH_PY: FormatSpec = FormatSpec {
     description: "ROS 2 Python launch: `arguments=[...]` of static_transform_publisher Nodes (literals and `LaunchConfiguration` of a `DeclareLaunchArgument` or `--arg`), `IfCondition`/`UnlessCondition` decided; anything else is refused",
     extensions: &["py", "launch.py"],
     walk: &[".launch.py"],
-    sniff: |s| s.head.contains("LaunchDescription").then_some(60),
-    parse: parse_launch_py,
+    magic: &[],
+    sniff: |i| i.text_head().contains("LaunchDescription").then_some(Confidence::Names),
+    parse: |i, o| parse_launch_py(i.text()?, i.path(), o),
+    checked: true,
 };
 
 /// Command lines saved as text.
@@ -1044,15 +1129,17 @@ pub const STATIC_TF_COMMANDS: FormatSpec = FormatSpec {
     // Not `.sh`: a directory walk (`audit check DIR`) would read every
     // script of a repository, most of which publish nothing.
     walk: &[".txt"],
-    sniff: |s| {
-        let commands = s.text.lines().any(|l| {
+    magic: &[],
+    sniff: |i| {
+        let commands = i.text().unwrap_or("").lines().any(|l| {
             let l = l.trim_start();
             !l.starts_with('#')
                 && !l.starts_with('%')
                 && (l.contains("rosrun") || l.contains("ros2 run"))
                 && l.contains("static_transform_publisher")
         });
-        (commands && !s.text.contains("!!opencv-matrix")).then_some(50)
+        (commands && !i.contains("!!opencv-matrix")).then_some(Confidence::Commands)
     },
-    parse: parse_commands,
+    parse: |i, o| parse_commands(i.text()?, i.path(), o),
+    checked: true,
 };

@@ -25,50 +25,24 @@
 //!   `body_T_cam1` ("cam0 to body") are `A_T_B` keys, read by `matrix-yaml`
 //!   as edges `body -> cam0`, `body -> cam1`.
 
+use super::spec::{check_metres, locate_warnings, Confidence, Input, Loaded};
+use super::yaml::Node;
+use super::yaml_keyed::{keys, yaml_dialect};
+use super::yaml_shapes::{err_at, exactly, key_node, loc_of, mat3, unique_map};
 use crate::diagnostic::{Error, Result};
-use crate::formats::registry::{FormatSpec, Sniff};
-use crate::formats::yaml::Node;
-use crate::formats::yaml_dialects::{
-    err_at, exactly, has_key_line, key_node, loc_of, mat3, parse_with, unique_map,
-};
-use crate::formats::{check_metres, locate_warnings, Edge, Loaded};
+use crate::frames::Edge;
 use crate::geometry::se3::Transform;
 use std::path::Path;
 
-/// The id of the dialect these keys name, if any (called by
-/// `yaml_dialects::dialect`).
-pub fn dialect(text: &str) -> Option<&'static str> {
-    if has_key_line(text, "t_imu_lidar") && has_key_line(text, "R_imu_lidar") {
-        return Some(IG_LIO.id);
-    }
-    let dlio_key =
-        |k: &str| has_key_line(text, k) || has_key_line(text, &format!("extrinsics/{k}/t"));
-    if dlio_key("baselink2imu") || dlio_key("baselink2lidar") {
-        return Some(DLIO.id);
-    }
-    if has_key_line(text, "extrinsicRotation") && has_key_line(text, "extrinsicTranslation") {
-        return Some(VINS_MONO.id);
-    }
-    None
+/// DLIO: `baselink2imu` or `baselink2lidar`, nested or flattened (ROS 2).
+fn dlio_keys(i: &Input) -> Option<Confidence> {
+    let key = |k: &str| i.has_key(k) || i.has_key(&format!("extrinsics/{k}/t"));
+    keys(key("baselink2imu") || key("baselink2lidar"))
 }
 
-macro_rules! spec {
-    ($name:ident, $id:literal, $read:expr, $desc:literal) => {
-        #[doc = $desc]
-        pub const $name: FormatSpec = FormatSpec {
-            id: $id,
-            description: $desc,
-            extensions: &[],
-            walk: &[".yaml", ".yml"],
-            sniff: |s: &Sniff| (s.yaml_dialect() == $id).then_some(10),
-            parse: |text, path, opts| parse_with($read, true, text, path, opts),
-        };
-    };
-}
-
-spec!(IG_LIO, "ig-lio", |d, _, p| parse_ig_lio(d, p), "iG-LIO `t_imu_lidar` + `R_imu_lidar` (row-major): the LiDAR pose in the IMU frame, edge imu -> lidar");
-spec!(DLIO, "dlio", |d, _, p| parse_dlio(d, p), "DLIO `extrinsics: {baselink2imu, baselink2lidar}: {t, R}` (row-major): the IMU and LiDAR poses in base_link, edges base_link -> imu, base_link -> lidar");
-spec!(VINS_MONO, "vins-mono", |d, _, p| parse_vins_mono(d, p), "VINS-Mono `extrinsicRotation` + `extrinsicTranslation` (OpenCV matrices, \"imu^R_cam\", \"imu^T_cam\"): the camera pose in the IMU frame, edge imu -> camera");
+yaml_dialect!(IG_LIO, "ig-lio", true, |i| keys(i.has_key("t_imu_lidar") && i.has_key("R_imu_lidar")), |d, _, p| parse_ig_lio(d, p), "iG-LIO `t_imu_lidar` + `R_imu_lidar` (row-major): the LiDAR pose in the IMU frame, edge imu -> lidar");
+yaml_dialect!(DLIO, "dlio", true, dlio_keys, |d, _, p| parse_dlio(d, p), "DLIO `extrinsics: {baselink2imu, baselink2lidar}: {t, R}` (row-major): the IMU and LiDAR poses in base_link, edges base_link -> imu, base_link -> lidar");
+yaml_dialect!(VINS_MONO, "vins-mono", true, |i| keys(i.has_key("extrinsicRotation") && i.has_key("extrinsicTranslation")), |d, _, p| parse_vins_mono(d, p), "VINS-Mono `extrinsicRotation` + `extrinsicTranslation` (OpenCV matrices, \"imu^R_cam\", \"imu^T_cam\"): the camera pose in the IMU frame, edge imu -> camera");
 
 /// The numbers of a list or of an OpenCV matrix's `data`.
 fn numbers<const N: usize>(n: &Node, what: &str) -> Result<[f64; N]> {

@@ -21,12 +21,18 @@
 //! different values is ambiguous: an `ambiguous-key` warning names both lines
 //! and its edges are left out, the rest of the file is read.
 
+use super::spec::{Confidence, Loaded};
+use super::yaml::{Node, Value};
+use super::yaml_keyed::yaml_dialect;
+use super::yaml_shapes::{
+    frames_from_key, kalibr_frames, kalibr_imu, loc_of, matrix_edge, MATRIX_YAML_ID,
+};
 use crate::diagnostic::{Code, Error, Result, Warning};
-use crate::formats::yaml::{Node, Value};
-use crate::formats::yaml_dialects::{frames_from_key, matrix_edge};
-use crate::formats::{Edge, Loaded};
-use crate::frames::FrameGraph;
+use crate::frames::{Edge, FrameGraph};
 use std::path::Path;
+
+// The dialect read when no other claims the text.
+yaml_dialect!(MATRIX_YAML, MATRIX_YAML_ID, true, |_| Some(Confidence::Fallback), parse, "YAML with 4x4 matrices under keys `T_A_B` or `A_T_B` (OpenCV FileStorage `!!opencv-matrix`, VINS-Fusion `body_T_cam0`, plain lists, `T_A_B_t_xyz_q_xyzw`): the pose of B in A, edge A -> B; Kalibr camchain `camN: {T_cam_imu, T_cn_cnm1}`: edges imu -> camN, T_cn_cnm1 checked as a redundant edge; a key that closes a loop is checked, not refused; --key NAME picks one");
 
 /// The layouts the YAML readers know, for the "no transform found" message.
 pub const KNOWN_LAYOUTS: &str = "FAST-LIO/Point-LIO `extrinsic_T` + `extrinsic_R`, LIO-SAM `extrinsicTrans` + `extrinsicRot`, iG-LIO `t_imu_lidar` + `R_imu_lidar`, DLIO `baselink2imu`/`baselink2lidar` {t, R}, VINS `extrinsicRotation` + `extrinsicTranslation` or `body_T_cam0`, Coco-LIC `Extrinsics`, SLICT `lidar_extr`, a tf_static dump (`transforms:` with `child_frame_id`), `<parent>_to_<child>: {x, y, z, roll, pitch, yaw}`, `quaternion_A_B` + `translation_A_B`, Kalibr `camN: {T_cam_imu, T_cn_cnm1}`, or 4x4 matrices under keys `T_A_B` / `A_T_B`";
@@ -42,38 +48,6 @@ struct Entry<'a> {
     invert: bool,
     /// Kalibr `T_cn_cnm1`: read after the others, so it closes the loop.
     late: bool,
-}
-
-/// The IMU's name in a Kalibr file: `imu0` when a top-level `imu0` key says
-/// so, else `imu`.
-pub fn kalibr_imu(docs: &[Node]) -> &'static str {
-    let has_imu0 = docs.iter().any(|d| {
-        d.entries()
-            .iter()
-            .any(|(k, _)| k.as_str().as_deref() == Some("imu0"))
-    });
-    if has_imu0 {
-        "imu0"
-    } else {
-        "imu"
-    }
-}
-
-/// Frames of Kalibr key `inner` under block `cam` (`cam1`): `cam`/`cn` is the
-/// block's camera, `cnm1` the previous one, `imu` the IMU; `None` when `cam`
-/// is not `camN` or `inner` names no frames.
-pub fn kalibr_frames(cam: &str, inner: &str, imu: &str) -> Option<(String, String)> {
-    let idx = cam.strip_prefix("cam")?.parse::<usize>().ok()?;
-    let (mut a, mut b) = frames_from_key(inner)?;
-    for f in [&mut a, &mut b] {
-        match f.as_str() {
-            "cam" | "cn" => *f = cam.to_string(),
-            "cnm1" if idx > 0 => *f = format!("cam{}", idx - 1),
-            "imu" => *f = imu.to_string(),
-            _ => {}
-        }
-    }
-    Some((a, b))
 }
 
 fn collect<'a>(docs: &'a [Node], imu: &str) -> Vec<Entry<'a>> {
@@ -141,7 +115,7 @@ fn ambiguous(entries: &[Entry], warnings: &mut Vec<Warning>, path: &Path) -> Vec
                     e.frames.1
                 ),
             )
-            .at(&crate::formats::yaml_dialects::loc_of(path, same[1].key)),
+            .at(&loc_of(path, same[1].key)),
         );
         blocked.push(e.name.clone());
     }
@@ -197,10 +171,10 @@ pub fn parse(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
         }
         seen.push(&en.name);
         let e = matrix_edge(
+            MATRIX_YAML.id,
             &en.name,
             en.frames.clone(),
-            en.value,
-            en.key,
+            (en.key, en.value),
             text,
             path,
             &mut out.warnings,

@@ -16,10 +16,12 @@
 //! record tokens and its edges are left out; `--key TOKEN` reads one record.
 
 use crate::diagnostic::{Code, Error, Result, Warning};
-use crate::formats::registry::{FormatSpec, Sniff};
+use crate::formats::spec::{
+    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+};
 use crate::formats::yaml::{self, Node, Value};
-use crate::formats::yaml_dialects::{err_at, exactly, loc_of};
-use crate::formats::{check_metres, locate_warnings, Edge, LoadOptions, Loaded};
+use crate::formats::yaml_shapes::{err_at, exactly, loc_of};
+use crate::frames::Edge;
 use crate::geometry::se3::{QuatOrder, Transform};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -150,8 +152,9 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     Ok(out)
 }
 
-fn sniff(s: &Sniff) -> Option<u8> {
-    (s.trimmed.starts_with('[') && s.head.contains("\"sensor_token\"")).then_some(80)
+fn sniff(i: &Input) -> Option<Confidence> {
+    (i.trimmed().starts_with('[') && i.text_head().contains("\"sensor_token\""))
+        .then_some(Confidence::Claim)
 }
 
 /// nuScenes calibrated_sensor.json.
@@ -160,6 +163,8 @@ pub const NUSCENES: FormatSpec = FormatSpec {
     description: "nuScenes `calibrated_sensor.json` (`translation` + `rotation` w, x, y, z, \"with respect to the ego vehicle body frame\"): the sensor pose in the ego frame, edges ego -> CHANNEL (names from sensor.json beside it); --key TOKEN reads one record",
     extensions: &[],
     walk: &[".json"],
+    magic: &[],
     sniff,
-    parse,
+    parse: |i, o| parse(i.text()?, i.path(), o),
+    checked: true,
 };

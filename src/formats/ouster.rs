@@ -12,9 +12,11 @@
 //! line numbers.
 
 use crate::diagnostic::{Error, Location, Result};
-use crate::formats::registry::FormatSpec;
-use crate::formats::yaml::{self, Node, Value};
-use crate::formats::{locate_warnings, yaml_dialects, Edge, LoadOptions, Loaded};
+use crate::formats::json::json_documents;
+use crate::formats::spec::{locate_warnings, Confidence, FormatSpec, LoadOptions, Loaded};
+use crate::formats::yaml::{Node, Value};
+use crate::formats::{matrix_tree, yaml_keyed};
+use crate::frames::Edge;
 use crate::geometry::se3::Transform;
 use crate::geometry::uncertainty::matrix4_precision;
 use std::path::Path;
@@ -34,20 +36,6 @@ fn find<'a>(n: &'a Node, key: &str) -> Option<(&'a Node, &'a Node)> {
     }
 }
 
-/// The documents of a JSON file, read by the YAML reader (which keeps each
-/// node's line) after serde_json has checked the syntax, so a JSON error is
-/// reported as JSON, at its line and column. Shared by the JSON formats.
-pub(crate) fn json_documents(text: &str) -> Result<Vec<yaml::Node>> {
-    if let Err(e) = serde_json::from_str::<serde_json::Value>(text) {
-        let msg = e.to_string();
-        let msg = msg.split(" at line ").next().unwrap_or("").to_string();
-        return Err(Error::parse(format!("not valid JSON: {msg}"))
-            .at_line(e.line().max(1), Some(e.column().max(1))));
-    }
-    // JSON allows tabs where YAML forbids them in indentation.
-    yaml::parse_documents(&text.replace('\t', " "))
-}
-
 /// Parse Ouster metadata (or any JSON with `--key`).
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let docs = json_documents(text)?;
@@ -55,7 +43,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         return Err(Error::parse("empty JSON document"));
     };
     if let Some(key) = &opts.key {
-        return yaml_dialects::parse_keyed(&docs, key, text, path);
+        return yaml_keyed::parse_keyed(&docs, key, text, path);
     }
     let mut out = Loaded::default();
     for (key, child) in [
@@ -105,7 +93,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     }
     if out.edges.is_empty() {
         // Not Ouster metadata: matrices under T_A_B / A_T_B keys are read as in YAML.
-        return yaml_dialects::parse_matrices(&docs, text, path).map_err(|e| {
+        return matrix_tree::parse(&docs, text, path).map_err(|e| {
             Error {
                 message: format!(
                     "JSON without `lidar_to_sensor_transform` or `imu_to_sensor_transform` (Ouster sensor metadata), `transforms` records with `source_frame` (Ouster extrinsic_parameters.json), rows with `sensor_name` + `tx_m` (Argoverse 2) or nuScenes `sensor_token` records; {}",
@@ -126,12 +114,14 @@ pub const SPEC: FormatSpec = FormatSpec {
     // other `.json` (or text that starts like JSON) is read here.
     extensions: &[],
     walk: &[".json"],
-    sniff: |s| {
-        if s.trimmed.starts_with(['{', '[']) {
-            Some(70)
+    magic: &[],
+    sniff: |i| {
+        if i.trimmed().starts_with(['{', '[']) {
+            Some(Confidence::Json)
         } else {
-            (s.ext == "json").then_some(20)
+            (i.ext() == "json").then_some(Confidence::Extension)
         }
     },
-    parse,
+    parse: |i, o| parse(i.text()?, i.path(), o),
+    checked: true,
 };

@@ -25,10 +25,11 @@
 //! that sensor's edge is left out; `--key SOURCE_FRAME` reads one sensor.
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::formats::registry::{FormatSpec, Sniff};
+use crate::formats::json::json_documents;
+use crate::formats::spec::{locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded};
 use crate::formats::yaml::{Node, Value};
-use crate::formats::yaml_dialects::{err_at, loc_of};
-use crate::formats::{locate_warnings, Edge, LoadOptions, Loaded};
+use crate::formats::yaml_shapes::{err_at, loc_of};
+use crate::frames::Edge;
 use crate::geometry::se3::{QuatOrder, Transform};
 use crate::geometry::uncertainty::{written_precision, Written};
 use std::collections::BTreeMap;
@@ -218,7 +219,7 @@ fn where_(l: &Location) -> String {
 
 /// Parse an Ouster `extrinsic_parameters.json`.
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    let docs = crate::formats::ouster::json_documents(text)?;
+    let docs = json_documents(text)?;
     let Some(doc) = docs.first() else {
         return Err(Error::parse("empty JSON document"));
     };
@@ -249,13 +250,14 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     Ok(out)
 }
 
-fn sniff(s: &Sniff) -> Option<u8> {
-    (s.trimmed.starts_with(['{', '['])
-        && s.head.contains("\"source_frame\"")
+fn sniff(i: &Input) -> Option<Confidence> {
+    let head = i.text_head();
+    (i.trimmed().starts_with(['{', '['])
+        && head.contains("\"source_frame\"")
         && ["\"q_w\"", "\"p_x\"", "\"destination_frame\""]
             .iter()
-            .any(|k| s.head.contains(k)))
-    .then_some(85)
+            .any(|k| head.contains(k)))
+    .then_some(Confidence::Document)
 }
 
 /// Ouster extrinsic_parameters.json.
@@ -265,6 +267,8 @@ pub const SPEC: FormatSpec = FormatSpec {
     // Not claimed by extension: other `.json` formats share it.
     extensions: &[],
     walk: &[".json"],
+    magic: &[],
     sniff,
-    parse,
+    parse: |i, o| parse(i.text()?, i.path(), o),
+    checked: true,
 };

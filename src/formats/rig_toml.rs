@@ -30,8 +30,8 @@
 //! `parent` (`p_parent = R p_child + t`). When the source publishes the other
 //! direction, the numbers stay as written and `invert = true` says so. Exactly one
 //! rotation form per edge. A chain (several edges) is composed by the frame graph.
-//! `[[include]]` loads a raw file lying beside the TOML (sidecar mode) through
-//! [`crate::formats::load_file`].
+//! `[[include]]` loads a raw file lying beside the TOML (sidecar mode) as
+//! `formats::load_file` loads any file (`Input::includes`).
 //!
 //! TOML numbers are parsed to `f64` exactly as every other loader parses decimal
 //! text (round to nearest), so writing the published digits reproduces the
@@ -41,9 +41,9 @@
 //! and what was found. The parser never panics on any input.
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::formats::registry::FormatSpec;
 use crate::formats::source::line_col;
-use crate::formats::{Edge, LoadOptions, Loaded, Provenance, RigMeta};
+use crate::formats::spec::{FormatSpec, Includes, LoadOptions, Loaded, RigMeta};
+use crate::frames::{Edge, Provenance};
 use crate::geometry::se3::{QuatOrder, Transform};
 use crate::geometry::uncertainty::{rounding_covariance, tuple_half_units};
 use crate::geometry::{EdgePrecision, UserSigma};
@@ -179,8 +179,20 @@ fn loc_of(text: &str, path: &Path, offset: usize) -> Location {
 }
 
 /// Parse a rig TOML file. `path` is used for messages and to resolve
-/// `[[include]]` files (relative to the TOML's directory).
+/// `[[include]]` files (relative to the TOML's directory); an include is an
+/// error here: a rig file read on its own cannot load the files it names
+/// (`formats::load_file` can).
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+    read(text, path, opts, None)
+}
+
+/// [`parse`], loading `[[include]]` files through `includes`.
+fn read(
+    text: &str,
+    path: &Path,
+    opts: &LoadOptions,
+    includes: Option<&dyn Includes>,
+) -> Result<Loaded> {
     let file: RigFile = toml::from_str(text).map_err(|e| {
         let mut err = Error::parse(format!("rig TOML: {}", e.message().trim_end()));
         err = err.in_file(path);
@@ -237,7 +249,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     for spanned in file.include {
         let loc = loc_of(text, path, spanned.span().start);
         let inc = spanned.into_inner();
-        let loaded = load_include(&inc, path, opts, &loc)?;
+        let loaded = load_include(&inc, path, includes, &loc)?;
         warnings.extend(loaded.warnings);
         edges.extend(loaded.edges);
     }
@@ -522,28 +534,30 @@ fn include_path(toml_path: &Path, file: &str, loc: &Location) -> Result<PathBuf>
 fn load_include(
     inc: &IncludeDef,
     toml_path: &Path,
-    opts: &LoadOptions,
+    includes: Option<&dyn Includes>,
     loc: &Location,
 ) -> Result<Loaded> {
     let p = include_path(toml_path, &inc.file, loc)?;
-    let sub = LoadOptions {
-        joints: opts.joints.clone(),
-        key: inc.key.clone(),
-        invert: inc.invert,
-        format: None,
-        ..opts.clone()
+    let Some(includes) = includes else {
+        return Err(Error::usage(format!(
+            "rig TOML: [[include]] file \"{}\": the rig file was parsed on its own; read it with formats::load_file to load what it includes",
+            inc.file
+        ))
+        .at(loc));
     };
-    crate::formats::load_file(&p, &sub).map_err(|e| {
-        let msg = format!(
-            "{} (included from {})",
-            e.message,
-            Location {
-                column: None,
-                ..loc.clone()
-            }
-        );
-        Error { message: msg, ..e }
-    })
+    includes
+        .include(&p, inc.key.clone(), inc.invert)
+        .map_err(|e| {
+            let msg = format!(
+                "{} (included from {})",
+                e.message,
+                Location {
+                    column: None,
+                    ..loc.clone()
+                }
+            );
+            Error { message: msg, ..e }
+        })
 }
 
 /// The tool's own TOML rig file.
@@ -552,8 +566,10 @@ pub const SPEC: FormatSpec = FormatSpec {
     description: "the tool's own TOML rig file (see calibrations/README.md)",
     extensions: &["toml"],
     walk: &[".toml"],
+    magic: &[],
     sniff: |_| None,
-    parse,
+    parse: |i, o| read(i.text()?, i.path(), o, i.includes()),
+    checked: true,
 };
 
 #[cfg(test)]

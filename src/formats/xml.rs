@@ -51,3 +51,26 @@ pub fn error(e: &roxmltree::Error, text: &str) -> Error {
 pub fn pos_of(idx: &LineIndex, node: roxmltree::Node) -> (usize, usize) {
     idx.pos(node.range().start)
 }
+
+/// XML text that no format reads, refused naming its root element (or, when
+/// it is not well-formed, where).
+pub(crate) fn unknown_root(text: &str) -> Error {
+    match roxmltree::Document::parse_with_options(text, parse_options()) {
+        Ok(doc) => {
+            let root = doc.root_element();
+            let (l, c) = LineIndex::new(text).pos(root.range().start);
+            Error::parse(format!(
+                "root element is <{}>: expected a URDF <robot> or a ROS <launch> file; pass --input-format NAME to force a format",
+                root.tag_name().name()
+            ))
+            .at_line(l, Some(c))
+        }
+        Err(e) => error(&e, text),
+    }
+}
+
+/// Whether the input may be read as XML: it looks like XML, or its extension
+/// says so (`.urdf`, `.xml`, `.launch`, `.launch.xml`).
+pub(crate) fn candidate(input: &crate::formats::spec::Input) -> bool {
+    input.looks_xml() || matches!(input.ext(), "urdf" | "xml" | "launch" | "launch.xml")
+}

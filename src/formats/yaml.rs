@@ -214,11 +214,11 @@ impl Node {
         }
     }
     /// The number a scalar holds: a plain number, or a string that
-    /// [`parse_number`](crate::formats::parse_number) reads; `None` otherwise.
+    /// [`parse_number`](crate::formats::spec::parse_number) reads; `None` otherwise.
     pub fn as_f64(&self) -> Option<f64> {
         match &self.value {
             Value::Num(n) => Some(*n),
-            Value::Str(s) => crate::formats::parse_number(s),
+            Value::Str(s) => crate::formats::spec::parse_number(s),
             _ => None,
         }
     }

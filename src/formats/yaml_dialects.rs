@@ -39,232 +39,65 @@
 //!   the IMU `imu` or `imu0`. A comment `# Units: millimeters` just above a
 //!   matrix converts it to metres (GEODE) with a warning. The keys become a
 //!   tree plus checked redundant edges, and a key repeated with other values
-//!   (GEODE's `T_LiDAR_CamL`) blocks only its own edge: see `matrix_tree`.
+//!   (GEODE's `T_LiDAR_CamL`) blocks only its own edge: see `matrix_tree`,
+//!   which reads it (the shapes are read by `yaml_shapes`).
 //! - `quaternion-yaml` (FusionPortable): `quaternion_A_B` (`data: [qw, qx, qy, qz]`,
 //!   w first as its comments say) with `translation_A_B`: the pose of B in A
 //!   (FusionPortable: "Extrinsics from the sensor (reference) to body_imu
 //!   (target)", i.e. `T_sensor_body_imu`), edge `A -> B`, A the first word.
 //! - `--key NAME` in any YAML/JSON file picks that one key (a dotted path
 //!   `a.b.c` also works) and reads whichever of the shapes above it holds; frames
-//!   from a `T_A_B` / `A_T_B` name, else `parent -> child`.
+//!   from a `T_A_B` / `A_T_B` name, else `parent -> child` (see `yaml_keyed`).
+//!
+//! Each dialect sniffs its own keys ([`Confidence::Keys`], the keys of the
+//! file collected once by the input); where a file holds the keys of two
+//! dialects, the earlier in the registry reads it. `matrix-yaml` reads what
+//! no other format claims ([`Confidence::Fallback`]).
 //!
 //! OpenCV's `%YAML:1.0` first line is blanked before parsing. A file that is
 //! still not YAML (UrbanNav's `KEY:!!opencv-matrix (comment)` with mis-indented
 //! fields) is refused with the parser's position and what to fix.
 
-use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::formats::registry::{FormatSpec, Sniff};
-use crate::formats::yaml::{self, Node, Value};
-use crate::formats::{check_metres, locate_warnings, Edge, LoadOptions, Loaded};
+use super::spec::{check_metres, locate_warnings, Confidence, Input, Loaded};
+use super::yaml::{Node, Value};
+use super::yaml_keyed::{keys, yaml_dialect};
+use super::yaml_shapes::{err_at, exactly, key_node, loc_of, mat3, rpy_map, unique_map};
+use crate::diagnostic::{Code, Error, Result, Warning};
+use crate::frames::Edge;
 use crate::geometry::se3::{QuatOrder, Transform};
-use crate::geometry::uncertainty::{matrix4_precision, written_precision, Written};
-use crate::geometry::EdgePrecision;
+use crate::geometry::uncertainty::{written_precision, Written};
 use std::path::Path;
 
-/// A non-comment line that starts (after indentation) with `key:`.
-pub(crate) fn has_key_line(text: &str, key: &str) -> bool {
-    text.lines().any(|l| {
-        let t = l.trim_start();
-        !t.starts_with('#')
-            && t.strip_prefix(key)
-                .map(|r| r.trim_start().starts_with(':'))
-                .unwrap_or(false)
-    })
+/// A `rostopic echo` / `ros2 topic echo` dump: `transforms:` with child frames.
+fn tf_echo(i: &Input) -> Option<Confidence> {
+    keys(i.contains("child_frame_id") && i.has_key("transforms"))
 }
 
-/// The id of the YAML dialect the keys present name (`matrix-yaml` when
-/// none does).
-pub fn dialect(text: &str) -> &'static str {
-    if text.contains("child_frame_id") && has_key_line(text, "transforms") {
-        return TF_STATIC_ECHO.id;
-    }
-    if text.contains("static_transform_publisher")
-        && (has_key_line(text, "exec")
-            || has_key_line(text, "- node")
-            || has_key_line(text, "node"))
-    {
-        return crate::formats::launch::LAUNCH_YAML.id;
-    }
-    if has_key_line(text, "extrinsic_T") {
-        return FAST_LIO.id;
-    }
-    if has_key_line(text, "extrinsicTrans") || has_key_line(text, "extrinsicRot") {
-        return LIO_SAM.id;
-    }
-    if let Some(id) = crate::formats::lio_yaml::dialect(text) {
-        return id;
-    }
-    if has_key_line(text, "lidar_extr") {
-        return SLICT.id;
-    }
-    if has_key_line(text, "Extrinsics") && has_key_line(text, "Trans") {
-        return COCO_LIC.id;
-    }
-    if text.lines().any(|l| {
+/// FusionPortable: a key starting `quaternion_`.
+fn quaternion_keys(i: &Input) -> Option<Confidence> {
+    let text = i.text().unwrap_or("");
+    keys(text.lines().any(|l| {
         let t = l.trim_start();
         !t.starts_with('#') && t.starts_with("quaternion_")
-    }) {
-        return QUATERNION_YAML.id;
-    }
-    if text.lines().any(|l| {
-        !l.starts_with([' ', '\t', '#'])
-            && l.split(':')
-                .next()
-                .map(|k| k.contains("_to_"))
-                .unwrap_or(false)
-    }) && has_key_line(text, "roll")
-    {
-        return TF_TREE_YAML.id;
-    }
-    MATRIX_YAML.id
+    }))
 }
 
-pub(crate) fn loc_of(path: &Path, n: &Node) -> Location {
-    if n.line == 0 {
-        Location::file(path)
-    } else {
-        Location::at(path, n.line, Some(n.column.max(1)))
-    }
+/// GrandTour: a top-level key `<parent>_to_<child>` and a `roll` key.
+fn tf_tree_keys(i: &Input) -> Option<Confidence> {
+    let text = i.text().unwrap_or("");
+    let named = text.lines().any(|l| {
+        !l.starts_with([' ', '\t', '#']) && l.split(':').next().is_some_and(|k| k.contains("_to_"))
+    });
+    keys(named && i.has_key("roll"))
 }
 
-pub(crate) fn err_at(n: &Node, msg: String) -> Error {
-    Error::parse(msg).at_line(n.line.max(1), Some(n.column.max(1)))
-}
-
-/// All maps (depth-first) that contain `key`.
-fn maps_with<'a>(n: &'a Node, key: &str, out: &mut Vec<&'a Node>) {
-    match &n.value {
-        Value::Map(m) => {
-            if !n.get_all(key).is_empty() {
-                out.push(n);
-            }
-            for (_, v) in m {
-                maps_with(v, key, out);
-            }
-        }
-        Value::Seq(s) => {
-            for v in s {
-                maps_with(v, key, out);
-            }
-        }
-        _ => {}
-    }
-}
-
-pub(crate) fn exactly<const N: usize>(n: &Node, what: &str) -> Result<[f64; N]> {
-    let v = n.numbers(what)?;
-    if v.len() != N {
-        return Err(err_at(
-            n,
-            format!("{what}: expected {N} numbers, found {}", v.len()),
-        ));
-    }
-    let mut out = [0.0; N];
-    out.copy_from_slice(&v);
-    Ok(out)
-}
-
-pub(crate) fn mat3(v: [f64; 9]) -> [[f64; 3]; 3] {
-    [[v[0], v[1], v[2]], [v[3], v[4], v[5]], [v[6], v[7], v[8]]]
-}
-
-/// The single map holding `key` (error when several do).
-pub(crate) fn unique_map<'a>(docs: &'a [Node], key: &str) -> Result<&'a Node> {
-    let mut found = Vec::new();
-    for d in docs {
-        maps_with(d, key, &mut found);
-    }
-    match found.len() {
-        0 => Err(Error::parse(format!("expected a key `{key}`, found none"))),
-        1 => {
-            let m = found[0];
-            let all = m.get_all(key);
-            if all.len() > 1 {
-                return Err(err_at(
-                    all[1],
-                    format!(
-                        "`{key}` given twice in one mapping (lines {} and {}): expected one",
-                        all[0].line, all[1].line
-                    ),
-                ));
-            }
-            Ok(m)
-        }
-        _ => Err(err_at(
-            found[1],
-            format!(
-                "`{key}` appears {} times (lines {}): expected one; pick one with --key PATH (e.g. a.b.{key})",
-                found.len(),
-                found
-                    .iter()
-                    .filter_map(|m| m.get(key).map(|v| v.line.to_string()))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        )),
-    }
-}
-
-pub(crate) fn key_node<'a>(m: &'a Node, key: &str) -> Option<&'a Node> {
-    m.entries()
-        .iter()
-        .rev()
-        .find(|(k, _)| k.as_str().as_deref() == Some(key))
-        .map(|(k, _)| k)
-}
-
-pub(crate) type DocsParser = fn(&[Node], &str, &Path) -> Result<Loaded>;
-
-/// Parse YAML text with one dialect's reader; `--key` reads one key instead
-/// (except in tf_static dumps, whose keys are not transforms).
-pub(crate) fn parse_with(
-    read: DocsParser,
-    keyed: bool,
-    text: &str,
-    path: &Path,
-    opts: &LoadOptions,
-) -> Result<Loaded> {
-    let docs = yaml::parse_documents(text).map_err(|e| explain_yaml_error(e, text))?;
-    if let (Some(key), true) = (&opts.key, keyed) {
-        return parse_keyed(&docs, key, text, path);
-    }
-    read(&docs, text, path)
-}
-
-macro_rules! dialect {
-    ($name:ident, $id:literal, $keyed:literal, $read:expr, $desc:literal) => {
-        #[doc = $desc]
-        pub const $name: FormatSpec = FormatSpec {
-            id: $id,
-            description: $desc,
-            extensions: &[],
-            walk: &[".yaml", ".yml"],
-            sniff: |s: &Sniff| (s.yaml_dialect() == $id).then_some(10),
-            parse: |text, path, opts| parse_with($read, $keyed, text, path, opts),
-        };
-    };
-}
-
-dialect!(TF_STATIC_ECHO, "tf-static-echo", false, |d, _, p| parse_tf_echo(d, p), "`rostopic echo /tf_static` / `ros2 topic echo /tf_static` YAML (several documents): child_frame_id pose in header.frame_id");
-dialect!(FAST_LIO, "fast-lio", true, |d, _, p| parse_fast_lio(d, p), "FAST-LIO / FAST-LIVO2 / Point-LIO `extrinsic_T` + `extrinsic_R` (row-major): the LiDAR pose in the IMU frame, edge imu -> lidar");
-dialect!(LIO_SAM, "lio-sam", true, |d, _, p| parse_lio_sam(d, p), "LIO-SAM `extrinsicRot` + `extrinsicTrans` (\"T_lb\"): extrinsicRot rotates IMU readings into the LiDAR frame and the code uses extrinsicTrans as lidar2Imu, so the pair is the IMU pose in the LiDAR frame, edge lidar -> imu; extrinsicRPY (attitude only) is not used");
-dialect!(COCO_LIC, "coco-lic", true, |d, _, p| parse_coco_lic(d, p), "Coco-LIC `lidarN: Extrinsics: {Trans, Rot}` (\"lidar to imu\"): LiDAR pose in the IMU frame, edges imu -> lidarN");
-dialect!(SLICT, "slict", true, |d, _, p| parse_slict(d, p), "SLICT `lidar_extr`: stacked row-major 4x4, \"transform of coordinates in lidar's frame to body\": edges body -> lidar (lidar0, lidar1, ... when several); the (4,4) entry is a timestamp flag and the bottom row is not used");
-dialect!(TF_TREE_YAML, "tf-tree-yaml", true, |d, _, p| parse_tf_tree(d, p), "tf-tree YAML (`<parent>_to_<child>: {x, y, z, roll, pitch, yaw}`, GrandTour): child pose in parent, URDF rpy");
-dialect!(MATRIX_YAML, "matrix-yaml", true, parse_matrices, "YAML with 4x4 matrices under keys `T_A_B` or `A_T_B` (OpenCV FileStorage `!!opencv-matrix`, VINS-Fusion `body_T_cam0`, plain lists, `T_A_B_t_xyz_q_xyzw`): the pose of B in A, edge A -> B; Kalibr camchain `camN: {T_cam_imu, T_cn_cnm1}`: edges imu -> camN, T_cn_cnm1 checked as a redundant edge; a key that closes a loop is checked, not refused; --key NAME picks one");
-dialect!(QUATERNION_YAML, "quaternion-yaml", true, parse_quaternion, "`quaternion_A_B` (qw, qx, qy, qz: w first) + `translation_A_B` blocks (FusionPortable): the pose of B in A, edge A -> B");
-
-fn explain_yaml_error(e: Error, text: &str) -> Error {
-    if text.contains("!!opencv-matrix") || text.trim_start().starts_with("%YAML:") {
-        let msg = format!(
-            "{} (OpenCV FileStorage file that is not valid YAML: write each matrix as `KEY: !!opencv-matrix` with `rows`, `cols`, `dt`, `data` indented alike and comments after `#`; or copy the one matrix you need into a file of its own and pass --key NAME)",
-            e.message
-        );
-        Error { message: msg, ..e }
-    } else {
-        e
-    }
-}
+yaml_dialect!(TF_STATIC_ECHO, "tf-static-echo", false, tf_echo, |d, _, p| parse_tf_echo(d, p), "`rostopic echo /tf_static` / `ros2 topic echo /tf_static` YAML (several documents): child_frame_id pose in header.frame_id");
+yaml_dialect!(FAST_LIO, "fast-lio", true, |i| keys(i.has_key("extrinsic_T")), |d, _, p| parse_fast_lio(d, p), "FAST-LIO / FAST-LIVO2 / Point-LIO `extrinsic_T` + `extrinsic_R` (row-major): the LiDAR pose in the IMU frame, edge imu -> lidar");
+yaml_dialect!(LIO_SAM, "lio-sam", true, |i| keys(i.has_key("extrinsicTrans") || i.has_key("extrinsicRot")), |d, _, p| parse_lio_sam(d, p), "LIO-SAM `extrinsicRot` + `extrinsicTrans` (\"T_lb\"): extrinsicRot rotates IMU readings into the LiDAR frame and the code uses extrinsicTrans as lidar2Imu, so the pair is the IMU pose in the LiDAR frame, edge lidar -> imu; extrinsicRPY (attitude only) is not used");
+yaml_dialect!(COCO_LIC, "coco-lic", true, |i| keys(i.has_key("Extrinsics") && i.has_key("Trans")), |d, _, p| parse_coco_lic(d, p), "Coco-LIC `lidarN: Extrinsics: {Trans, Rot}` (\"lidar to imu\"): LiDAR pose in the IMU frame, edges imu -> lidarN");
+yaml_dialect!(SLICT, "slict", true, |i| keys(i.has_key("lidar_extr")), |d, _, p| parse_slict(d, p), "SLICT `lidar_extr`: stacked row-major 4x4, \"transform of coordinates in lidar's frame to body\": edges body -> lidar (lidar0, lidar1, ... when several); the (4,4) entry is a timestamp flag and the bottom row is not used");
+yaml_dialect!(TF_TREE_YAML, "tf-tree-yaml", true, tf_tree_keys, |d, _, p| parse_tf_tree(d, p), "tf-tree YAML (`<parent>_to_<child>: {x, y, z, roll, pitch, yaw}`, GrandTour): child pose in parent, URDF rpy");
+yaml_dialect!(QUATERNION_YAML, "quaternion-yaml", true, quaternion_keys, parse_quaternion, "`quaternion_A_B` (qw, qx, qy, qz: w first) + `translation_A_B` blocks (FusionPortable): the pose of B in A, edge A -> B");
 
 fn parse_tf_echo(docs: &[Node], path: &Path) -> Result<Loaded> {
     let mut out = Loaded::default();
@@ -532,25 +365,6 @@ fn parse_slict(docs: &[Node], path: &Path) -> Result<Loaded> {
     Ok(out)
 }
 
-fn rpy_map(v: &Node, name: &str) -> Result<(Transform, EdgePrecision)> {
-    let num = |k: &str| -> Result<f64> {
-        match v.get(k) {
-            None => Ok(0.0),
-            Some(x) => x.as_f64().ok_or_else(|| {
-                err_at(
-                    x,
-                    format!("{name}.{k}: expected a number, found {}", x.kind()),
-                )
-            }),
-        }
-    };
-    let d = [num("x")?, num("y")?, num("z")?];
-    let rpy = [num("roll")?, num("pitch")?, num("yaw")?];
-    let t =
-        Transform::from_rpy(rpy, d).map_err(|e| e.at_line(v.line.max(1), Some(v.column.max(1))))?;
-    Ok((t, written_precision(Written::Rpy(rpy), d, 1.0)))
-}
-
 fn parse_tf_tree(docs: &[Node], path: &Path) -> Result<Loaded> {
     let mut out = Loaded::default();
     for d in docs {
@@ -595,199 +409,6 @@ fn parse_tf_tree(docs: &[Node], path: &Path) -> Result<Loaded> {
         }
     }
     Ok(out)
-}
-
-/// Frames named by a key: `T_A_B` / `A_T_B` (pose of B in A).
-pub fn frames_from_key(key: &str) -> Option<(String, String)> {
-    let key = key.strip_suffix("_t_xyz_q_xyzw").unwrap_or(key);
-    if let Some((a, b)) = key.split_once("_T_") {
-        if !a.is_empty() && !b.is_empty() && !b.contains("_T_") {
-            return Some((a.to_string(), b.to_string()));
-        }
-    }
-    if let Some(rest) = key.strip_prefix("T_") {
-        let parts: Vec<&str> = rest.split('_').collect();
-        if parts.len() == 2 && !parts[0].is_empty() && !parts[1].is_empty() {
-            return Some((parts[0].to_string(), parts[1].to_string()));
-        }
-    }
-    None
-}
-
-/// Read whatever transform shape a node holds, with the rounding of its numbers.
-fn read_transform(
-    n: &Node,
-    key: &str,
-    ws: &mut Vec<Warning>,
-) -> Result<(Transform, EdgePrecision)> {
-    // OpenCV {rows, cols, data}
-    if let Some(data) = n.get("data") {
-        let v = data.numbers(&format!("{key}.data"))?;
-        let rows = n.get("rows").and_then(|x| x.as_f64());
-        let cols = n.get("cols").and_then(|x| x.as_f64());
-        if let (Some(r), Some(c)) = (rows, cols) {
-            if (r * c) as usize != v.len() {
-                return Err(err_at(
-                    data,
-                    format!("{key}: rows x cols = {r} x {c}, expected that many numbers in data, found {}", v.len()),
-                ));
-            }
-        }
-        return matrix_from_numbers(&v, data, key, ws);
-    }
-    if matches!(n.value, Value::Map(_)) {
-        if n.get("roll").is_some() || n.get("yaw").is_some() || n.get("x").is_some() {
-            if n.get("qw").is_some() || n.get("qx").is_some() {
-                let num = |k: &str, def: f64| -> Result<f64> {
-                    match n.get(k) {
-                        None => Ok(def),
-                        Some(x) => x
-                            .as_f64()
-                            .ok_or_else(|| err_at(x, format!("{key}.{k}: expected a number"))),
-                    }
-                };
-                let q = [
-                    num("qx", 0.0)?,
-                    num("qy", 0.0)?,
-                    num("qz", 0.0)?,
-                    num("qw", 1.0)?,
-                ];
-                let d = [num("x", 0.0)?, num("y", 0.0)?, num("z", 0.0)?];
-                let t = Transform::from_quaternion(q, QuatOrder::Xyzw, d, ws)
-                    .map_err(|e| e.at_line(n.line.max(1), Some(n.column.max(1))))?;
-                return Ok((
-                    t,
-                    written_precision(Written::Quat(q, QuatOrder::Xyzw), d, 1.0),
-                ));
-            }
-            return rpy_map(n, key);
-        }
-        return Err(err_at(
-            n,
-            format!("{key}: expected a 4x4 matrix (16 numbers, four rows, or rows/cols/data), a 3x4 matrix, 7 numbers `t_xyz_q_xyzw` or {{x, y, z, roll, pitch, yaw}}, found a mapping with keys {}",
-                n.entries().iter().filter_map(|(k, _)| k.as_str()).collect::<Vec<_>>().join(", ")),
-        ));
-    }
-    let v = n.numbers(key)?;
-    if key.ends_with("_t_xyz_q_xyzw") {
-        if v.len() != 7 {
-            return Err(err_at(
-                n,
-                format!(
-                    "{key}: expected 7 numbers (tx ty tz qx qy qz qw), found {}",
-                    v.len()
-                ),
-            ));
-        }
-        let (q, d) = ([v[3], v[4], v[5], v[6]], [v[0], v[1], v[2]]);
-        let t = Transform::from_quaternion(q, QuatOrder::Xyzw, d, ws)
-            .map_err(|e| e.at_line(n.line.max(1), Some(n.column.max(1))))?;
-        return Ok((
-            t,
-            written_precision(Written::Quat(q, QuatOrder::Xyzw), d, 1.0),
-        ));
-    }
-    matrix_from_numbers(&v, n, key, ws)
-}
-
-fn matrix_from_numbers(
-    v: &[f64],
-    n: &Node,
-    key: &str,
-    ws: &mut Vec<Warning>,
-) -> Result<(Transform, EdgePrecision)> {
-    let at = |e: Error| e.at_line(n.line.max(1), Some(n.column.max(1)));
-    match v.len() {
-        16 => {
-            let m = [
-                [v[0], v[1], v[2], v[3]],
-                [v[4], v[5], v[6], v[7]],
-                [v[8], v[9], v[10], v[11]],
-                [v[12], v[13], v[14], v[15]],
-            ];
-            let t = Transform::from_matrix4(m, ws).map_err(|e| at(Error { message: format!("{key}: {}", e.message), ..e }))?;
-            Ok((t, matrix4_precision(m, 1.0)))
-        }
-        12 => {
-            let r = [[v[0], v[1], v[2]], [v[4], v[5], v[6]], [v[8], v[9], v[10]]];
-            let d = [v[3], v[7], v[11]];
-            let t = Transform::from_matrix3(r, d, ws)
-                .map_err(|e| at(Error { message: format!("{key}: {}", e.message), ..e }))?;
-            Ok((t, written_precision(Written::Matrix3(r), d, 1.0)))
-        }
-        4 => Err(err_at(
-            n,
-            format!("{key}: 4 numbers without a stated order (x y z w or w x y z?): expected a 4x4 matrix; write the quaternion as {{qx, qy, qz, qw}} (or under a key ending in _t_xyz_q_xyzw), or for FusionPortable-style quaternion_A_B + translation_A_B blocks (w first) pass --input-format quaternion-yaml"),
-        )),
-        k if k > 16 && k % 16 == 0 => Err(err_at(
-            n,
-            format!(
-                "{key}: {k} numbers = {} stacked 4x4 matrices: expected one; pass --key {key}[i] with i from 0 to {} to pick one",
-                k / 16,
-                k / 16 - 1
-            ),
-        )),
-        k => Err(err_at(
-            n,
-            format!("{key}: expected 16 numbers (4x4) or 12 (3x4), found {k}"),
-        )),
-    }
-}
-
-/// Comment lines just above `line` (1-based) mention millimetres?
-fn millimetre_comment(text: &str, line: usize) -> bool {
-    let lines: Vec<&str> = text.lines().collect();
-    let mut i = line.saturating_sub(1);
-    while i > 0 {
-        i -= 1;
-        let t = lines.get(i).map(|s| s.trim()).unwrap_or("");
-        if t.is_empty() {
-            continue;
-        }
-        if !t.starts_with('#') {
-            return false;
-        }
-        let l = t.to_lowercase();
-        if l.contains("millimet") || l.contains("units: mm") {
-            return true;
-        }
-    }
-    false
-}
-
-/// One matrix key read as an edge `frames.0 -> frames.1` (the pose of the
-/// second frame in the first), its warnings located at the key.
-pub(crate) fn matrix_edge(
-    key: &str,
-    frames: (String, String),
-    v: &Node,
-    k: &Node,
-    text: &str,
-    path: &Path,
-    warnings: &mut Vec<Warning>,
-) -> Result<Edge> {
-    let loc = loc_of(path, k);
-    let mut ws = Vec::new();
-    let (mut t, mut precision) = read_transform(v, key, &mut ws)?;
-    if millimetre_comment(text, k.line) {
-        t = t.scaled_translation(1e-3);
-        precision = precision.scaled_translation(1e-3);
-        ws.push(Warning::new(
-            Code::AssumedConvention,
-            format!("{key}: the comment above says millimetres; translation converted to metres"),
-        ));
-    }
-    let d = *t.translation();
-    check_metres(&[d.x, d.y, d.z], key, &loc, &mut ws);
-    locate_warnings(ws, &loc, warnings);
-    Ok(
-        Edge::new(frames.0, frames.1, t, loc, MATRIX_YAML.id, key.to_string())
-            .with_precision(precision),
-    )
-}
-
-pub(crate) fn parse_matrices(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
-    crate::formats::matrix_tree::parse(docs, text, path)
 }
 
 fn parse_quaternion(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
@@ -850,170 +471,4 @@ fn parse_quaternion(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
         }
     }
     Ok(out)
-}
-
-fn find_key<'a>(n: &'a Node, key: &str, out: &mut Vec<(&'a Node, &'a Node)>) {
-    match &n.value {
-        Value::Map(m) => {
-            for (k, v) in m {
-                if k.as_str().as_deref() == Some(key) {
-                    out.push((k, v));
-                }
-                find_key(v, key, out);
-            }
-        }
-        Value::Seq(s) => {
-            for v in s {
-                find_key(v, key, out);
-            }
-        }
-        _ => {}
-    }
-}
-
-/// `--key NAME`: one key anywhere (or a dotted path from the top).
-pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<Loaded> {
-    // `NAME[i]`: the i-th of stacked 4x4 matrices under NAME.
-    let (key, index) = match key.strip_suffix(']').and_then(|k| k.rsplit_once('[')) {
-        Some((k, i)) => match i.trim().parse::<usize>() {
-            Ok(i) => (k, Some(i)),
-            Err(_) => {
-                return Err(Error::usage(format!(
-                    "--key {key}: expected NAME or NAME[i] with i a number, found [{i}]"
-                )))
-            }
-        },
-        None => (key, None),
-    };
-    let (k, v) = find_one_key(docs, key)?;
-    let picked;
-    let v = match index {
-        None => v,
-        Some(i) => {
-            picked = stacked_matrix(v, key, i)?;
-            &picked
-        }
-    };
-    let last = key.rsplit('.').next().unwrap_or(key);
-    let mut out = Loaded::default();
-    // Kalibr `camN.T_cam_imu`: frames named from the block (camN, imu).
-    let block = key.rsplit('.').nth(1);
-    let imu = crate::formats::matrix_tree::kalibr_imu(docs);
-    let kalibr = block.and_then(|cam| crate::formats::matrix_tree::kalibr_frames(cam, last, imu));
-    let frames = match kalibr.or_else(|| frames_from_key(last)) {
-        Some(f) => f,
-        None => {
-            out.warnings.push(
-                Warning::new(
-                    Code::AssumedConvention,
-                    format!("--key {key}: the name does not say which frames (T_A_B or A_T_B); frames named `parent` -> `child`, the value read as the child's pose in the parent"),
-                )
-                .at(&loc_of(path, k)),
-            );
-            ("parent".to_string(), "child".to_string())
-        }
-    };
-    let label = match index {
-        Some(i) => format!("{key}[{i}]"),
-        None => key.to_string(),
-    };
-    let e = matrix_edge(&label, frames, v, k, text, path, &mut out.warnings)?;
-    out.edges.push(e);
-    Ok(out)
-}
-
-/// The value under a dotted path (`a.b.c`) in one document.
-fn dotted<'a>(d: &'a Node, key: &str) -> Option<(&'a Node, &'a Node)> {
-    let parts: Vec<&str> = key.split('.').collect();
-    let mut cur = d;
-    let mut hit = None;
-    for (i, p) in parts.iter().enumerate() {
-        let (k, v) = cur
-            .entries()
-            .iter()
-            .rev()
-            .find(|(k, _)| k.as_str().as_deref() == Some(*p))?;
-        if i + 1 == parts.len() {
-            hit = Some((k, v));
-        }
-        cur = v;
-    }
-    hit
-}
-
-/// The one value of `key` (a dotted path, or a key anywhere); several equal
-/// values are one, different ones are an error naming their lines.
-fn find_one_key<'a>(docs: &'a [Node], key: &str) -> Result<(&'a Node, &'a Node)> {
-    let mut found: Vec<(&Node, &Node)> = Vec::new();
-    for d in docs {
-        if key.contains('.') {
-            found.extend(dotted(d, key));
-        }
-        if found.is_empty() {
-            find_key(d, key, &mut found);
-        }
-    }
-    if found.is_empty() {
-        let names: Vec<String> = docs
-            .iter()
-            .flat_map(|d| d.entries().iter().filter_map(|(k, _)| k.as_str()))
-            .map(|s| s.to_string())
-            .collect();
-        return Err(Error::parse(format!(
-            "--key {key}: no such key in this file; top-level keys: {}",
-            names.join(", ")
-        )));
-    }
-    if found.len() > 1 && !found.windows(2).all(|w| w[0].1.value == w[1].1.value) {
-        return Err(err_at(
-            found[1].0,
-            format!(
-                "--key {key}: the key appears {} times with different values (lines {}): the file is ambiguous; copy the right one into a file of its own",
-                found.len(),
-                found.iter().map(|(k, _)| k.line.to_string()).collect::<Vec<_>>().join(", ")
-            ),
-        ));
-    }
-    Ok(found[0])
-}
-
-/// The `i`-th of stacked 4x4 matrices under `key`, as its top 3x4 (stacked
-/// files use the (4,4) entry as a flag).
-fn stacked_matrix(v: &Node, key: &str, i: usize) -> Result<Node> {
-    let nums = v.numbers(key)?;
-    let count = nums.len() / 16;
-    if nums.len() % 16 != 0 || i >= count {
-        return Err(err_at(
-            v,
-            format!(
-                "--key {key}[{i}]: expected at least {} stacked 4x4 matrices (16 numbers each), found {} numbers",
-                i + 1,
-                nums.len()
-            ),
-        ));
-    }
-    let b = &nums[16 * i..16 * (i + 1)];
-    if !(b[12] == 0.0 && b[13] == 0.0 && b[14] == 0.0 && (b[15] == 0.0 || b[15] == 1.0)) {
-        return Err(err_at(
-            v,
-            format!(
-                "--key {key}[{i}]: expected bottom row [0, 0, 0, 1] (or SLICT's [0, 0, 0, 0] flag), found [{}, {}, {}, {}]",
-                b[12], b[13], b[14], b[15]
-            ),
-        ));
-    }
-    Ok(Node {
-        value: Value::Seq(
-            nums[16 * i..16 * i + 12]
-                .iter()
-                .map(|x| Node {
-                    value: Value::Num(*x),
-                    line: v.line,
-                    column: v.column,
-                })
-                .collect(),
-        ),
-        line: v.line,
-        column: v.column,
-    })
 }

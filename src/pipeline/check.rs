@@ -119,28 +119,6 @@ pub struct Robot {
     pub pairs: Vec<(String, String)>,
 }
 
-/// A launch file (`.launch`, `.launch.py`, `.launch.xml`, `.launch.yaml`)
-/// that names neither `static_transform_publisher` nor `Extrinsic_Tlb` holds
-/// no calibration: most launch files of a ROS package start nodes.
-fn launch_without_transforms(f: &Found, max_size: u64) -> bool {
-    let name = f
-        .path
-        .file_name()
-        .map(|n| n.to_string_lossy().to_lowercase())
-        .unwrap_or_default();
-    let launch = name.ends_with(".launch")
-        || [".launch.py", ".launch.xml", ".launch.yaml", ".launch.yml"]
-            .iter()
-            .any(|x| name.ends_with(x));
-    if !launch || std::fs::metadata(&f.path).map_or(true, |m| m.len() > max_size) {
-        return false;
-    }
-    std::fs::read(&f.path).is_ok_and(|b| {
-        let t = String::from_utf8_lossy(&b);
-        !t.contains("static_transform_publisher") && !t.contains("Extrinsic_Tlb")
-    })
-}
-
 /// A robot's graph as its files load: the declared pairs (with the index of
 /// the declaring file's state), how many frames each rename changed, how many
 /// files loaded.
@@ -198,7 +176,7 @@ impl Checker<'_> {
     ) -> Result<Option<FileState>> {
         self.progress.advance(1);
         let index = acc.states;
-        if launch_without_transforms(f, self.opts.load.max_file_size) {
+        if formats::launch::holds_no_calibration(&f.path, self.opts.load.max_file_size) {
             self.findings.push(
                 Diagnostic::new(
                     Code::Ignored,

@@ -51,8 +51,14 @@ fn is_sidecar(text: &str) -> bool {
 
 fn load(path: &Path) -> Loaded {
     let text = std::fs::read_to_string(path).expect("read rig");
-    rig_toml::parse(&text, path, &LoadOptions::default())
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    let opts = LoadOptions::default();
+    // A rig file parsed on its own cannot load what it includes: the loader can.
+    let loaded = if is_sidecar(&text) {
+        extrinsic_audit::formats::load_file(path, &opts)
+    } else {
+        rig_toml::parse(&text, path, &opts)
+    };
+    loaded.unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 /// `T_from_to` by breadth-first search over the rig's own edges (walked down as

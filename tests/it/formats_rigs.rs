@@ -139,7 +139,7 @@ const CASES: &[Case] = &[
         "IMU",
         "LiDAR",
         "geode-gamma-avia",
-        Format(&formats::yaml_dialects::MATRIX_YAML),
+        Format(&formats::matrix_tree::MATRIX_YAML),
         2e-6,
     ),
     c(
@@ -148,7 +148,7 @@ const CASES: &[Case] = &[
         "body",
         "LiDAR",
         "urbannav-hk-20190428-hdl32e",
-        Format(&formats::yaml_dialects::MATRIX_YAML),
+        Format(&formats::matrix_tree::MATRIX_YAML),
         1e-9,
     ),
     // rigs.json reads CENTER_LiDAR_T_IMU against its name (the file's comment says
@@ -160,7 +160,7 @@ const CASES: &[Case] = &[
         "CENTER_LiDAR",
         "IMU",
         "urbannav-hk-medium-hdl32e",
-        Format(&formats::yaml_dialects::MATRIX_YAML),
+        Format(&formats::matrix_tree::MATRIX_YAML),
         1e-9,
     ),
     c(

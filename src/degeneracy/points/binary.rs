@@ -4,6 +4,7 @@
 use super::check::Checker;
 use super::source::Source;
 use super::Sink;
+use crate::bytes::{get_at, Endian};
 use crate::diagnostic::{Error, Result};
 use std::io::Read;
 
@@ -58,31 +59,21 @@ impl Scalar {
             _ => return None,
         })
     }
-    /// Read one value; `b` has at least `size()` bytes.
-    pub(crate) fn read(self, b: &[u8], little: bool) -> f64 {
-        macro_rules! rd {
-            ($t:ty, $n:expr) => {{
-                let mut a = [0u8; $n];
-                a.copy_from_slice(&b[..$n]);
-                if little {
-                    <$t>::from_le_bytes(a) as f64
-                } else {
-                    <$t>::from_be_bytes(a) as f64
-                }
-            }};
-        }
-        match self {
-            Scalar::I8 => b[0] as i8 as f64,
-            Scalar::U8 => b[0] as f64,
-            Scalar::I16 => rd!(i16, 2),
-            Scalar::U16 => rd!(u16, 2),
-            Scalar::I32 => rd!(i32, 4),
-            Scalar::U32 => rd!(u32, 4),
-            Scalar::I64 => rd!(i64, 8),
-            Scalar::U64 => rd!(u64, 8),
-            Scalar::F32 => rd!(f32, 4),
-            Scalar::F64 => rd!(f64, 8),
-        }
+    /// The value at byte `at` of `b` (`None`: `b` ends before it).
+    #[inline(always)]
+    pub(crate) fn read(self, b: &[u8], at: usize, endian: Endian) -> Option<f64> {
+        Some(match self {
+            Scalar::I8 => get_at::<i8>(b, at, endian)? as f64,
+            Scalar::U8 => get_at::<u8>(b, at, endian)? as f64,
+            Scalar::I16 => get_at::<i16>(b, at, endian)? as f64,
+            Scalar::U16 => get_at::<u16>(b, at, endian)? as f64,
+            Scalar::I32 => get_at::<i32>(b, at, endian)? as f64,
+            Scalar::U32 => get_at::<u32>(b, at, endian)? as f64,
+            Scalar::I64 => get_at::<i64>(b, at, endian)? as f64,
+            Scalar::U64 => get_at::<u64>(b, at, endian)? as f64,
+            Scalar::F32 => get_at::<f32>(b, at, endian)? as f64,
+            Scalar::F64 => get_at::<f64>(b, at, endian)?,
+        })
     }
 }
 
@@ -93,7 +84,7 @@ pub(crate) struct Layout {
     pub rec: usize,
     /// (byte offset, type) of each role; the weight may be absent.
     pub roles: [Option<(usize, Scalar)>; 7],
-    pub little: bool,
+    pub endian: Endian,
 }
 
 /// A run of records: `first` is the index of its first record in the file
@@ -147,33 +138,24 @@ fn mode(layout: &Layout) -> u8 {
         .iter()
         .flatten()
         .all(|(_, s)| Some(*s) == first);
-    match (uniform, first, layout.little) {
-        (true, Some(Scalar::F64), true) => 1,
-        (true, Some(Scalar::F64), false) => 2,
-        (true, Some(Scalar::F32), true) => 3,
-        (true, Some(Scalar::F32), false) => 4,
+    match (uniform, first, layout.endian) {
+        (true, Some(Scalar::F64), Endian::Little) => 1,
+        (true, Some(Scalar::F64), Endian::Big) => 2,
+        (true, Some(Scalar::F32), Endian::Little) => 3,
+        (true, Some(Scalar::F32), Endian::Big) => 4,
         _ => 0,
     }
 }
 
+/// The value of role type `s` at byte `o` of record `b` (0 past its end).
 #[inline(always)]
-fn bytes<const N: usize>(b: &[u8], o: usize) -> [u8; N] {
-    b.get(o..o + N)
-        .and_then(|s| s.try_into().ok())
-        .unwrap_or([0; N])
-}
-
-#[inline(always)]
-fn get<const MODE: u8>(b: &[u8], o: usize, s: Scalar, little: bool) -> f64 {
+fn get<const MODE: u8>(b: &[u8], o: usize, s: Scalar, endian: Endian) -> f64 {
     match MODE {
-        1 => f64::from_le_bytes(bytes(b, o)),
-        2 => f64::from_be_bytes(bytes(b, o)),
-        3 => f32::from_le_bytes(bytes(b, o)) as f64,
-        4 => f32::from_be_bytes(bytes(b, o)) as f64,
-        _ => match b.get(o..o + s.size()) {
-            Some(v) => s.read(v, little),
-            None => 0.0,
-        },
+        1 => get_at::<f64>(b, o, Endian::Little).unwrap_or(0.0),
+        2 => get_at::<f64>(b, o, Endian::Big).unwrap_or(0.0),
+        3 => get_at::<f32>(b, o, Endian::Little).map_or(0.0, f64::from),
+        4 => get_at::<f32>(b, o, Endian::Big).map_or(0.0, f64::from),
+        _ => s.read(b, o, endian).unwrap_or(0.0),
     }
 }
 
@@ -253,7 +235,7 @@ impl Batch {
         let rec = layout.rec.max(1);
         let r = &layout.roles;
         let g = |b: &[u8], role: usize, default: f64| match r[role] {
-            Some((o, s)) => get::<MODE>(b, o, s, layout.little),
+            Some((o, s)) => get::<MODE>(b, o, s, layout.endian),
             None => default,
         };
         for (i, b) in bytes.chunks_exact(rec).take(BATCH).enumerate() {

@@ -25,14 +25,12 @@
 
 use super::check::{Checker, Stats};
 use super::{PointFormat, Sink};
+use crate::bytes::{read_at, Endian, Primitive};
 use crate::diagnostic::{Error, Result};
 use crate::progress::Progress;
 use crate::tolerances::LAS_READ_BATCH;
 use std::io::{Read, Seek, SeekFrom};
 use std::sync::atomic::{AtomicU64, Ordering};
-
-/// The first bytes of every LAS and LAZ file.
-pub(crate) const MAGIC: &[u8; 4] = b"LASF";
 
 /// What our check reads of the public header block.
 #[derive(Debug, Clone, Copy)]
@@ -46,22 +44,27 @@ struct Raw {
     evlr_count: u32,
 }
 
+/// The little-endian field at byte `o` of `b` (0 past its end: every caller
+/// reads inside the bytes it has checked, the header's or a record's).
+#[inline(always)]
+fn le<T: Primitive + Default>(b: &[u8], o: usize) -> T {
+    read_at(b, o, Endian::Little).unwrap_or_default()
+}
+
 fn le_u16(b: &[u8], o: usize) -> u64 {
-    u16::from_le_bytes([b[o], b[o + 1]]) as u64
+    le::<u16>(b, o).into()
 }
 
 fn le_u32(b: &[u8], o: usize) -> u64 {
-    u32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]) as u64
+    le::<u32>(b, o).into()
 }
 
 fn le_u64(b: &[u8], o: usize) -> u64 {
-    let mut a = [0u8; 8];
-    a.copy_from_slice(&b[o..o + 8]);
-    u64::from_le_bytes(a)
+    le(b, o)
 }
 
 fn le_f64(b: &[u8], o: usize) -> f64 {
-    f64::from_bits(le_u64(b, o))
+    le(b, o)
 }
 
 fn parse_error(msg: String) -> Error {
@@ -229,11 +232,11 @@ fn check_laz_chunks<R: Read + Seek>(
     let start = raw.data_start;
     let mut off = [0u8; 8];
     seek_read(r, start, &mut off)?;
-    let mut table = i64::from_le_bytes(off);
+    let mut table: i64 = le(&off, 0);
     if table <= start as i64 && len >= 8 {
         // A streaming writer puts the offset in the file's last 8 bytes.
         seek_read(r, len - 8, &mut off)?;
-        table = i64::from_le_bytes(off);
+        table = le(&off, 0);
     }
     let table = u64::try_from(table).unwrap_or(0);
     if table <= start + 8 || table.checked_add(8).is_none_or(|e| e > len) {
@@ -431,7 +434,7 @@ fn wanted(classes: Option<&[u8]>, c: u8) -> bool {
 }
 
 fn le_i32(b: &[u8], o: usize) -> i32 {
-    i32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]])
+    le(b, o)
 }
 
 /// (scale, offset) of x, y, z from the public header block.

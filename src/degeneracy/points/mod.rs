@@ -14,7 +14,7 @@
 //!   `SIZE`/`TYPE`/`COUNT`, `DATA ascii`, `binary` or `binary_compressed`
 //!   (LZF, decompressed in memory).
 //! - LAS 1.0-1.4 and LAZ (detected by the `LASF` magic): raw scans only (no
-//!   normals), see [`las`]. From a stream (standard input, [`parse_points`])
+//!   normals), see `las`. From a stream (standard input, [`parse_points`])
 //!   the file is held in memory (the `las` crate seeks), within the size cap.
 //!
 //! Checks: a file claiming more points than it holds is an error (pre-allocation
@@ -43,7 +43,7 @@
 mod binary;
 mod check;
 mod csv;
-pub(crate) mod las;
+mod las;
 mod lzf;
 mod parallel;
 mod pcd;
@@ -53,6 +53,7 @@ mod write;
 
 pub use write::{write_csv, write_pcd, write_ply, Encoding};
 
+use crate::bytes::LAS_MAGIC;
 use crate::degeneracy::{Accumulator, Assembly};
 use crate::diagnostic::{Error, Result, Warning};
 use crate::geometry::se3::Transform;
@@ -60,6 +61,7 @@ use crate::progress::{Counted, NoProgress, Progress};
 use crate::tolerances::MAX_POINT_FILE_SIZE;
 use check::Stats;
 use source::Source;
+use std::fs::File;
 use std::io::Read;
 use std::path::Path;
 
@@ -209,17 +211,17 @@ impl Sink for Accumulator {
     }
 }
 
-/// Refuse files over [`MAX_POINT_FILE_SIZE`]; returns the metadata.
-fn check_size(path: &Path) -> Result<std::fs::Metadata> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, &e))?;
-    if meta.len() > MAX_POINT_FILE_SIZE {
+/// Open a point file (a regular file: a FIFO or a device is refused, see
+/// `crate::input`), refused over [`MAX_POINT_FILE_SIZE`]; with its length.
+fn open_points(path: &Path) -> Result<(File, u64)> {
+    let (f, len) = crate::input::open_stream(path)?;
+    if len > MAX_POINT_FILE_SIZE {
         return Err(Error::limit(format!(
-            "point file is {} bytes, more than the limit of {MAX_POINT_FILE_SIZE}",
-            meta.len()
+            "point file is {len} bytes, more than the limit of {MAX_POINT_FILE_SIZE}"
         ))
         .in_file(path));
     }
-    Ok(meta)
+    Ok((f, len))
 }
 
 /// Read a point file, detecting the format from its content (`ply` magic, a PCD
@@ -249,8 +251,7 @@ pub fn read_xyz_with(path: &Path, progress: &dyn Progress) -> Result<PointData> 
 /// [`read_xyz_with`] keeping only the points whose LAS classification is in
 /// `classes` (e.g. `[2]`, ground); an error for a file that is not LAS or LAZ.
 pub fn read_xyz_classes(path: &Path, classes: &[u8], progress: &dyn Progress) -> Result<PointData> {
-    let meta = check_size(path)?;
-    let mut f = crate::input::open_regular(path)?;
+    let (mut f, len) = open_points(path)?;
     if !is_las_file(&mut f).map_err(|e| e.in_file(path))? {
         return Err(Error::usage(
             "--class: expected a LAS or LAZ file (other formats have no classification)",
@@ -258,7 +259,7 @@ pub fn read_xyz_classes(path: &Path, classes: &[u8], progress: &dyn Progress) ->
         .in_file(path));
     }
     let mut sink = Collect::default();
-    let r = las::decode(f, meta.len(), &mut sink, (Some(classes), progress));
+    let r = las::decode(f, len, &mut sink, (Some(classes), progress));
     progress.finish();
     let (format, stats) = r.map_err(|e| e.in_file(path))?;
     Ok(sink.into_data(format, &stats))
@@ -269,28 +270,26 @@ fn read_path(path: &Path, xyz_only: bool, progress: &dyn Progress) -> Result<Poi
         let r = crate::input::Capped::new(std::io::stdin().lock(), MAX_POINT_FILE_SIZE);
         return read_mode(r, xyz_only).map_err(|e| e.in_file("<stdin>"));
     }
-    let meta = check_size(path)?;
-    // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
-    let mut f = crate::input::open_regular(path)?;
+    let (mut f, len) = open_points(path)?;
     if is_las_file(&mut f).map_err(|e| e.in_file(path))? {
-        let r = read_las(f, meta.len(), xyz_only, progress);
+        let r = read_las(f, len, xyz_only, progress);
         progress.finish();
         return r.map_err(|e| e.in_file(path));
     }
-    progress.start(meta.len(), "bytes read");
+    progress.start(len, "bytes read");
     let r = read_mode(Counted::new(f, 0, progress), xyz_only);
     progress.finish();
     r.map_err(|e| e.in_file(path))
 }
 
 /// Whether a file starts with the LAS magic (the file is left at its start).
-fn is_las_file(f: &mut std::fs::File) -> Result<bool> {
+fn is_las_file(f: &mut File) -> Result<bool> {
     use std::io::{Seek, SeekFrom};
     let mut m = [0u8; 4];
     let n = f.read(&mut m).map_err(|e| source::io_error(&e))?;
     f.seek(SeekFrom::Start(0))
         .map_err(|e| source::io_error(&e))?;
-    Ok(n == 4 && &m == las::MAGIC)
+    Ok(n == 4 && &m == LAS_MAGIC)
 }
 
 /// A LAS or LAZ file, seekable, `len` bytes: raw scans only.
@@ -360,18 +359,12 @@ pub fn accumulate_file_with(
         let r = crate::input::Capped::new(std::io::stdin().lock(), MAX_POINT_FILE_SIZE);
         return accumulate_reader(r, frame).map_err(|e| e.in_file("<stdin>"));
     }
-    let meta = check_size(path)?;
-    // Regular files only: a FIFO or a device is refused (issue 12, src/input.rs).
-    let f = crate::input::open_regular(path)?;
+    let (f, len) = open_points(path)?;
     let mut acc = Accumulator::new();
-    progress.start(meta.len(), "bytes read");
+    progress.start(len, "bytes read");
     let mut src = Source::new(Counted::new(f, 0, progress));
-    // A pipe or device has no length to split by and cannot be reopened.
-    let res = if meta.is_file() {
-        parallel::decode_file(path, meta.len(), &mut src, &mut acc, progress)
-    } else {
-        decode(&mut src, &mut acc, false)
-    };
+    // A regular file (the only kind opened): split by its length, reopened per range.
+    let res = parallel::decode_file(path, len, &mut src, &mut acc, progress);
     progress.finish();
     let (format, stats) = res.map_err(|e| e.in_file(path))?;
     Ok(finish(&acc, format, stats, frame))
@@ -423,7 +416,7 @@ fn detect<R: Read>(src: &mut Source<R>) -> Result<Kind> {
     Ok(
         if head.starts_with(b"ply\n") || head.starts_with(b"ply\r\n") {
             Kind::Ply
-        } else if head.starts_with(las::MAGIC) {
+        } else if head.starts_with(LAS_MAGIC) {
             Kind::Las
         } else if looks_like_pcd(head) {
             Kind::Pcd

@@ -11,7 +11,6 @@ use super::{detect, pcd, ply, Kind, PointFormat, Sink};
 use crate::degeneracy::{worker_count, Accumulator, Block, Kernel, BLOCK};
 use crate::diagnostic::Result;
 use crate::progress::{Counted, Progress};
-use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
 
@@ -44,7 +43,7 @@ pub(super) fn decode_file<R: Read>(
             if ply::tail_bytes(&h).is_none() {
                 // List elements after the vertices: read them by their counts.
                 let end = start.saturating_add((total as u64).saturating_mul(layout.rec as u64));
-                let mut f = File::open(path).map_err(|e| io_error(&e))?;
+                let mut f = crate::input::open_regular(path)?;
                 f.seek(SeekFrom::Start(end)).map_err(|e| io_error(&e))?;
                 ply::list_tail(&mut Source::at(f, end), &h)?;
             }
@@ -180,7 +179,7 @@ fn decode_range(
     run: &Run,
     (kernel, progress): (Kernel, &dyn Progress),
 ) -> Result<Part> {
-    let mut f = File::open(path).map_err(|e| io_error(&e))?;
+    let mut f = crate::input::open_regular(path)?;
     let at = start + (run.first as u64) * layout.rec as u64;
     f.seek(SeekFrom::Start(at)).map_err(|e| io_error(&e))?;
     let bytes = f.take((run.count as u64) * layout.rec as u64);

@@ -5,6 +5,7 @@ use super::binary::{decode_records, Layout, Run, Scalar};
 use super::check::{Checker, Stats};
 use super::source::{header_lines, Source};
 use super::{column_role, missing_roles, PointFormat, Sink};
+use crate::bytes::{read_at, Endian};
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::{
     MAX_PCD_COUNT, MAX_POINT_FILE_SIZE, MAX_POINT_RECORD_BYTES, POINT_READ_BUFFER,
@@ -206,7 +207,7 @@ pub(super) fn layout(h: &Header) -> Layout {
     Layout {
         rec: h.rec.max(1),
         roles,
-        little: true,
+        endian: Endian::Little,
     }
 }
 
@@ -259,7 +260,7 @@ fn compressed_records<R: Read>(src: &mut Source<R>, h: &Header) -> Result<Vec<u8
             "PCD binary_compressed: expected the two sizes after DATA, found the end of the file",
         ));
     }
-    let size = |k: usize| u32::from_le_bytes([d[k], d[k + 1], d[k + 2], d[k + 3]]) as usize;
+    let size = |k: usize| read_at::<u32>(d, k, Endian::Little).map_or(0, |v| v as usize);
     let (packed, unpacked) = (size(0), size(4));
     src.consume(8);
     let want =

@@ -4,6 +4,7 @@ use super::binary::{decode_records, Layout, Run, Scalar};
 use super::check::{Checker, Stats};
 use super::source::{header_lines, Source};
 use super::{column_role, missing_roles, PointFormat, Sink};
+use crate::bytes::Endian;
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::MAX_POINT_RECORD_BYTES;
 use std::io::Read;
@@ -232,14 +233,14 @@ fn binary_tail<R: Read>(src: &mut Source<R>, h: &Header, rec: usize) -> Result<(
 /// properties (faces): each item read by its declared types, each list by
 /// its own count, then nothing (issue 12).
 pub(super) fn list_tail<R: Read>(src: &mut Source<R>, h: &Header) -> Result<()> {
-    let little = h.format == PointFormat::PlyBinaryLittleEndian;
+    let endian = Endian::little_if(h.format == PointFormat::PlyBinaryLittleEndian);
     for e in &h.elements[h.vi + 1..] {
         for k in 0..e.count {
             for ((name, ty), list) in e.props.iter().zip(&e.lists) {
                 let bytes = match (ty, list) {
                     (Some(s), _) => s.size() as u64,
                     (None, Some((c, item))) => {
-                        let n = read_scalar(src, *c, little).ok_or_else(|| ends_in(e, k))?;
+                        let n = read_scalar(src, *c, endian).ok_or_else(|| ends_in(e, k))?;
                         if !(n >= 0.0 && n <= u32::MAX as f64) {
                             return Err(Error::parse(format!(
                                 "PLY: `{}` item {k}: expected a list length for {name:?}, found {n}",
@@ -268,9 +269,9 @@ pub(super) fn list_tail<R: Read>(src: &mut Source<R>, h: &Header) -> Result<()> 
     Ok(())
 }
 
-fn read_scalar<R: Read>(src: &mut Source<R>, s: Scalar, little: bool) -> Option<f64> {
+fn read_scalar<R: Read>(src: &mut Source<R>, s: Scalar, endian: Endian) -> Option<f64> {
     src.fill(s.size()).ok()?;
-    let v = src.data().get(..s.size()).map(|b| s.read(b, little))?;
+    let v = s.read(src.data(), 0, endian)?;
     src.consume(s.size());
     Some(v)
 }
@@ -442,7 +443,7 @@ pub(super) fn binary_plan(h: &Header) -> Result<(u64, Layout)> {
         Layout {
             rec: rec.max(1),
             roles,
-            little: h.format == PointFormat::PlyBinaryLittleEndian,
+            endian: Endian::little_if(h.format == PointFormat::PlyBinaryLittleEndian),
         },
     ))
 }

@@ -10,8 +10,8 @@
 //! ~1.4 MB), but a bag of small messages is read through (356 MB of 1 KiB
 //! messages: ~0.3 s).
 
+use super::contents::{Contents, RawMessage};
 use super::decode::Encoding;
-use super::{Contents, RawMessage};
 use crate::diagnostic::{Error, Result};
 use rusqlite::{Connection, OpenFlags};
 use std::path::Path;

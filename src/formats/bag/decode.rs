@@ -42,32 +42,31 @@ pub struct TfRecord {
     pub stamp_ns: i128,
 }
 
+use crate::bytes::{Endian, Primitive, Reader};
+
 /// A lower bound on the size of an encoded `TransformStamped` (seven doubles,
 /// the stamp and two string lengths: 72 bytes; ROS 1 adds `seq`, CDR the NULs),
 /// to bound a sequence count by the bytes left.
 const MIN_TRANSFORM_BYTES: usize = 56 + 8 + 4 + 4;
 
+/// A message cursor: the shared byte reader, with CDR's alignment on top.
 struct Cursor<'a> {
-    data: &'a [u8],
-    pos: usize,
+    r: Reader<'a>,
     /// Where alignment is counted from (after the CDR header); `None`: no alignment.
     align_origin: Option<usize>,
-    little: bool,
 }
 
 impl<'a> Cursor<'a> {
     fn new(data: &'a [u8], enc: Encoding) -> Result<Self, String> {
         match enc {
             Encoding::Ros1 => Ok(Cursor {
-                data,
-                pos: 0,
+                r: Reader::new(data, Endian::Little),
                 align_origin: None,
-                little: true,
             }),
             Encoding::Cdr => {
-                let little = match data.get(..2) {
-                    Some([0, 1]) => true,
-                    Some([0, 0]) => false,
+                let endian = match data.get(..2) {
+                    Some([0, 1]) => Endian::Little,
+                    Some([0, 0]) => Endian::Big,
                     Some(h) => {
                         return Err(format!(
                         "CDR encapsulation header {:02x} {:02x}: expected 00 01 (CDR little-endian) or 00 00 (big-endian); XCDR2 is not supported",
@@ -87,62 +86,71 @@ impl<'a> Cursor<'a> {
                         data.len()
                     ));
                 }
+                let mut r = Reader::new(data, endian);
+                r.seek(4);
                 Ok(Cursor {
-                    data,
-                    pos: 4,
+                    r,
                     align_origin: Some(4),
-                    little,
                 })
             }
         }
     }
 
-    fn left(&self) -> usize {
-        self.data.len().saturating_sub(self.pos)
+    fn pos(&self) -> usize {
+        self.r.pos()
     }
 
-    /// A primitive of `n` bytes (1, 2, 4 or 8): CDR aligns it to `n`.
-    fn prim(&mut self, n: usize, what: &str) -> Result<&'a [u8], String> {
+    fn left(&self) -> usize {
+        self.r.left()
+    }
+
+    /// CDR aligns a primitive of `n` bytes (1, 2, 4 or 8) to `n`, counted from
+    /// the end of the header.
+    fn align(&mut self, n: usize) {
         if let Some(o) = self.align_origin {
-            let rel = self.pos.saturating_sub(o);
-            self.pos = self.pos.saturating_add((n - rel % n) % n);
+            let pos = self.r.pos();
+            let rel = pos.saturating_sub(o);
+            self.r.seek(pos.saturating_add((n - rel % n) % n));
         }
+    }
+
+    fn short(&self, what: &str, n: usize) -> String {
+        format!(
+            "byte {}: expected {what} ({n} bytes), found the end of the {}-byte message",
+            self.r.pos(),
+            self.r.len()
+        )
+    }
+
+    /// A primitive of `n` bytes (1, 2, 4 or 8), aligned.
+    fn prim(&mut self, n: usize, what: &str) -> Result<&'a [u8], String> {
+        self.align(n);
         self.take(n, what)
     }
 
     fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], String> {
-        let end = self.pos.checked_add(n).filter(|&e| e <= self.data.len());
-        match end {
-            Some(e) => {
-                let s = &self.data[self.pos..e];
-                self.pos = e;
-                Ok(s)
-            }
-            None => Err(format!(
-                "byte {}: expected {what} ({n} bytes), found the end of the {}-byte message",
-                self.pos,
-                self.data.len()
-            )),
-        }
+        let r = self.r.take(n);
+        r.map_err(|_| self.short(what, n))
+    }
+
+    /// A field of type `T`, aligned.
+    fn field<T: Primitive>(&mut self, what: &str) -> Result<T, String> {
+        self.align(T::SIZE);
+        let r = self.r.read::<T>();
+        r.map_err(|_| self.short(what, T::SIZE))
     }
 
     fn u32(&mut self, what: &str) -> Result<u32, String> {
-        let b = self.prim(4, what)?;
-        let a = [b[0], b[1], b[2], b[3]];
-        Ok(if self.little {
-            u32::from_le_bytes(a)
-        } else {
-            u32::from_be_bytes(a)
-        })
+        self.field(what)
     }
 
     fn u8(&mut self, what: &str) -> Result<u8, String> {
-        Ok(self.prim(1, what)?[0])
+        self.field(what)
     }
 
     /// Skip a sequence of `elem`-byte primitives.
     fn skip_seq(&mut self, elem: usize, what: &str) -> Result<(), String> {
-        let at = self.pos;
+        let at = self.pos();
         let n = self.u32(what)? as usize;
         if n > self.left() / elem {
             return Err(format!(
@@ -158,22 +166,15 @@ impl<'a> Cursor<'a> {
     }
 
     fn i32(&mut self, what: &str) -> Result<i32, String> {
-        self.u32(what).map(|v| v as i32)
+        self.field(what)
     }
 
     fn f64(&mut self, what: &str) -> Result<f64, String> {
-        let b = self.prim(8, what)?;
-        let mut a = [0u8; 8];
-        a.copy_from_slice(b);
-        Ok(if self.little {
-            f64::from_le_bytes(a)
-        } else {
-            f64::from_be_bytes(a)
-        })
+        self.field(what)
     }
 
     fn string(&mut self, what: &str) -> Result<String, String> {
-        let at = self.pos;
+        let at = self.pos();
         let n = self.u32(what)? as usize;
         if n > self.left() {
             return Err(format!(
@@ -205,7 +206,7 @@ impl<'a> Cursor<'a> {
             return Err(format!(
                 "{} bytes left after the message ended at byte {}: expected none (is the topic's type right?)",
                 self.left(),
-                self.pos
+                self.pos()
             ));
         }
         Ok(())
@@ -280,7 +281,7 @@ fn parameter(c: &mut Cursor) -> Result<(String, Option<String>), String> {
     c.skip_seq(1, "value.bool_array_value")?;
     c.skip_seq(8, "value.integer_array_value")?;
     c.skip_seq(8, "value.double_array_value")?;
-    let at = c.pos;
+    let at = c.pos();
     let n = c.u32("value.string_array_value count")? as usize;
     if n > c.left() / 4 {
         return Err(format!(
@@ -303,7 +304,7 @@ pub fn parameter_event(data: &[u8]) -> Result<Vec<(String, String, String)>, Str
     let node = c.string("node")?;
     let mut out = Vec::new();
     for list in ["new_parameters", "changed_parameters", "deleted_parameters"] {
-        let at = c.pos;
+        let at = c.pos();
         let n = c.u32(list)? as usize;
         // A parameter takes at least 40 bytes (name, type, scalars, lengths).
         if n > c.left() / 40 {

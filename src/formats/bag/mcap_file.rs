@@ -8,8 +8,9 @@
 //! summary (an unfinished recording, a truncated file): the file is streamed
 //! once from the start; a truncation then surfaces as an error at its offset.
 
+use super::contents::{Contents, RawMessage};
 use super::decode::Encoding;
-use super::{Contents, RawMessage};
+use super::progress::Progress;
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::MAX_BAG_RECORD_BYTES;
 use mcap::records::{MessageHeader, Record};
@@ -17,7 +18,6 @@ use mcap::sans_io::indexed_reader::{IndexedReadEvent, IndexedReader, IndexedRead
 use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use mcap::sans_io::summary_reader::{SummaryReadEvent, SummaryReader, SummaryReaderOptions};
 use std::collections::{BTreeSet, HashMap};
-use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
@@ -36,10 +36,14 @@ struct ChannelInfo {
     schema: String,
 }
 
-/// Read the messages of the topics `wanted` accepts.
-pub fn read(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
-    let file = File::open(path).map_err(|e| Error::io(path, &e))?;
-    let size = file.metadata().map_err(|e| Error::io(path, &e))?.len();
+/// Read the messages of the topics `wanted` accepts from `file` (`size`
+/// bytes, at its start), read from `path`.
+pub fn read<R: Read + Seek>(
+    file: R,
+    size: u64,
+    path: &Path,
+    wanted: &dyn Fn(&str) -> bool,
+) -> Result<Contents> {
     // The summary reader asks for records a few bytes at a time: buffer them.
     let mut file = BufReader::with_capacity(1 << 16, file);
     let mut head = [0u8; 8];
@@ -55,7 +59,10 @@ pub fn read(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
     }
 }
 
-fn summary(file: &mut BufReader<File>, size: u64) -> mcap::McapResult<Option<mcap::Summary>> {
+fn summary<R: Read + Seek>(
+    file: &mut BufReader<R>,
+    size: u64,
+) -> mcap::McapResult<Option<mcap::Summary>> {
     let mut r =
         SummaryReader::new_with_options(SummaryReaderOptions::default().with_file_size(size));
     while let Some(ev) = r.next_event() {
@@ -115,9 +122,9 @@ fn raw(
     })
 }
 
-fn indexed(
+fn indexed<R: Read + Seek>(
     path: &Path,
-    file: &mut BufReader<File>,
+    file: &mut BufReader<R>,
     s: &mcap::Summary,
     wanted: &dyn Fn(&str) -> bool,
 ) -> Result<Contents> {
@@ -151,7 +158,7 @@ fn indexed(
         })
         .map(|c| c.compressed_size)
         .sum();
-    let mut progress = super::Progress::new(path, total);
+    let mut progress = Progress::new(path, total);
     let mut done = 0u64;
     let mut r = IndexedReader::new_with_options(s, opts).map_err(|e| mcap_err(path, "index", e))?;
     let mut buf = Vec::new();
@@ -194,9 +201,9 @@ fn indexed(
 }
 
 /// Stream the whole file: for MCAPs without a summary.
-fn linear(
+fn linear<R: Read + Seek>(
     path: &Path,
-    file: &mut BufReader<File>,
+    file: &mut BufReader<R>,
     size: u64,
     wanted: &dyn Fn(&str) -> bool,
 ) -> Result<Contents> {
@@ -209,7 +216,7 @@ fn linear(
     let mut channels: HashMap<u16, ChannelInfo> = HashMap::new();
     let mut messages = Vec::new();
     let mut fed = 0u64;
-    let mut progress = super::Progress::new(path, size);
+    let mut progress = Progress::new(path, size);
     while let Some(ev) = r.next_event() {
         let at = |e| {
             mcap_err(

@@ -40,178 +40,50 @@
 //! joint and its line in the description). `Provenance::format` is `bag` for
 //! transforms and `urdf` for the description's joints.
 
+mod container;
+mod contents;
 pub mod db3;
 pub mod decode;
 pub mod mcap_file;
+mod progress;
 pub mod ros1;
 
+pub use crate::formats::spec::BagOptions;
+pub use contents::{Contents, RawMessage};
+pub use progress::Progress;
+
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::formats::{check_metres, locate_warnings, urdf, Edge, LoadOptions, Loaded};
-use crate::frames::transforms_agree;
-use crate::geometry::se3::{QuatOrder, Transform};
-use crate::tolerances::{
-    BAG_PROGRESS_MIN_BYTES, MAX_BAG_DECOMPRESSED_BYTES, MAX_BAG_METADATA_BYTES,
-    MAX_BAG_RECORD_BYTES, MAX_TRANSLATION_M,
+use crate::formats::spec::{
+    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded,
 };
+use crate::formats::urdf;
+use crate::frames::{transforms_agree, Edge};
+use crate::geometry::se3::{QuatOrder, Transform};
+use crate::tolerances::MAX_TRANSLATION_M;
 use decode::{Encoding, TfRecord};
 use std::collections::BTreeMap;
-use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// `Provenance::format` of the transforms read from a bag.
+/// `Provenance::format` of the transforms read from a bag (and the format's id).
 pub const FORMAT: &str = "bag";
 
-/// Which topics to read.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BagOptions {
-    /// Static transform topics (`tf2_msgs/TFMessage`): default `/tf_static`.
-    pub static_topics: Vec<String>,
-    /// Dynamic transform topics whose constant transforms are kept: default none
-    /// (`/tf` on request).
-    pub tf_topics: Vec<String>,
-    /// Robot description topics (`std_msgs/String` with a URDF): default
-    /// `/robot_description`.
-    pub description_topics: Vec<String>,
-    /// ROS 2 parameter event topics (`rcl_interfaces/msg/ParameterEvent`),
-    /// searched for a string parameter `robot_description` (the way
-    /// `robot_state_publisher` holds it): default `/parameter_events`.
-    pub parameter_topics: Vec<String>,
-}
-
-impl Default for BagOptions {
-    fn default() -> Self {
-        BagOptions {
-            static_topics: vec!["/tf_static".into()],
-            tf_topics: Vec::new(),
-            description_topics: vec!["/robot_description".into()],
-            parameter_topics: vec!["/parameter_events".into()],
-        }
-    }
-}
-
-/// One message of a wanted topic, as a container yields it.
-#[derive(Debug, Clone)]
-pub struct RawMessage {
-    /// The topic it was recorded on.
-    pub topic: String,
-    /// The message type as the container names it (`tf2_msgs/msg/TFMessage`,
-    /// `tf2_msgs/TFMessage`); empty when it names none.
-    pub type_name: String,
-    /// How its bytes are serialised.
-    pub encoding: Encoding,
-    /// Log (receive) time, ns since the epoch.
-    pub time_ns: u64,
-    /// The serialised message.
-    pub data: Vec<u8>,
-    /// The file it was read from.
-    pub file: PathBuf,
-    /// Where in the file: `chunk at byte N`, `messages row id N`.
-    pub place: String,
-}
-
-/// What a container yields: every topic it has, and the wanted messages.
-#[derive(Debug, Clone, Default)]
-pub struct Contents {
-    /// Every topic the container holds.
-    pub topics: Vec<String>,
-    /// The messages of the wanted topics.
-    pub messages: Vec<RawMessage>,
-}
-
-/// A one-line progress indicator on stderr, shown only on a terminal and for
-/// reads of at least [`BAG_PROGRESS_MIN_BYTES`]; erased when dropped.
-pub struct Progress {
-    label: String,
-    total: u64,
-    on: bool,
-    last: Option<u64>,
-}
-
-impl Progress {
-    /// A progress line for reading `total` bytes of `path`.
-    pub fn new(path: &Path, total: u64) -> Self {
-        use std::io::IsTerminal;
-        Progress {
-            label: path.display().to_string(),
-            total,
-            on: total >= BAG_PROGRESS_MIN_BYTES && std::io::stderr().is_terminal(),
-            last: None,
-        }
-    }
-
-    /// `done` of the `total` bytes have been read.
-    pub fn update(&mut self, done: u64) {
-        if !self.on {
-            return;
-        }
-        let pct = done.min(self.total) * 100 / self.total.max(1);
-        if self.last != Some(pct) {
-            self.last = Some(pct);
-            eprint!(
-                "\rreading {}: {pct:3}% of {} MiB",
-                self.label,
-                self.total >> 20
-            );
-        }
-    }
-}
-
-impl Drop for Progress {
-    fn drop(&mut self) {
-        if self.last.is_some() {
-            eprint!("\r\x1b[K");
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Container {
-    Mcap,
-    Db3,
-    Ros1,
-    Folder,
-}
-
-fn magic(path: &Path) -> Option<Container> {
-    let mut head = [0u8; 16];
-    // Regular files only: opening a FIFO to sniff it would block (issue 12).
-    let mut f = crate::input::open_regular(path).ok()?;
-    let n = f.read(&mut head).ok()?;
-    let head = &head[..n];
-    if head.starts_with(mcap_file::MAGIC) {
-        Some(Container::Mcap)
-    } else if head.starts_with(db3::MAGIC) {
-        Some(Container::Db3)
-    } else if head.starts_with(b"#ROSBAG") {
-        Some(Container::Ros1)
-    } else {
-        None
-    }
-}
-
-fn container(path: &Path) -> Option<Container> {
-    if path.is_dir() {
-        return path
-            .join("metadata.yaml")
-            .is_file()
-            .then_some(Container::Folder);
-    }
-    if let Some(c) = magic(path) {
-        return Some(c);
-    }
-    let ext = path.extension()?.to_string_lossy().to_ascii_lowercase();
-    match ext.as_str() {
-        "mcap" => Some(Container::Mcap),
-        "db3" => Some(Container::Db3),
-        "bag" => Some(Container::Ros1),
-        _ => None,
-    }
-}
+/// Bags: MCAP, rosbag2 (`.db3`, folders), ROS 1.
+pub const SPEC: FormatSpec = FormatSpec {
+    id: FORMAT,
+    description: "ROS bags (MCAP, rosbag2 .db3 or folder with metadata.yaml, ROS 1 .bag), read through their index: /tf_static (child_frame_id pose in header.frame_id, the latest per child), on request /tf transforms that never change, and the URDF on /robot_description",
+    extensions: &["bag", "mcap", "db3"],
+    walk: &[".bag", ".db3", ".mcap"],
+    magic: container::MAGIC,
+    sniff: |i| i.folder_holds("metadata.yaml").then_some(Confidence::Certain),
+    parse: |i, o| read(i, o, &o.bag),
+    // As before bags were registry formats: tf2's rules instead (see above).
+    checked: false,
+};
 
 /// Whether `path` is a bag: a `.mcap`, `.db3` or `.bag` file, a file starting
 /// with one of their magic bytes, or a folder holding `metadata.yaml`.
 pub fn is_bag(path: &Path) -> bool {
-    container(path).is_some()
+    container::container_at(path).is_some()
 }
 
 /// Read a bag's transform and description topics as `opts.bag` chooses
@@ -222,13 +94,19 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
 
 /// [`load`] with the topics chosen by `bag`.
 pub fn load_with(path: &Path, opts: &LoadOptions, bag: &BagOptions) -> Result<Loaded> {
+    read(&Input::open(path, opts.max_file_size)?, opts, bag)
+}
+
+/// The bag `input`, its topics chosen by `bag`.
+fn read(input: &Input, opts: &LoadOptions, bag: &BagOptions) -> Result<Loaded> {
+    let path = input.path();
     let wanted = |t: &str| {
         bag.static_topics.iter().any(|w| w == t)
             || bag.tf_topics.iter().any(|w| w == t)
             || bag.description_topics.iter().any(|w| w == t)
             || bag.parameter_topics.iter().any(|w| w == t)
     };
-    let contents = read_container(path, &wanted)?;
+    let contents = container::read(input, &wanted)?;
     let mut by_topic: BTreeMap<&str, Vec<&RawMessage>> = BTreeMap::new();
     for m in &contents.messages {
         by_topic.entry(m.topic.as_str()).or_default().push(m);
@@ -329,206 +207,6 @@ const STRING_TYPES: &[&str] = &["std_msgs/msg/String", "std_msgs/String"];
 const PARAMETER_EVENT_TYPES: &[&str] = &["rcl_interfaces/msg/ParameterEvent"];
 /// The parameter that holds the URDF in ROS 2 (`robot_state_publisher`).
 const DESCRIPTION_PARAMETER: &str = "robot_description";
-
-fn read_container(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
-    match container(path) {
-        Some(Container::Mcap) => mcap_file::read(path, wanted),
-        Some(Container::Db3) => db3::read(path, wanted),
-        Some(Container::Ros1) => ros1::read(path, wanted),
-        Some(Container::Folder) => read_folder(path, wanted),
-        None => Err(Error::parse(
-            "expected a bag (.mcap, .db3, .bag, or a rosbag2 folder with metadata.yaml), found none of them",
-        )
-        .in_file(path)),
-    }
-}
-
-#[derive(serde::Deserialize)]
-struct Metadata {
-    rosbag2_bagfile_information: BagInfo,
-}
-
-#[derive(serde::Deserialize)]
-struct BagInfo {
-    #[serde(default)]
-    relative_file_paths: Vec<String>,
-    #[serde(default)]
-    compression_mode: String,
-    #[serde(default)]
-    compression_format: String,
-}
-
-/// rosbag2's `compression_mode` (rosbag2 writes `FILE`/`MESSAGE`, rosbags
-/// `file`/`message`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Compression {
-    None,
-    File,
-    Message,
-}
-
-impl BagInfo {
-    fn compression(&self, meta_path: &Path) -> Result<Compression> {
-        let mode = match self.compression_mode.to_ascii_lowercase().as_str() {
-            "" | "none" => return Ok(Compression::None),
-            "file" => Compression::File,
-            "message" => Compression::Message,
-            other => {
-                return Err(Error::parse(format!(
-                    "rosbag2 metadata: compression_mode `{other}`: expected none, file or message"
-                ))
-                .in_file(meta_path))
-            }
-        };
-        if !self.compression_format.eq_ignore_ascii_case("zstd") {
-            return Err(Error::parse(format!(
-                "rosbag2 metadata: compression_format `{}`: expected zstd (the only format rosbag2 ships)",
-                self.compression_format
-            ))
-            .in_file(meta_path));
-        }
-        Ok(mode)
-    }
-}
-
-/// A `compression_mode: FILE` split decompressed into a temporary file with
-/// the inner extension (`x.db3.zstd` -> `x.db3`), bounded by
-/// [`MAX_BAG_DECOMPRESSED_BYTES`]. The file is deleted when the guard drops.
-fn decompress_split(f: &Path) -> Result<tempfile::TempPath> {
-    let input = crate::input::open_regular(f)?;
-    let inner = f.file_stem().map(Path::new).and_then(|s| s.extension());
-    let suffix = format!(
-        ".{}",
-        inner.map(|e| e.to_string_lossy()).unwrap_or_default()
-    );
-    let mut tmp = tempfile::Builder::new()
-        .prefix("audit-bag-")
-        .suffix(&suffix)
-        .tempfile()
-        .map_err(|e| Error::io(Path::new("temporary file"), &e))?;
-    let mut dec = zstd::stream::read::Decoder::new(input)
-        .map_err(|e| Error::parse(format!("zstd: {e}")).in_file(f))?;
-    let n = std::io::copy(
-        &mut (&mut dec).take(MAX_BAG_DECOMPRESSED_BYTES + 1),
-        tmp.as_file_mut(),
-    )
-    .map_err(|e| {
-        Error::parse(format!(
-            "expected a zstd-compressed rosbag2 file (compression_mode file): {e}"
-        ))
-        .in_file(f)
-    })?;
-    if n > MAX_BAG_DECOMPRESSED_BYTES {
-        return Err(Error::limit(format!(
-            "decompresses to more than {MAX_BAG_DECOMPRESSED_BYTES} bytes: expected a rosbag2 split of a few GiB"
-        ))
-        .in_file(f));
-    }
-    Ok(tmp.into_temp_path())
-}
-
-/// `compression_mode: MESSAGE`: each message's bytes are one zstd frame.
-fn decompress_messages(c: &mut Contents) -> Result<()> {
-    for m in &mut c.messages {
-        let mut out = Vec::new();
-        zstd::stream::read::Decoder::new(m.data.as_slice())
-            .and_then(|d| {
-                d.take(MAX_BAG_RECORD_BYTES as u64 + 1)
-                    .read_to_end(&mut out)
-            })
-            .map_err(|e| {
-                Error::parse(format!(
-                    "{} message ({}): expected zstd-compressed bytes (compression_mode message): {e}",
-                    m.topic, m.place
-                ))
-                .in_file(&m.file)
-            })?;
-        if out.len() > MAX_BAG_RECORD_BYTES {
-            return Err(Error::limit(format!(
-                "{} message ({}) decompresses to more than {MAX_BAG_RECORD_BYTES} bytes",
-                m.topic, m.place
-            ))
-            .in_file(&m.file));
-        }
-        m.data = out;
-    }
-    Ok(())
-}
-
-/// A rosbag2 folder: the files its `metadata.yaml` lists, read in order.
-fn read_folder(dir: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
-    let meta_path = dir.join("metadata.yaml");
-    let size = std::fs::metadata(&meta_path)
-        .map_err(|e| Error::io(&meta_path, &e))?
-        .len();
-    if size > MAX_BAG_METADATA_BYTES {
-        return Err(Error::limit(format!(
-            "metadata.yaml is {size} bytes: expected at most {MAX_BAG_METADATA_BYTES}"
-        ))
-        .in_file(&meta_path));
-    }
-    let text = std::fs::read_to_string(&meta_path).map_err(|e| Error::io(&meta_path, &e))?;
-    let meta: Metadata = serde_saphyr::from_str(&text).map_err(|e| {
-        Error::parse(format!(
-            "rosbag2 metadata: expected `rosbag2_bagfile_information` with `relative_file_paths`: {e}"
-        ))
-        .in_file(&meta_path)
-    })?;
-    let info = meta.rosbag2_bagfile_information;
-    if info.relative_file_paths.is_empty() {
-        return Err(Error::parse(
-            "rosbag2 metadata: `relative_file_paths` is empty: expected the bag's files",
-        )
-        .in_file(&meta_path));
-    }
-    let compression = info.compression(&meta_path)?;
-    let mut out = Contents::default();
-    for rel in &info.relative_file_paths {
-        let f = dir.join(rel);
-        // FILE mode: a split that is not itself a container is decompressed.
-        let tmp = match compression {
-            Compression::File if f.is_file() && magic(&f).is_none() => Some(decompress_split(&f)?),
-            _ => None,
-        };
-        let read_from = tmp.as_deref().unwrap_or(&f);
-        let mut c = match container(read_from) {
-            Some(Container::Mcap) => mcap_file::read(read_from, wanted)?,
-            Some(Container::Db3) => db3::read(read_from, wanted)?,
-            _ => {
-                return Err(Error::parse(format!(
-                    "rosbag2 file {rel}: expected an .mcap or .db3 file{}, found {}",
-                    if compression == Compression::File {
-                        " (zstd-compressed)"
-                    } else {
-                        ""
-                    },
-                    if f.exists() {
-                        "neither"
-                    } else {
-                        "no such file"
-                    }
-                ))
-                .in_file(&meta_path))
-            }
-        };
-        if tmp.is_some() {
-            for m in &mut c.messages {
-                m.file = f.clone();
-                m.place = format!("{} of the decompressed file", m.place);
-            }
-        }
-        if compression == Compression::Message {
-            decompress_messages(&mut c)?;
-        }
-        for t in c.topics {
-            if !out.topics.contains(&t) {
-                out.topics.push(t);
-            }
-        }
-        out.messages.extend(c.messages);
-    }
-    Ok(out)
-}
 
 /// One transform read from a message, with where it came from.
 #[derive(Clone)]

@@ -15,12 +15,13 @@
 //! a wanted connection are read. A bag without an index (still recording, or
 //! cut short) is refused with the advice to run `rosbag reindex`.
 
+use super::contents::{Contents, RawMessage};
 use super::decode::Encoding;
-use super::{Contents, RawMessage};
+use super::progress::Progress;
+use crate::bytes::{read_at, Endian, Reader};
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::MAX_BAG_RECORD_BYTES;
 use std::collections::{BTreeMap, BTreeSet};
-use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
 
@@ -58,7 +59,7 @@ impl Record {
 
     fn u32(&self, path: &Path, name: &str) -> Result<u32> {
         match self.field(name) {
-            Some(v) if v.len() == 4 => Ok(u32::from_le_bytes([v[0], v[1], v[2], v[3]])),
+            Some(v) if v.len() == 4 => Ok(le32(v)),
             other => Err(self.err(
                 path,
                 format!(
@@ -71,11 +72,7 @@ impl Record {
 
     fn u64(&self, path: &Path, name: &str) -> Result<u64> {
         match self.field(name) {
-            Some(v) if v.len() == 8 => {
-                let mut a = [0u8; 8];
-                a.copy_from_slice(v);
-                Ok(u64::from_le_bytes(a))
-            }
+            Some(v) if v.len() == 8 => Ok(read_at(v, 0, Endian::Little).unwrap_or_default()),
             other => Err(self.err(
                 path,
                 format!(
@@ -102,8 +99,10 @@ fn describe(v: Option<&[u8]>) -> String {
     }
 }
 
+/// The little-endian `u32` that starts `b` (0 when `b` is shorter: the
+/// callers give it four bytes).
 fn le32(b: &[u8]) -> u32 {
-    u32::from_le_bytes([b[0], b[1], b[2], b[3]])
+    read_at(b, 0, Endian::Little).unwrap_or_default()
 }
 
 /// Split a record header into `name=value` fields.
@@ -111,7 +110,7 @@ fn fields(h: &[u8]) -> std::result::Result<Vec<(String, Vec<u8>)>, String> {
     let mut out = Vec::new();
     let mut i = 0usize;
     while i < h.len() {
-        let Some(len) = h.get(i..i + 4).map(le32) else {
+        let Ok(len) = read_at::<u32>(h, i, Endian::Little) else {
             return Err(format!(
                 "header byte {i}: expected a 4-byte field length, found the end of the header"
             ));
@@ -140,13 +139,13 @@ trait Source {
     fn read_exact_at(&mut self, n: usize) -> std::io::Result<Vec<u8>>;
 }
 
-struct FileSource {
-    file: File,
+struct FileSource<R> {
+    file: R,
     pos: u64,
     len: u64,
 }
 
-impl Source for FileSource {
+impl<R: Read + Seek> Source for FileSource<R> {
     fn pos(&self) -> u64 {
         self.pos
     }
@@ -162,26 +161,17 @@ impl Source for FileSource {
     }
 }
 
-struct SliceSource<'a> {
-    data: &'a [u8],
-    pos: u64,
-}
-
-impl Source for SliceSource<'_> {
+impl Source for Reader<'_> {
     fn pos(&self) -> u64 {
-        self.pos
+        Reader::pos(self) as u64
     }
     fn len(&self) -> u64 {
-        self.data.len() as u64
+        Reader::len(self) as u64
     }
     fn read_exact_at(&mut self, n: usize) -> std::io::Result<Vec<u8>> {
-        let start = usize::try_from(self.pos).unwrap_or(usize::MAX);
         let v = self
-            .data
-            .get(start..)
-            .and_then(|r| r.get(..n))
-            .ok_or(std::io::ErrorKind::UnexpectedEof)?;
-        self.pos += n as u64;
+            .take(n)
+            .map_err(|_| std::io::ErrorKind::UnexpectedEof)?;
         Ok(v.to_vec())
     }
 }
@@ -218,10 +208,14 @@ struct Conn {
     type_name: String,
 }
 
-/// Read the messages of the topics `wanted` accepts.
-pub fn read(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
-    let file = File::open(path).map_err(|e| Error::io(path, &e))?;
-    let len = file.metadata().map_err(|e| Error::io(path, &e))?.len();
+/// Read the messages of the topics `wanted` accepts from `file` (`len`
+/// bytes), read from `path`.
+pub fn read<R: Read + Seek>(
+    file: R,
+    len: u64,
+    path: &Path,
+    wanted: &dyn Fn(&str) -> bool,
+) -> Result<Contents> {
     let mut src = FileSource { file, pos: 0, len };
     let perr = |e: String| Error::parse(format!("ROS 1 bag: {e}")).in_file(path);
     let magic = src.read_exact_at(MAGIC.len()).unwrap_or_default();
@@ -260,13 +254,10 @@ pub fn read(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
     let index = src
         .read_exact_at(index_len as usize)
         .map_err(|e| Error::io(path, &e))?;
-    let mut isrc = SliceSource {
-        data: &index,
-        pos: 0,
-    };
+    let mut isrc = Reader::new(&index, Endian::Little);
     let mut conns: BTreeMap<u32, Conn> = BTreeMap::new();
     let mut chunks: Vec<(u64, Vec<u32>)> = Vec::new();
-    while isrc.pos < isrc.len() {
+    while isrc.left() > 0 {
         let mut r = record(&mut isrc, "index section").map_err(|e| {
             perr(format!(
                 "index section at byte {index_pos}: {e} (offsets within the section)"
@@ -310,7 +301,7 @@ pub fn read(path: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
         .collect();
     // Chunks are about the same size: count progress in chunks, scaled to bytes.
     let per_chunk = len / u64::from(chunk_count.max(1));
-    let mut progress = super::Progress::new(path, per_chunk * todo.len() as u64);
+    let mut progress = Progress::new(path, per_chunk * todo.len() as u64);
     for (i, chunk_pos) in todo.into_iter().enumerate() {
         progress.update(per_chunk * i as u64);
         read_chunk(path, &mut src, chunk_pos, &conns, &want, &mut out.messages)?;
@@ -390,9 +381,9 @@ fn decompress(path: &Path, r: &Record) -> Result<Vec<u8>> {
     Ok(out)
 }
 
-fn read_chunk(
+fn read_chunk<R: Read + Seek>(
     path: &Path,
-    src: &mut FileSource,
+    src: &mut FileSource<R>,
     chunk_pos: u64,
     conns: &BTreeMap<u32, Conn>,
     want: &BTreeSet<u32>,
@@ -409,11 +400,8 @@ fn read_chunk(
         ));
     }
     let data = decompress(path, &r)?;
-    let mut inner = SliceSource {
-        data: &data,
-        pos: 0,
-    };
-    while inner.pos < inner.len() {
+    let mut inner = Reader::new(&data, Endian::Little);
+    while inner.left() > 0 {
         let m = record(&mut inner, "chunk")
             .map_err(|e| r.err(path, format!("inside the chunk: {e}")))?;
         if m.op() != Some(OP_MSG_DATA) {

@@ -6,7 +6,7 @@
 
 use super::read::JointRaw;
 use crate::diagnostic::{Code, Error, Result, Warning};
-use crate::formats::LoadOptions;
+use crate::formats::spec::LoadOptions;
 use crate::frames::{Edge, JointState, JointType};
 use crate::geometry::se3::{robust_norm, scaled_unit};
 use crate::geometry::Transform;
@@ -22,6 +22,8 @@ use std::collections::HashMap;
 /// file order that has one, as when all joints were read first.
 pub(super) struct Builder<'o> {
     opts: &'o LoadOptions,
+    /// The format id the edges carry.
+    format: &'static str,
     edges: Vec<Edge>,
     /// Warnings of the edges, reported after those of the reading.
     warnings: Vec<Warning>,
@@ -41,9 +43,10 @@ enum Failure {
 }
 
 impl<'o> Builder<'o> {
-    pub(super) fn new(opts: &'o LoadOptions, joints: usize) -> Self {
+    pub(super) fn new(opts: &'o LoadOptions, joints: usize, format: &'static str) -> Self {
         Builder {
             opts,
+            format,
             edges: Vec::with_capacity(joints),
             warnings: Vec::new(),
             movable: Vec::new(),
@@ -73,7 +76,7 @@ impl<'o> Builder<'o> {
         let set = opts.joints.get(&j.name).copied();
         let key = format!("joint \"{}\" <origin>", j.name);
         let edge = |t: Transform, key: String| {
-            Edge::new(&j.parent, &j.child, t, j.loc.clone(), super::SPEC.id, key)
+            Edge::new(&j.parent, &j.child, t, j.loc.clone(), self.format, key)
                 .with_compact_precision(j.origin_precision.clone())
         };
         match j.jtype {

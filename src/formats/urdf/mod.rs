@@ -5,7 +5,7 @@
 //! fixed-axis roll-pitch-yaw, `R = Rz(yaw) Ry(pitch) Rx(roll)`, then the joint's
 //! motion. A missing `<origin>` is the identity; a missing `rpy` or `xyz` is zero.
 //!
-//! Versions, as ROS (urdfdom 6.0) reads them ([`version`]): `<robot version>` is
+//! Versions, as ROS (urdfdom 6.0) reads them ([`UrdfVersion`]): `<robot version>` is
 //! 1.0 when absent, must be `x.y` and 1.0 to 1.2, else the file is refused at
 //! the `<robot>` line. URDF 1.1's `quat_xyzw` (x y z w order) is applied only
 //! from 1.1 (or with `--urdf-version 1.1`); in a 1.0 file ROS ignores it,
@@ -38,7 +38,7 @@
 //! unless `--joint NAME=0` puts it at its origin (a floating pose needs six
 //! numbers: give it as a static transform instead).
 //!
-//! Reader: the text is read without a document tree ([`stream`], quick-xml
+//! Reader: the text is read without a document tree (`stream`, quick-xml
 //! events; XML errors still worded by roxmltree), in two passes: the whole
 //! text checked and the root, links and any xacro noted, then the joints one
 //! at a time, each turned into its edge at once (issue 12: memory per link).
@@ -68,14 +68,14 @@
 mod joints;
 mod read;
 mod stream;
-pub mod version;
 
-pub use version::UrdfVersion;
+pub use crate::formats::spec::UrdfVersion;
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::formats::registry::FormatSpec;
 use crate::formats::source::LineIndex;
-use crate::formats::{xacro, LoadOptions, Loaded};
+use crate::formats::spec::{Confidence, FormatSpec, LoadOptions, Loaded};
+use crate::formats::xacro::markers as xacro;
+use crate::formats::xml;
 use crate::frames::{Edge, FrameDecl};
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -90,7 +90,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     refuse_xacro(&idx, outline.xacro.as_ref(), path)?;
     let version = read::version(&idx, &outline.root, opts)?;
     let links = read::links(&idx, &outline.links)?;
-    let mut builder = joints::Builder::new(opts, outline.joints);
+    let mut builder = joints::Builder::new(opts, outline.joints, SPEC.id);
     let names = read::joints(text, &idx, &links, version, path, &mut warnings, |j| {
         builder.push(j);
         Ok(())
@@ -203,21 +203,20 @@ fn refuse_xacro(idx: &LineIndex, first: Option<&stream::El>, path: &Path) -> Res
     .at_line(l, Some(c)))
 }
 
-/// Links by name (start offsets), for the joints' parent and child checks.
-pub(crate) type Links<'a> = HashMap<Cow<'a, str>, usize>;
-
 /// URDF.
 pub const SPEC: FormatSpec = FormatSpec {
     id: "urdf",
     description: "URDF robot description: each joint <origin> is the child link's pose in the parent link (R = Rz(yaw) Ry(pitch) Rx(roll)); movable joints at 0 unless --joint NAME=VALUE",
     extensions: &[],
     walk: &[".urdf", ".xml"],
-    sniff: |s| {
-        if s.xml_candidate() && s.text.contains("<robot") {
-            Some(crate::formats::registry::CERTAIN)
+    magic: &[],
+    sniff: |i| {
+        if xml::candidate(i) && i.contains("<robot") {
+            Some(Confidence::Certain)
         } else {
-            (s.ext == "urdf").then_some(80)
+            (i.ext() == "urdf").then_some(Confidence::Claim)
         }
     },
-    parse,
+    parse: |i, o| parse(i.text()?, i.path(), o),
+    checked: true,
 };

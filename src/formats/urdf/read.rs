@@ -4,17 +4,18 @@
 //! one joint at a time.
 
 use super::stream::{self, El, JointEl};
-use super::version::UrdfVersion;
-use super::Links;
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::formats::locate_warnings;
 use crate::formats::source::LineIndex;
+use crate::formats::spec::{locate_warnings, LoadOptions, UrdfVersion};
 use crate::frames::JointType;
 use crate::geometry::uncertainty::{rounding_covariance, rounding_std, tuple_half_units};
 use crate::geometry::{Precision, QuatOrder, Transform};
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
+
+/// Links by name (start offsets), for the joints' parent and child checks.
+pub(crate) type Links<'a> = HashMap<Cow<'a, str>, usize>;
 
 /// The `type` names URDF accepts, in the order error messages list them.
 const JOINT_TYPES: &[&str] = &[
@@ -114,11 +115,7 @@ impl Version {
 
 /// `<robot version>` read as urdfdom reads it (refused at the `<robot>` line
 /// when malformed or unsupported), then `--urdf-version` if given.
-pub(super) fn version(
-    idx: &LineIndex,
-    root: &El,
-    opts: &crate::formats::LoadOptions,
-) -> Result<Version> {
+pub(super) fn version(idx: &LineIndex, root: &El, opts: &LoadOptions) -> Result<Version> {
     let declared = match root.attr("version") {
         None => None,
         Some(s) => Some(UrdfVersion::parse(s).map_err(|m| {

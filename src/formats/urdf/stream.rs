@@ -21,7 +21,8 @@
 
 use crate::diagnostic::{Error, Result};
 use crate::formats::source::LineIndex;
-use crate::formats::{xacro, xml};
+use crate::formats::xacro::markers as xacro;
+use crate::formats::xml;
 use crate::tolerances::URDF_MAX_XML_DEPTH;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::name::ResolveResult;

@@ -8,13 +8,12 @@
 
 use super::expr::{self, Env};
 use super::limits::Budget;
-use super::scope::MacroEntry;
-use super::scope::{MacroScope, MacroTable, Scope, Slot, Table};
+use super::scope::{MacroEntry, MacroScope, MacroTable};
 use super::subst::{self, Subst};
-use super::tree::{self, Doc, Elem, Node, Src};
-use super::value::{eval_literal, Value};
+use super::tree::{self, err_at, Doc, Elem, Node, Src};
+use super::value::{eval_literal, Scope, Slot, Table, Value};
 use crate::diagnostic::{Code, Error, Result, Warning};
-use crate::formats::LoadOptions;
+use crate::formats::spec::LoadOptions;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -46,26 +45,6 @@ pub struct Expander<'o> {
     pub warnings: Vec<Warning>,
     /// The working directory (canonical), to print paths below it relative.
     pub cwd: Option<PathBuf>,
-}
-
-/// An error at an element, with the macro calls that led there (innermost
-/// first, at most three).
-pub fn err_at(src: &Src, msg: impl Into<String>, stack: &[String]) -> Error {
-    let mut m = msg.into();
-    if !stack.is_empty() {
-        let shown: Vec<&str> = stack.iter().rev().take(3).map(String::as_str).collect();
-        let more = stack.len().saturating_sub(3);
-        m = format!(
-            "{m} (in macro {}{})",
-            shown.join(", from macro "),
-            if more > 0 {
-                format!(", and {more} outer macro call(s)")
-            } else {
-                String::new()
-            }
-        );
-    }
-    Error::parse(m).at(&src.location())
 }
 
 impl<'o> Expander<'o> {

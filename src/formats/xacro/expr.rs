@@ -25,7 +25,7 @@ pub trait Env {
     /// A property or namespace by name (`None`: not defined).
     fn lookup(&mut self, name: &str) -> Result<Option<Value>, String>;
     /// A name inside a namespace value.
-    fn lookup_in(&mut self, ns: &super::scope::Scope, name: &str) -> Result<Option<Value>, String>;
+    fn lookup_in(&mut self, ns: &super::value::Scope, name: &str) -> Result<Option<Value>, String>;
     /// `xacro.load_yaml(path)`.
     fn load_yaml(&mut self, path: &str) -> Result<Value, String>;
     /// `xacro.arg(name)`.
@@ -632,7 +632,7 @@ mod tests {
         }
         fn lookup_in(
             &mut self,
-            _: &super::super::scope::Scope,
+            _: &super::super::value::Scope,
             _: &str,
         ) -> Result<Option<Value>, String> {
             Ok(None)

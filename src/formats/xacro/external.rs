@@ -8,9 +8,10 @@
 //! cause of a failure reaches the user (xacro's last line is only "when
 //! processing file: X").
 
-use super::advice;
+use super::markers::advice;
 use crate::diagnostic::{Error, Result};
-use crate::formats::{urdf, LoadOptions, Loaded};
+use crate::formats::spec::{LoadOptions, Loaded};
+use crate::formats::urdf;
 use crate::tolerances::{XACRO_MAX_SECONDS, XACRO_MAX_STDERR_BYTES};
 use std::io::Read;
 use std::path::Path;

@@ -3,9 +3,9 @@
 //! `lazy_eval`) and `xacro.load_yaml`.
 
 use super::expand::Expander;
-use super::scope::{MacroEntry, MacroScope, MacroTable, Scope, Slot, Table};
+use super::scope::{MacroEntry, MacroScope, MacroTable};
 use super::tree::{self, Elem, Node, Src};
-use super::value::{eval_literal, Value};
+use super::value::{eval_literal, Scope, Slot, Table, Value};
 use crate::diagnostic::Result;
 use crate::formats::yaml;
 use std::path::{Path, PathBuf};
@@ -87,25 +87,22 @@ impl Expander<'_> {
     }
 
     /// A regular file's text, at most `--max-file-size` bytes (a device or
-    /// FIFO named by an include would never end).
+    /// FIFO named by an include would never end), read through
+    /// `crate::input`.
     fn read_text(&self, path: &Path, src: &Src, what: &str) -> Result<String> {
-        use std::io::Read;
+        use crate::input::ReadError;
         let fail = |e: String| self.err(src, format!("{what} {}: {e}", path.display()));
-        let meta = std::fs::metadata(path).map_err(|e| fail(e.to_string()))?;
-        if !meta.is_file() {
-            return Err(fail("not a regular file".into()));
-        }
         let cap = self.opts.max_file_size;
-        let mut text = String::new();
-        std::fs::File::open(path)
-            .and_then(|f| f.take(cap.saturating_add(1)).read_to_string(&mut text))
-            .map_err(|e| fail(e.to_string()))?;
-        if text.len() as u64 > cap {
-            return Err(fail(format!(
-                "more than {cap} bytes (the --max-file-size cap)"
-            )));
-        }
-        Ok(text)
+        let bytes = crate::input::read_file(path, cap).map_err(|e| {
+            fail(match e {
+                ReadError::Io(e) => e.to_string(),
+                ReadError::Directory | ReadError::NotRegular(_) => "not a regular file".into(),
+                ReadError::TooLarge { .. } => {
+                    format!("more than {cap} bytes (the --max-file-size cap)")
+                }
+            })
+        })?;
+        String::from_utf8(bytes).map_err(|_| fail("stream did not contain valid UTF-8".into()))
     }
 
     pub fn include(

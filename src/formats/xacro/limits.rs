@@ -2,8 +2,7 @@
 //! elements and bytes, macro nesting, include nesting and wall time, so a
 //! macro bomb or a recursive macro is refused quickly with the place it grew.
 
-use super::expand::err_at;
-use super::tree::Src;
+use super::tree::{err_at, Src};
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::{
     XACRO_MAX_ELEMENTS, XACRO_MAX_INCLUDE_DEPTH, XACRO_MAX_MACRO_DEPTH, XACRO_MAX_OUTPUT_BYTES,

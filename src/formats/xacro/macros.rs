@@ -4,9 +4,9 @@
 //! `ns`.
 
 use super::expand::Expander;
-use super::scope::{Macro, MacroEntry, MacroScope, MacroTable, Scope, Slot, Table};
+use super::scope::{Macro, MacroEntry, MacroScope, MacroTable};
 use super::tree::{Elem, Node};
-use super::value::{eval_literal, Value};
+use super::value::{eval_literal, Scope, Slot, Table, Value};
 use crate::diagnostic::Result;
 use std::collections::HashMap;
 use std::rc::Rc;

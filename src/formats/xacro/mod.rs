@@ -37,34 +37,19 @@ pub mod external;
 mod include;
 mod limits;
 mod macros;
+pub(crate) mod markers;
 mod ops;
 mod scope;
 pub mod subst;
 mod tree;
 mod value;
 
+pub use markers::{advice, has_markers};
+
 use crate::diagnostic::{Error, Location, Result, Warning};
-use crate::formats::registry::FormatSpec;
-use crate::formats::{urdf, LoadOptions, Loaded};
+use crate::formats::spec::{FormatSpec, LoadOptions, Loaded};
+use crate::formats::urdf;
 use std::path::Path;
-
-/// Whether URDF text still holds xacro: the namespace, elements or
-/// substitutions.
-pub fn has_markers(text: &str) -> bool {
-    text.contains("xmlns:xacro")
-        || text.contains("<xacro:")
-        || text.contains("${")
-        || text.contains("$(")
-}
-
-/// What to do with a `.urdf` that holds xacro, for messages.
-pub fn advice(path: &Path) -> String {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().to_string())
-        .unwrap_or_else(|| "robot.urdf".to_string());
-    format!("read it as xacro: `audit --input-format xacro {name}` (or name it .xacro)")
-}
 
 /// The expanded URDF text and, per output line that starts an element, the
 /// source location of that element.
@@ -173,6 +158,8 @@ pub const SPEC: FormatSpec = FormatSpec {
     description: "xacro macro file: expanded by the built-in expander (--arg NAME=VALUE, --package-path DIR for $(find)), then read as URDF; edges point at the line in the xacro source",
     extensions: &["xacro", "urdf.xacro"],
     walk: &[".xacro"],
+    magic: &[],
     sniff: |_| None,
-    parse,
+    parse: |i, o| parse(i.text()?, i.path(), o),
+    checked: true,
 };

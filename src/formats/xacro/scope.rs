@@ -5,39 +5,45 @@
 //! Properties are lazy: the text of `value` is kept and evaluated at first use
 //! in the table that defines it (then cached), so a property may name another
 //! defined after it; a definition that reaches itself is refused.
+//!
+//! The property tables hold values of any type `V` (`value::Value`, whose
+//! namespaces hold tables in turn: `value` names the instance).
 
 use super::tree::{Elem, Src};
-use super::value::Value;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::rc::Rc;
 
 /// A property as stored.
 #[derive(Debug, Clone)]
-pub enum Slot {
+pub enum Slot<V> {
     /// Text not yet evaluated, with where it was defined.
     Lazy(String, Src),
     /// Being evaluated now (a lookup reaching it is a circular definition).
     Busy,
-    Val(Value),
+    Val(V),
 }
 
-#[derive(Debug, Default)]
-pub struct Table {
-    vars: RefCell<HashMap<String, Slot>>,
-    pub parent: Option<Scope>,
+#[derive(Debug)]
+pub struct Table<V> {
+    vars: RefCell<HashMap<String, Slot<V>>>,
+    pub parent: Option<Scope<V>>,
     /// A namespace opened by `xacro:include ns` (for `scope="parent"`).
     pub is_ns: bool,
 }
 
-pub type Scope = Rc<Table>;
+pub type Scope<V> = Rc<Table<V>>;
 
-impl Table {
-    pub fn root() -> Scope {
-        Rc::new(Table::default())
+impl<V: Clone> Table<V> {
+    pub fn root() -> Scope<V> {
+        Rc::new(Table {
+            vars: RefCell::new(HashMap::new()),
+            parent: None,
+            is_ns: false,
+        })
     }
 
-    pub fn child(parent: &Scope, is_ns: bool) -> Scope {
+    pub fn child(parent: &Scope<V>, is_ns: bool) -> Scope<V> {
         Rc::new(Table {
             vars: RefCell::new(HashMap::new()),
             parent: Some(parent.clone()),
@@ -46,7 +52,7 @@ impl Table {
     }
 
     /// The table in the chain that holds `name`, and its slot.
-    pub fn find(self: &Rc<Self>, name: &str) -> Option<(Scope, Slot)> {
+    pub fn find(self: &Rc<Self>, name: &str) -> Option<(Scope<V>, Slot<V>)> {
         let mut t = self.clone();
         loop {
             if let Some(s) = t.vars.borrow().get(name) {
@@ -61,7 +67,7 @@ impl Table {
         self.find(name).is_some()
     }
 
-    pub fn set(&self, name: &str, slot: Slot) {
+    pub fn set(&self, name: &str, slot: Slot<V>) {
         self.vars.borrow_mut().insert(name.to_string(), slot);
     }
 
@@ -75,7 +81,7 @@ impl Table {
     }
 
     /// The outermost table (`scope="global"`).
-    pub fn top(self: &Rc<Self>) -> Scope {
+    pub fn top(self: &Rc<Self>) -> Scope<V> {
         let mut t = self.clone();
         while let Some(p) = t.parent.clone() {
             t = p;

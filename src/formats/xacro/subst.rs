@@ -13,16 +13,17 @@
 //! packages side by side). A package is a directory with a `package.xml`
 //! whose `<name>` is `pkg`.
 
-use crate::tolerances::{XACRO_PACKAGE_SEARCH_DEPTH, XACRO_PACKAGE_SEARCH_UP};
+use crate::tolerances::{
+    DEFAULT_MAX_FILE_SIZE, XACRO_PACKAGE_SEARCH_DEPTH, XACRO_PACKAGE_SEARCH_UP,
+};
 use std::path::{Path, PathBuf};
 
-/// The `<name>` of the package in `dir`, if `dir/package.xml` exists.
+/// The `<name>` of the package in `dir`, if `dir/package.xml` is a regular
+/// file of UTF-8 text (at most the default file-size cap).
 fn package_name(dir: &Path) -> Option<String> {
     let p = dir.join("package.xml");
-    if !std::fs::metadata(&p).ok()?.is_file() {
-        return None;
-    }
-    let text = std::fs::read_to_string(p).ok()?;
+    let bytes = crate::input::read_file(&p, DEFAULT_MAX_FILE_SIZE).ok()?;
+    let text = String::from_utf8(bytes).ok()?;
     let start = text.find("<name>")? + "<name>".len();
     let end = start + text[start..].find("</name>")?;
     Some(text[start..end].trim().to_string())

@@ -306,3 +306,23 @@ fn escape(s: &str, attr: bool) -> String {
 pub fn file_ref(p: &Path) -> Rc<PathBuf> {
     Rc::new(p.to_path_buf())
 }
+
+/// An error at an element, with the macro calls that led there (innermost
+/// first, at most three).
+pub fn err_at(src: &Src, msg: impl Into<String>, stack: &[String]) -> Error {
+    let mut m = msg.into();
+    if !stack.is_empty() {
+        let shown: Vec<&str> = stack.iter().rev().take(3).map(String::as_str).collect();
+        let more = stack.len().saturating_sub(3);
+        m = format!(
+            "{m} (in macro {}{})",
+            shown.join(", from macro "),
+            if more > 0 {
+                format!(", and {more} outer macro call(s)")
+            } else {
+                String::new()
+            }
+        );
+    }
+    Error::parse(m).at(&src.location())
+}

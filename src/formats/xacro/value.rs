@@ -2,8 +2,16 @@
 //! with (int, float, bool, str, None, list, dict from `load_yaml`), printed
 //! as Python's `str()` prints them, so an attribute reads back the same number.
 
+use super::scope;
 use super::tree::Elem;
 use std::rc::Rc;
+
+/// A property table of values (see `scope`).
+pub type Table = scope::Table<Value>;
+/// A chain of property tables.
+pub type Scope = scope::Scope<Value>;
+/// A property as stored.
+pub type Slot = scope::Slot<Value>;
 
 /// A function or module the expressions may name (`pi`, `sin`, `math.radians`,
 /// `xacro.load_yaml`, ...).
@@ -26,7 +34,7 @@ pub enum Value {
     Dict(Rc<Vec<(Value, Value)>>),
     Builtin(Builtin),
     /// A property namespace (`xacro:include ns="..."`).
-    Ns(super::scope::Scope),
+    Ns(Scope),
     /// A block parameter or block property (`*name`, `**name`).
     Block(Rc<Elem>),
 }
