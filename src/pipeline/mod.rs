@@ -8,12 +8,14 @@ pub mod detector;
 mod diff;
 pub mod files;
 pub mod manifest;
+mod output;
 mod survey;
 pub mod walk;
 
 pub use check::{check, check_with, CheckOptions, Robot};
 pub use diff::{diff, DiffOptions, SideRead};
 pub use files::{expand_paths, write_atomic};
+pub use output::check_output_target;
 pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};
 
 use crate::diagnostic::{Code, Error, Result, Warning};

@@ -11,6 +11,8 @@ pub mod detector;
 pub mod diff;
 pub mod frames;
 pub mod rig;
+mod rig_scene;
+pub mod scan_scene;
 pub mod survey;
 mod survey_plot;
 

@@ -40,6 +40,7 @@ mod hostile_options;
 mod hostile_output;
 mod hostile_points;
 mod json_schemas;
+mod mcap_export;
 mod points_las;
 mod points_progress;
 mod points_readers;
