@@ -431,6 +431,20 @@ pub const RAW_NORMAL_RADIUS_M: f64 = 0.30;
 /// scan: the synthetic pipeline's 8 (paper).
 pub const RAW_MIN_NEIGHBOURS: usize = 8;
 
+/// Duplicate points of a raw scan, merged before the voxel grid and the
+/// normals (`degeneracy::normals::merge_duplicates`): two points are one when
+/// they fall in the same cell of a grid (anchored at the origin) whose edge
+/// is this fraction of the scan's scale `max(1 m, largest |coordinate|)`.
+/// 2^-40 (9.1e-13) is a few thousand f64 ulps of the largest coordinate: it
+/// merges every exact duplicate (a driver or a converter repeating records)
+/// and points equal but for arithmetic rounding, and nothing a sensor can
+/// resolve: 0.9 pm near the origin, 3.6 um for UTM coordinates of 4e6 m (a
+/// LiDAR resolves millimetres). Relative, so far-from-origin scans are
+/// treated as ones at the origin; points that differ by less but straddle a
+/// cell boundary stay two (each then a neighbour of the other, as any two
+/// close points are).
+pub const DUPLICATE_POINT_REL_TOL: f64 = 1.0 / (1u64 << 40) as f64;
+
 /// Accepted `--voxel` of `audit degeneracy` (m): from a millimetre to 10 m.
 pub const RAW_VOXEL_RANGE_M: (f64, f64) = (1e-3, 10.0);
 

@@ -11,13 +11,17 @@
 //! al. 2011: 1 on a plane, 0 on a line or an isotropic blob) is below
 //! `min_planarity`. On a spinning LiDAR's ground the neighbourhoods of sparse
 //! rings are lines whose smallest-eigenvalue direction is arbitrary about
-//! the ring; the gate drops them. The work is split over
+//! the ring; the gate drops them. Duplicate points are merged first
+//! ([`merge_duplicates`]): fifty copies of a point are one point, not fifty
+//! neighbours standing in for a surface (60 points repeated 50 times give
+//! the normals of the 60). The work is split over
 //! threads by contiguous point ranges; the output keeps the input order, so it
 //! does not depend on the thread count.
 
 use super::scene::Cloud;
 use crate::diagnostic::{Error, Result};
 use crate::progress::{NoProgress, Progress};
+use crate::tolerances::DUPLICATE_POINT_REL_TOL;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 use std::num::NonZero;
@@ -215,6 +219,46 @@ fn estimate_range(
     }
     progress.advance((points.len() % PROGRESS_STEP) as u64);
     (out, st, kept)
+}
+
+/// `points` with duplicates merged, or `None` when there are none: the first
+/// of each group of points in one cell of the duplicate grid
+/// ([`DUPLICATE_POINT_REL_TOL`] of the scan's scale), in input order, with
+/// the mean of the group's weights (as the voxel grid does).
+pub fn merge_duplicates(
+    points: &[[f64; 3]],
+    weights: Option<&[f64]>,
+) -> Option<(Vec<[f64; 3]>, Option<Vec<f64>>)> {
+    let scale = points.iter().flatten().fold(1.0f64, |m, c| m.max(c.abs()));
+    let cell = DUPLICATE_POINT_REL_TOL * scale;
+    if !cell.is_finite() || points.len() < 2 {
+        return None;
+    }
+    // |c| / cell <= 2^40: the keys fit an i64 exactly.
+    let key = |p: &[f64; 3]| p.map(|c| (c / cell).floor() as i64);
+    let mut order: Vec<([i64; 3], usize)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (key(p), i))
+        .collect();
+    order.sort_unstable();
+    // Each group: its first point (input order), its weights' sum, its size.
+    let mut firsts: Vec<(usize, f64, usize)> = Vec::new();
+    for run in order.chunk_by(|a, b| a.0 == b.0) {
+        let w: f64 = run
+            .iter()
+            .map(|&(_, i)| weights.and_then(|w| w.get(i)).copied().unwrap_or(1.0))
+            .sum();
+        firsts.push((run[0].1, w, run.len()));
+    }
+    if firsts.len() == points.len() {
+        return None;
+    }
+    drop(order);
+    firsts.sort_unstable_by_key(|f| f.0);
+    let kept = firsts.iter().map(|f| points[f.0]).collect();
+    let w = weights.map(|_| firsts.iter().map(|f| f.1 / f.2 as f64).collect());
+    Some((kept, w))
 }
 
 /// Points between two progress reports of the normal estimation.
