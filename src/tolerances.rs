@@ -168,6 +168,17 @@ pub const MAX_MANIFEST_FILE_SIZE: u64 = 1024 * 1024;
 /// tool or a person writes it is under 1 KiB.
 pub const MAX_MATRIX_FILE_SIZE: u64 = 64 * 1024;
 
+/// Random characters (letters and digits, 62 each: 71 bits) in the name of a
+/// temporary file the writer creates beside its target
+/// (`pipeline::write_atomic`): a name planted in advance is never met.
+pub const WRITE_TEMP_RANDOM_CHARS: usize = 12;
+
+/// Temporary files registered at once for removal on SIGINT, SIGTERM and
+/// SIGHUP (`pipeline::cleanup`; each write registers one for its duration: a
+/// command writes one or two). A write beyond it still works, unprotected
+/// against those signals.
+pub const MAX_SIGNAL_CLEANUP_PATHS: usize = 64;
+
 /// Longest value (characters) a message quotes from a file before it is
 /// shortened (the head and the tail kept, with the count of what was cut).
 pub const MAX_QUOTED_CHARS: usize = 120;

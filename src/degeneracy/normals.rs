@@ -221,14 +221,14 @@ fn estimate_range(
     (out, st, kept)
 }
 
+/// Points with duplicates merged, and their weights when the input had any.
+pub type Merged = (Vec<[f64; 3]>, Option<Vec<f64>>);
+
 /// `points` with duplicates merged, or `None` when there are none: the first
 /// of each group of points in one cell of the duplicate grid
 /// ([`DUPLICATE_POINT_REL_TOL`] of the scan's scale), in input order, with
 /// the mean of the group's weights (as the voxel grid does).
-pub fn merge_duplicates(
-    points: &[[f64; 3]],
-    weights: Option<&[f64]>,
-) -> Option<(Vec<[f64; 3]>, Option<Vec<f64>>)> {
+pub fn merge_duplicates(points: &[[f64; 3]], weights: Option<&[f64]>) -> Option<Merged> {
     let scale = points.iter().flatten().fold(1.0f64, |m, c| m.max(c.abs()));
     let cell = DUPLICATE_POINT_REL_TOL * scale;
     if !cell.is_finite() || points.len() < 2 {
@@ -355,4 +355,32 @@ fn normals_on_threads(
         st.not_planar += s.not_planar;
     }
     Ok((cloud, st, kept))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn duplicates_merge_within_the_cell_and_keep_the_first_in_order() {
+        // Far from the origin: scale 4e6 m, cell 4e6 * 2^-40 (3.6 um).
+        let cell = DUPLICATE_POINT_REL_TOL * 4.0e6;
+        let c = |k: f64| (1.0e12 + k) * cell; // a cell boundary near 3.6e6 m
+        let base = [c(0.5), 4.0e6, 10.0];
+        let pts = [
+            [1.0, 2.0, 3.0],
+            base,
+            [c(0.5) + 0.25 * cell, 4.0e6, 10.0], // same cell: merged
+            [1.0, 2.0, 3.0],                     // exact copy: merged
+            [c(2.5), 4.0e6, 10.0],               // two cells on (7 um): kept
+        ];
+        let w = [1.0, 2.0, 4.0, 3.0, 5.0];
+        let (kept, weights) = merge_duplicates(&pts, Some(&w)).expect("duplicates");
+        assert_eq!(kept, [pts[0], pts[1], pts[4]]);
+        assert_eq!(weights, Some(vec![2.0, 3.0, 5.0]));
+        // No duplicate: nothing copied.
+        assert_eq!(merge_duplicates(&[pts[0], pts[1], pts[4]], None), None);
+        // Near the origin the cell is 2^-40 m: a picometre apart stays two.
+        assert_eq!(merge_duplicates(&[[0.0; 3], [1e-12, 0.0, 0.0]], None), None);
+    }
 }

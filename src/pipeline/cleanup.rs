@@ -13,13 +13,13 @@
 //! one (a Python interpreter's SIGINT, `nohup`'s SIGHUP) keeps its own. It
 //! does only async-signal-safe work: atomic loads, `unlink(2)`, `signal(2)`,
 //! `raise(3)`. SIGKILL cannot be caught: a killed process may leave its
-//! temporary (the target is never half-written). At most [`SLOTS`] paths are
+//! temporary (the target is never half-written). At most
+//! [`MAX_SIGNAL_CLEANUP_PATHS`](crate::tolerances::MAX_SIGNAL_CLEANUP_PATHS) paths are
 //! registered at once; a write beyond that runs unprotected against signals.
 
 use std::path::Path;
 
-/// Paths registered at once (each write registers one, for its duration).
-pub const SLOTS: usize = 64;
+use crate::tolerances::MAX_SIGNAL_CLEANUP_PATHS as SLOTS;
 
 /// A registration: dropping it forgets the path (the owner removes or renames
 /// the file itself).

@@ -6,8 +6,9 @@
 //!
 //! - the temporary file is created exclusively (`O_CREAT | O_EXCL`, which
 //!   never follows a symlink) under an unpredictable name
-//!   `.NAME.<12 random characters>.tmp` in the target's directory, by the
-//!   `tempfile` crate; a planted file or link at any name is never opened;
+//!   `.NAME.<12 random characters>.tmp` ([`WRITE_TEMP_RANDOM_CHARS`]) in the
+//!   target's directory, by the `tempfile` crate; a planted file or link at
+//!   any name is never opened;
 //! - the temporary is removed on every path: an error or a panic (its `Drop`),
 //!   SIGINT, SIGTERM and SIGHUP ([`super::cleanup`]); only SIGKILL can leave
 //!   it (the target is never half-written);
@@ -25,6 +26,7 @@
 
 use super::cleanup;
 use crate::diagnostic::{Code, Error, Result};
+use crate::tolerances::WRITE_TEMP_RANDOM_CHARS;
 use std::io::Write;
 use std::path::{Component, Path, PathBuf};
 
@@ -147,8 +149,15 @@ fn temp_prefix(path: &Path) -> String {
     format!(".{}.", &name[..cut])
 }
 
-/// Random characters in a temporary's name (62 possible each: 71 bits).
-const TEMP_RANDOM_CHARS: usize = 12;
+/// Create `p` exclusively (`O_CREAT | O_EXCL`: an existing file or link at
+/// `p` is an error, never opened), mode `0666` less the umask.
+fn create_new(p: &Path) -> std::io::Result<std::fs::File> {
+    let mut o = std::fs::OpenOptions::new();
+    o.write(true).create_new(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::mode(&mut o, 0o666);
+    o.open(p)
+}
 
 /// Write `bytes` to `path` atomically (see the module documentation): a
 /// temporary file created exclusively in the same directory, written and
@@ -167,19 +176,19 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         .ok()
         .filter(|m| m.is_file())
         .map(|m| m.permissions());
-    let mut builder = tempfile::Builder::new();
     let prefix = temp_prefix(path);
-    builder
+    // Registered before it is created (a signal between the two would leave
+    // it); a name that turns out to be taken is forgotten with the retry.
+    let mut interrupted = None;
+    let mut tmp = tempfile::Builder::new()
         .prefix(&prefix)
         .suffix(".tmp")
-        .rand_bytes(TEMP_RANDOM_CHARS);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    let mut tmp = builder.tempfile_in(&dir).map_err(cannot)?;
-    let _interrupted = cleanup::register(tmp.path());
+        .rand_bytes(WRITE_TEMP_RANDOM_CHARS)
+        .make_in(&dir, |p| {
+            interrupted = Some(cleanup::register(p));
+            create_new(p)
+        })
+        .map_err(cannot)?;
     tmp.write_all(bytes).map_err(cannot)?;
     if let Some(p) = old_mode {
         // An existing file keeps its mode exactly (a 0600 baseline stays 0600).
