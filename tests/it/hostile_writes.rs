@@ -50,6 +50,19 @@ fn tree() -> (tempfile::TempDir, PathBuf) {
     (dir, root)
 }
 
+/// Each `(command line, reason)` in `root`: exit 2 with the reason on
+/// standard error, and not a byte or link under `root` changed.
+fn refused(root: &Path, cases: &[(&str, &str)]) {
+    let before = snapshot(root);
+    for (line, why) in cases {
+        let args: Vec<&str> = line.split(' ').collect();
+        let (code, out, err) = run_in(root, &args);
+        assert_eq!(code, 2, "{line}: {out}{err}");
+        assert!(err.contains(why), "{line}: {err}");
+        assert_eq!(snapshot(root), before, "{line} touched a file");
+    }
+}
+
 #[test]
 fn planted_links_never_steer_a_write() {
     let (_d, root) = tree();
@@ -82,34 +95,22 @@ fn planted_links_never_steer_a_write() {
     symlink(root.join("outside/B.json"), root.join("B.json")).unwrap();
     symlink(root.join("outside"), root.join("ci")).unwrap();
     symlink(&victim, root.join("p.svg")).unwrap();
-    let before = snapshot(&root);
-    for (args, why) in [
-        (
-            &["check", "cal", "--write-baseline", "B.json"][..],
-            "is a symlink (to ",
-        ),
-        (
-            &["check", "cal", "--write-baseline", "ci/new.json"][..],
-            "ci is a symlink inside the current directory",
-        ),
-        (
-            &["check", "cal", "--write-baseline", "./ci/../ci/B.json"][..],
-            "is a symlink inside",
-        ),
-        (
-            &["survey", "cal", "--plot", "p.svg"][..],
-            "is a symlink (to ",
-        ),
-        (
-            &["survey", "cal", "--plot", "ci/p.svg"][..],
-            "is a symlink inside",
-        ),
-    ] {
-        let (code, out, err) = run_in(&root, args);
-        assert_eq!(code, 2, "{args:?}: {out}{err}");
-        assert!(err.contains(why), "{args:?}: {err}");
-        assert_eq!(snapshot(&root), before, "{args:?} touched a file");
-    }
+    refused(
+        &root,
+        &[
+            ("check cal --write-baseline B.json", "is a symlink (to "),
+            (
+                "check cal --write-baseline ci/new.json",
+                "ci is a symlink inside the current directory",
+            ),
+            (
+                "check cal --write-baseline ./ci/../ci/B.json",
+                "is a symlink inside",
+            ),
+            ("survey cal --plot p.svg", "is a symlink (to "),
+            ("survey cal --plot ci/p.svg", "is a symlink inside"),
+        ],
+    );
     // A link outside the current directory is the operator's layout: followed.
     let (code, out, err) = run_in(
         &root.join("cal"),
@@ -126,42 +127,36 @@ fn no_spelling_of_an_input_is_written() {
     std::fs::hard_link(root.join("cal/rig.toml"), root.join("out/hard.svg")).unwrap();
     std::fs::copy(CALIBRATION, root.join("cal/odd.svg")).unwrap();
     std::fs::create_dir(root.join("cal/sub")).unwrap();
-    let before = snapshot(&root);
-    for (args, why) in [
-        (
-            &["check", "cal", "--write-baseline", "cal/../cal/rig.toml"][..],
-            "one of the checked calibration files",
-        ),
-        (
-            &["check", "cal", "--write-baseline", "./cal//sub/../rig.toml"][..],
-            "one of the checked calibration files",
-        ),
-        (
-            &["check", "cal/rig.toml", "--write-baseline", "out/hard.json"][..],
-            "one of the checked calibration files",
-        ),
-        (
-            &["check", "cal", "--write-baseline", "out/hard.json"][..],
-            "one of the checked calibration files",
-        ),
-        (
-            &["survey", "cal/rig.toml", "--plot", "out/hard.svg"][..],
-            "input of the survey",
-        ),
-        (
-            &["survey", "cal", "--plot", "out/hard.svg"][..],
-            "hard links",
-        ),
-        (
-            &["survey", "cal/odd.svg", "--plot", "cal/sub/../odd.svg"][..],
-            "input of the survey",
-        ),
-    ] {
-        let (code, out, err) = run_in(&root, args);
-        assert_eq!(code, 2, "{args:?}: {out}{err}");
-        assert!(err.contains(why), "{args:?}: {err}");
-        assert_eq!(snapshot(&root), before, "{args:?} touched a file");
-    }
+    refused(
+        &root,
+        &[
+            (
+                "check cal --write-baseline cal/../cal/rig.toml",
+                "one of the checked calibration files",
+            ),
+            (
+                "check cal --write-baseline ./cal//sub/../rig.toml",
+                "one of the checked calibration files",
+            ),
+            (
+                "check cal/rig.toml --write-baseline out/hard.json",
+                "one of the checked calibration files",
+            ),
+            (
+                "check cal --write-baseline out/hard.json",
+                "one of the checked calibration files",
+            ),
+            (
+                "survey cal/rig.toml --plot out/hard.svg",
+                "input of the survey",
+            ),
+            ("survey cal --plot out/hard.svg", "hard links"),
+            (
+                "survey cal/odd.svg --plot cal/sub/../odd.svg",
+                "input of the survey",
+            ),
+        ],
+    );
 }
 
 #[test]
