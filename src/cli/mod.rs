@@ -47,7 +47,7 @@ pub fn emit_warned<R: Report>(
 ) -> Result<()> {
     let format = output.format;
     if let Some(path) = &output.output {
-        pipeline::check_output_target("--output", path, inputs)?;
+        pipeline::check_output_target("--output", "command", path, inputs)?;
         let (style, layout) = display::file_style_layout();
         let bytes = render::render_bytes(report, warnings, format, style, &layout)?;
         return pipeline::write_atomic(path, &bytes);
@@ -73,7 +73,7 @@ pub fn emit_warned<R: Report>(
 /// Check `--output` before a command does its work (the write checks again).
 pub fn check_output(output: &OutputArgs, inputs: &[PathBuf]) -> Result<()> {
     match &output.output {
-        Some(path) => pipeline::check_output_target("--output", path, inputs),
+        Some(path) => pipeline::check_output_target("--output", "command", path, inputs),
         None => Ok(()),
     }
 }

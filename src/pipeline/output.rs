@@ -5,13 +5,21 @@
 //! before the work and again just before the write; the write itself is
 //! [`write_atomic`](super::write_atomic)'s.
 
+use super::files::{same_file, unsafe_target};
 use super::survey::{is_any_input, split_pair};
 use crate::diagnostic::{Error, Result};
 use std::path::{Path, PathBuf};
 
-/// Whether `flag TARGET` may be written by a command that reads `inputs`
-/// (paths as given, `PATH:FROM:TO` included, and the files they included).
-pub fn check_output_target(flag: &str, target: &Path, inputs: &[PathBuf]) -> Result<()> {
+/// Whether `flag TARGET` may be written by a command (`whose`: `survey`,
+/// `command`) that reads `inputs` (paths as given, `PATH:FROM:TO` included,
+/// and the files they included); then [`unsafe_target`]'s refusals (a
+/// symlink, a file of several names, a symlinked directory here).
+pub fn check_output_target(
+    flag: &str,
+    whose: &str,
+    target: &Path,
+    inputs: &[PathBuf],
+) -> Result<()> {
     let shown = target.display();
     if target.is_dir() {
         return Err(Error::usage(format!(
@@ -28,14 +36,19 @@ pub fn check_output_target(flag: &str, target: &Path, inputs: &[PathBuf]) -> Res
         let walked = p.is_dir()
             && p.canonicalize().is_ok_and(|d| real.starts_with(d))
             && is_any_input(&real);
-        if same_file(&p, target, &real) || walked {
+        if same_file(&p, target) || p.canonicalize().is_ok_and(|c| c == real) || walked {
             return Err(Error::usage(format!(
-                "{flag} {shown}: refusing to write over an input ({})",
+                "{flag} {shown}: refusing to write over an input of the {whose} ({})",
                 p.display()
             )));
         }
     }
-    Ok(())
+    match unsafe_target(target) {
+        Some(why) => Err(Error::usage(format!(
+            "{flag} {shown}: refusing to write: {why}"
+        ))),
+        None => Ok(()),
+    }
 }
 
 impl super::Loaded {
@@ -66,19 +79,6 @@ fn real_path(p: &Path) -> Option<PathBuf> {
     Some(joined.canonicalize().unwrap_or(joined))
 }
 
-/// Whether the input `input` and the target (`real`, its real path) are one
-/// file: the same device and inode (hard links too), or the same real path.
-fn same_file(input: &Path, target: &Path, real: &Path) -> bool {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        if let (Ok(a), Ok(b)) = (std::fs::metadata(input), std::fs::metadata(target)) {
-            return a.dev() == b.dev() && a.ino() == b.ino();
-        }
-    }
-    input.canonicalize().is_ok_and(|c| c == real)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,7 +92,7 @@ mod tests {
         std::fs::hard_link(&input, &link).unwrap();
         let inputs = vec![input.clone()];
         let refused = |t: &Path, inputs: &[PathBuf]| {
-            let e = check_output_target("--output", t, inputs).unwrap_err();
+            let e = check_output_target("--output", "command", t, inputs).unwrap_err();
             assert!(
                 e.to_string().contains("refusing to write over an input"),
                 "{e}"
@@ -104,22 +104,22 @@ mod tests {
         // A directory input: a file its walk would read, not another.
         let walked = vec![dir.path().to_path_buf()];
         refused(&dir.path().join("new.yaml"), &walked);
-        check_output_target("--output", &dir.path().join("plot.svg"), &walked).unwrap();
+        check_output_target("--output", "command", &dir.path().join("plot.svg"), &walked).unwrap();
         // An MCAP file is a bag a walk reads.
         refused(&dir.path().join("rig.mcap"), &walked);
         // `PATH:FROM:TO` names its file.
         let pair = vec![PathBuf::from(format!("{}:base:lidar", input.display()))];
         refused(&input, &pair);
-        check_output_target("--output", &dir.path().join("out.mcap"), &inputs).unwrap();
+        check_output_target("--output", "command", &dir.path().join("out.mcap"), &inputs).unwrap();
     }
 
     #[test]
     fn a_directory_or_a_missing_directory_is_no_target() {
         let dir = tempfile::tempdir().unwrap();
-        let e = check_output_target("--output", dir.path(), &[]).unwrap_err();
+        let e = check_output_target("--output", "command", dir.path(), &[]).unwrap_err();
         assert!(e.to_string().contains("found a directory"), "{e}");
         let e =
-            check_output_target("--output", &dir.path().join("no/such/x.mcap"), &[]).unwrap_err();
+            check_output_target("--output", "command", &dir.path().join("no/such/x.mcap"), &[]).unwrap_err();
         assert!(e.to_string().contains("existing directory"), "{e}");
     }
 }

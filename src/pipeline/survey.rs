@@ -294,7 +294,7 @@ pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
             target.display()
         )));
     }
-    super::output::check_output_target("--plot", target, inputs)
+    super::output::check_output_target("--plot", "survey", target, inputs)
 }
 
 /// Draw the survey plot to `target` after [`check_plot_target`] (again: the

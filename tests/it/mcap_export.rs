@@ -248,7 +248,7 @@ fn output_never_replaces_an_input_a_hard_link_to_one_or_a_directory() {
         assert_eq!(code, 2, "{target}");
         assert!(
             err.contains(&format!(
-                "--output {target}: refusing to write over an input ({u})"
+                "--output {target}: refusing to write over an input of the command ({u})"
             )),
             "{err}"
         );

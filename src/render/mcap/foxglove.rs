@@ -13,18 +13,6 @@ pub struct Time {
     pub nsec: u32,
 }
 
-impl Time {
-    /// Nanoseconds since the epoch as `{sec, nsec}` (seconds past `u32::MAX`,
-    /// the year 2106, are clamped).
-    pub fn from_ns(ns: u64) -> Self {
-        let sec = (ns / 1_000_000_000).min(u64::from(u32::MAX)) as u32;
-        Time {
-            sec,
-            nsec: (ns % 1_000_000_000) as u32,
-        }
-    }
-}
-
 /// `foxglove.Vector3` and `foxglove.Point3`.
 #[derive(Debug, Clone, Copy, Serialize, PartialEq)]
 pub struct Xyz {
