@@ -176,21 +176,50 @@ pub const MAX_QUOTED_CHARS: usize = 120;
 /// messages that quote several values.
 pub const MAX_MESSAGE_CHARS: usize = 2000;
 
-/// Largest record, chunk (compressed or not) or message a bag reader allocates
-/// (bytes). rosbag2 and `rosbag record` write chunks of 768 KiB to a few MiB;
-/// a length beyond this in a bag is corruption, refused before allocating.
-pub const MAX_BAG_RECORD_BYTES: usize = 1 << 30;
+/// Largest message, chunk (after decompression) or record a bag reader
+/// takes (bytes). rosbag2 and `rosbag record` write chunks of 768 KiB to a
+/// few MiB, a chunk holding at least one message; the largest legitimate
+/// messages are far below this: a 128k-point `PointCloud2` (Ouster OS1-128,
+/// 48-byte points) is ~6 MiB, a 262k-point one 12 MiB, a robot description a
+/// few MiB, an uncompressed 4K RGB image 24 MiB. A length beyond it is
+/// corruption or a bomb, refused before allocating, and a decompression stops
+/// as its output passes it. At most one chunk is decompressed at a time, so
+/// this bounds the reader's memory (issue 27: 1 GiB at most overall).
+pub const MAX_BAG_MESSAGE_BYTES: usize = 256 << 20;
 
 /// Largest rosbag2 `metadata.yaml` read (bytes): a few KiB in practice, with
 /// one entry per split file and topic.
 pub const MAX_BAG_METADATA_BYTES: u64 = 16 * 1024 * 1024;
 
-/// Largest file a compressed rosbag2 split (`compression_mode: FILE`, a
-/// `.db3.zstd` or `.mcap.zstd`) may decompress to (bytes): rosbag2 splits at a
-/// few GiB at most; beyond this is a zstd bomb. The file is decompressed into
-/// a temporary file (SQLite and the MCAP index need random access), deleted
-/// after reading.
-pub const MAX_BAG_DECOMPRESSED_BYTES: u64 = 64 * 1024 * 1024 * 1024;
+/// A bag file decompresses to at most this many times its own size in all
+/// (every chunk, message and compressed split counted), or
+/// [`MIN_BAG_FILE_OUTPUT_BYTES`], whichever is larger. Recorded sensor data
+/// compresses 1.5-4x with zstd, lz4 or bz2 (organised clouds full of NaN
+/// no-returns up to ~20x); 100x leaves room for all of it, while a bomb (18 KB
+/// bz2 chunks that grow to GBs) stops after a bounded amount of work: the cap
+/// bounds the time as well as the disk a compressed split's temporary file
+/// takes.
+pub const MAX_BAG_EXPANSION: u64 = 100;
+
+/// The per-file decompression cap of a small file (bytes): 1 GiB, so that a
+/// small bag with one large compressed message still reads.
+pub const MIN_BAG_FILE_OUTPUT_BYTES: u64 = 1 << 30;
+
+/// Most bytes of messages the transform reader keeps from one bag (`/tf_static`,
+/// `/robot_description`, on request `/tf`): every message is decoded after
+/// the read, so they are held together. A bag's static tree and description
+/// take kilobytes to a few MiB; a `/tf` of an hour at 1 kHz ~200 MiB.
+pub const MAX_BAG_KEPT_BYTES: usize = 512 << 20;
+
+/// SQLite's hard heap limit (bytes, process-wide), set before the first
+/// `.db3` is opened: a query over a hostile database (a recursive view, a
+/// huge sort) fails with "out of memory" instead of growing; reading a bag
+/// needs a few MiB (the page cache below and one row at a time).
+pub const MAX_SQLITE_HEAP_BYTES: i64 = 256 << 20;
+
+/// SQLite's page cache per connection (KiB): enough for the table scans of a
+/// rosbag2 read, well inside [`MAX_SQLITE_HEAP_BYTES`].
+pub const MAX_SQLITE_CACHE_KIB: u32 = 16 * 1024;
 
 /// A bag read that will go through at least this many bytes shows a progress
 /// line on stderr when stderr is a terminal (below it the read takes well
