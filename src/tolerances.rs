@@ -515,3 +515,53 @@ pub const PROGRESS_MIN_BYTES: u64 = 32 << 20;
 
 /// Point count from which `degeneracy` shows a progress bar (on a terminal).
 pub const PROGRESS_MIN_POINTS: usize = 1 << 20;
+
+// ---------------------------------------------------------------------------
+// Recorded runs (`audit run`, `run`)
+// ---------------------------------------------------------------------------
+
+/// Default voxel edge (m) of a run's scans whose normals are estimated: the
+/// paper's 0.10 m (its real-data pipeline), which the Python peer of the
+/// benchmark also uses. A scan with normal fields is used as stored.
+pub const RUN_VOXEL_M: f64 = 0.10;
+
+/// Most cells (`height * width`) one scan may have: 2^22 (4.2 million; a
+/// 128-beam, 2048-column sweep is 262,144). A larger scan is skipped with a
+/// named warning; the bound keeps one scan's working memory (~130 bytes per
+/// point with normals estimated) near 0.5 GiB.
+pub const MAX_SCAN_CELLS: usize = 1 << 22;
+
+/// Most cells of all the scans in flight at once (read, queued or being
+/// worked on): the work queue waits below it (one scan is always let
+/// through). With [`MAX_SCAN_CELLS`] it bounds a run's memory independently
+/// of its length (docs/runs.md states the bound).
+pub const MAX_RUN_INFLIGHT_CELLS: usize = 1 << 22;
+
+/// Most scans in flight per worker thread (the queue's depth).
+pub const RUN_SCANS_PER_WORKER: usize = 2;
+
+/// A pose sample within this many seconds of a scan's time is the scan's
+/// pose (no interpolation): the rounding of timestamps printed with 6 to 9
+/// decimals, far below a scan period (0.1 s at 10 Hz).
+pub const POSE_TIME_TOL_S: f64 = 1e-6;
+
+/// Largest poses file read (bytes): a KITTI sequence's poses are ~200 B per
+/// scan (4,541 scans: 0.9 MB); 256 MiB is a million scans' worth.
+pub const MAX_POSE_FILE_BYTES: u64 = 256 << 20;
+
+/// Most pairs a run's scan pairs reach back (`--pair-step`): each step held
+/// back is one scan's bytes in memory.
+pub const MAX_PAIR_STEP: usize = 64;
+
+/// Points the timeline keeps per series at most: when a run has more scans,
+/// neighbouring bins merge (the smallest eigenvalue of each bin kept), so
+/// the picture costs the same for any length.
+pub const TIMELINE_BINS: usize = 2048;
+
+/// Degenerate intervals and label-change examples kept per family and frame
+/// in the summary (the counts go on past them).
+pub const MAX_RUN_EXAMPLES: usize = 1000;
+
+/// Warnings printed per kind of skipped scan before the rest are only
+/// counted (the CSV and JSON lines name every one).
+pub const MAX_SKIP_WARNINGS: usize = 20;

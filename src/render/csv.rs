@@ -24,6 +24,18 @@ pub fn render(doc: &Document) -> String {
 
 /// One table as CSV.
 pub fn table(t: &Table) -> String {
+    let mut s = line(&t.header);
+    s.push('\n');
+    for r in &t.rows {
+        s.push_str(&line(r));
+        s.push('\n');
+    }
+    s
+}
+
+/// One CSV record (no line end): cells quoted where they need it. A command
+/// that streams its rows (`audit run`) writes them with this.
+pub fn line(cells: &[String]) -> String {
     let q = |s: &str| {
         if s.contains([',', '"', '\n', '\r']) {
             format!("\"{}\"", s.replace('"', "\"\""))
@@ -31,11 +43,5 @@ pub fn table(t: &Table) -> String {
             s.to_string()
         }
     };
-    let mut s = t.header.iter().map(|h| q(h)).collect::<Vec<_>>().join(",");
-    s.push('\n');
-    for r in &t.rows {
-        s.push_str(&r.iter().map(|c| q(c)).collect::<Vec<_>>().join(","));
-        s.push('\n');
-    }
-    s
+    cells.iter().map(|c| q(c)).collect::<Vec<_>>().join(",")
 }
