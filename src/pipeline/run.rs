@@ -250,15 +250,17 @@ fn transforms(
                 graph.add(l)?;
                 any = true;
             }
-            // A bag without /tf_static or a description is a run without transforms.
-            Err(e) if e.message.starts_with("bag: expected transforms") => {
-                notes.push(
-                    Warning::new(
-                        Code::FrameMissing,
-                        format!("{}: the scans are reported in their own frame", e.message),
-                    )
-                    .at(&Location::file(b)),
-                );
+            // A bag without /tf_static or a description, or one too damaged
+            // to read them, is a run without transforms: the scans are still
+            // read (up to the damage, which the read reports).
+            Err(e) if e.code != Code::Usage => {
+                let what = if e.message.starts_with("bag: expected transforms") {
+                    e.message.clone()
+                } else {
+                    format!("its transforms could not be read ({})", e.message)
+                };
+                let msg = format!("{what}: the scans are reported in their own frame");
+                notes.push(Warning::new(Code::FrameMissing, msg).at(&Location::file(b)));
             }
             Err(e) => return Err(e),
         }

@@ -122,10 +122,37 @@ pub fn load_with(path: &Path, opts: &LoadOptions, bag: &BagOptions) -> Result<Lo
 
 /// Every topic of the bag at `path` with its type and, where the index
 /// counts them, its message count; nothing else is read from an indexed
-/// bag (one without an index is read through to list its topics).
+/// bag (one without an index is read through to list its topics). A damaged
+/// bag lists the topics of the messages read before the damage (its read
+/// will stop there too), or fails when none reads.
 pub fn topics(path: &Path) -> Result<Listing> {
-    stream(path, &|_| false, BagLimits::default(), &mut |_| {
+    let limits = BagLimits::default();
+    let e = match stream(path, &|_| false, limits, &mut |_| Ok(Flow::Continue)) {
+        Ok(l) => return Ok(l),
+        Err(e) => e,
+    };
+    let mut seen: Vec<TopicInfo> = Vec::new();
+    let mut note = |m: RawMessage| {
+        if !seen.iter().any(|t| t.name == m.topic) {
+            seen.push(TopicInfo {
+                name: m.topic,
+                type_name: m.type_name,
+                count: None,
+            });
+        }
         Ok(Flow::Continue)
+    };
+    let warnings = match stream(path, &|_| true, limits, &mut note) {
+        Ok(l) => l.warnings,
+        Err(_) => Vec::new(),
+    };
+    if seen.is_empty() {
+        return Err(e);
+    }
+    seen.sort();
+    Ok(Listing {
+        topics: seen,
+        warnings,
     })
 }
 
