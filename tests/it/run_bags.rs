@@ -56,8 +56,12 @@ fn an_mcap_chunk_bomb_stops_at_the_block_cap() {
         .chunk_size(Some(u64::MAX))
         .create(std::io::BufWriter::new(std::fs::File::create(&f).unwrap()))
         .unwrap();
-    let s = w.add_schema("sensor_msgs/msg/PointCloud2", "ros2msg", b"").unwrap();
-    let c = w.add_channel(s, "/points", "cdr", &Default::default()).unwrap();
+    let s = w
+        .add_schema("sensor_msgs/msg/PointCloud2", "ros2msg", b"")
+        .unwrap();
+    let c = w
+        .add_channel(s, "/points", "cdr", &Default::default())
+        .unwrap();
     let mib = vec![0u8; 1 << 20];
     for k in 0..BOMB_MIB as u32 {
         let h = mcap::records::MessageHeader {
@@ -102,7 +106,8 @@ fn a_wal_database_with_pending_frames_is_refused_by_name_and_left_alone() {
     let c = rusqlite::Connection::open(&db).unwrap();
     c.pragma_update(None, "journal_mode", "WAL").unwrap();
     c.pragma_update(None, "wal_autocheckpoint", 0).unwrap();
-    c.execute("DELETE FROM messages WHERE id % 2 = 0", []).unwrap();
+    c.execute("DELETE FROM messages WHERE id % 2 = 0", [])
+        .unwrap();
     // The writer is still open (a recording that did not close): frames in -wal.
     let wal = bag.join("run_db3.db3-wal");
     let before = |p: &Path| std::fs::read(p).unwrap();
@@ -112,7 +117,10 @@ fn a_wal_database_with_pending_frames_is_refused_by_name_and_left_alone() {
     // Nothing beside the input was touched: the database and its -wal are as they were.
     assert_eq!(before(&db), db0);
     assert_eq!(before(&wal), wal0);
-    let names: Vec<_> = std::fs::read_dir(&bag).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let names: Vec<_> = std::fs::read_dir(&bag)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(names.len(), 4, "{names:?}"); // metadata, .db3, -wal, -shm
     drop(c);
 }
@@ -127,7 +135,10 @@ fn a_messages_view_is_refused() {
     )
     .unwrap();
     drop(c);
-    refused(&[bag.to_str().unwrap()], &["`messages` is a view, not a table"]);
+    refused(
+        &[bag.to_str().unwrap()],
+        &["`messages` is a view, not a table"],
+    );
 }
 
 #[cfg(unix)]
@@ -149,5 +160,8 @@ fn invert_is_refused_on_a_bag_by_name() {
     let out = run_audit(&[&f, "--invert"], 60);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(err.contains("--invert") && err.contains("run.mcap"), "{err}");
+    assert!(
+        err.contains("--invert") && err.contains("run.mcap"),
+        "{err}"
+    );
 }

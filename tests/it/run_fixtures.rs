@@ -77,7 +77,10 @@ fn assert_families(rec: &Value, frame: &str, want: &Value, what: &str) {
         assert_eq!(f["degenerate_count"], w["degenerate_count"], "{what}");
         assert_eq!(f["footprint"], w["footprint"], "{what}");
         let t = f["threshold"].as_f64().unwrap();
-        assert!((t - w["threshold"].as_f64().unwrap()).abs() <= 1e-12 * t.abs(), "{what}");
+        assert!(
+            (t - w["threshold"].as_f64().unwrap()).abs() <= 1e-12 * t.abs(),
+            "{what}"
+        );
     }
 }
 
@@ -89,7 +92,11 @@ fn label_changes(rec: &Value, frame: &str) -> Vec<(String, [bool; 3])> {
         .zip(body)
         .map(|(a, b)| {
             let n = |f: &Value| f["degenerate_count"].as_u64().unwrap();
-            let changed = [(n(a) > 0) != (n(b) > 0), n(a) != n(b), a["footprint"] != b["footprint"]];
+            let changed = [
+                (n(a) > 0) != (n(b) > 0),
+                n(a) != n(b),
+                a["footprint"] != b["footprint"],
+            ];
             (a["family"].as_str().unwrap().to_string(), changed)
         })
         .collect()
@@ -139,7 +146,11 @@ fn a_far_body_frame_changes_decisions_and_point_displacement_never() {
     let (_, _, recs) = run_records(&["run.mcap", "--all-frames"]);
     let flips = |frame: &str, fam: &str| -> Vec<u64> {
         recs.iter()
-            .filter(|r| label_changes(r, frame).iter().any(|(k, c)| k == fam && c[0]))
+            .filter(|r| {
+                label_changes(r, frame)
+                    .iter()
+                    .any(|(k, c)| k == fam && c[0])
+            })
             .map(|r| r["index"].as_u64().unwrap())
             .collect()
     };
@@ -177,7 +188,9 @@ fn pairs_at_the_tf_pose_match_numpy() {
 
 #[test]
 fn hostile_scans_are_skipped_by_name_and_the_good_ones_reported() {
-    let want = expected()["hostile"]["scans"]["/points"].as_array().unwrap();
+    let want = expected()["hostile"]["scans"]["/points"]
+        .as_array()
+        .unwrap();
     for c in ["hostile.mcap", "hostile.bag", "hostile_db3"] {
         let (code, err, recs) = run_records(&[c]);
         assert_eq!(code, 0, "{c}: {err}");
@@ -201,7 +214,10 @@ fn hostile_scans_are_skipped_by_name_and_the_good_ones_reported() {
             }
         }
         // Scan 7's frame is on no transform: a named warning, not a skip.
-        assert!(err.contains("warning[frame-missing]") && err.contains("lidar_rear"), "{err}");
+        assert!(
+            err.contains("warning[frame-missing]") && err.contains("lidar_rear"),
+            "{err}"
+        );
     }
 }
 
@@ -221,21 +237,31 @@ fn integer_and_mixed_coordinates_read_as_metres() {
 fn two_pointcloud_topics_need_topic_and_each_matches_numpy() {
     let (code, err, _) = run_records(&["two_topics.mcap"]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("--topic") && err.contains("/room/points"), "{err}");
+    assert!(
+        err.contains("--topic") && err.contains("/room/points"),
+        "{err}"
+    );
     for t in ["/room/points", "/tunnel/points"] {
         let want = expected()["two_topics"]["scans"][t].as_array().unwrap();
         let (code, err, recs) = run_records(&["two_topics.mcap", "--topic", t]);
         assert_eq!(code, 0, "{err}");
         assert_eq!(recs.len(), want.len());
         for (r, w) in recs.iter().zip(want) {
-            assert_families(r, "scan", &w["lidar"]["families"], &format!("{t} {}", w["index"]));
+            assert_families(
+                r,
+                "scan",
+                &w["lidar"]["families"],
+                &format!("{t} {}", w["index"]),
+            );
         }
     }
 }
 
 #[test]
 fn the_robot_description_gives_the_body_frames() {
-    let want = expected()["description"]["scans"]["/points"].as_array().unwrap();
+    let want = expected()["description"]["scans"]["/points"]
+        .as_array()
+        .unwrap();
     let (code, err, recs) = run_records(&["description.mcap", "--all-frames"]);
     assert_eq!(code, 0, "{err}");
     for (r, w) in recs.iter().zip(want) {
@@ -258,7 +284,10 @@ fn cut(dir: &Path, name: &str, len: usize) -> PathBuf {
 fn a_truncated_bag_reports_the_scans_before_the_damage() {
     let t = &expected()["truncated"];
     let dir = tempfile::tempdir().unwrap();
-    for (name, key) in [("run.mcap", "run_truncated.mcap"), ("run.bag", "run_truncated.bag")] {
+    for (name, key) in [
+        ("run.mcap", "run_truncated.mcap"),
+        ("run.bag", "run_truncated.bag"),
+    ] {
         let len = t[key]["bytes"][0].as_u64().unwrap() as usize;
         let f = cut(dir.path(), name, len);
         let (code, err, recs) = run_records(&[f.to_str().unwrap()]);
@@ -276,7 +305,10 @@ fn a_truncated_bag_reports_the_scans_before_the_damage() {
     let f = cut(dir.path(), "run_db3/run_db3.db3", len);
     let (code, err, _) = run_records(&[f.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("run_truncated_db3.db3") || err.contains(".db3"), "{err}");
+    assert!(
+        err.contains("run_truncated_db3.db3") || err.contains(".db3"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -298,11 +330,30 @@ fn kitti_sequence_with_estimated_normals_matches_numpy() {
 
 #[test]
 fn kitti_pairs_agree_across_the_three_pose_files() {
-    let want = expected()["kitti_seq"]["pairs_no_voxel"].as_array().unwrap();
+    let want = expected()["kitti_seq"]["pairs_no_voxel"]
+        .as_array()
+        .unwrap();
     let runs: [&[&str]; 3] = [
-        &["--poses", "kitti_seq/poses.txt", "--poses-format", "kitti", "--calib", "kitti_seq/calib.txt"],
-        &["--poses", "kitti_seq/poses_lidar.txt", "--poses-format", "kitti-lidar"],
-        &["--poses", "kitti_seq/poses_tum.txt", "--poses-format", "tum"],
+        &[
+            "--poses",
+            "kitti_seq/poses.txt",
+            "--poses-format",
+            "kitti",
+            "--calib",
+            "kitti_seq/calib.txt",
+        ],
+        &[
+            "--poses",
+            "kitti_seq/poses_lidar.txt",
+            "--poses-format",
+            "kitti-lidar",
+        ],
+        &[
+            "--poses",
+            "kitti_seq/poses_tum.txt",
+            "--poses-format",
+            "tum",
+        ],
     ];
     for extra in runs {
         let mut args = vec!["kitti_seq", "--voxel", "0", "--pairs"];
@@ -318,7 +369,12 @@ fn kitti_pairs_agree_across_the_three_pose_files() {
     }
     // Three poses for five scans: refused by name, never paired with a guess.
     let (code, err, _) = run_records(&[
-        "kitti_seq", "--pairs", "--poses", "kitti_seq/poses_short.txt", "--poses-format", "kitti-lidar",
+        "kitti_seq",
+        "--pairs",
+        "--poses",
+        "kitti_seq/poses_short.txt",
+        "--poses-format",
+        "kitti-lidar",
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("poses_short.txt"), "{err}");
