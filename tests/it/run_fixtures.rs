@@ -277,7 +277,8 @@ fn the_robot_description_gives_the_body_frames() {
 /// The first `len` bytes of `name` copied into `dir`.
 fn cut(dir: &Path, name: &str, len: usize) -> PathBuf {
     let b = std::fs::read(Path::new(DIR).join(name)).unwrap();
-    let out = dir.join(name.replace("run", "run_truncated"));
+    let file = Path::new(name).file_name().unwrap().to_string_lossy();
+    let out = dir.join(file.replace("run", "run_truncated"));
     std::fs::write(&out, &b[..len]).unwrap();
     out
 }
