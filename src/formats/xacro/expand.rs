@@ -93,9 +93,32 @@ impl<'o> Expander<'o> {
         if parts.len() == 1 {
             return Ok(parts.remove(0));
         }
-        let joined: String = parts.iter().map(Value::to_py_str).collect();
-        self.budget.bytes(joined.len(), src, &self.macro_stack)?;
+        let mut joined = String::new();
+        for p in &parts {
+            let t = self.py_str(p, src)?;
+            joined.push_str(&t);
+            self.budget
+                .meter
+                .string(joined.len())
+                .map_err(|m| self.limit(src, m))?;
+        }
         Ok(Value::str(&joined))
+    }
+
+    /// Python's `str()` of a value, within the meter.
+    pub fn py_str(&mut self, v: &Value, src: &Src) -> Result<String> {
+        v.to_py_str(&mut self.budget.meter)
+            .map_err(|m| self.limit(src, m))
+    }
+
+    /// An evaluation error: a limit when the meter tripped, else a parse
+    /// error at `src`.
+    pub fn limit(&self, src: &Src, msg: String) -> Error {
+        let e = self.err(src, msg);
+        if self.budget.meter.tripped().is_some() {
+            return Error::limit(e.message).at(&e.location);
+        }
+        e
     }
 
     /// [`Self::eval_text`] as text (Python's `str()` of it).
@@ -103,7 +126,8 @@ impl<'o> Expander<'o> {
         if !text.contains('$') {
             return Ok(text.to_string());
         }
-        Ok(self.eval_text(text, syms, src)?.to_py_str())
+        let v = self.eval_text(text, syms, src)?;
+        self.py_str(&v, src)
     }
 
     /// One lexer token of xacro's text grammar, evaluated; and its length.
@@ -166,7 +190,9 @@ impl<'o> Expander<'o> {
                 if let Some(e) = env.failure.take() {
                     return Err(e);
                 }
-                Err(self.err(src, format!("cannot evaluate ${{{inner}}}: {msg}")))
+                let shown: String = inner.chars().take(200).collect();
+                let more = if shown.len() < inner.len() { "..." } else { "" };
+                Err(self.limit(src, format!("cannot evaluate ${{{shown}{more}}}: {msg}")))
             }
         }
     }
@@ -223,8 +249,10 @@ impl<'o> Expander<'o> {
                 format!("circular property definition: '{name}' depends on itself"),
             )),
             Slot::Lazy(text, at) => {
+                self.budget.enter_property(name, &at, &self.macro_stack)?;
                 table.set(name, Slot::Busy);
                 let v = self.eval_text(&text, &table, &at);
+                self.budget.leave_property();
                 let v = match v {
                     Ok(v) => eval_literal(v),
                     Err(e) => {
@@ -288,7 +316,6 @@ impl<'o> Expander<'o> {
                     self.budget.bytes(v.len(), &src, &self.macro_stack)?;
                     out.push(Node::Text(v));
                 }
-                Node::Comment(_) => {}
             }
         }
         Ok(())
@@ -311,6 +338,7 @@ impl<'o> Expander<'o> {
         }
     }
 
+    /// One element, one level deeper (`XACRO_MAX_ELEMENT_DEPTH`).
     fn element(
         &mut self,
         e: &Elem,
@@ -320,6 +348,20 @@ impl<'o> Expander<'o> {
         attrs: &mut Vec<(String, String)>,
     ) -> Result<()> {
         self.budget.tick(&e.src, &self.macro_stack)?;
+        self.budget.enter_element(&e.src, &self.macro_stack)?;
+        let r = self.element_here(e, syms, macros, out, attrs);
+        self.budget.leave_element();
+        r
+    }
+
+    fn element_here(
+        &mut self,
+        e: &Elem,
+        syms: &Scope,
+        macros: &MacroScope,
+        out: &mut Vec<Node>,
+        attrs: &mut Vec<(String, String)>,
+    ) -> Result<()> {
         self.here = Some(e.src.clone());
         let Some(tag) = e.name.strip_prefix("xacro:") else {
             return self.plain(e, syms, macros, out);
@@ -542,6 +584,31 @@ impl EvalEnv<'_, '_> {
 }
 
 impl Env for EvalEnv<'_, '_> {
+    fn meter(&mut self) -> &mut super::limits::Meter {
+        &mut self.ex.budget.meter
+    }
+
+    fn abs_filename(&mut self, path: &str) -> std::result::Result<String, String> {
+        let p = Path::new(path);
+        if p.is_absolute() {
+            return Ok(path.to_string());
+        }
+        let cur = self.ex.current_file();
+        let dir = cur.parent().unwrap_or(Path::new(""));
+        Ok(dir.join(p).to_string_lossy().to_string())
+    }
+
+    fn message(&mut self, level: &'static str, text: String) {
+        let cut: String = text.chars().take(500).collect();
+        self.ex.warnings.push(
+            Warning::new(
+                Code::XacroMessage,
+                format!("xacro.{level}() in the file: {cut}"),
+            )
+            .at(&self.src.location()),
+        );
+    }
+
     fn lookup(&mut self, name: &str) -> std::result::Result<Option<Value>, String> {
         let (syms, src) = (self.syms.clone(), self.src.clone());
         let r = self.ex.lookup(&syms, name, &src);

@@ -31,13 +31,16 @@
 //! scalar ending at a line end, comment or flow separator.
 
 mod builtins;
+mod eval;
 mod expand;
-pub mod expr;
+mod expr;
 pub mod external;
+mod format;
 mod include;
 mod limits;
 mod macros;
 pub(crate) mod markers;
+mod methods;
 mod ops;
 mod scope;
 pub mod subst;
