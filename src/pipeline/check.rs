@@ -139,6 +139,8 @@ struct FileState {
 struct Checker<'a> {
     opts: &'a CheckOptions,
     findings: Vec<Diagnostic>,
+    /// Files read and left to the files that include them.
+    notes: Vec<String>,
     pairs_found: Vec<bool>,
     /// One step per file read.
     progress: &'a dyn Progress,
@@ -176,6 +178,23 @@ impl Checker<'_> {
     ) -> Result<Option<FileState>> {
         self.progress.advance(1);
         let index = acc.states;
+        if let Some(kind) = formats::xacro::include_only(&f.path, &self.opts.load) {
+            // An include: noted, not an error; its (empty) record still
+            // meets the baseline, so a robot file turned into one is caught.
+            self.notes.push(format!(
+                "{}: {}: an include, not a robot of its own; checked where a robot file includes it",
+                f.path.display(),
+                kind.reason()
+            ));
+            return Ok(Some(FileState {
+                found: f.clone(),
+                record: BaselineFile {
+                    edges: Vec::new(),
+                    pairs: Vec::new(),
+                },
+                locations: Locations::new(),
+            }));
+        }
         if formats::launch::holds_no_calibration(&f.path, self.opts.load.max_file_size) {
             self.findings.push(
                 Diagnostic::new(
@@ -627,6 +646,7 @@ pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckR
     let mut ck = Checker {
         opts,
         findings: std::mem::take(&mut walked.findings),
+        notes: Vec::new(),
         pairs_found: vec![false; opts.pairs.len()],
         progress,
     };
@@ -675,5 +695,6 @@ pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckR
     }
     let mut report = CheckReport::new(walked.files.len(), ck.findings);
     report.baseline_written = changes;
+    report.notes = ck.notes;
     Ok(report)
 }

@@ -34,6 +34,8 @@ pub struct Expander<'o> {
     pub docs: HashMap<PathBuf, Rc<Doc>>,
     pub namespaces: BTreeMap<String, String>,
     pub packages: HashMap<String, PathBuf>,
+    /// The packages on the search path (built at the first `$(find)`).
+    package_index: Option<subst::PackageIndex>,
     pub budget: Budget,
     /// The top-level input, for the package search.
     pub input: PathBuf,
@@ -56,6 +58,7 @@ impl<'o> Expander<'o> {
             docs: HashMap::new(),
             namespaces: BTreeMap::new(),
             packages: HashMap::new(),
+            package_index: None,
             budget: Budget::new(),
             input: input.to_path_buf(),
             macro_stack: Vec::new(),
@@ -210,9 +213,25 @@ impl<'o> Expander<'o> {
                 )
             }),
             Subst::Find(pkg) => self.find(pkg, src).map(|p| p.to_string_lossy().to_string()),
+            Subst::Env(name) if self.opts.confined() => Err(self.err(
+                src,
+                format!("$(env {name}): the environment is not read under --confine (a CI job's environment holds its secrets); give the value with --arg, or drop --confine"),
+            )),
             Subst::Env(name) => std::env::var(name).map_err(|_| {
                 self.err(src, format!("$(env {name}): environment variable {name} is not set"))
             }),
+            Subst::OptEnv(name, default) if self.opts.confined() => {
+                if std::env::var_os(name).is_some() {
+                    self.warnings.push(
+                        Warning::new(
+                            Code::Ignored,
+                            format!("$(optenv {name}): {name} is set, but the environment is not read under --confine: its default {default:?} used"),
+                        )
+                        .at(&src.location()),
+                    );
+                }
+                Ok(default)
+            }
             Subst::OptEnv(name, default) => Ok(std::env::var(name).unwrap_or(default)),
             Subst::Dirname => {
                 let f = self.current_file();
@@ -226,14 +245,45 @@ impl<'o> Expander<'o> {
         }
     }
 
+    /// `$(find pkg)`: the package's directory (the search path indexed at
+    /// the first call); a second copy of the package on the search path is
+    /// a `duplicate-package` warning naming both, once per package.
     pub fn find(&mut self, pkg: &str, src: &Src) -> Result<PathBuf> {
         if let Some(p) = self.packages.get(pkg) {
             return Ok(p.clone());
         }
-        let p = subst::find_package(pkg, &self.opts.package_paths, &self.input)
+        let index = self.package_index.get_or_insert_with(|| {
+            subst::PackageIndex::build(&self.opts.package_paths, &self.input)
+        });
+        let found = index
+            .find(pkg, &self.opts.package_paths)
             .map_err(|m| self.err(src, m))?;
-        self.packages.insert(pkg.to_string(), p.clone());
-        Ok(p)
+        if let Err(why) = self.opts.check_confined(&found.dir) {
+            let e = self.err(src, format!("$(find {pkg}): {why}"));
+            return Err(Error::limit(e.message).at(&e.location));
+        }
+        if !found.others.is_empty() {
+            let others: Vec<String> = found
+                .others
+                .iter()
+                .map(|(d, from)| format!("{} ({from})", d.display()))
+                .collect();
+            self.warnings.push(
+                Warning::new(
+                    Code::DuplicatePackage,
+                    format!(
+                        "$(find {pkg}): {} packages named {pkg} on the search path: used {} ({}); also {}",
+                        others.len() + 1,
+                        found.dir.display(),
+                        found.from,
+                        others.join(", ")
+                    ),
+                )
+                .at(&src.location()),
+            );
+        }
+        self.packages.insert(pkg.to_string(), found.dir.clone());
+        Ok(found.dir)
     }
 
     /// A property's value, evaluating a lazy one (in the table that defines

@@ -7,7 +7,7 @@ use super::limits::Meter;
 use super::scope::{MacroEntry, MacroScope, MacroTable};
 use super::tree::{self, Elem, Node, Src};
 use super::value::{eval_literal, Res, Scope, Slot, Table, Value};
-use crate::diagnostic::Result;
+use crate::diagnostic::{Error, Result};
 use crate::formats::yaml;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -102,6 +102,10 @@ impl Expander<'_> {
     fn read_text(&self, path: &Path, src: &Src, what: &str) -> Result<String> {
         use crate::input::ReadError;
         let fail = |e: String| self.err(src, format!("{what} {}: {e}", path.display()));
+        if let Err(why) = self.opts.check_confined(path) {
+            let e = self.err(src, format!("{what} {why}"));
+            return Err(Error::limit(e.message).at(&e.location));
+        }
         let cap = self.opts.max_file_size;
         let bytes = crate::input::read_file(path, cap).map_err(|e| {
             fail(match e {
