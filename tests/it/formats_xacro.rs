@@ -85,11 +85,39 @@ fn native(c: &Case) -> Loaded {
     load_file(&c.input, &opts).unwrap_or_else(|e| panic!("{}: {e}", c.name))
 }
 
+/// Python xacro's edges (expected/<case>.json, generate.py: parent, child,
+/// origin xyz and rpy of every joint), read back as a URDF of those joints so
+/// that both sides go through the same transform code.
 fn expected(c: &Case) -> Loaded {
     let p = Path::new(DIR)
         .join("expected")
-        .join(format!("{}.urdf", c.name));
-    load_file(&p, &LoadOptions::default()).unwrap_or_else(|e| panic!("{}: {e}", c.name))
+        .join(format!("{}.json", c.name));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&p).expect("expected json")).expect("json");
+    let vec3 = |e: &serde_json::Value, k: &str| {
+        let n = crate::common::nums(&e[k]);
+        assert_eq!(n.len(), 3, "{}: {k}", c.name);
+        format!("{:?} {:?} {:?}", n[0], n[1], n[2])
+    };
+    let joints: String = v["edges"]
+        .as_array()
+        .expect("edges")
+        .iter()
+        .enumerate()
+        .map(|(i, e)| {
+            format!(
+                "<joint name=\"j{i}\" type=\"fixed\"><parent link=\"{}\"/><child link=\"{}\"/><origin xyz=\"{}\" rpy=\"{}\"/></joint>\n",
+                e["parent"].as_str().expect("parent"),
+                e["child"].as_str().expect("child"),
+                vec3(e, "xyz"),
+                vec3(e, "rpy")
+            )
+        })
+        .collect();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let urdf = dir.path().join(format!("{}.urdf", c.name));
+    std::fs::write(&urdf, format!("<robot name=\"expected\">\n{joints}</robot>\n")).expect("write");
+    load_file(&urdf, &LoadOptions::default()).unwrap_or_else(|e| panic!("{}: {e}", c.name))
 }
 
 /// Largest entry difference of the 4x4 matrices, per edge keyed by
