@@ -99,7 +99,7 @@ fn expected(c: &Case) -> Loaded {
 /// URDF reader reads those joints.
 pub fn edge_table(p: &Path, name: &str) -> Loaded {
     let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&p).expect("expected json")).expect("json");
+        serde_json::from_str(&std::fs::read_to_string(p).expect("expected json")).expect("json");
     let vec3 = |e: &serde_json::Value, k: &str| {
         let n = crate::common::nums(&e[k]);
         assert_eq!(n.len(), 3, "{}: {k}", name);

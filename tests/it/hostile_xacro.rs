@@ -151,7 +151,7 @@ fn confine_keeps_every_read_below_the_directory() {
             &[p.to_str().unwrap(), "--package-path", &o, "--frames"],
             120,
         );
-        assert_ne!(out.stderr.contains("--confine"), true, "{}", out.stderr);
+        assert!(!out.stderr.contains("--confine"), "{}", out.stderr);
     }
     // The input itself outside.
     let p = write_tmp(&outside, "r.urdf.xacro", &robot("", "0"));
