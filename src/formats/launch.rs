@@ -38,10 +38,21 @@
 //!   continuations joined, `#` comments skipped.
 //!
 //! LIO-Livox launch files carry `<rosparam param="Extrinsic_Tlb">` with a
-//! row-major 4x4 instead: read as the LiDAR pose in the IMU frame (edge
-//! `imu -> lidar`, the sign LIO-Livox's mid360.launch uses for the Livox factory
-//! offset); the file does not say which direction it is, so an
-//! `assumed-convention` warning says so and `--invert` flips it.
+//! row-major 4x4 instead: `T_lb`, the pose of the IMU (b, body) in the LiDAR
+//! (l), `p_lidar = R p_imu + t`, edge `lidar -> imu`, as LIO-Livox's code uses
+//! it (Livox-SDK/LIO-Livox @ 2296e4bea59bcfec09624a6f052fd6bfbe2b1e6a):
+//! `src/lio/PoseEstimation.cpp:576-593` loads `~Extrinsic_Tlb` row-major
+//! (`R << vecTlb[0..2], [4..6], [8..10]; t << vecTlb[3], [7], [11]`,
+//! `exRlb = R; exPlb = t; exRbl = R^T; exPbl = -R^T t`); `:354-355`
+//! `P = Pwl + Qwl*exPlb; Q = Qwl * exRlb` (`T_wb = T_wl T_lb`); `:449-450`
+//! `Qwl = Q * exRbl; Pwl = Q * exPbl + P` (`T_wl = T_wb T_bl`); and
+//! `src/lio/Estimator.cpp:113-114` `Tbl = exTlb^-1`, with which LiDAR points
+//! go to the map (`include/utils/ceresfunc.h:469-485`). LIO-Livox
+//! re-orthonormalises the rotation (`Quaterniond(R).normalized()`); the
+//! tool's rounding warning says when that matters. (The shipped
+//! `mid360.launch` numbers carry FAST-LIO's LiDAR-in-IMU sign while
+//! `horizon.launch` carries the negative: the code, not the numbers, decides
+//! the reading; see calibrations/README.md.)
 
 use super::launch_subst::{ArgDecl, Condition, LaunchArgs};
 use super::source::{line_col, LineIndex};
@@ -479,18 +490,12 @@ pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
         let mut ws = Vec::new();
         let t = Transform::from_matrix4(m, &mut ws).map_err(|e| e.at(&loc))?;
         locate_warnings(ws, &loc, &mut out.warnings);
-        out.warnings.push(
-            Warning::new(
-                Code::AssumedConvention,
-                format!("<rosparam param=\"{param}\"> read as the LiDAR pose in the IMU frame (imu -> lidar, FAST-LIO sign); the file does not state the direction: pass --invert if yours stores the other one"),
-            )
-            .at(&loc),
-        );
         check_metres(&[v[3], v[7], v[11]], param, &loc, &mut out.warnings);
+        // T_lb: the IMU's pose in the LiDAR (PoseEstimation.cpp:354-355).
         out.edges.push(
             Edge::new(
-                "imu",
                 "lidar",
+                "imu",
                 t,
                 loc,
                 LIO_LIVOX_LAUNCH.id,
@@ -1085,7 +1090,7 @@ pub const LAUNCH_XML: FormatSpec = FormatSpec {
 /// LIO-Livox launch files with `Extrinsic_Tlb`.
 pub const LIO_LIVOX_LAUNCH: FormatSpec = FormatSpec {
     id: "lio-livox-launch",
-    description: "LIO-Livox launch `<rosparam param=\"Extrinsic_Tlb\">` 4x4 row-major: read as the LiDAR pose in the IMU frame (FAST-LIO sign, as mid360.launch uses), edge imu -> lidar; the direction is assumed (--invert flips it)",
+    description: "LIO-Livox launch `<rosparam param=\"Extrinsic_Tlb\">` 4x4 row-major (T_lb): the IMU pose in the LiDAR frame, as PoseEstimation.cpp composes it (T_wb = T_wl T_lb), edge lidar -> imu",
     extensions: &[],
     walk: &[".launch"],
     magic: &[],

@@ -92,7 +92,7 @@ fn tf_tree_keys(i: &Input) -> Option<Confidence> {
 }
 
 yaml_dialect!(TF_STATIC_ECHO, "tf-static-echo", false, tf_echo, |d, _, p| parse_tf_echo(d, p), "`rostopic echo /tf_static` / `ros2 topic echo /tf_static` YAML (several documents): child_frame_id pose in header.frame_id");
-yaml_dialect!(FAST_LIO, "fast-lio", true, |i| keys(i.has_key("extrinsic_T")), |d, _, p| parse_fast_lio(d, p), "FAST-LIO / FAST-LIVO2 / Point-LIO `extrinsic_T` + `extrinsic_R` (row-major): the LiDAR pose in the IMU frame, edge imu -> lidar");
+yaml_dialect!(FAST_LIO, "fast-lio", true, |i| keys(i.has_key("extrinsic_T")), |d, _, p| parse_fast_lio(d, p, FAST_LIO.id), "FAST-LIO / FAST-LIVO2 / Point-LIO `extrinsic_T` + `extrinsic_R` (row-major): the LiDAR pose in the IMU frame, edge imu -> lidar");
 yaml_dialect!(LIO_SAM, "lio-sam", true, |i| keys(i.has_key("extrinsicTrans") || i.has_key("extrinsicRot")), |d, _, p| parse_lio_sam(d, p), "LIO-SAM `extrinsicRot` + `extrinsicTrans` (\"T_lb\"): extrinsicRot rotates IMU readings into the LiDAR frame and the code uses extrinsicTrans as lidar2Imu, so the pair is the IMU pose in the LiDAR frame, edge lidar -> imu; extrinsicRPY (attitude only) is not used");
 yaml_dialect!(COCO_LIC, "coco-lic", true, |i| keys(i.has_key("Extrinsics") && i.has_key("Trans")), |d, _, p| parse_coco_lic(d, p), "Coco-LIC `lidarN: Extrinsics: {Trans, Rot}` (\"lidar to imu\"): LiDAR pose in the IMU frame, edges imu -> lidarN");
 yaml_dialect!(SLICT, "slict", true, |i| keys(i.has_key("lidar_extr")), |d, _, p| parse_slict(d, p), "SLICT `lidar_extr`: stacked row-major 4x4, \"transform of coordinates in lidar's frame to body\": edges body -> lidar (lidar0, lidar1, ... when several); the (4,4) entry is a timestamp flag and the bottom row is not used");
@@ -170,7 +170,9 @@ fn parse_tf_echo(docs: &[Node], path: &Path) -> Result<Loaded> {
     Ok(out)
 }
 
-fn parse_fast_lio(docs: &[Node], path: &Path) -> Result<Loaded> {
+/// `extrinsic_T` + `extrinsic_R` as the edge `imu -> lidar` of format `id`
+/// (FAST-LIVO's files hold them too).
+pub(crate) fn parse_fast_lio(docs: &[Node], path: &Path, id: &'static str) -> Result<Loaded> {
     let m = unique_map(docs, "extrinsic_T")?;
     let tn = m
         .get("extrinsic_T")
@@ -198,7 +200,7 @@ fn parse_fast_lio(docs: &[Node], path: &Path) -> Result<Loaded> {
             "lidar",
             t,
             loc,
-            FAST_LIO.id,
+            id,
             "extrinsic_T + extrinsic_R",
         )
         .with_precision(written_precision(Written::Matrix3(mat3(r)), d, 1.0)),

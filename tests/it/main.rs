@@ -21,6 +21,7 @@ mod detector_threshold;
 mod diff;
 mod formats_bad_inputs;
 mod formats_bags;
+mod formats_calib;
 mod formats_detection;
 mod formats_extrinsics;
 mod formats_launch_conditions;
