@@ -77,7 +77,9 @@ fn check_format(format: &str, assume: Option<&str>) -> Vec<(String, Loaded)> {
         let file = dir().join(rel);
         let o = opts(assume);
         let found = detect_file(&file, &o).unwrap_or_else(|e| panic!("{rel}: {e}"));
-        assert_eq!(found.name(), format, "{rel}: detected as");
+        // roslaunch-eval/: launch XML with $(eval ...), read by launch-xml.
+        let id = if format == "roslaunch-eval" { "launch-xml" } else { format };
+        assert_eq!(found.name(), id, "{rel}: detected as");
         let got = load_file(&file, &o);
         if let Some(err) = want.get("error") {
             let e = got.err().unwrap_or_else(|| panic!("{rel}: read, expected refused ({err})"));
@@ -283,4 +285,24 @@ fn assume_flag_values() {
     for bad in ["lidar-in-imu", "child-in-parent:a", "child-in-parent:a,a", "child-in-parent:,b", "child-in-parent:a,b,c"] {
         assert!(Assume::parse(bad).is_err(), "{bad}");
     }
+}
+
+#[test]
+fn roslaunch_eval_in_args_and_conditions() {
+    let loads = check_format("roslaunch-eval", None);
+    let l = &loads.iter().find(|(r, _)| r.ends_with("eval_static_tf.launch")).unwrap().1;
+    // if="$(eval use_rear or robot == 'husky')" is False: not started.
+    assert!(warned(l, Code::Ignored, "base_to_rear") || warned(l, Code::Ignored, "not started"));
+    let e = refusal("roslaunch-eval/bad_dunder.launch", None);
+    assert!(e.contains("double underscore") && e.contains("__import__"), "{e}");
+    let e = refusal("roslaunch-eval/bad_eval_inside_text.launch", None);
+    assert!(e.contains("only when it is the whole attribute value"), "{e}");
+    // --arg overrides a default an $(eval) reads.
+    let o = LoadOptions {
+        xacro_args: [("robot".to_string(), "husky".to_string())].into(),
+        ..LoadOptions::default()
+    };
+    let h = load_file(&dir().join("roslaunch-eval/eval_static_tf.launch"), &o).unwrap();
+    assert!(h.edges.iter().any(|e| e.child == "rear_bumper"), "robot == 'husky' starts the rear publisher");
+    assert!(!h.edges.iter().any(|e| e.child == "lidar"), "robot == 'jackal' is False");
 }

@@ -1,0 +1,251 @@
+//! Python values as the evaluator computes them: `None`, `bool`, `int`
+//! (64-bit; beyond is refused), `float`, `str`, `list` (shared and mutable,
+//! as Python's), `tuple`, `dict`, and what the host defines (a call of a
+//! launch action, a value that cannot be known). `str()` and `repr()` follow
+//! CPython's (floats printed with the shortest repr, `1e-05`, `1e+16`).
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+/// A Python value.
+#[derive(Debug, Clone)]
+pub enum Value {
+    None,
+    Bool(bool),
+    Int(i64),
+    Float(f64),
+    Str(String),
+    List(Rc<RefCell<Vec<Value>>>),
+    Tuple(Vec<Value>),
+    Dict(Vec<(Value, Value)>),
+    /// A builtin function, a module attribute function or a method bound to
+    /// its receiver.
+    Func(Func),
+    /// A module (`math`).
+    Module(&'static str),
+    /// A call the host keeps as data (a launch action such as `Node(...)`):
+    /// its callee's name, arguments and line.
+    Record(Rc<Record>),
+    /// A value the reader cannot know, with why (and where it came from).
+    Unknown(Rc<String>),
+}
+
+/// A callable.
+#[derive(Debug, Clone)]
+pub enum Func {
+    /// A builtin or `math` function, by name.
+    Builtin(&'static str),
+    /// A method of `recv` (`'a b'.split`).
+    Method(Box<Value>, String),
+    /// A function the file defines, by name (the host runs it).
+    User(String),
+    /// A callee the host knows by name (`Node`, `LaunchConfiguration`).
+    Host(String),
+}
+
+/// A call kept as data.
+#[derive(Debug)]
+pub struct Record {
+    pub name: String,
+    pub args: Vec<Value>,
+    pub kwargs: Vec<(String, Value)>,
+    pub line: usize,
+    pub col: usize,
+}
+
+impl Record {
+    /// Keyword argument `k`.
+    pub fn kw(&self, k: &str) -> Option<&Value> {
+        self.kwargs.iter().find(|(n, _)| n == k).map(|(_, v)| v)
+    }
+}
+
+impl Value {
+    pub fn list(v: Vec<Value>) -> Value {
+        Value::List(Rc::new(RefCell::new(v)))
+    }
+
+    pub fn unknown(why: impl Into<String>) -> Value {
+        Value::Unknown(Rc::new(why.into()))
+    }
+
+    /// The Python type name, for messages.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            Value::None => "NoneType",
+            Value::Bool(_) => "bool",
+            Value::Int(_) => "int",
+            Value::Float(_) => "float",
+            Value::Str(_) => "str",
+            Value::List(_) => "list",
+            Value::Tuple(_) => "tuple",
+            Value::Dict(_) => "dict",
+            Value::Func(_) => "function",
+            Value::Module(_) => "module",
+            Value::Record(_) => "launch object",
+            Value::Unknown(_) => "unknown value",
+        }
+    }
+
+    /// The items of a list or tuple (a copy).
+    pub fn items(&self) -> Option<Vec<Value>> {
+        match self {
+            Value::List(l) => Some(l.borrow().clone()),
+            Value::Tuple(t) => Some(t.clone()),
+            _ => None,
+        }
+    }
+
+    /// The number, for arithmetic (`bool` counts as `int`).
+    pub fn as_f64(&self) -> Option<f64> {
+        match self {
+            Value::Bool(b) => Some(f64::from(u8::from(*b))),
+            Value::Int(i) => Some(*i as f64),
+            Value::Float(f) => Some(*f),
+            _ => None,
+        }
+    }
+
+    /// The integer of an `int` or `bool`.
+    pub fn as_int(&self) -> Option<i64> {
+        match self {
+            Value::Bool(b) => Some(i64::from(*b)),
+            Value::Int(i) => Some(*i),
+            _ => None,
+        }
+    }
+
+    /// Python's truth value; `None` for values whose truth is not known.
+    pub fn truth(&self) -> Option<bool> {
+        Some(match self {
+            Value::None => false,
+            Value::Bool(b) => *b,
+            Value::Int(i) => *i != 0,
+            Value::Float(f) => *f != 0.0,
+            Value::Str(s) => !s.is_empty(),
+            Value::List(l) => !l.borrow().is_empty(),
+            Value::Tuple(t) => !t.is_empty(),
+            Value::Dict(d) => !d.is_empty(),
+            Value::Func(_) | Value::Module(_) => true,
+            Value::Record(_) | Value::Unknown(_) => return None,
+        })
+    }
+
+    /// `str(v)`.
+    pub fn to_str(&self) -> String {
+        match self {
+            Value::Str(s) => s.clone(),
+            other => other.repr(),
+        }
+    }
+
+    /// `repr(v)`.
+    pub fn repr(&self) -> String {
+        match self {
+            Value::None => "None".into(),
+            Value::Bool(b) => if *b { "True" } else { "False" }.into(),
+            Value::Int(i) => i.to_string(),
+            Value::Float(f) => float_repr(*f),
+            Value::Str(s) => str_repr(s),
+            Value::List(l) => format!("[{}]", join_repr(&l.borrow())),
+            Value::Tuple(t) if t.len() == 1 => format!("({},)", t[0].repr()),
+            Value::Tuple(t) => format!("({})", join_repr(t)),
+            Value::Dict(d) => format!(
+                "{{{}}}",
+                d.iter().map(|(k, v)| format!("{}: {}", k.repr(), v.repr())).collect::<Vec<_>>().join(", ")
+            ),
+            Value::Func(f) => format!("<function {f:?}>"),
+            Value::Module(m) => format!("<module '{m}'>"),
+            Value::Record(r) => format!("{}(...)", r.name),
+            Value::Unknown(w) => format!("<unknown: {w}>"),
+        }
+    }
+}
+
+fn join_repr(v: &[Value]) -> String {
+    v.iter().map(Value::repr).collect::<Vec<_>>().join(", ")
+}
+
+/// CPython's `repr(str)`: single quotes unless the text holds one and no
+/// double quote.
+fn str_repr(s: &str) -> String {
+    let q = if s.contains('\'') && !s.contains('"') { '"' } else { '\'' };
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push(q);
+    for c in s.chars() {
+        match c {
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\t' => out.push_str("\\t"),
+            '\r' => out.push_str("\\r"),
+            c if c == q => {
+                out.push('\\');
+                out.push(c);
+            }
+            c if (c as u32) < 0x20 || c as u32 == 0x7f => out.push_str(&format!("\\x{:02x}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push(q);
+    out
+}
+
+/// CPython's `repr(float)`: the shortest digits that round-trip, in fixed
+/// notation when the exponent is in [-4, 16), else `d.ddde+XX`.
+pub fn float_repr(x: f64) -> String {
+    if x.is_nan() {
+        return "nan".into();
+    }
+    if x.is_infinite() {
+        return if x > 0.0 { "inf" } else { "-inf" }.into();
+    }
+    let sci = format!("{x:e}");
+    let (mant, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    let neg = mant.starts_with('-');
+    let digits: String = mant.chars().filter(char::is_ascii_digit).collect();
+    let sign = if neg { "-" } else { "" };
+    if (-4..16).contains(&exp) {
+        let point = exp + 1;
+        let body = if point <= 0 {
+            format!("0.{}{}", "0".repeat((-point) as usize), digits)
+        } else if (point as usize) >= digits.len() {
+            format!("{}{}.0", digits, "0".repeat(point as usize - digits.len()))
+        } else {
+            format!("{}.{}", &digits[..point as usize], &digits[point as usize..])
+        };
+        return format!("{sign}{body}");
+    }
+    let m = if digits.len() > 1 { format!("{}.{}", &digits[..1], &digits[1..]) } else { digits };
+    format!("{sign}{m}e{}{:02}", if exp < 0 { '-' } else { '+' }, exp.abs())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floats_print_as_cpython_repr() {
+        // Values from CPython 3.11's repr().
+        for (x, want) in [
+            (0.1 * 3.0, "0.30000000000000004"),
+            (1e-5, "1e-05"),
+            (1e16, "1e+16"),
+            (123456789012345678.0, "1.2345678901234568e+17"),
+            (0.0001, "0.0001"),
+            (2.0, "2.0"),
+            (-0.0, "-0.0"),
+            (1e15, "1000000000000000.0"),
+            (1.5707963267948966, "1.5707963267948966"),
+        ] {
+            assert_eq!(float_repr(x), want);
+        }
+    }
+
+    #[test]
+    fn strings_repr_as_cpython() {
+        assert_eq!(str_repr("a'b"), "\"a'b\"");
+        assert_eq!(str_repr("a\"b'c"), "'a\"b\\'c'");
+        assert_eq!(Value::Tuple(vec![Value::Int(1)]).repr(), "(1,)");
+    }
+}
