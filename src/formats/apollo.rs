@@ -26,12 +26,20 @@ yaml_dialect!(APOLLO_EXTRINSICS, "apollo-extrinsics", false, |i| keys((i.has_key
 
 fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
     let d = top_map(docs, "Apollo extrinsics")?;
-    let parent = name(field(d, "header", "Apollo extrinsics")?, "frame_id", "header")?;
+    let parent = name(
+        field(d, "header", "Apollo extrinsics")?,
+        "frame_id",
+        "header",
+    )?;
     let child = name(d, "child_frame_id", "Apollo extrinsics")?;
     let tr = field(d, "transform", "Apollo extrinsics")?;
     let t = field(tr, "translation", "transform")?;
     let r = field(tr, "rotation", "transform")?;
-    let dd = [number(t, "x", "transform.translation")?, number(t, "y", "transform.translation")?, number(t, "z", "transform.translation")?];
+    let dd = [
+        number(t, "x", "transform.translation")?,
+        number(t, "y", "transform.translation")?,
+        number(t, "z", "transform.translation")?,
+    ];
     let mut q = [0.0; 4];
     for (i, k) in ["x", "y", "z", "w"].iter().enumerate() {
         q[i] = number(r, k, "transform.rotation")?;
@@ -43,6 +51,14 @@ fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
     let read = rigid_quat(q, dd, r, "transform.rotation", &mut ws)?;
     check_metres(&dd, "transform.translation", &loc, &mut ws);
     locate_warnings(ws, &loc, &mut out.warnings);
-    out.edges.push(edge(&parent, &child, read, path, k, APOLLO_EXTRINSICS.id, format!("transform {parent} -> {child}")));
+    out.edges.push(edge(
+        &parent,
+        &child,
+        read,
+        path,
+        k,
+        APOLLO_EXTRINSICS.id,
+        format!("transform {parent} -> {child}"),
+    ));
     Ok(out)
 }

@@ -42,7 +42,9 @@ fn sniff(i: &Input) -> Option<super::spec::Confidence> {
     let ok = !d.entries().is_empty()
         && d.entries().iter().all(|(_, v)| {
             !v.entries().is_empty()
-                && v.entries().iter().all(|(_, e)| ["roll", "pitch", "yaw"].iter().any(|k| e.get(k).is_some()))
+                && v.entries()
+                    .iter()
+                    .all(|(_, e)| ["roll", "pitch", "yaw"].iter().any(|k| e.get(k).is_some()))
         });
     keys(ok)
 }
@@ -53,7 +55,13 @@ fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
     for (pk, children) in d.entries() {
         let parent = pk.as_str().unwrap_or_default();
         if !matches!(children.value, Value::Map(_)) {
-            return Err(err_at(children, format!("`{parent}`: expected a mapping CHILD: {{x, y, z, roll, pitch, yaw}}, found {}", children.kind())));
+            return Err(err_at(
+                children,
+                format!(
+                    "`{parent}`: expected a mapping CHILD: {{x, y, z, roll, pitch, yaw}}, found {}",
+                    children.kind()
+                ),
+            ));
         }
         for (ck, e) in children.entries() {
             let child = ck.as_str().unwrap_or_default();
@@ -68,7 +76,15 @@ fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
             let mut ws = Vec::new();
             check_metres(&dd, &what, &loc, &mut ws);
             locate_warnings(ws, &loc, &mut out.warnings);
-            out.edges.push(edge(parent.trim(), child.trim(), read, path, ck, AUTOWARE_CALIBRATION.id, format!("{what} {{x, y, z, roll, pitch, yaw}}")));
+            out.edges.push(edge(
+                parent.trim(),
+                child.trim(),
+                read,
+                path,
+                ck,
+                AUTOWARE_CALIBRATION.id,
+                format!("{what} {{x, y, z, roll, pitch, yaw}}"),
+            ));
         }
     }
     Ok(out)

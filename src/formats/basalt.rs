@@ -40,7 +40,11 @@ const KEYS: [&str; 7] = ["px", "py", "pz", "qx", "qy", "qz", "qw"];
 
 fn parse(text: &str, path: &Path) -> Result<Loaded> {
     let docs = json_documents(text)?;
-    let v0 = field(top_map(&docs, "Basalt calibration")?, "value0", "Basalt calibration")?;
+    let v0 = field(
+        top_map(&docs, "Basalt calibration")?,
+        "value0",
+        "Basalt calibration",
+    )?;
     let cams = field(v0, "T_imu_cam", "value0")?;
     let Value::Seq(list) = &cams.value else {
         return Err(err_at(cams, format!("value0.T_imu_cam: expected a list of poses {{px, py, pz, qx, qy, qz, qw}}, found {}", cams.kind())));
@@ -64,11 +68,21 @@ fn parse(text: &str, path: &Path) -> Result<Loaded> {
         let loc = loc_of(path, p);
         check_metres(&d, &what, &loc, &mut ws);
         locate_warnings(ws, &loc, &mut out.warnings);
-        out.edges.push(edge("imu", &format!("cam{i}"), read, path, p, BASALT_CALIB.id, what));
+        out.edges.push(edge(
+            "imu",
+            &format!("cam{i}"),
+            read,
+            path,
+            p,
+            BASALT_CALIB.id,
+            what,
+        ));
     }
     if out.edges.is_empty() {
-        return Err(err_at(k, "value0.T_imu_cam: expected at least one camera pose, found an empty list".into()));
+        return Err(err_at(
+            k,
+            "value0.T_imu_cam: expected at least one camera pose, found an empty list".into(),
+        ));
     }
     Ok(out)
 }
-

@@ -87,7 +87,13 @@ pub(crate) fn rigid16(v: &[f64], at: &Node, what: &str, ws: &mut Vec<Warning>) -
 }
 
 /// A rotation (9 numbers, row-major) and a translation (3).
-pub(crate) fn rigid_rt(r: &[f64], d: &[f64], at: &Node, what: &str, ws: &mut Vec<Warning>) -> Result<Read> {
+pub(crate) fn rigid_rt(
+    r: &[f64],
+    d: &[f64],
+    at: &Node,
+    what: &str,
+    ws: &mut Vec<Warning>,
+) -> Result<Read> {
     let r = [[r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[6], r[7], r[8]]];
     let d = [d[0], d[1], d[2]];
     let t = Transform::from_matrix3(r, d, ws).map_err(|e| located(e, at, what))?;
@@ -96,9 +102,19 @@ pub(crate) fn rigid_rt(r: &[f64], d: &[f64], at: &Node, what: &str, ws: &mut Vec
 
 /// A translation and a quaternion x, y, z, w (normalised with a warning when
 /// it is not unit, as `Transform::from_quaternion` does).
-pub(crate) fn rigid_quat(q: [f64; 4], d: [f64; 3], at: &Node, what: &str, ws: &mut Vec<Warning>) -> Result<Read> {
-    let t = Transform::from_quaternion(q, QuatOrder::Xyzw, d, ws).map_err(|e| located(e, at, what))?;
-    Ok((t, written_precision(Written::Quat(q, QuatOrder::Xyzw), d, 1.0)))
+pub(crate) fn rigid_quat(
+    q: [f64; 4],
+    d: [f64; 3],
+    at: &Node,
+    what: &str,
+    ws: &mut Vec<Warning>,
+) -> Result<Read> {
+    let t =
+        Transform::from_quaternion(q, QuatOrder::Xyzw, d, ws).map_err(|e| located(e, at, what))?;
+    Ok((
+        t,
+        written_precision(Written::Quat(q, QuatOrder::Xyzw), d, 1.0),
+    ))
 }
 
 /// URDF roll, pitch, yaw (rad): `R = Rz(yaw) Ry(pitch) Rx(roll)`.
@@ -121,7 +137,10 @@ pub(crate) fn cv_matrix(n: &Node, rows: usize, cols: usize, what: &str) -> Resul
     if !matches!(n.value, Value::Map(_)) {
         return Err(err_at(
             n,
-            format!("{what}: expected an OpenCV matrix {{rows, cols, data}}, found {}", n.kind()),
+            format!(
+                "{what}: expected an OpenCV matrix {{rows, cols, data}}, found {}",
+                n.kind()
+            ),
         ));
     }
     let r = number(n, "rows", what)?;
@@ -132,20 +151,35 @@ pub(crate) fn cv_matrix(n: &Node, rows: usize, cols: usize, what: &str) -> Resul
             format!("{what}: expected rows {rows} cols {cols}, found rows {r} cols {c}"),
         ));
     }
-    numbers_n(field(n, "data", what)?, rows * cols, &format!("{what}.data"))
+    numbers_n(
+        field(n, "data", what)?,
+        rows * cols,
+        &format!("{what}.data"),
+    )
 }
 
 /// The first document of a file, which must be a mapping.
 pub(crate) fn top_map<'a>(docs: &'a [Node], what: &str) -> Result<&'a Node> {
     match docs.first() {
         Some(d) if matches!(d.value, Value::Map(_)) => Ok(d),
-        Some(d) => Err(err_at(d, format!("{what}: expected a mapping at the top, found {}", d.kind()))),
+        Some(d) => Err(err_at(
+            d,
+            format!("{what}: expected a mapping at the top, found {}", d.kind()),
+        )),
         None => Err(Error::parse(format!("{what}: the file is empty"))),
     }
 }
 
 /// An edge `parent -> child` read from `key` (at node `k`).
-pub(crate) fn edge(parent: &str, child: &str, read: Read, path: &Path, k: &Node, format: &'static str, key: String) -> Edge {
+pub(crate) fn edge(
+    parent: &str,
+    child: &str,
+    read: Read,
+    path: &Path,
+    k: &Node,
+    format: &'static str,
+    key: String,
+) -> Edge {
     Edge::new(parent, child, read.0, loc_of(path, k), format, key).with_precision(read.1)
 }
 

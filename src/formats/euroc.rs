@@ -31,7 +31,11 @@ yaml_dialect!(EUROC_SENSOR, "euroc-sensor", false, |i| keys(i.has_key("T_BS") &&
 
 /// The sensor's name: `camera_id`, else the directory of a `sensor.yaml`.
 fn sensor_name(d: &Node, path: &Path) -> String {
-    if let Some(id) = d.get("camera_id").and_then(|v| v.as_str()).filter(|s| !s.trim().is_empty()) {
+    if let Some(id) = d
+        .get("camera_id")
+        .and_then(|v| v.as_str())
+        .filter(|s| !s.trim().is_empty())
+    {
         return id.trim().to_string();
     }
     let is_sensor_yaml = path.file_name().is_some_and(|n| n == "sensor.yaml");
@@ -52,6 +56,14 @@ fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
     let loc = loc_of(path, k);
     check_metres(&[data[3], data[7], data[11]], "T_BS", &loc, &mut ws);
     locate_warnings(ws, &loc, &mut out.warnings);
-    out.edges.push(edge("body", &sensor_name(d, path), read, path, k, EUROC_SENSOR.id, "T_BS {cols, rows, data}".into()));
+    out.edges.push(edge(
+        "body",
+        &sensor_name(d, path),
+        read,
+        path,
+        k,
+        EUROC_SENSOR.id,
+        "T_BS {cols, rows, data}".into(),
+    ));
     Ok(out)
 }

@@ -39,7 +39,10 @@ fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
     let mut out = parse_fast_lio(docs, path, FAST_LIVO.id)?;
     let m = unique_map(docs, "Rcl").or_else(|_| unique_map(docs, "Pcl"))?;
     let Some(rn) = m.get("Rcl") else {
-        return Err(err_at(m, "expected `Rcl` (9 numbers, row-major) next to `Pcl`, found none".into()));
+        return Err(err_at(
+            m,
+            "expected `Rcl` (9 numbers, row-major) next to `Pcl`, found none".into(),
+        ));
     };
     let pn = m.get("Pcl").ok_or_else(|| err_at(m, "expected `Pcl` (3 numbers) next to `Rcl`, found none (FAST-LIVO would read past an empty vector)".into()))?;
     let r = numbers_n(rn, 9, "Rcl")?;
@@ -50,7 +53,18 @@ fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
     let read = rigid_rt(&r, &t, rn, "Rcl + Pcl", &mut ws)?;
     check_metres(&[t[0], t[1], t[2]], "Pcl", &loc, &mut ws);
     locate_warnings(ws, &loc, &mut out.warnings);
-    let e = edge("camera", "lidar", read, path, k, FAST_LIVO.id, String::new());
-    out.edges.push(stored_inverted(e, "Rcl + Pcl (the LiDAR in the camera), stored inverted as lidar -> camera".into()));
+    let e = edge(
+        "camera",
+        "lidar",
+        read,
+        path,
+        k,
+        FAST_LIVO.id,
+        String::new(),
+    );
+    out.edges.push(stored_inverted(
+        e,
+        "Rcl + Pcl (the LiDAR in the camera), stored inverted as lidar -> camera".into(),
+    ));
     Ok(out)
 }

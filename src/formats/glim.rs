@@ -27,7 +27,9 @@
 
 use super::calib_shapes::{edge, field, numbers_n, rigid_quat, top_map, untraced};
 use super::json::json_documents;
-use super::spec::{check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded};
+use super::spec::{
+    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+};
 use super::yaml_shapes::{key_node, loc_of};
 use crate::diagnostic::{Error, Result};
 use std::path::Path;
@@ -74,7 +76,10 @@ pub fn strip_json_comments(text: &str) -> Result<String> {
         } else if b[i..].starts_with(b"/*") {
             let Some(end) = text[i + 2..].find("*/") else {
                 let line = text[..i].matches('\n').count() + 1;
-                return Err(Error::parse("block comment `/*` never closed: expected `*/`").at_line(line, None));
+                return Err(
+                    Error::parse("block comment `/*` never closed: expected `*/`")
+                        .at_line(line, None),
+                );
             };
             let stop = i + 2 + end + 2;
             out.extend(b[i..stop].iter().map(|&c| blank(c)));
@@ -89,11 +94,18 @@ pub fn strip_json_comments(text: &str) -> Result<String> {
 }
 
 /// The keys read: (key, child, traced).
-const KEYS: [(&str, &str, bool); 2] = [("T_lidar_imu", "imu", true), ("T_lidar_camera", "camera", false)];
+const KEYS: [(&str, &str, bool); 2] = [
+    ("T_lidar_imu", "imu", true),
+    ("T_lidar_camera", "camera", false),
+];
 
 fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let docs = json_documents(&strip_json_comments(text)?)?;
-    let s = field(top_map(&docs, "GLIM config_sensors.json")?, "sensors", "GLIM config_sensors.json")?;
+    let s = field(
+        top_map(&docs, "GLIM config_sensors.json")?,
+        "sensors",
+        "GLIM config_sensors.json",
+    )?;
     let mut out = Loaded::default();
     for (key, child, traced) in KEYS {
         let Some(v) = s.get(key) else { continue };
@@ -105,10 +117,23 @@ fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         let loc = loc_of(path, k);
         check_metres(&d, key, &loc, &mut ws);
         locate_warnings(ws, &loc, &mut out.warnings);
-        let e = edge("lidar", child, read, path, k, GLIM_SENSORS.id, format!("sensors.{key}"));
+        let e = edge(
+            "lidar",
+            child,
+            read,
+            path,
+            k,
+            GLIM_SENSORS.id,
+            format!("sensors.{key}"),
+        );
         if traced {
             out.edges.push(e);
-        } else if let Some(e) = untraced(opts, e, "GLIM's core code never reads it, so no code fixes its direction", &mut out.warnings)? {
+        } else if let Some(e) = untraced(
+            opts,
+            e,
+            "GLIM's core code never reads it, so no code fixes its direction",
+            &mut out.warnings,
+        )? {
             out.edges.push(e);
         }
     }

@@ -67,7 +67,10 @@ fn common_name(n: &str) -> Option<Value> {
     if let Some(c) = math_constant(n) {
         return Some(Value::Float(c));
     }
-    MATH.iter().chain(BUILTINS).find(|m| **m == n).map(|m| Value::Func(Func::Builtin(m)))
+    MATH.iter()
+        .chain(BUILTINS)
+        .find(|m| **m == n)
+        .map(|m| Value::Func(Func::Builtin(m)))
 }
 
 struct Ros1<'a, 'g> {
@@ -90,7 +93,9 @@ impl Host for Ros1<'_, '_> {
         match n {
             "true" | "True" => return Some(Value::Bool(true)),
             "false" | "False" => return Some(Value::Bool(false)),
-            "arg" | "anon" | "dirname" | "env" | "optenv" | "find" => return Some(Value::Func(Func::Host(n.into()))),
+            "arg" | "anon" | "dirname" | "env" | "optenv" | "find" => {
+                return Some(Value::Func(Func::Host(n.into())))
+            }
             _ => {}
         }
         if let Some(v) = math_constant(n).map(Value::Float) {
@@ -105,7 +110,13 @@ impl Host for Ros1<'_, '_> {
         common_name(n)
     }
 
-    fn call(&mut self, f: &Func, args: Vec<Value>, _: Vec<(String, Value)>, at: &Expr) -> Result<Value> {
+    fn call(
+        &mut self,
+        f: &Func,
+        args: Vec<Value>,
+        _: Vec<(String, Value)>,
+        at: &Expr,
+    ) -> Result<Value> {
         match (f, args.as_slice()) {
             (Func::Host(h), [Value::Str(name)]) if h == "arg" => Ok(self.arg(name)),
             (Func::Host(h), _) if h == "arg" => super::pyexpr::eval::fail(at, "arg() takes one string, the arg's name"),
@@ -124,7 +135,13 @@ impl Host for Ros2 {
         }
         common_name(n)
     }
-    fn call(&mut self, _: &Func, _: Vec<Value>, _: Vec<(String, Value)>, at: &Expr) -> Result<Value> {
+    fn call(
+        &mut self,
+        _: &Func,
+        _: Vec<Value>,
+        _: Vec<(String, Value)>,
+        at: &Expr,
+    ) -> Result<Value> {
         super::pyexpr::eval::fail(at, "a call of a function ROS 2's $(eval) does not define")
     }
 }
@@ -134,7 +151,9 @@ impl Host for Ros2 {
 fn run(text: &str, host: &mut dyn Host, loc: &Location) -> Result<String> {
     let located = |m: String| Error::parse(format!("$(eval {}): {m}", quote(text))).at(loc);
     if text.contains("__") {
-        return Err(located("may not contain double underscore expressions (roslaunch refuses them)".into()));
+        return Err(located(
+            "may not contain double underscore expressions (roslaunch refuses them)".into(),
+        ));
     }
     let e = expression(text, 1).map_err(|e| located(e.message))?;
     match Eval::new(host).eval(&e).map_err(|e| located(e.message))? {
@@ -144,7 +163,12 @@ fn run(text: &str, host: &mut dyn Host, loc: &Location) -> Result<String> {
 }
 
 /// ROS 1: the text inside `$(eval ...)` (the whole attribute value).
-pub(crate) fn eval_ros1(text: &str, args: &LaunchArgs, loc: &Location, depth: usize) -> Result<String> {
+pub(crate) fn eval_ros1(
+    text: &str,
+    args: &LaunchArgs,
+    loc: &Location,
+    depth: usize,
+) -> Result<String> {
     run(text, &mut Ros1 { args, loc, depth }, loc)
 }
 
@@ -170,4 +194,42 @@ pub(crate) fn closing(s: &str, open: usize) -> Option<usize> {
         }
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Constructs the reader refuses by name although CPython evaluates them.
+    const REFUSED: &[&str] = &["'%d' % 3"];
+
+    #[test]
+    fn expressions_match_cpython() {
+        let tsv = include_str!("../../tests/fixtures/formats/launch_py/expressions.tsv");
+        let loc = Location::file(std::path::Path::new("x.launch"));
+        let mut n = 0;
+        for line in tsv.lines().filter(|l| !l.starts_with('#')) {
+            let (expr, want) = line.split_once('\t').expect("expression TAB value");
+            let got = eval_ros2(expr, &loc);
+            match (want, &got) {
+                ("error", Err(_)) => {}
+                (_, Err(e)) if REFUSED.contains(&expr) => {
+                    assert!(e.message.contains("not evaluated"), "{expr}: {e}")
+                }
+                (w, Ok(g)) => assert_eq!(g, w, "{expr}"),
+                (w, Err(e)) => panic!("{expr}: expected {w}, refused: {e}"),
+            }
+            n += 1;
+        }
+        assert!(n > 80, "{n} expressions");
+    }
+
+    #[test]
+    fn convert_auto_is_roslaunch_convert_value() {
+        assert!(matches!(convert_auto("0.3"), Value::Float(x) if x == 0.3));
+        assert!(matches!(convert_auto("90"), Value::Int(90)));
+        assert!(matches!(convert_auto("1_000"), Value::Str(_)));
+        assert!(matches!(convert_auto("TRUE"), Value::Bool(true)));
+        assert!(matches!(convert_auto("jackal"), Value::Str(_)));
+    }
 }

@@ -153,7 +153,11 @@ impl<'a> LaunchArgs<'a> {
             out.push_str(&rest[..at]);
             if rest[at..].starts_with("$(eval ") || rest[at..].starts_with("$(eval)") {
                 let Some(close) = closing(rest, at) else {
-                    return Err(Error::parse(format!("{}: `$(eval` without its closing `)`", quote(s))).at(loc));
+                    return Err(Error::parse(format!(
+                        "{}: `$(eval` without its closing `)`",
+                        quote(s)
+                    ))
+                    .at(loc));
                 };
                 if !self.ros2 {
                     return Err(Error::parse(format!(

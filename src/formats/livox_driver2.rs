@@ -48,7 +48,11 @@ fn integer(m: &Node, key: &str, what: &str, text: &str) -> Result<i64> {
     let x = number(m, key, what)?;
     let v = field(m, key, what)?;
     let line = text.lines().nth(v.line.saturating_sub(1)).unwrap_or("");
-    let tok: String = line.chars().skip(v.column.saturating_sub(1)).take_while(|c| !matches!(c, ',' | '}' | ']') && !c.is_whitespace()).collect();
+    let tok: String = line
+        .chars()
+        .skip(v.column.saturating_sub(1))
+        .take_while(|c| !matches!(c, ',' | '}' | ']') && !c.is_whitespace())
+        .collect();
     if tok.contains(['.', 'e', 'E']) || x.fract() != 0.0 || x.abs() > i32::MAX as f64 {
         return Err(err_at(v, format!("{what}.{key}: expected an integer number of millimetres (the driver reads it with GetInt), found {tok}")));
     }
@@ -57,9 +61,16 @@ fn integer(m: &Node, key: &str, what: &str, text: &str) -> Result<i64> {
 
 fn parse(text: &str, path: &Path) -> Result<Loaded> {
     let docs = json_documents(text)?;
-    let list = field(top_map(&docs, "livox_ros_driver2 config")?, "lidar_configs", "livox_ros_driver2 config")?;
+    let list = field(
+        top_map(&docs, "livox_ros_driver2 config")?,
+        "lidar_configs",
+        "livox_ros_driver2 config",
+    )?;
     let Value::Seq(items) = &list.value else {
-        return Err(err_at(list, format!("`lidar_configs`: expected a list, found {}", list.kind())));
+        return Err(err_at(
+            list,
+            format!("`lidar_configs`: expected a list, found {}", list.kind()),
+        ));
     };
     let mut out = Loaded::default();
     for (i, lc) in items.iter().enumerate() {
@@ -67,22 +78,54 @@ fn parse(text: &str, path: &Path) -> Result<Loaded> {
         let ip = name(lc, "ip", &what)?;
         let ext = lc.get("extrinsic_parameter").ok_or_else(|| err_at(lc, format!("{what}: expected `extrinsic_parameter` {{roll, pitch, yaw, x, y, z}}, found none (the driver would use zero silently)")))?;
         let ew = format!("{what}.extrinsic_parameter");
-        let deg = [number(ext, "roll", &ew)?, number(ext, "pitch", &ew)?, number(ext, "yaw", &ew)?];
-        let mm = [integer(ext, "x", &ew, text)?, integer(ext, "y", &ew, text)?, integer(ext, "z", &ew, text)?];
+        let deg = [
+            number(ext, "roll", &ew)?,
+            number(ext, "pitch", &ew)?,
+            number(ext, "yaw", &ew)?,
+        ];
+        let mm = [
+            integer(ext, "x", &ew, text)?,
+            integer(ext, "y", &ew, text)?,
+            integer(ext, "z", &ew, text)?,
+        ];
         let low = lc.get("pcl_data_type").and_then(|v| v.as_f64()) == Some(2.0);
         // pcl_data_type 2: whole centimetres (C integer division truncates).
-        let d = mm.map(|v| if low { (v / 10) as f64 / 100.0 } else { v as f64 / 1000.0 });
+        let d = mm.map(|v| {
+            if low {
+                (v / 10) as f64 / 100.0
+            } else {
+                v as f64 / 1000.0
+            }
+        });
         // No rounding recorded: the angles were written in degrees.
-        let read = (rigid_rpy(deg.map(f64::to_radians), d, ext, &ew)?.0, Default::default());
+        let read = (
+            rigid_rpy(deg.map(f64::to_radians), d, ext, &ew)?.0,
+            Default::default(),
+        );
         let loc = loc_of(path, ext);
         let mut ws = Vec::new();
         check_metres(&d, &ew, &loc, &mut ws);
         locate_warnings(ws, &loc, &mut out.warnings);
-        let unit = if low { "mm, used in whole cm (pcl_data_type 2)" } else { "mm" };
-        out.edges.push(edge("livox_frame", &format!("lidar_{}", ip.replace('.', "_")), read, path, ext, LIVOX_DRIVER2.id, format!("{what} ({ip}) extrinsic_parameter (deg, {unit})")));
+        let unit = if low {
+            "mm, used in whole cm (pcl_data_type 2)"
+        } else {
+            "mm"
+        };
+        out.edges.push(edge(
+            "livox_frame",
+            &format!("lidar_{}", ip.replace('.', "_")),
+            read,
+            path,
+            ext,
+            LIVOX_DRIVER2.id,
+            format!("{what} ({ip}) extrinsic_parameter (deg, {unit})"),
+        ));
     }
     if out.edges.is_empty() {
-        return Err(err_at(list, "`lidar_configs`: expected at least one LiDAR, found none".into()));
+        return Err(err_at(
+            list,
+            "`lidar_configs`: expected at least one LiDAR, found none".into(),
+        ));
     }
     Ok(out)
 }

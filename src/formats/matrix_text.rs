@@ -11,8 +11,10 @@
 //! naming the flag. Refused too: another count than 16, a bottom row other
 //! than `0 0 0 1`.
 
-use super::spec::{check_metres, locate_warnings, parse_number, Confidence, FormatSpec, Input, LoadOptions, Loaded};
 use super::calib_shapes::assumed;
+use super::spec::{
+    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+};
 use crate::diagnostic::{Error, Location, Result};
 use crate::frames::Edge;
 use crate::geometry::se3::Transform;
@@ -34,7 +36,8 @@ pub const MATRIX4_TEXT: FormatSpec = FormatSpec {
 
 /// The tokens of the text: numbers separated by blanks and commas.
 fn tokens(text: &str) -> impl Iterator<Item = &str> {
-    text.split(|c: char| c.is_whitespace() || c == ',').filter(|t| !t.is_empty())
+    text.split(|c: char| c.is_whitespace() || c == ',')
+        .filter(|t| !t.is_empty())
 }
 
 /// Only numbers, about one matrix of them (a 3x4 to a 4x4 with a stray one).
@@ -56,17 +59,29 @@ fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let mut v = Vec::new();
     for t in tokens(text) {
         v.push(parse_number(t).ok_or_else(|| {
-            Error::parse(format!("4x4 matrix text: expected numbers only, found {:?}", crate::sanitize::clip(t))).at(&loc)
+            Error::parse(format!(
+                "4x4 matrix text: expected numbers only, found {:?}",
+                crate::sanitize::clip(t)
+            ))
+            .at(&loc)
         })?);
     }
     if v.len() != 16 {
-        return Err(Error::parse(format!("4x4 matrix text: expected 16 numbers (row-major), found {}", v.len())).at(&loc));
+        return Err(Error::parse(format!(
+            "4x4 matrix text: expected 16 numbers (row-major), found {}",
+            v.len()
+        ))
+        .at(&loc));
     }
     let Some(a) = opts.assume.as_ref() else {
         return Err(Error::parse("a plain 4x4 matrix names no frames and no direction: pass --assume child-in-parent:PARENT,CHILD (the matrix is the pose of CHILD in PARENT) or --assume parent-in-child:PARENT,CHILD").at(&loc));
     };
     let Some((parent, child)) = &a.frames else {
-        return Err(Error::usage(format!("{}: a plain 4x4 matrix names no frames: expected {}:PARENT,CHILD", a.flag(), a.flag())));
+        return Err(Error::usage(format!(
+            "{}: a plain 4x4 matrix names no frames: expected {}:PARENT,CHILD",
+            a.flag(),
+            a.flag()
+        )));
     };
     let m = [
         [v[0], v[1], v[2], v[3]],
@@ -77,9 +92,22 @@ fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let mut out = Loaded::default();
     let mut ws = Vec::new();
     let t = Transform::from_matrix4(m, &mut ws).map_err(|e| e.at(&loc))?;
-    check_metres(&[v[3], v[7], v[11]], "the matrix's translation", &loc, &mut ws);
+    check_metres(
+        &[v[3], v[7], v[11]],
+        "the matrix's translation",
+        &loc,
+        &mut ws,
+    );
     locate_warnings(ws, &loc, &mut out.warnings);
-    let e = Edge::new(parent.clone(), child.clone(), t, loc, MATRIX4_TEXT.id, "4x4 matrix").with_precision(matrix4_precision(m, 1.0));
+    let e = Edge::new(
+        parent.clone(),
+        child.clone(),
+        t,
+        loc,
+        MATRIX4_TEXT.id,
+        "4x4 matrix",
+    )
+    .with_precision(matrix4_precision(m, 1.0));
     out.edges.push(assumed(a, e));
     Ok(out)
 }

@@ -41,6 +41,7 @@ pub mod kitti_object;
 pub mod las;
 pub mod launch;
 pub(crate) mod launch_eval;
+pub mod launch_py;
 pub mod launch_subst;
 pub mod lio_yaml;
 pub mod livox_driver2;

@@ -20,7 +20,9 @@
 //! numbers (upstream reads zeros past the end) are refused.
 
 use super::calib_shapes::{edge, field, numbers_n, rigid16, top_map, untraced};
-use super::spec::{check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded};
+use super::spec::{
+    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+};
 use super::yaml::{self, Node, Value};
 use super::yaml_shapes::{err_at, key_node, loc_of};
 use crate::diagnostic::Result;
@@ -39,7 +41,14 @@ pub const OKVIS: FormatSpec = FormatSpec {
 };
 
 /// One 16-number key `key` of map `m` as edge `parent -> child`.
-fn matrix_key(m: &Node, key: &str, what: &str, (parent, child): (&str, &str), path: &Path, out: &mut Loaded) -> Result<crate::frames::Edge> {
+fn matrix_key(
+    m: &Node,
+    key: &str,
+    what: &str,
+    (parent, child): (&str, &str),
+    path: &Path,
+    out: &mut Loaded,
+) -> Result<crate::frames::Edge> {
     let v = field(m, key, what)?;
     let k = key_node(m, key).unwrap_or(v);
     let data = numbers_n(v, 16, &format!("{what}.{key}"))?;
@@ -48,18 +57,39 @@ fn matrix_key(m: &Node, key: &str, what: &str, (parent, child): (&str, &str), pa
     let loc = loc_of(path, k);
     check_metres(&[data[3], data[7], data[11]], key, &loc, &mut ws);
     locate_warnings(ws, &loc, &mut out.warnings);
-    Ok(edge(parent, child, read, path, k, OKVIS.id, format!("{what}.{key}")))
+    Ok(edge(
+        parent,
+        child,
+        read,
+        path,
+        k,
+        OKVIS.id,
+        format!("{what}.{key}"),
+    ))
 }
 
 fn parse(docs: &[Node], path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let d = top_map(docs, "OKVIS config")?;
     let cams = field(d, "cameras", "OKVIS config")?;
     let Value::Seq(list) = &cams.value else {
-        return Err(err_at(cams, format!("`cameras`: expected a list of camera maps with T_SC, found {}", cams.kind())));
+        return Err(err_at(
+            cams,
+            format!(
+                "`cameras`: expected a list of camera maps with T_SC, found {}",
+                cams.kind()
+            ),
+        ));
     };
     let mut out = Loaded::default();
     for (i, cam) in list.iter().enumerate() {
-        let e = matrix_key(cam, "T_SC", &format!("cameras[{i}]"), ("imu", &format!("cam{i}")), path, &mut out)?;
+        let e = matrix_key(
+            cam,
+            "T_SC",
+            &format!("cameras[{i}]"),
+            ("imu", &format!("cam{i}")),
+            path,
+            &mut out,
+        )?;
         out.edges.push(e);
     }
     if let Some(imu) = d.get("imu_params").filter(|m| m.get("T_BS").is_some()) {
@@ -70,7 +100,10 @@ fn parse(docs: &[Node], path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         }
     }
     if out.edges.is_empty() {
-        return Err(err_at(cams, "OKVIS config: expected at least one camera with T_SC, found none".into()));
+        return Err(err_at(
+            cams,
+            "OKVIS config: expected at least one camera with T_SC, found none".into(),
+        ));
     }
     Ok(out)
 }

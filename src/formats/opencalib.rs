@@ -51,19 +51,45 @@ fn parse(text: &str, path: &Path) -> Result<Loaded> {
     let docs = json_documents(text)?;
     let root = top_map(&docs, "OpenCalib extrinsic")?;
     let Some((k, rec)) = root.entries().first() else {
-        return Err(err_at(root, "OpenCalib extrinsic: expected a member `<A>-to-<B>-extrinsic`, found an empty object".into()));
+        return Err(err_at(
+            root,
+            "OpenCalib extrinsic: expected a member `<A>-to-<B>-extrinsic`, found an empty object"
+                .into(),
+        ));
     };
     let key = &k.as_str().unwrap_or_default();
     let mut out = Loaded::default();
     for (other, _) in &root.entries()[1..] {
-        out.warnings.push(Warning::new(Code::Ignored, format!("`{}`: not read; OpenCalib's LoadExtrinsic reads only the first member ({key})", other.as_str().unwrap_or_default())).at(&loc_of(path, other)));
+        out.warnings.push(
+            Warning::new(
+                Code::Ignored,
+                format!(
+                    "`{}`: not read; OpenCalib's LoadExtrinsic reads only the first member ({key})",
+                    other.as_str().unwrap_or_default()
+                ),
+            )
+            .at(&loc_of(path, other)),
+        );
     }
     let sensor = name(rec, "sensor_name", key)?;
     let target = name(rec, "target_sensor_name", key)?;
-    let calib = field(field(rec, "param", key)?, "sensor_calib", &format!("{key}.param"))?;
+    let calib = field(
+        field(rec, "param", key)?,
+        "sensor_calib",
+        &format!("{key}.param"),
+    )?;
     let data = field(calib, "data", "sensor_calib")?;
     let rows: Vec<usize> = match &data.value {
-        Value::Seq(r) => r.iter().map(|x| if let Value::Seq(c) = &x.value { c.len() } else { 0 }).collect(),
+        Value::Seq(r) => r
+            .iter()
+            .map(|x| {
+                if let Value::Seq(c) = &x.value {
+                    c.len()
+                } else {
+                    0
+                }
+            })
+            .collect(),
         _ => vec![],
     };
     if rows != [4, 4, 4, 4] {
@@ -75,7 +101,9 @@ fn parse(text: &str, path: &Path) -> Result<Loaded> {
     let read = rigid16(&v, data, &format!("{key}: sensor_calib.data"), &mut ws)?;
     check_metres(&[v[3], v[7], v[11]], "sensor_calib.data", &loc, &mut ws);
     locate_warnings(ws, &loc, &mut out.warnings);
-    let named = key.strip_suffix("-extrinsic").and_then(|s| s.split_once("-to-"));
+    let named = key
+        .strip_suffix("-extrinsic")
+        .and_then(|s| s.split_once("-to-"));
     if let Some((a, b)) = named.filter(|(a, b)| (*a, *b) != (sensor.as_str(), target.as_str())) {
         out.warnings.push(Warning::new(Code::AssumedConvention, format!("`{key}` names {a} -> {b}, but sensor_name/target_sensor_name say {sensor} -> {target}: the frames are taken from sensor_name/target_sensor_name, as OpenCalib's tools use them")).at(&loc));
     }
@@ -86,6 +114,14 @@ fn parse(text: &str, path: &Path) -> Result<Loaded> {
     if inertial(&sensor) || inertial(&target) {
         out.warnings.push(Warning::new(Code::AssumedConvention, format!("read as the pose of {sensor} in {target}, the rule of OpenCalib's lidar2camera, lidar2lidar and lidar2imu auto_calib (run_lidar2imu.cpp:39-54 inverts it into lidar2imu); its lidar2imu manual_calib (run_lidar2imu.cpp:312-313) uses such a file the other way: pass --invert if yours was written for that tool")).at(&loc));
     }
-    out.edges.push(edge(&target, &sensor, read, path, k, OPENCALIB.id, format!("{key} sensor_calib")));
+    out.edges.push(edge(
+        &target,
+        &sensor,
+        read,
+        path,
+        k,
+        OPENCALIB.id,
+        format!("{key} sensor_calib"),
+    ));
     Ok(out)
 }

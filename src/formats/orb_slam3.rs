@@ -36,7 +36,10 @@ use std::path::Path;
 yaml_dialect!(ORB_SLAM3, "orb-slam3", false, |i| keys(["IMU.T_b_c1", "Stereo.T_c1_c2", "Tbc", "Tlr"].iter().any(|k| i.has_key(k))), |d, _, p| parse(d, p), "ORB-SLAM3 settings (`!!opencv-matrix`, row-major): `IMU.T_b_c1` / `Tbc` the left camera's pose in the body (IMU), edge b -> c1; `Stereo.T_c1_c2` / `Tlr` (3x4) the right camera's pose in the left, edge c1 -> c2; File.version \"1.0\" selects the key names, as ORB-SLAM3 does");
 
 /// The keys one generation reads: (key, parent, child, rows).
-const V1: &[(&str, &str, &str, usize)] = &[("IMU.T_b_c1", "b", "c1", 4), ("Stereo.T_c1_c2", "c1", "c2", 4)];
+const V1: &[(&str, &str, &str, usize)] = &[
+    ("IMU.T_b_c1", "b", "c1", 4),
+    ("Stereo.T_c1_c2", "c1", "c2", 4),
+];
 const V0: &[(&str, &str, &str, usize)] = &[("Tbc", "b", "c1", 4), ("Tlr", "c1", "c2", 3)];
 
 fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
@@ -50,22 +53,37 @@ fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
     let mut out = Loaded::default();
     for &(key, _, _, _) in other {
         if let Some(k) = key_node(d, key) {
-            out.warnings.push(Warning::new(Code::Ignored, format!("`{key}` is not read: {why}")).at(&loc_of(path, k)));
+            out.warnings.push(
+                Warning::new(Code::Ignored, format!("`{key}` is not read: {why}"))
+                    .at(&loc_of(path, k)),
+            );
         }
     }
     for &(key, parent, child, rows) in read {
-        let (Some(k), Some(v)) = (key_node(d, key), d.get(key)) else { continue };
+        let (Some(k), Some(v)) = (key_node(d, key), d.get(key)) else {
+            continue;
+        };
         let data = cv_matrix(v, rows, 4, key)?;
         let mut ws = Vec::new();
         let at = field(v, "data", key)?;
         let r = if rows == 4 {
             rigid16(&data, at, key, &mut ws)?
         } else {
-            let rot = [data[0], data[1], data[2], data[4], data[5], data[6], data[8], data[9], data[10]];
+            let rot = [
+                data[0], data[1], data[2], data[4], data[5], data[6], data[8], data[9], data[10],
+            ];
             rigid_rt(&rot, &[data[3], data[7], data[11]], at, key, &mut ws)?
         };
         locate_warnings(ws, &loc_of(path, k), &mut out.warnings);
-        out.edges.push(edge(parent, child, r, path, k, ORB_SLAM3.id, format!("{key} (!!opencv-matrix)")));
+        out.edges.push(edge(
+            parent,
+            child,
+            r,
+            path,
+            k,
+            ORB_SLAM3.id,
+            format!("{key} (!!opencv-matrix)"),
+        ));
     }
     if out.edges.is_empty() {
         let names: Vec<&str> = read.iter().map(|k| k.0).collect();

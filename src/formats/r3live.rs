@@ -33,6 +33,14 @@ fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
     let loc = loc_of(path, k);
     check_metres(&[t[0], t[1], t[2]], "camera_ext_t", &loc, &mut ws);
     locate_warnings(ws, &loc, &mut out.warnings);
-    out.edges.push(edge("imu", "camera", read, path, k, R3LIVE.id, "r3live_vio camera_ext_R + camera_ext_t".into()));
+    out.edges.push(edge(
+        "imu",
+        "camera",
+        read,
+        path,
+        k,
+        R3LIVE.id,
+        "r3live_vio camera_ext_R + camera_ext_t".into(),
+    ));
     Ok(out)
 }

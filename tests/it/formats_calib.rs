@@ -51,7 +51,8 @@ fn orthonormality(m: &[[f64; 4]; 4]) -> f64 {
     let mut s = 0.0;
     for i in 0..3 {
         for j in 0..3 {
-            let d: f64 = (0..3).map(|k| m[k][i] * m[k][j]).sum::<f64>() - if i == j { 1.0 } else { 0.0 };
+            let d: f64 =
+                (0..3).map(|k| m[k][i] * m[k][j]).sum::<f64>() - if i == j { 1.0 } else { 0.0 };
             s += d * d;
         }
     }
@@ -71,26 +72,44 @@ fn check_format(format: &str, assume: Option<&str>) -> Vec<(String, Loaded)> {
     let exp = expected();
     let mut out = Vec::new();
     let fixtures = exp["fixtures"].as_object().unwrap();
-    let mine: Vec<_> = fixtures.iter().filter(|(k, _)| k.starts_with(&format!("{format}/"))).collect();
+    let mine: Vec<_> = fixtures
+        .iter()
+        .filter(|(k, _)| k.starts_with(&format!("{format}/")))
+        .collect();
     assert!(!mine.is_empty(), "{format}: no fixture in expected.json");
     for (rel, want) in mine {
         let file = dir().join(rel);
         let o = opts(assume);
         let found = detect_file(&file, &o).unwrap_or_else(|e| panic!("{rel}: {e}"));
         // roslaunch-eval/: launch XML with $(eval ...), read by launch-xml.
-        let id = if format == "roslaunch-eval" { "launch-xml" } else { format };
+        let id = if format == "roslaunch-eval" {
+            "launch-xml"
+        } else {
+            format
+        };
         assert_eq!(found.name(), id, "{rel}: detected as");
         let got = load_file(&file, &o);
         if let Some(err) = want.get("error") {
-            let e = got.err().unwrap_or_else(|| panic!("{rel}: read, expected refused ({err})"));
+            let e = got
+                .err()
+                .unwrap_or_else(|| panic!("{rel}: read, expected refused ({err})"));
             assert!(!e.message.is_empty(), "{rel}");
             continue;
         }
         let l = got.unwrap_or_else(|e| panic!("{rel}: {e}"));
         for edge in want["edges"].as_array().unwrap() {
-            let (p, c) = (edge["parent"].as_str().unwrap(), edge["child"].as_str().unwrap());
+            let (p, c) = (
+                edge["parent"].as_str().unwrap(),
+                edge["child"].as_str().unwrap(),
+            );
             let m = pose(&l, p, c).unwrap_or_else(|| {
-                panic!("{rel}: no edge {p} -> {c} in {:?}", l.edges.iter().map(|e| (&e.parent, &e.child)).collect::<Vec<_>>())
+                panic!(
+                    "{rel}: no edge {p} -> {c} in {:?}",
+                    l.edges
+                        .iter()
+                        .map(|e| (&e.parent, &e.child))
+                        .collect::<Vec<_>>()
+                )
             });
             let want_m = matrix(&edge["matrix"]);
             // The tool projects a rotation written to a few digits onto SO(3)
@@ -119,18 +138,24 @@ fn check_format(format: &str, assume: Option<&str>) -> Vec<(String, Loaded)> {
 }
 
 fn warned(l: &Loaded, code: Code, text: &str) -> bool {
-    l.warnings.iter().any(|w| w.code == code && w.message.contains(text))
+    l.warnings
+        .iter()
+        .any(|w| w.code == code && w.message.contains(text))
 }
 
 fn refusal(rel: &str, assume: Option<&str>) -> String {
-    load_file(&dir().join(rel), &opts(assume)).expect_err(rel).message
+    load_file(&dir().join(rel), &opts(assume))
+        .expect_err(rel)
+        .message
 }
 
 #[test]
 fn orb_slam3_settings_both_generations() {
     let loads = check_format("orb-slam3", None);
     assert_eq!(loads.len(), 2);
-    assert!(refusal("orb-slam3/bad_t_b_c1_short.yaml", None).contains("expected 16 numbers, found 12"));
+    assert!(
+        refusal("orb-slam3/bad_t_b_c1_short.yaml", None).contains("expected 16 numbers, found 12")
+    );
     assert!(refusal("orb-slam3/bad_tlr_4x4.yaml", None).contains("expected rows 3 cols 4"));
 }
 
@@ -143,38 +168,58 @@ fn fast_livo_camera_extrinsic_is_the_lidar_in_the_camera() {
         assert!(cam.provenance.key.contains("stored inverted"), "{rel}");
     }
     assert!(refusal("fast-livo/bad_rcl_without_pcl.yaml", None).contains("`Pcl`"));
-    assert!(refusal("fast-livo/bad_pcl_two_numbers.yaml", None).contains("expected 3 numbers, found 2"));
+    assert!(
+        refusal("fast-livo/bad_pcl_two_numbers.yaml", None).contains("expected 3 numbers, found 2")
+    );
 }
 
 #[test]
 fn autoware_calibration_parent_and_child_from_the_keys() {
     let loads = check_format("autoware-calibration", None);
-    let kit = &loads.iter().find(|(r, _)| r.ends_with("sensor_kit_calibration.yaml")).unwrap().1;
+    let kit = &loads
+        .iter()
+        .find(|(r, _)| r.ends_with("sensor_kit_calibration.yaml"))
+        .unwrap()
+        .1;
     assert_eq!(kit.edges.len(), 13);
-    assert!(kit.edges.iter().any(|e| e.child == "camera0/camera_link" && e.parent == "sensor_kit_base_link"));
+    assert!(kit
+        .edges
+        .iter()
+        .any(|e| e.child == "camera0/camera_link" && e.parent == "sensor_kit_base_link"));
     assert!(refusal("autoware-calibration/bad_missing_yaw.yaml", None).contains("expected `yaw`"));
-    assert!(refusal("autoware-calibration/bad_text_value.yaml", None).contains("expected a number, found a string"));
+    assert!(refusal("autoware-calibration/bad_text_value.yaml", None)
+        .contains("expected a number, found a string"));
 }
 
 #[test]
 fn euroc_t_bs_is_the_sensor_in_the_body() {
     check_format("euroc-sensor", None);
-    assert!(refusal("euroc-sensor/bad_rows_cols_mismatch.yaml", None).contains("expected rows 4 cols 4"));
+    assert!(refusal("euroc-sensor/bad_rows_cols_mismatch.yaml", None)
+        .contains("expected rows 4 cols 4"));
     assert!(refusal("euroc-sensor/bad_bottom_row.yaml", None).contains("bottom row"));
     // EuRoC's own layout: the sensor is named after its directory.
     let tmp = tempfile::tempdir().unwrap();
     let cam = tmp.path().join("mav0/cam1");
     std::fs::create_dir_all(&cam).unwrap();
-    std::fs::copy(dir().join("euroc-sensor/euroc_cam0_sensor.yaml"), cam.join("sensor.yaml")).unwrap();
+    std::fs::copy(
+        dir().join("euroc-sensor/euroc_cam0_sensor.yaml"),
+        cam.join("sensor.yaml"),
+    )
+    .unwrap();
     let l = load_file(&cam.join("sensor.yaml"), &LoadOptions::default()).unwrap();
-    assert_eq!((l.edges[0].parent.as_str(), l.edges[0].child.as_str()), ("body", "cam1"));
+    assert_eq!(
+        (l.edges[0].parent.as_str(), l.edges[0].child.as_str()),
+        ("body", "cam1")
+    );
 }
 
 #[test]
 fn basalt_t_imu_cam_is_each_camera_in_the_imu() {
     check_format("basalt-calib", None);
     assert!(refusal("basalt-calib/bad_missing_qw.json", None).contains("expected `qw`"));
-    assert!(refusal("basalt-calib/bad_quaternion_norm.json", None).contains("quaternion norm 1.063015"));
+    assert!(
+        refusal("basalt-calib/bad_quaternion_norm.json", None).contains("quaternion norm 1.063015")
+    );
 }
 
 #[test]
@@ -187,35 +232,55 @@ fn r3live_camera_ext_is_the_camera_in_the_imu() {
 fn glim_sensors_json_with_comments() {
     // T_lidar_camera needs --assume: the expected edges hold it.
     check_format("glim-sensors", Some("child-in-parent"));
-    let l = load_file(&dir().join("glim-sensors/config_sensors.json"), &LoadOptions::default()).unwrap();
+    let l = load_file(
+        &dir().join("glim-sensors/config_sensors.json"),
+        &LoadOptions::default(),
+    )
+    .unwrap();
     assert_eq!(l.edges.len(), 1, "T_lidar_camera left out without --assume");
     assert!(warned(&l, Code::Ignored, "--assume child-in-parent"));
-    assert!(refusal("glim-sensors/bad_t_lidar_imu_16.json", None).contains("expected 7 numbers, found 16"));
+    assert!(refusal("glim-sensors/bad_t_lidar_imu_16.json", None)
+        .contains("expected 7 numbers, found 16"));
     let e = refusal("glim-sensors/bad_unterminated_comment.json", None);
     assert!(e.contains("never closed"), "{e}");
 }
 
 #[test]
 fn glim_comment_markers_inside_strings_stay_text() {
-    let s = extrinsic_audit::formats::glim::strip_json_comments("{\"a\": \"x//y/*z*/\", // c\n\"b\": 1 /* d\n e */}").unwrap();
+    let s = extrinsic_audit::formats::glim::strip_json_comments(
+        "{\"a\": \"x//y/*z*/\", // c\n\"b\": 1 /* d\n e */}",
+    )
+    .unwrap();
     assert_eq!(s, "{\"a\": \"x//y/*z*/\",     \n\"b\": 1     \n     }");
 }
 
 #[test]
 fn apollo_extrinsics_tf_convention() {
     check_format("apollo-extrinsics", None);
-    assert!(refusal("apollo-extrinsics/bad_missing_child.yaml", None).contains("expected `child_frame_id`"));
+    assert!(refusal("apollo-extrinsics/bad_missing_child.yaml", None)
+        .contains("expected `child_frame_id`"));
 }
 
 #[test]
 fn okvis_t_sc_and_the_untraced_t_bs() {
     check_format("okvis", Some("child-in-parent"));
-    let l = load_file(&dir().join("okvis/okvis_euroc_config.yaml"), &LoadOptions::default()).unwrap();
+    let l = load_file(
+        &dir().join("okvis/okvis_euroc_config.yaml"),
+        &LoadOptions::default(),
+    )
+    .unwrap();
     assert_eq!(l.edges.len(), 2, "T_BS left out without --assume");
     assert!(warned(&l, Code::Ignored, "imu_params.T_BS"));
     // parent-in-child reads T_BS the other way.
-    let inv = load_file(&dir().join("okvis/okvis_euroc_config.yaml"), &opts(Some("parent-in-child"))).unwrap();
-    assert!(inv.edges.iter().any(|e| e.parent == "body" && e.provenance.key.contains("--assume parent-in-child")));
+    let inv = load_file(
+        &dir().join("okvis/okvis_euroc_config.yaml"),
+        &opts(Some("parent-in-child")),
+    )
+    .unwrap();
+    assert!(inv
+        .edges
+        .iter()
+        .any(|e| e.parent == "body" && e.provenance.key.contains("--assume parent-in-child")));
     // Frame names are for files that name none.
     let e = refusal("okvis/okvis_euroc_config.yaml", Some("child-in-parent:a,b"));
     assert!(e.contains("the file names its frames"), "{e}");
@@ -225,12 +290,32 @@ fn okvis_t_sc_and_the_untraced_t_bs() {
 #[test]
 fn opencalib_names_from_sensor_fields_and_the_majority_rule() {
     let loads = check_format("opencalib", None);
-    let w = &loads.iter().find(|(r, _)| r.contains("warn_key")).unwrap().1;
-    assert!(warned(w, Code::AssumedConvention, "frames are taken from sensor_name"));
+    let w = &loads
+        .iter()
+        .find(|(r, _)| r.contains("warn_key"))
+        .unwrap()
+        .1;
+    assert!(warned(
+        w,
+        Code::AssumedConvention,
+        "frames are taken from sensor_name"
+    ));
     let g = &loads.iter().find(|(r, _)| r.contains("gnss-to")).unwrap().1;
-    assert!(warned(g, Code::AssumedConvention, "run_lidar2imu.cpp:312-313"));
-    let c = &loads.iter().find(|(r, _)| r.starts_with("opencalib/top_center")).unwrap().1;
-    assert!(!c.warnings.iter().any(|w| w.code == Code::AssumedConvention), "{:?}", c.warnings);
+    assert!(warned(
+        g,
+        Code::AssumedConvention,
+        "run_lidar2imu.cpp:312-313"
+    ));
+    let c = &loads
+        .iter()
+        .find(|(r, _)| r.starts_with("opencalib/top_center"))
+        .unwrap()
+        .1;
+    assert!(
+        !c.warnings.iter().any(|w| w.code == Code::AssumedConvention),
+        "{:?}",
+        c.warnings
+    );
     assert!(refusal("opencalib/bad_three_rows.json", None).contains("four rows of four"));
 }
 
@@ -238,7 +323,8 @@ fn opencalib_names_from_sensor_fields_and_the_majority_rule() {
 fn livox_driver2_degrees_and_integer_millimetres() {
     // synthetic_two_lidars.json is authored (every shipped config is zeros).
     check_format("livox-driver2", None);
-    assert!(refusal("livox-driver2/bad_float_millimetres.json", None).contains("expected an integer number of millimetres"));
+    assert!(refusal("livox-driver2/bad_float_millimetres.json", None)
+        .contains("expected an integer number of millimetres"));
     assert!(refusal("livox-driver2/bad_missing_extrinsic.json", None).contains("zero silently"));
 }
 
@@ -247,17 +333,31 @@ fn matrix4_text_needs_assume() {
     check_format("matrix4-text", Some("child-in-parent:PARENT,CHILD"));
     let e = refusal("matrix4-text/euroc_cam0_in_body.txt", None);
     assert!(e.contains("--assume child-in-parent:PARENT,CHILD"), "{e}");
-    let e = refusal("matrix4-text/euroc_cam0_in_body.txt", Some("child-in-parent"));
+    let e = refusal(
+        "matrix4-text/euroc_cam0_in_body.txt",
+        Some("child-in-parent"),
+    );
     assert!(e.contains("names no frames"), "{e}");
     // parent-in-child: the same frames, the inverse.
     let f = dir().join("matrix4-text/horizon_commas.txt");
     let a = load_file(&f, &opts(Some("child-in-parent:lidar,imu"))).unwrap();
     let b = load_file(&f, &opts(Some("parent-in-child:lidar,imu"))).unwrap();
-    assert_eq!((b.edges[0].parent.as_str(), b.edges[0].child.as_str()), ("lidar", "imu"));
+    assert_eq!(
+        (b.edges[0].parent.as_str(), b.edges[0].child.as_str()),
+        ("lidar", "imu")
+    );
     let d = b.edges[0].transform.translation() + a.edges[0].transform.translation();
     assert!(d.norm() < 1e-15, "identity rotation: the translation flips");
-    assert!(refusal("matrix4-text/bad_fifteen_numbers.txt", Some("child-in-parent:a,b")).contains("found 15"));
-    assert!(refusal("matrix4-text/bad_bottom_row.txt", Some("child-in-parent:a,b")).contains("bottom row"));
+    assert!(refusal(
+        "matrix4-text/bad_fifteen_numbers.txt",
+        Some("child-in-parent:a,b")
+    )
+    .contains("found 15"));
+    assert!(refusal(
+        "matrix4-text/bad_bottom_row.txt",
+        Some("child-in-parent:a,b")
+    )
+    .contains("bottom row"));
 }
 
 #[test]
@@ -265,11 +365,22 @@ fn lio_livox_extrinsic_tlb_is_the_imu_in_the_lidar() {
     let loads = check_format("lio-livox-launch", None);
     for (rel, l) in &loads {
         let e = &l.edges[0];
-        assert_eq!((e.parent.as_str(), e.child.as_str()), ("lidar", "imu"), "{rel}");
-        assert!(!l.warnings.iter().any(|w| w.code == Code::AssumedConvention), "{rel}: traced, not assumed");
+        assert_eq!(
+            (e.parent.as_str(), e.child.as_str()),
+            ("lidar", "imu"),
+            "{rel}"
+        );
+        assert!(
+            !l.warnings.iter().any(|w| w.code == Code::AssumedConvention),
+            "{rel}: traced, not assumed"
+        );
     }
     // horizon.launch: t = -(FAST-LIO's LiDAR-in-IMU horizon.yaml extrinsic_T).
-    let h = &loads.iter().find(|(r, _)| r.ends_with("horizon.launch")).unwrap().1;
+    let h = &loads
+        .iter()
+        .find(|(r, _)| r.ends_with("horizon.launch"))
+        .unwrap()
+        .1;
     let t = h.edges[0].transform.translation();
     assert_eq!([t.x, t.y, t.z], [-0.05512, -0.02226, 0.0297]);
     assert!(refusal("lio-livox-launch/bad_tlb_twelve.launch", None).contains("found 12"));
@@ -279,10 +390,19 @@ fn lio_livox_extrinsic_tlb_is_the_imu_in_the_lidar() {
 fn assume_flag_values() {
     assert_eq!(
         Assume::parse("parent-in-child:base_link,lidar").unwrap(),
-        Assume { child_in_parent: false, frames: Some(("base_link".into(), "lidar".into())) }
+        Assume {
+            child_in_parent: false,
+            frames: Some(("base_link".into(), "lidar".into()))
+        }
     );
     assert!(Assume::parse("child-in-parent").unwrap().frames.is_none());
-    for bad in ["lidar-in-imu", "child-in-parent:a", "child-in-parent:a,a", "child-in-parent:,b", "child-in-parent:a,b,c"] {
+    for bad in [
+        "lidar-in-imu",
+        "child-in-parent:a",
+        "child-in-parent:a,a",
+        "child-in-parent:,b",
+        "child-in-parent:a,b,c",
+    ] {
         assert!(Assume::parse(bad).is_err(), "{bad}");
     }
 }
@@ -290,19 +410,35 @@ fn assume_flag_values() {
 #[test]
 fn roslaunch_eval_in_args_and_conditions() {
     let loads = check_format("roslaunch-eval", None);
-    let l = &loads.iter().find(|(r, _)| r.ends_with("eval_static_tf.launch")).unwrap().1;
+    let l = &loads
+        .iter()
+        .find(|(r, _)| r.ends_with("eval_static_tf.launch"))
+        .unwrap()
+        .1;
     // if="$(eval use_rear or robot == 'husky')" is False: not started.
     assert!(warned(l, Code::Ignored, "base_to_rear") || warned(l, Code::Ignored, "not started"));
     let e = refusal("roslaunch-eval/bad_dunder.launch", None);
-    assert!(e.contains("double underscore") && e.contains("__import__"), "{e}");
+    assert!(
+        e.contains("double underscore") && e.contains("__import__"),
+        "{e}"
+    );
     let e = refusal("roslaunch-eval/bad_eval_inside_text.launch", None);
-    assert!(e.contains("only when it is the whole attribute value"), "{e}");
+    assert!(
+        e.contains("only when it is the whole attribute value"),
+        "{e}"
+    );
     // --arg overrides a default an $(eval) reads.
     let o = LoadOptions {
         xacro_args: [("robot".to_string(), "husky".to_string())].into(),
         ..LoadOptions::default()
     };
     let h = load_file(&dir().join("roslaunch-eval/eval_static_tf.launch"), &o).unwrap();
-    assert!(h.edges.iter().any(|e| e.child == "rear_bumper"), "robot == 'husky' starts the rear publisher");
-    assert!(!h.edges.iter().any(|e| e.child == "lidar"), "robot == 'jackal' is False");
+    assert!(
+        h.edges.iter().any(|e| e.child == "rear_bumper"),
+        "robot == 'husky' starts the rear publisher"
+    );
+    assert!(
+        !h.edges.iter().any(|e| e.child == "lidar"),
+        "robot == 'jackal' is False"
+    );
 }

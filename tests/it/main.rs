@@ -25,6 +25,7 @@ mod formats_calib;
 mod formats_detection;
 mod formats_extrinsics;
 mod formats_launch_conditions;
+mod formats_launch_py;
 mod formats_no_panic;
 mod formats_rigs;
 mod formats_xacro;

@@ -26,12 +26,18 @@ const TABLE_HEAD: &str = "| `--input-format` | what the numbers mean |\n|---|---
 #[test]
 fn formats_table_matches_loaders() {
     let r = readme();
-    let rows: Vec<String> = all_formats().map(|(f, d)| format_row(f.name(), d)).collect();
-    let start = r.find(TABLE_HEAD).expect("README.md: the formats table header") + TABLE_HEAD.len();
+    let rows: Vec<String> = all_formats()
+        .map(|(f, d)| format_row(f.name(), d))
+        .collect();
+    let start = r
+        .find(TABLE_HEAD)
+        .expect("README.md: the formats table header")
+        + TABLE_HEAD.len();
     let end = start + r[start..].find("\n\n").unwrap_or(r.len() - start);
     let table = rows.join("\n");
     if std::env::var_os("BLESS").is_some() {
-        std::fs::write("README.md", format!("{}{table}{}", &r[..start], &r[end..])).expect("write README.md");
+        std::fs::write("README.md", format!("{}{table}{}", &r[..start], &r[end..]))
+            .expect("write README.md");
         return;
     }
     assert_eq!(
@@ -46,13 +52,22 @@ fn formats_table_matches_loaders() {
 #[test]
 fn docs_formats_has_a_section_per_format() {
     let doc = std::fs::read_to_string("docs/formats.md").expect("docs/formats.md");
-    let sections: Vec<&str> = doc.lines().filter_map(|l| l.strip_prefix("## `")?.strip_suffix('`')).collect();
+    let sections: Vec<&str> = doc
+        .lines()
+        .filter_map(|l| l.strip_prefix("## `")?.strip_suffix('`'))
+        .collect();
     let ids: Vec<&str> = all_formats().map(|(f, _)| f.name()).collect();
     for id in &ids {
-        assert!(sections.contains(id), "docs/formats.md: no section ## `{id}`");
+        assert!(
+            sections.contains(id),
+            "docs/formats.md: no section ## `{id}`"
+        );
     }
     for s in &sections {
-        assert!(ids.contains(s), "docs/formats.md: section ## `{s}` names no format");
+        assert!(
+            ids.contains(s),
+            "docs/formats.md: section ## `{s}` names no format"
+        );
     }
 }
 

@@ -10,15 +10,39 @@ use super::value::Value;
 use crate::diagnostic::Result;
 
 fn num(v: &Value, f: &str, at: &Expr) -> Result<f64> {
-    v.as_f64().map_or_else(|| fail(at, format!("{f}() of a {} value is not evaluated", v.type_name())), Ok)
+    v.as_f64().map_or_else(
+        || {
+            fail(
+                at,
+                format!("{f}() of a {} value is not evaluated", v.type_name()),
+            )
+        },
+        Ok,
+    )
 }
 
-fn arity(name: &str, args: &[Value], kw: &[(String, Value)], lo: usize, hi: usize, at: &Expr) -> Result<()> {
+fn arity(
+    name: &str,
+    args: &[Value],
+    kw: &[(String, Value)],
+    lo: usize,
+    hi: usize,
+    at: &Expr,
+) -> Result<()> {
     if !kw.is_empty() {
-        return fail(at, format!("{name}() with keyword arguments is not evaluated"));
+        return fail(
+            at,
+            format!("{name}() with keyword arguments is not evaluated"),
+        );
     }
     if args.len() < lo || args.len() > hi {
-        return fail(at, format!("{name}() takes {lo} to {hi} arguments, {} given", args.len()));
+        return fail(
+            at,
+            format!(
+                "{name}() takes {lo} to {hi} arguments, {} given",
+                args.len()
+            ),
+        );
     }
     Ok(())
 }
@@ -39,9 +63,17 @@ fn parse_float(s: &str) -> Option<f64> {
     let l = t.to_ascii_lowercase();
     let body = l.strip_prefix(['+', '-']).unwrap_or(&l);
     if matches!(body, "inf" | "infinity" | "nan") {
-        return l.parse().ok().or(Some(if l.starts_with('-') { f64::NEG_INFINITY } else { f64::INFINITY }));
+        return l.parse().ok().or(Some(if l.starts_with('-') {
+            f64::NEG_INFINITY
+        } else {
+            f64::INFINITY
+        }));
     }
-    if t.is_empty() || !t.chars().all(|c| c.is_ascii_digit() || "+-.eE_".contains(c)) {
+    if t.is_empty()
+        || !t
+            .chars()
+            .all(|c| c.is_ascii_digit() || "+-.eE_".contains(c))
+    {
         return None;
     }
     t.replace('_', "").parse().ok()
@@ -51,15 +83,37 @@ fn to_int(v: &Value, at: &Expr) -> Result<Value> {
     match v {
         Value::Float(f) if f.is_finite() && f.abs() < 9.2e18 => Ok(Value::Int(f.trunc() as i64)),
         Value::Float(_) => fail(at, "int() of a float beyond 64 bits"),
-        Value::Str(s) => parse_int(s).map(Value::Int).map_or_else(|| fail(at, format!("invalid literal for int() with base 10: {}", v.repr())), Ok),
-        x => x.as_int().map(Value::Int).map_or_else(|| fail(at, format!("int() of a {} value", x.type_name())), Ok),
+        Value::Str(s) => parse_int(s).map(Value::Int).map_or_else(
+            || {
+                fail(
+                    at,
+                    format!("invalid literal for int() with base 10: {}", v.repr()),
+                )
+            },
+            Ok,
+        ),
+        x => x.as_int().map(Value::Int).map_or_else(
+            || fail(at, format!("int() of a {} value", x.type_name())),
+            Ok,
+        ),
     }
 }
 
 fn to_float(v: &Value, at: &Expr) -> Result<Value> {
     match v {
-        Value::Str(s) => parse_float(s).map(Value::Float).map_or_else(|| fail(at, format!("could not convert string to float: {}", v.repr())), Ok),
-        x => x.as_f64().map(Value::Float).map_or_else(|| fail(at, format!("float() of a {} value", x.type_name())), Ok),
+        Value::Str(s) => parse_float(s).map(Value::Float).map_or_else(
+            || {
+                fail(
+                    at,
+                    format!("could not convert string to float: {}", v.repr()),
+                )
+            },
+            Ok,
+        ),
+        x => x.as_f64().map(Value::Float).map_or_else(
+            || fail(at, format!("float() of a {} value", x.type_name())),
+            Ok,
+        ),
     }
 }
 
@@ -67,7 +121,10 @@ fn round(args: &[Value], at: &Expr) -> Result<Value> {
     let x = &args[0];
     let nd = match args.get(1) {
         None | Some(Value::None) => None,
-        Some(n) => Some(n.as_int().map_or_else(|| fail(at, "round() digits must be an integer"), Ok)?),
+        Some(n) => Some(
+            n.as_int()
+                .map_or_else(|| fail(at, "round() digits must be an integer"), Ok)?,
+        ),
     };
     if let (Some(i), _) = (x.as_int(), &nd) {
         if nd.is_none_or(|n| n >= 0) {
@@ -94,7 +151,11 @@ fn round(args: &[Value], at: &Expr) -> Result<Value> {
 }
 
 fn min_max(name: &str, args: &[Value], at: &Expr) -> Result<Value> {
-    let items = if args.len() == 1 { iterate(&args[0], at)? } else { args.to_vec() };
+    let items = if args.len() == 1 {
+        iterate(&args[0], at)?
+    } else {
+        args.to_vec()
+    };
     let mut best: Option<Value> = None;
     for v in items {
         let better = match &best {
@@ -102,8 +163,20 @@ fn min_max(name: &str, args: &[Value], at: &Expr) -> Result<Value> {
             Some(b) => {
                 let (x, y) = (v.as_f64(), b.as_f64());
                 match (x, y, &v, b) {
-                    (Some(x), Some(y), _, _) => if name == "min" { x < y } else { x > y },
-                    (_, _, Value::Str(p), Value::Str(q)) => if name == "min" { p < q } else { p > q },
+                    (Some(x), Some(y), _, _) => {
+                        if name == "min" {
+                            x < y
+                        } else {
+                            x > y
+                        }
+                    }
+                    (_, _, Value::Str(p), Value::Str(q)) => {
+                        if name == "min" {
+                            p < q
+                        } else {
+                            p > q
+                        }
+                    }
                     _ => return fail(at, format!("{name}() of mixed types is not evaluated")),
                 }
             }
@@ -112,7 +185,10 @@ fn min_max(name: &str, args: &[Value], at: &Expr) -> Result<Value> {
             best = Some(v);
         }
     }
-    best.map_or_else(|| fail(at, format!("{name}() arg is an empty sequence")), Ok)
+    best.map_or_else(
+        || fail(at, format!("{name}() arg is an empty sequence")),
+        Ok,
+    )
 }
 
 /// Call builtin or `math` function `name`.
@@ -123,12 +199,22 @@ pub fn call(name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Re
             arity(name, args, kw, 1, 1, at)?;
             match &args[0] {
                 Value::Float(f) => Ok(Value::Float(f.abs())),
-                x => x.as_int().and_then(i64::checked_abs).map(Value::Int).map_or_else(|| fail(at, format!("abs() of a {} value", x.type_name())), Ok),
+                x => x
+                    .as_int()
+                    .and_then(i64::checked_abs)
+                    .map(Value::Int)
+                    .map_or_else(
+                        || fail(at, format!("abs() of a {} value", x.type_name())),
+                        Ok,
+                    ),
             }
         }
         "bool" => {
             arity(name, args, kw, 0, 1, at)?;
-            Ok(a0.map_or(Some(false), Value::truth).map_or_else(|| Value::unknown("the truth of a launch object"), Value::Bool))
+            Ok(a0.map_or(Some(false), Value::truth).map_or_else(
+                || Value::unknown("the truth of a launch object"),
+                Value::Bool,
+            ))
         }
         "int" => {
             arity(name, args, kw, 0, 1, at)?;
@@ -142,25 +228,40 @@ pub fn call(name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Re
             arity(name, args, kw, 0, 1, at)?;
             Ok(Value::Str(a0.map(Value::to_str).unwrap_or_default()))
         }
+        "repr" => {
+            arity(name, args, kw, 1, 1, at)?;
+            Ok(Value::Str(args[0].repr()))
+        }
         "len" => {
             arity(name, args, kw, 1, 1, at)?;
             let n = match &args[0] {
                 Value::Str(s) => s.chars().count(),
                 Value::Dict(d) => d.len(),
-                v => v.items().map_or_else(|| fail(at, format!("len() of a {} value", v.type_name())), |i| Ok(i.len()))?,
+                v => v.items().map_or_else(
+                    || fail(at, format!("len() of a {} value", v.type_name())),
+                    |i| Ok(i.len()),
+                )?,
             };
             Ok(Value::Int(n as i64))
         }
         "list" | "tuple" => {
             arity(name, args, kw, 0, 1, at)?;
             let items = a0.map_or(Ok(Vec::new()), |v| iterate(v, at))?;
-            Ok(if name == "list" { Value::list(items) } else { Value::Tuple(items) })
+            Ok(if name == "list" {
+                Value::list(items)
+            } else {
+                Value::Tuple(items)
+            })
         }
         "dict" => {
             if !args.is_empty() {
                 return fail(at, "dict() of positional arguments is not evaluated");
             }
-            Ok(Value::Dict(kw.iter().map(|(k, v)| (Value::Str(k.clone()), v.clone())).collect()))
+            Ok(Value::Dict(
+                kw.iter()
+                    .map(|(k, v)| (Value::Str(k.clone()), v.clone()))
+                    .collect(),
+            ))
         }
         "min" | "max" => {
             arity(name, args, kw, 1, usize::MAX, at)?;
@@ -176,7 +277,13 @@ pub fn call(name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Re
         }
         "range" => {
             arity(name, args, kw, 1, 3, at)?;
-            let n: Vec<i64> = args.iter().map(|v| v.as_int().map_or_else(|| fail(at, "range() of a non-integer"), Ok)).collect::<Result<_>>()?;
+            let n: Vec<i64> = args
+                .iter()
+                .map(|v| {
+                    v.as_int()
+                        .map_or_else(|| fail(at, "range() of a non-integer"), Ok)
+                })
+                .collect::<Result<_>>()?;
             let (start, stop, step) = match n.as_slice() {
                 [s] => (0, *s, 1),
                 [a, b] => (*a, *b, 1),
@@ -186,15 +293,44 @@ pub fn call(name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Re
             if step == 0 {
                 return fail(at, "range() arg 3 must not be zero");
             }
-            let count = if step > 0 { (stop - start).max(0) / step } else { (start - stop).max(0) / -step };
+            let count = if step > 0 {
+                (stop - start).max(0) / step
+            } else {
+                (start - stop).max(0) / -step
+            };
             if count > 100_000 {
                 return fail(at, "range() of more than 100000 items is not evaluated");
             }
-            Ok(Value::list((0..count).map(|k| Value::Int(start + k * step)).collect()))
+            Ok(Value::list(
+                (0..count).map(|k| Value::Int(start + k * step)).collect(),
+            ))
         }
         "round" => {
             arity(name, args, kw, 1, 2, at)?;
             round(args, at)
+        }
+        "enumerate" => {
+            arity(name, args, kw, 1, 2, at)?;
+            let start = args.get(1).and_then(Value::as_int).unwrap_or(0);
+            let items = iterate(&args[0], at)?;
+            Ok(Value::list(
+                items
+                    .into_iter()
+                    .zip(start..)
+                    .map(|(v, i)| Value::Tuple(vec![Value::Int(i), v]))
+                    .collect(),
+            ))
+        }
+        "zip" => {
+            arity(name, args, kw, 1, usize::MAX, at)?;
+            let lists: Vec<Vec<Value>> =
+                args.iter().map(|a| iterate(a, at)).collect::<Result<_>>()?;
+            let n = lists.iter().map(Vec::len).min().unwrap_or(0);
+            Ok(Value::list(
+                (0..n)
+                    .map(|i| Value::Tuple(lists.iter().map(|l| l[i].clone()).collect()))
+                    .collect(),
+            ))
         }
         _ => math(name, args, kw, at),
     }
@@ -206,7 +342,13 @@ fn math(name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Result
     arity(name, args, kw, if two { 2 } else { 1 }, hi, at)?;
     let x = num(&args[0], name, at)?;
     let y = args.get(1).map(|v| num(v, name, at)).transpose()?;
-    let domain = |ok: bool, v: f64| if ok { Ok(Value::Float(v)) } else { fail(at, "math domain error") };
+    let domain = |ok: bool, v: f64| {
+        if ok {
+            Ok(Value::Float(v))
+        } else {
+            fail(at, "math domain error")
+        }
+    };
     match name {
         "floor" | "ceil" => {
             let r = if name == "floor" { x.floor() } else { x.ceil() };

@@ -17,7 +17,18 @@ pub trait Host {
     /// undefined.
     fn name(&mut self, name: &str) -> Option<Value>;
     /// Call a host function (`Func::User`, `Func::Host`).
-    fn call(&mut self, f: &Func, args: Vec<Value>, kwargs: Vec<(String, Value)>, at: &Expr) -> Result<Value>;
+    fn call(
+        &mut self,
+        f: &Func,
+        args: Vec<Value>,
+        kwargs: Vec<(String, Value)>,
+        at: &Expr,
+    ) -> Result<Value>;
+    /// Whether an argument that cannot be evaluated becomes a value known to
+    /// be unknown (a launch.py reader keeps the call) instead of an error.
+    fn lenient(&self) -> bool {
+        false
+    }
 }
 
 /// An error at `e`.
@@ -27,13 +38,29 @@ pub fn fail<T>(e: &Expr, msg: impl Into<String>) -> Result<T> {
 
 /// The builtins evaluated (CPython's semantics for these arguments).
 pub const BUILTINS: &[&str] = &[
-    "abs", "bool", "dict", "float", "int", "len", "list", "max", "min", "range", "round", "str", "sum", "tuple",
+    "abs",
+    "bool",
+    "dict",
+    "enumerate",
+    "float",
+    "int",
+    "len",
+    "list",
+    "max",
+    "min",
+    "range",
+    "repr",
+    "round",
+    "str",
+    "sum",
+    "tuple",
+    "zip",
 ];
 
 /// The `math` names evaluated.
 pub const MATH: &[&str] = &[
-    "acos", "asin", "atan", "atan2", "ceil", "cos", "cosh", "degrees", "exp", "fabs", "floor", "hypot", "log",
-    "log10", "log2", "pow", "radians", "sin", "sinh", "sqrt", "tan", "tanh",
+    "acos", "asin", "atan", "atan2", "ceil", "cos", "cosh", "degrees", "exp", "fabs", "floor",
+    "hypot", "log", "log10", "log2", "pow", "radians", "sin", "sinh", "sqrt", "tan", "tanh",
 ];
 
 /// A `math` constant.
@@ -56,7 +83,10 @@ pub struct Eval<'h> {
 
 impl<'h> Eval<'h> {
     pub fn new(host: &'h mut dyn Host) -> Self {
-        Eval { host, scopes: Vec::new() }
+        Eval {
+            host,
+            scopes: Vec::new(),
+        }
     }
 
     pub fn eval(&mut self, e: &Expr) -> Result<Value> {
@@ -79,24 +109,39 @@ impl<'h> Eval<'h> {
                 }
                 Value::Dict(d)
             }
-            ExprKind::ListComp { elt, target, iter, conds } => self.comprehension(elt, target, iter, conds)?,
+            ExprKind::ListComp {
+                elt,
+                target,
+                iter,
+                conds,
+            } => self.comprehension(elt, target, iter, conds)?,
             ExprKind::Attr(obj, name) => self.attr(obj, name, e)?,
-            ExprKind::Call { func, args, kwargs, star } => {
+            ExprKind::Call {
+                func,
+                args,
+                kwargs,
+                star,
+            } => {
                 if *star {
                     return fail(e, "a call with *args or **kwargs is not evaluated");
                 }
                 let f = self.eval(func)?;
-                let args = self.all(args)?;
-                let mut kw = Vec::new();
-                for (k, v) in kwargs {
-                    kw.push((k.clone(), self.eval(v)?));
+                let mut vals = Vec::new();
+                for a in args {
+                    vals.push(self.arg(a)?);
                 }
-                self.call(f, args, kw, e)?
+                let mut kw = Vec::new();
+                for (k, v, _) in kwargs {
+                    kw.push((k.clone(), self.arg(v)?));
+                }
+                self.call(f, vals, kw, e)?
             }
             ExprKind::Index(obj, idx) => {
                 let o = self.eval(obj)?;
                 if let ExprKind::Slice(a, b, c) = &idx.kind {
-                    let mut part = |x: &Option<Box<Expr>>| -> Result<Option<Value>> { x.as_ref().map(|x| self.eval(x)).transpose() };
+                    let mut part = |x: &Option<Box<Expr>>| -> Result<Option<Value>> {
+                        x.as_ref().map(|x| self.eval(x)).transpose()
+                    };
                     let (a, b, c) = (part(a)?, part(b)?, part(c)?);
                     slice(&o, a, b, c, e)?
                 } else {
@@ -146,6 +191,18 @@ impl<'h> Eval<'h> {
         })
     }
 
+    /// A call's argument: an error is an unknown value for a lenient host.
+    fn arg(&mut self, a: &Expr) -> Result<Value> {
+        match self.eval(a) {
+            Err(err) if self.host.lenient() => Ok(Value::unknown(format!(
+                "{} (line {})",
+                err.message,
+                err.location.line.unwrap_or(a.line)
+            ))),
+            r => r,
+        }
+    }
+
     fn all(&mut self, items: &[Expr]) -> Result<Vec<Value>> {
         items.iter().map(|x| self.eval(x)).collect()
     }
@@ -181,7 +238,9 @@ impl<'h> Eval<'h> {
                     let v = match conv {
                         Some('r') => Value::Str(v.repr()),
                         Some('s') | None => v,
-                        Some(c) => return fail(expr, format!("f-string conversion !{c} is not evaluated")),
+                        Some(c) => {
+                            return fail(expr, format!("f-string conversion !{c} is not evaluated"))
+                        }
                     };
                     out.push_str(&format_spec(&v, spec, expr)?);
                 }
@@ -190,7 +249,13 @@ impl<'h> Eval<'h> {
         Ok(Value::Str(out))
     }
 
-    fn comprehension(&mut self, elt: &Expr, target: &Expr, iter: &Expr, conds: &[Expr]) -> Result<Value> {
+    fn comprehension(
+        &mut self,
+        elt: &Expr,
+        target: &Expr,
+        iter: &Expr,
+        conds: &[Expr],
+    ) -> Result<Value> {
         let it = self.eval(iter)?;
         if let Value::Unknown(_) = it {
             return Ok(it);
@@ -207,7 +272,10 @@ impl<'h> Eval<'h> {
                     Some(t) => keep &= t,
                     None => {
                         self.scopes.pop();
-                        return Ok(Value::unknown(format!("a comprehension condition at line {} is not known", c.line)));
+                        return Ok(Value::unknown(format!(
+                            "a comprehension condition at line {} is not known",
+                            c.line
+                        )));
                     }
                 }
             }
@@ -227,6 +295,15 @@ impl<'h> Eval<'h> {
             }
             if let Value::Unknown(_) = right {
                 return Ok(right);
+            }
+            if let Some(Value::Record(r)) = [&left, &right]
+                .into_iter()
+                .find(|v| matches!(v, Value::Record(_)))
+            {
+                return Ok(Value::unknown(format!(
+                    "a comparison with {}(...) (line {}), whose value is known only at launch",
+                    r.name, r.line
+                )));
             }
             if !compare(op, &left, &right, r)? {
                 return Ok(Value::Bool(false));
@@ -249,20 +326,41 @@ impl<'h> Eval<'h> {
                     None => fail(e, format!("math.{name} is not evaluated")),
                 }
             }
-            Value::Str(_) | Value::List(_) | Value::Dict(_) | Value::Tuple(_) => {
-                Ok(Value::Func(Func::Method(Box::new(o.clone()), name.to_string())))
-            }
-            Value::Record(r) => Ok(Value::unknown(format!("attribute `{name}` of {}(...) at line {}", r.name, r.line))),
-            other => fail(e, format!("attribute `{name}` of a {} value is not evaluated", other.type_name())),
+            Value::Str(_) | Value::List(_) | Value::Dict(_) | Value::Tuple(_) => Ok(Value::Func(
+                Func::Method(Box::new(o.clone()), name.to_string()),
+            )),
+            Value::Record(r) => Ok(Value::unknown(format!(
+                "attribute `{name}` of {}(...) at line {}",
+                r.name, r.line
+            ))),
+            // An imported module or class: its attributes are the host's names.
+            Value::Func(Func::Host(_)) => Ok(Value::Func(Func::Host(name.to_string()))),
+            other => fail(
+                e,
+                format!(
+                    "attribute `{name}` of a {} value is not evaluated",
+                    other.type_name()
+                ),
+            ),
         }
     }
 
     /// Call `f` with the arguments given.
-    pub fn call(&mut self, f: Value, args: Vec<Value>, kw: Vec<(String, Value)>, e: &Expr) -> Result<Value> {
+    pub fn call(
+        &mut self,
+        f: Value,
+        args: Vec<Value>,
+        kw: Vec<(String, Value)>,
+        e: &Expr,
+    ) -> Result<Value> {
         match f {
             Value::Unknown(_) => Ok(f),
             Value::Func(Func::Builtin(name)) => {
-                if let Some(u) = args.iter().chain(kw.iter().map(|(_, v)| v)).find(|v| matches!(v, Value::Unknown(_))) {
+                if let Some(u) = args
+                    .iter()
+                    .chain(kw.iter().map(|(_, v)| v))
+                    .find(|v| matches!(v, Value::Unknown(_)))
+                {
                     return Ok(u.clone());
                 }
                 super::builtins::call(name, &args, &kw, e)
@@ -294,10 +392,22 @@ pub fn bind(target: &Expr, v: Value, scope: &mut Vec<(String, Value)>) -> Result
                 return Ok(());
             }
             let items = v.items().ok_or_else(|| {
-                Error::parse(format!("cannot unpack a {} value into {} names", v.type_name(), ts.len())).at_line(target.line, Some(target.col))
+                Error::parse(format!(
+                    "cannot unpack a {} value into {} names",
+                    v.type_name(),
+                    ts.len()
+                ))
+                .at_line(target.line, Some(target.col))
             })?;
             if items.len() != ts.len() {
-                return fail(target, format!("cannot unpack {} values into {} names", items.len(), ts.len()));
+                return fail(
+                    target,
+                    format!(
+                        "cannot unpack {} values into {} names",
+                        items.len(),
+                        ts.len()
+                    ),
+                );
             }
             for (t, x) in ts.iter().zip(items) {
                 bind(t, x, scope)?;
@@ -314,7 +424,13 @@ pub fn iterate(v: &Value, at: &Expr) -> Result<Vec<Value>> {
         Value::List(_) | Value::Tuple(_) => Ok(v.items().unwrap_or_default()),
         Value::Str(s) => Ok(s.chars().map(|c| Value::Str(c.to_string())).collect()),
         Value::Dict(d) => Ok(d.iter().map(|(k, _)| k.clone()).collect()),
-        other => fail(at, format!("iteration over a {} value is not evaluated", other.type_name())),
+        other => fail(
+            at,
+            format!(
+                "iteration over a {} value is not evaluated",
+                other.type_name()
+            ),
+        ),
     }
 }
 
@@ -328,12 +444,17 @@ pub fn equal(a: &Value, b: &Value) -> bool {
             _ => x.as_f64() == y.as_f64(),
         },
         (x, y) if x.items().is_some() && y.items().is_some() => {
-            let same_kind = matches!((x, y), (Value::List(_), Value::List(_)) | (Value::Tuple(_), Value::Tuple(_)));
+            let same_kind = matches!(
+                (x, y),
+                (Value::List(_), Value::List(_)) | (Value::Tuple(_), Value::Tuple(_))
+            );
             let (p, q) = (x.items().unwrap_or_default(), y.items().unwrap_or_default());
             same_kind && p.len() == q.len() && p.iter().zip(&q).all(|(a, b)| equal(a, b))
         }
         (Value::Dict(x), Value::Dict(y)) => {
-            x.len() == y.len() && x.iter().all(|(k, v)| y.iter().any(|(k2, v2)| equal(k, k2) && equal(v, v2)))
+            x.len() == y.len()
+                && x.iter()
+                    .all(|(k, v)| y.iter().any(|(k2, v2)| equal(k, k2) && equal(v, v2)))
         }
         _ => false,
     }
@@ -365,13 +486,27 @@ fn compare(op: &str, a: &Value, b: &Value, at: &Expr) -> Result<bool> {
     Ok(match op {
         "==" => equal(a, b),
         "!=" => !equal(a, b),
-        "is" => matches!((a, b), (Value::None, Value::None)) || matches!((a, b), (Value::Bool(x), Value::Bool(y)) if x == y),
-        "is not" => !(matches!((a, b), (Value::None, Value::None)) || matches!((a, b), (Value::Bool(x), Value::Bool(y)) if x == y)),
+        "is" => {
+            matches!((a, b), (Value::None, Value::None))
+                || matches!((a, b), (Value::Bool(x), Value::Bool(y)) if x == y)
+        }
+        "is not" => {
+            !(matches!((a, b), (Value::None, Value::None))
+                || matches!((a, b), (Value::Bool(x), Value::Bool(y)) if x == y))
+        }
         "in" | "not in" => {
             let hit = match b {
                 Value::Str(s) => match a {
                     Value::Str(x) => s.contains(x.as_str()),
-                    _ => return fail(at, format!("'in <string>' requires a string as left operand, not {}", a.type_name())),
+                    _ => {
+                        return fail(
+                            at,
+                            format!(
+                                "'in <string>' requires a string as left operand, not {}",
+                                a.type_name()
+                            ),
+                        )
+                    }
                 },
                 Value::Dict(d) => d.iter().any(|(k, _)| equal(k, a)),
                 other => iterate(other, at)?.iter().any(|x| equal(x, a)),
@@ -380,7 +515,12 @@ fn compare(op: &str, a: &Value, b: &Value, at: &Expr) -> Result<bool> {
         }
         _ => {
             let o = order(a, b).ok_or_else(|| {
-                Error::parse(format!("'{op}' not supported between {} and {}", a.type_name(), b.type_name())).at_line(at.line, Some(at.col))
+                Error::parse(format!(
+                    "'{op}' not supported between {} and {}",
+                    a.type_name(),
+                    b.type_name()
+                ))
+                .at_line(at.line, Some(at.col))
             })?;
             match op {
                 "<" => o == Less,
@@ -399,10 +539,17 @@ fn unary(op: &str, v: Value, at: &Expr) -> Result<Value> {
     match (op, &v) {
         ("-", Value::Float(f)) => Ok(Value::Float(-f)),
         ("+", Value::Float(_)) => Ok(v),
-        ("-", x) if x.as_int().is_some() => x.as_int().and_then(i64::checked_neg).map(Value::Int).ok_or_else(|| overflow(at)),
+        ("-", x) if x.as_int().is_some() => x
+            .as_int()
+            .and_then(i64::checked_neg)
+            .map(Value::Int)
+            .ok_or_else(|| overflow(at)),
         ("+", x) if x.as_int().is_some() => Ok(Value::Int(x.as_int().unwrap_or(0))),
         ("~", x) if x.as_int().is_some() => Ok(Value::Int(!x.as_int().unwrap_or(0))),
-        _ => fail(at, format!("bad operand type for unary {op}: {}", v.type_name())),
+        _ => fail(
+            at,
+            format!("bad operand type for unary {op}: {}", v.type_name()),
+        ),
     }
 }
 
@@ -435,7 +582,9 @@ pub fn binary(op: &str, a: &Value, b: &Value, at: &Expr) -> Result<Value> {
             v.extend(y.borrow().iter().cloned());
             return Ok(Value::list(v));
         }
-        ("+", Value::Tuple(x), Value::Tuple(y)) => return Ok(Value::Tuple(x.iter().chain(y).cloned().collect())),
+        ("+", Value::Tuple(x), Value::Tuple(y)) => {
+            return Ok(Value::Tuple(x.iter().chain(y).cloned().collect()))
+        }
         ("*", Value::Str(s), n) | ("*", n, Value::Str(s)) if n.as_int().is_some() => {
             let k = n.as_int().unwrap_or(0).max(0) as usize;
             if s.len().saturating_mul(k) > 1 << 20 {
@@ -447,7 +596,14 @@ pub fn binary(op: &str, a: &Value, b: &Value, at: &Expr) -> Result<Value> {
         _ => {}
     }
     let (Some(x), Some(y)) = (a.as_f64(), b.as_f64()) else {
-        return fail(at, format!("unsupported operand types for {op}: {} and {}", a.type_name(), b.type_name()));
+        return fail(
+            at,
+            format!(
+                "unsupported operand types for {op}: {} and {}",
+                a.type_name(),
+                b.type_name()
+            ),
+        );
     };
     if let (Some(i), Some(j)) = (a.as_int(), b.as_int()) {
         return int_binary(op, i, j, at);
@@ -478,18 +634,36 @@ fn int_binary(op: &str, i: i64, j: i64, at: &Expr) -> Result<Value> {
         "/" if j == 0 => return fail(at, "division by zero"),
         "/" => return Ok(Value::Float(i as f64 / j as f64)),
         "//" if j == 0 => return zero(),
-        "//" => i.checked_div_euclid(j).map(|q| if j < 0 && i.rem_euclid(j) != 0 { q - 1 } else { q }).ok_or_else(ov)?,
+        "//" => i
+            .checked_div_euclid(j)
+            .map(|q| {
+                if j < 0 && i.rem_euclid(j) != 0 {
+                    q - 1
+                } else {
+                    q
+                }
+            })
+            .ok_or_else(ov)?,
         "%" if j == 0 => return zero(),
         "%" => {
             let r = i.checked_rem(j).ok_or_else(ov)?;
-            if r != 0 && (r < 0) != (j < 0) { r + j } else { r }
+            if r != 0 && (r < 0) != (j < 0) {
+                r + j
+            } else {
+                r
+            }
         }
         "**" if j < 0 => return Ok(Value::Float((i as f64).powf(j as f64))),
-        "**" => i.checked_pow(u32::try_from(j).map_err(|_| ov())?).ok_or_else(ov)?,
+        "**" => i
+            .checked_pow(u32::try_from(j).map_err(|_| ov())?)
+            .ok_or_else(ov)?,
         "&" => i & j,
         "|" => i | j,
         "^" => i ^ j,
-        "<<" => i.checked_shl(u32::try_from(j).map_err(|_| ov())?).filter(|v| v >> j == i).ok_or_else(ov)?,
+        "<<" => i
+            .checked_shl(u32::try_from(j).map_err(|_| ov())?)
+            .filter(|v| v >> j == i)
+            .ok_or_else(ov)?,
         ">>" => i >> j.clamp(0, 63),
         _ => return fail(at, format!("unsupported operand types for {op}: int")),
     }))
@@ -509,24 +683,39 @@ fn index(o: &Value, i: &Value, at: &Expr) -> Result<Value> {
         return Ok(i.clone());
     }
     match o {
-        Value::Dict(d) => d.iter().find(|(k, _)| equal(k, i)).map(|(_, v)| v.clone()).ok_or_else(|| {
-            Error::parse(format!("KeyError: {}", i.repr())).at_line(at.line, Some(at.col))
-        }),
+        Value::Dict(d) => d
+            .iter()
+            .find(|(k, _)| equal(k, i))
+            .map(|(_, v)| v.clone())
+            .ok_or_else(|| {
+                Error::parse(format!("KeyError: {}", i.repr())).at_line(at.line, Some(at.col))
+            }),
         Value::Str(s) => {
             let chars: Vec<char> = s.chars().collect();
-            let k = i.as_int().ok_or_else(|| Error::parse("string indices must be integers").at_line(at.line, Some(at.col)))?;
-            norm_index(k, chars.len()).map(|k| Value::Str(chars[k].to_string())).ok_or_else(|| {
-                Error::parse("string index out of range").at_line(at.line, Some(at.col))
-            })
+            let k = i.as_int().ok_or_else(|| {
+                Error::parse("string indices must be integers").at_line(at.line, Some(at.col))
+            })?;
+            norm_index(k, chars.len())
+                .map(|k| Value::Str(chars[k].to_string()))
+                .ok_or_else(|| {
+                    Error::parse("string index out of range").at_line(at.line, Some(at.col))
+                })
         }
         Value::List(_) | Value::Tuple(_) => {
             let items = o.items().unwrap_or_default();
-            let k = i.as_int().ok_or_else(|| Error::parse("list indices must be integers").at_line(at.line, Some(at.col)))?;
-            norm_index(k, items.len()).map(|k| items[k].clone()).ok_or_else(|| {
-                Error::parse(format!("index {k} out of range")).at_line(at.line, Some(at.col))
-            })
+            let k = i.as_int().ok_or_else(|| {
+                Error::parse("list indices must be integers").at_line(at.line, Some(at.col))
+            })?;
+            norm_index(k, items.len())
+                .map(|k| items[k].clone())
+                .ok_or_else(|| {
+                    Error::parse(format!("index {k} out of range")).at_line(at.line, Some(at.col))
+                })
         }
-        other => fail(at, format!("a {} value is not subscriptable here", other.type_name())),
+        other => fail(
+            at,
+            format!("a {} value is not subscriptable here", other.type_name()),
+        ),
     }
 }
 
@@ -537,13 +726,19 @@ fn bounds(a: Option<i64>, b: Option<i64>, step: i64, len: usize) -> Vec<usize> {
     let fix = |x: i64| if x < 0 { x + n } else { x };
     let mut out = Vec::new();
     if step > 0 {
-        let (mut i, stop) = (clamp(fix(a.unwrap_or(0)), 0, n), clamp(fix(b.unwrap_or(n)), 0, n));
+        let (mut i, stop) = (
+            clamp(fix(a.unwrap_or(0)), 0, n),
+            clamp(fix(b.unwrap_or(n)), 0, n),
+        );
         while i < stop {
             out.push(i as usize);
             i += step;
         }
     } else {
-        let (mut i, stop) = (clamp(a.map(fix).unwrap_or(n - 1), -1, n - 1), b.map(|x| clamp(fix(x), -1, n - 1)).unwrap_or(-1));
+        let (mut i, stop) = (
+            clamp(a.map(fix).unwrap_or(n - 1), -1, n - 1),
+            b.map(|x| clamp(fix(x), -1, n - 1)).unwrap_or(-1),
+        );
         while i > stop {
             out.push(i as usize);
             i += step;
@@ -552,11 +747,19 @@ fn bounds(a: Option<i64>, b: Option<i64>, step: i64, len: usize) -> Vec<usize> {
     out
 }
 
-fn slice(o: &Value, a: Option<Value>, b: Option<Value>, c: Option<Value>, at: &Expr) -> Result<Value> {
+fn slice(
+    o: &Value,
+    a: Option<Value>,
+    b: Option<Value>,
+    c: Option<Value>,
+    at: &Expr,
+) -> Result<Value> {
     let int = |v: Option<Value>| -> Result<Option<i64>> {
         match v {
             None | Some(Value::None) => Ok(None),
-            Some(x) => x.as_int().map(Some).ok_or_else(|| Error::parse("slice indices must be integers").at_line(at.line, Some(at.col))),
+            Some(x) => x.as_int().map(Some).ok_or_else(|| {
+                Error::parse("slice indices must be integers").at_line(at.line, Some(at.col))
+            }),
         }
     };
     let (a, b, step) = (int(a)?, int(b)?, int(c)?.unwrap_or(1));
@@ -566,15 +769,30 @@ fn slice(o: &Value, a: Option<Value>, b: Option<Value>, c: Option<Value>, at: &E
     match o {
         Value::Str(s) => {
             let chars: Vec<char> = s.chars().collect();
-            Ok(Value::Str(bounds(a, b, step, chars.len()).into_iter().map(|i| chars[i]).collect()))
+            Ok(Value::Str(
+                bounds(a, b, step, chars.len())
+                    .into_iter()
+                    .map(|i| chars[i])
+                    .collect(),
+            ))
         }
         Value::List(_) | Value::Tuple(_) => {
             let items = o.items().unwrap_or_default();
-            let picked: Vec<Value> = bounds(a, b, step, items.len()).into_iter().map(|i| items[i].clone()).collect();
-            Ok(if let Value::Tuple(_) = o { Value::Tuple(picked) } else { Value::list(picked) })
+            let picked: Vec<Value> = bounds(a, b, step, items.len())
+                .into_iter()
+                .map(|i| items[i].clone())
+                .collect();
+            Ok(if let Value::Tuple(_) = o {
+                Value::Tuple(picked)
+            } else {
+                Value::list(picked)
+            })
         }
         Value::Unknown(_) => Ok(o.clone()),
-        other => fail(at, format!("a {} value cannot be sliced", other.type_name())),
+        other => fail(
+            at,
+            format!("a {} value cannot be sliced", other.type_name()),
+        ),
     }
 }
 
@@ -585,7 +803,10 @@ pub fn format_spec(v: &Value, spec: &str, at: &Expr) -> Result<String> {
         return Ok(v.to_str());
     }
     if spec == "d" {
-        return v.as_int().map(|i| i.to_string()).ok_or_else(|| Error::parse(format!("format 'd' of a {} value", v.type_name())).at_line(at.line, Some(at.col)));
+        return v.as_int().map(|i| i.to_string()).ok_or_else(|| {
+            Error::parse(format!("format 'd' of a {} value", v.type_name()))
+                .at_line(at.line, Some(at.col))
+        });
     }
     let (body, kind) = spec.split_at(spec.len() - 1);
     let (width, prec) = match body.split_once('.') {
@@ -593,8 +814,18 @@ pub fn format_spec(v: &Value, spec: &str, at: &Expr) -> Result<String> {
         None => (body, None),
     };
     let zero = width.starts_with('0');
-    let width: usize = if width.is_empty() { 0 } else { width.parse().map_err(|_| Error::parse(format!("format spec {spec:?} is not evaluated")).at_line(at.line, Some(at.col)))? };
-    let x = v.as_f64().ok_or_else(|| Error::parse(format!("format {spec:?} of a {} value", v.type_name())).at_line(at.line, Some(at.col)))?;
+    let width: usize = if width.is_empty() {
+        0
+    } else {
+        width.parse().map_err(|_| {
+            Error::parse(format!("format spec {spec:?} is not evaluated"))
+                .at_line(at.line, Some(at.col))
+        })?
+    };
+    let x = v.as_f64().ok_or_else(|| {
+        Error::parse(format!("format {spec:?} of a {} value", v.type_name()))
+            .at_line(at.line, Some(at.col))
+    })?;
     let p = prec.unwrap_or(6);
     let s = match kind {
         "f" => format!("{x:.p$}"),
@@ -609,5 +840,9 @@ pub fn format_spec(v: &Value, spec: &str, at: &Expr) -> Result<String> {
         _ => return fail(at, format!("format spec {spec:?} is not evaluated")),
     };
     let pad = width.saturating_sub(s.chars().count());
-    Ok(if zero { format!("{}{s}", "0".repeat(pad)) } else { format!("{}{s}", " ".repeat(pad)) })
+    Ok(if zero {
+        format!("{}{s}", "0".repeat(pad))
+    } else {
+        format!("{}{s}", " ".repeat(pad))
+    })
 }

@@ -12,7 +12,10 @@ pub enum Tok {
     Float(f64),
     /// A string literal: its value, whether it is an f-string (the value is
     /// then the raw text between the quotes) and its first line.
-    Str { value: String, fstring: bool },
+    Str {
+        value: String,
+        fstring: bool,
+    },
     Op(&'static str),
     Newline,
     Indent,
@@ -29,9 +32,9 @@ pub struct Token {
 }
 
 const OPS: &[&str] = &[
-    "**=", "//=", ">>=", "<<=", "...", "->", ":=", "**", "//", "<<", ">>", "<=", ">=", "==", "!=", "+=", "-=", "*=",
-    "/=", "%=", "&=", "|=", "^=", "@=", "(", ")", "[", "]", "{", "}", ",", ":", ".", ";", "+", "-", "*", "/", "%",
-    "<", ">", "=", "&", "|", "^", "~", "@",
+    "**=", "//=", ">>=", "<<=", "...", "->", ":=", "**", "//", "<<", ">>", "<=", ">=", "==", "!=",
+    "+=", "-=", "*=", "/=", "%=", "&=", "|=", "^=", "@=", "(", ")", "[", "]", "{", "}", ",", ":",
+    ".", ";", "+", "-", "*", "/", "%", "<", ">", "=", "&", "|", "^", "~", "@",
 ];
 
 /// A lexer error at `line`, `col`.
@@ -67,15 +70,29 @@ impl Lexer<'_> {
 /// tokens); else one expression (newlines are blanks). `line0` is the line
 /// the text starts on (for messages).
 pub fn tokens(text: &str, file: bool, line0: usize) -> Result<Vec<Token>> {
-    let mut lx = Lexer { s: text.as_bytes(), text, i: 0, line: line0, line_start: 0, depth: 0, out: Vec::new() };
+    let mut lx = Lexer {
+        s: text.as_bytes(),
+        text,
+        i: 0,
+        line: line0,
+        line_start: 0,
+        depth: 0,
+        out: Vec::new(),
+    };
     let mut indents = vec![0usize];
     let mut at_line_start = true;
     while lx.i < lx.s.len() {
-        if file && at_line_start && lx.depth == 0 {
+        // A line inside brackets continues the logical line.
+        at_line_start &= lx.depth == 0;
+        if file && at_line_start {
             at_line_start = false;
             let mut width = 0;
             while lx.i < lx.s.len() && matches!(lx.s[lx.i], b' ' | b'\t' | b'\x0c') {
-                width += if lx.s[lx.i] == b'\t' { 8 - width % 8 } else { 1 };
+                width += if lx.s[lx.i] == b'\t' {
+                    8 - width % 8
+                } else {
+                    1
+                };
                 lx.i += 1;
             }
             // Blank and comment-only lines do not change the indentation.
@@ -97,14 +114,21 @@ pub fn tokens(text: &str, file: bool, line0: usize) -> Result<Vec<Token>> {
                     lx.push(Tok::Dedent, line, col);
                 }
                 if width != *indents.last().unwrap_or(&0) {
-                    return Err(err(line, col, "unindent does not match any outer indentation level"));
+                    return Err(err(
+                        line,
+                        col,
+                        "unindent does not match any outer indentation level",
+                    ));
                 }
             }
         }
         let c = lx.s[lx.i];
         match c {
             b'\n' => {
-                if file && lx.depth == 0 && !matches!(lx.out.last().map(|t| &t.tok), Some(Tok::Newline) | None) {
+                if file
+                    && lx.depth == 0
+                    && !matches!(lx.out.last().map(|t| &t.tok), Some(Tok::Newline) | None)
+                {
                     let (l, c) = (lx.line, lx.col());
                     lx.push(Tok::Newline, l, c);
                 }
@@ -188,7 +212,11 @@ fn number(lx: &mut Lexer) -> Result<()> {
     let (line, col) = (lx.line, lx.col());
     let start = lx.i;
     let s = lx.s;
-    let hex = s[lx.i] == b'0' && matches!(s.get(lx.i + 1), Some(b'x' | b'X' | b'o' | b'O' | b'b' | b'B'));
+    let hex = s[lx.i] == b'0'
+        && matches!(
+            s.get(lx.i + 1),
+            Some(b'x' | b'X' | b'o' | b'O' | b'b' | b'B')
+        );
     if hex {
         lx.i += 2;
         while lx.i < s.len() && (s[lx.i].is_ascii_alphanumeric() || s[lx.i] == b'_') {
@@ -200,7 +228,8 @@ fn number(lx: &mut Lexer) -> Result<()> {
             b'o' => 8,
             _ => 2,
         };
-        let v = i64::from_str_radix(&t[2..], radix).map_err(|_| err(line, col, format!("integer {t}: not a 64-bit integer")))?;
+        let v = i64::from_str_radix(&t[2..], radix)
+            .map_err(|_| err(line, col, format!("integer {t}: not a 64-bit integer")))?;
         lx.push(Tok::Int(v), line, col);
         return Ok(());
     }
@@ -227,9 +256,18 @@ fn number(lx: &mut Lexer) -> Result<()> {
     }
     let t = lx.text[start..lx.i].replace('_', "");
     let tok = if float {
-        Tok::Float(t.parse().map_err(|_| err(line, col, format!("malformed number {t}")))?)
+        Tok::Float(
+            t.parse()
+                .map_err(|_| err(line, col, format!("malformed number {t}")))?,
+        )
     } else {
-        Tok::Int(t.parse().map_err(|_| err(line, col, format!("integer {t}: beyond 64 bits, not evaluated")))?)
+        Tok::Int(t.parse().map_err(|_| {
+            err(
+                line,
+                col,
+                format!("integer {t}: beyond 64 bits, not evaluated"),
+            )
+        })?)
     };
     lx.push(tok, line, col);
     Ok(())
@@ -325,8 +363,12 @@ fn escape(n: u8, lx: &mut Lexer, out: &mut String) -> std::result::Result<(), St
             return Ok(());
         }
     };
-    let digits = lx.text.get(lx.i..lx.i + hex).ok_or("truncated \\x / \\u escape")?;
-    let v = u32::from_str_radix(digits, 16).map_err(|_| format!("malformed escape \\{}{digits}", n as char))?;
+    let digits = lx
+        .text
+        .get(lx.i..lx.i + hex)
+        .ok_or("truncated \\x / \\u escape")?;
+    let v = u32::from_str_radix(digits, 16)
+        .map_err(|_| format!("malformed escape \\{}{digits}", n as char))?;
     out.push(char::from_u32(v).ok_or("escape beyond Unicode")?);
     lx.i += hex;
     Ok(())

@@ -11,14 +11,40 @@ use crate::diagnostic::Result;
 
 /// The `str` methods evaluated.
 pub const STR_METHODS: &[&str] = &[
-    "capitalize", "count", "endswith", "find", "format", "isalnum", "isalpha", "isdigit", "isspace", "join", "lower",
-    "lstrip", "replace", "rfind", "rsplit", "rstrip", "split", "startswith", "strip", "title", "upper", "zfill",
+    "capitalize",
+    "count",
+    "endswith",
+    "find",
+    "format",
+    "isalnum",
+    "isalpha",
+    "isdigit",
+    "isspace",
+    "join",
+    "lower",
+    "lstrip",
+    "replace",
+    "rfind",
+    "rsplit",
+    "rstrip",
+    "split",
+    "startswith",
+    "strip",
+    "title",
+    "upper",
+    "zfill",
 ];
 
 fn text<'a>(v: &'a Value, what: &str, at: &Expr) -> Result<&'a str> {
     match v {
         Value::Str(s) => Ok(s),
-        other => fail(at, format!("{what}: expected a string, found a {} value", other.type_name())),
+        other => fail(
+            at,
+            format!(
+                "{what}: expected a string, found a {} value",
+                other.type_name()
+            ),
+        ),
     }
 }
 
@@ -30,27 +56,56 @@ fn opt_text<'a>(args: &'a [Value], i: usize, what: &str, at: &Expr) -> Result<Op
 }
 
 /// Call method `name` of `recv`.
-pub fn call(recv: &Value, name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Result<Value> {
+pub fn call(
+    recv: &Value,
+    name: &str,
+    args: &[Value],
+    kw: &[(String, Value)],
+    at: &Expr,
+) -> Result<Value> {
     match recv {
         Value::Str(s) => str_method(s, name, args, kw, at),
         Value::List(l) => list_method(l, name, args, at),
         Value::Dict(d) => match (name, args) {
-            ("get", [k]) | ("get", [k, _]) => Ok(d.iter().find(|(x, _)| super::eval::equal(x, k)).map(|(_, v)| v.clone()).unwrap_or_else(|| args.get(1).cloned().unwrap_or(Value::None))),
+            ("get", [k]) | ("get", [k, _]) => Ok(d
+                .iter()
+                .find(|(x, _)| super::eval::equal(x, k))
+                .map(|(_, v)| v.clone())
+                .unwrap_or_else(|| args.get(1).cloned().unwrap_or(Value::None))),
             ("keys", []) => Ok(Value::list(d.iter().map(|(k, _)| k.clone()).collect())),
             ("values", []) => Ok(Value::list(d.iter().map(|(_, v)| v.clone()).collect())),
-            ("items", []) => Ok(Value::list(d.iter().map(|(k, v)| Value::Tuple(vec![k.clone(), v.clone()])).collect())),
+            ("items", []) => Ok(Value::list(
+                d.iter()
+                    .map(|(k, v)| Value::Tuple(vec![k.clone(), v.clone()]))
+                    .collect(),
+            )),
             _ => fail(at, format!("dict.{name}() is not evaluated")),
         },
         Value::Tuple(t) => match (name, args) {
-            ("index", [v]) => position(t, v).map(|i| Value::Int(i as i64)).map_or_else(|| fail(at, "tuple.index(x): x not in tuple"), Ok),
-            ("count", [v]) => Ok(Value::Int(t.iter().filter(|x| super::eval::equal(x, v)).count() as i64)),
+            ("index", [v]) => position(t, v)
+                .map(|i| Value::Int(i as i64))
+                .map_or_else(|| fail(at, "tuple.index(x): x not in tuple"), Ok),
+            ("count", [v]) => Ok(Value::Int(
+                t.iter().filter(|x| super::eval::equal(x, v)).count() as i64,
+            )),
             _ => fail(at, format!("tuple.{name}() is not evaluated")),
         },
-        other => fail(at, format!("method {name}() of a {} value is not evaluated", other.type_name())),
+        other => fail(
+            at,
+            format!(
+                "method {name}() of a {} value is not evaluated",
+                other.type_name()
+            ),
+        ),
     }
 }
 
-fn list_method(l: &std::rc::Rc<std::cell::RefCell<Vec<Value>>>, name: &str, args: &[Value], at: &Expr) -> Result<Value> {
+fn list_method(
+    l: &std::rc::Rc<std::cell::RefCell<Vec<Value>>>,
+    name: &str,
+    args: &[Value],
+    at: &Expr,
+) -> Result<Value> {
     match (name, args) {
         ("append", [v]) => {
             l.borrow_mut().push(v.clone());
@@ -61,18 +116,31 @@ fn list_method(l: &std::rc::Rc<std::cell::RefCell<Vec<Value>>>, name: &str, args
             l.borrow_mut().extend(items);
             Ok(Value::None)
         }
-        ("pop", []) => l.borrow_mut().pop().map_or_else(|| fail(at, "pop from empty list"), Ok),
+        ("pop", []) => l
+            .borrow_mut()
+            .pop()
+            .map_or_else(|| fail(at, "pop from empty list"), Ok),
         ("pop", [i]) => {
             let mut v = l.borrow_mut();
             let n = v.len() as i64;
-            let k = i.as_int().map(|k| if k < 0 { k + n } else { k }).filter(|k| (0..n).contains(k));
+            let k = i
+                .as_int()
+                .map(|k| if k < 0 { k + n } else { k })
+                .filter(|k| (0..n).contains(k));
             match k {
                 Some(k) => Ok(v.remove(k as usize)),
                 None => fail(at, "pop index out of range"),
             }
         }
-        ("index", [v]) => position(&l.borrow(), v).map(|i| Value::Int(i as i64)).map_or_else(|| fail(at, "list.index(x): x not in list"), Ok),
-        ("count", [v]) => Ok(Value::Int(l.borrow().iter().filter(|x| super::eval::equal(x, v)).count() as i64)),
+        ("index", [v]) => position(&l.borrow(), v)
+            .map(|i| Value::Int(i as i64))
+            .map_or_else(|| fail(at, "list.index(x): x not in list"), Ok),
+        ("count", [v]) => Ok(Value::Int(
+            l.borrow()
+                .iter()
+                .filter(|x| super::eval::equal(x, v))
+                .count() as i64,
+        )),
         _ => fail(at, format!("list.{name}() is not evaluated")),
     }
 }
@@ -81,7 +149,11 @@ fn list_method(l: &std::rc::Rc<std::cell::RefCell<Vec<Value>>>, name: &str, args
 fn strip<'a>(s: &'a str, chars: Option<&str>, left: bool, right: bool) -> &'a str {
     let set = |c: char| chars.map_or(c.is_whitespace(), |cs| cs.contains(c));
     let s = if left { s.trim_start_matches(set) } else { s };
-    if right { s.trim_end_matches(set) } else { s }
+    if right {
+        s.trim_end_matches(set)
+    } else {
+        s
+    }
 }
 
 fn split(s: &str, sep: Option<&str>, max: i64, right: bool, at: &Expr) -> Result<Value> {
@@ -89,11 +161,17 @@ fn split(s: &str, sep: Option<&str>, max: i64, right: bool, at: &Expr) -> Result
     let parts: Vec<String> = match sep {
         Some("") => return fail(at, "empty separator"),
         Some(sep) if right => {
-            let mut v: Vec<String> = s.rsplitn(max.saturating_add(1), sep).map(String::from).collect();
+            let mut v: Vec<String> = s
+                .rsplitn(max.saturating_add(1), sep)
+                .map(String::from)
+                .collect();
             v.reverse();
             v
         }
-        Some(sep) => s.splitn(max.saturating_add(1), sep).map(String::from).collect(),
+        Some(sep) => s
+            .splitn(max.saturating_add(1), sep)
+            .map(String::from)
+            .collect(),
         None => {
             // Runs of blanks; at most `max` splits, the rest kept (stripped
             // on the split side).
@@ -128,7 +206,13 @@ fn split(s: &str, sep: Option<&str>, max: i64, right: bool, at: &Expr) -> Result
 }
 
 fn affix(s: &str, arg: &Value, start: bool, at: &Expr) -> Result<Value> {
-    let test = |p: &str| if start { s.starts_with(p) } else { s.ends_with(p) };
+    let test = |p: &str| {
+        if start {
+            s.starts_with(p)
+        } else {
+            s.ends_with(p)
+        }
+    };
     match arg {
         Value::Str(p) => Ok(Value::Bool(test(p))),
         Value::Tuple(ps) => {
@@ -138,19 +222,37 @@ fn affix(s: &str, arg: &Value, start: bool, at: &Expr) -> Result<Value> {
             }
             Ok(Value::Bool(hit))
         }
-        other => fail(at, format!("startswith/endswith of a {} value", other.type_name())),
+        other => fail(
+            at,
+            format!("startswith/endswith of a {} value", other.type_name()),
+        ),
     }
 }
 
-fn str_method(s: &str, name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Result<Value> {
+fn str_method(
+    s: &str,
+    name: &str,
+    args: &[Value],
+    kw: &[(String, Value)],
+    at: &Expr,
+) -> Result<Value> {
     if !STR_METHODS.contains(&name) {
-        return fail(at, format!("str.{name}() is not evaluated (evaluated: {})", STR_METHODS.join(", ")));
+        return fail(
+            at,
+            format!(
+                "str.{name}() is not evaluated (evaluated: {})",
+                STR_METHODS.join(", ")
+            ),
+        );
     }
     if name == "format" {
         return format(s, args, kw, at);
     }
     if !kw.is_empty() && !matches!(name, "split" | "rsplit") {
-        return fail(at, format!("str.{name}() with keyword arguments is not evaluated"));
+        return fail(
+            at,
+            format!("str.{name}() with keyword arguments is not evaluated"),
+        );
     }
     let int = |i: usize, def: i64| args.get(i).map_or(Some(def), Value::as_int);
     let str_out = |x: String| Ok(Value::Str(x));
@@ -166,11 +268,19 @@ fn str_method(s: &str, name: &str, args: &[Value], kw: &[(String, Value)], at: &
                 Some(Value::None) | None => opt_text(args, 0, name, at)?,
                 Some(v) => Some(text(v, name, at)?),
             };
-            let max = kw.iter().find(|(k, _)| k == "maxsplit").map(|(_, v)| v.as_int()).unwrap_or(int(1, -1)).unwrap_or(-1);
+            let max = kw
+                .iter()
+                .find(|(k, _)| k == "maxsplit")
+                .map(|(_, v)| v.as_int())
+                .unwrap_or(int(1, -1))
+                .unwrap_or(-1);
             split(s, sep, max, name == "rsplit", at)
         }
         "replace" => {
-            let (old, new) = (text(&args[0], name, at)?, text(args.get(1).unwrap_or(&Value::None), name, at)?);
+            let (old, new) = (
+                text(&args[0], name, at)?,
+                text(args.get(1).unwrap_or(&Value::None), name, at)?,
+            );
             let count = int(2, -1).unwrap_or(-1);
             if count < 0 {
                 str_out(s.replace(old, new))
@@ -178,7 +288,12 @@ fn str_method(s: &str, name: &str, args: &[Value], kw: &[(String, Value)], at: &
                 str_out(s.replacen(old, new, count as usize))
             }
         }
-        "startswith" | "endswith" => affix(s, args.first().unwrap_or(&Value::None), name == "startswith", at),
+        "startswith" | "endswith" => affix(
+            s,
+            args.first().unwrap_or(&Value::None),
+            name == "startswith",
+            at,
+        ),
         "join" => {
             let mut parts = Vec::new();
             for v in iterate(args.first().unwrap_or(&Value::None), at)? {
@@ -188,20 +303,41 @@ fn str_method(s: &str, name: &str, args: &[Value], kw: &[(String, Value)], at: &
         }
         "find" | "rfind" => {
             let sub = text(args.first().unwrap_or(&Value::None), name, at)?;
-            let hit = if name == "find" { s.find(sub) } else { s.rfind(sub) };
-            Ok(Value::Int(hit.map_or(-1, |b| s[..b].chars().count() as i64)))
+            let hit = if name == "find" {
+                s.find(sub)
+            } else {
+                s.rfind(sub)
+            };
+            Ok(Value::Int(
+                hit.map_or(-1, |b| s[..b].chars().count() as i64),
+            ))
         }
-        "count" => Ok(Value::Int(s.matches(text(args.first().unwrap_or(&Value::None), name, at)?).count() as i64)),
+        "count" => Ok(Value::Int(
+            s.matches(text(args.first().unwrap_or(&Value::None), name, at)?)
+                .count() as i64,
+        )),
         "capitalize" => {
             let mut c = s.chars();
-            str_out(c.next().map(|f| f.to_uppercase().chain(c.flat_map(char::to_lowercase)).collect()).unwrap_or_default())
+            str_out(
+                c.next()
+                    .map(|f| {
+                        f.to_uppercase()
+                            .chain(c.flat_map(char::to_lowercase))
+                            .collect()
+                    })
+                    .unwrap_or_default(),
+            )
         }
         "title" => {
             let mut out = String::new();
             let mut prev = false;
             for c in s.chars() {
                 if c.is_alphabetic() {
-                    out.extend(if prev { c.to_lowercase().collect::<Vec<_>>() } else { c.to_uppercase().collect() });
+                    out.extend(if prev {
+                        c.to_lowercase().collect::<Vec<_>>()
+                    } else {
+                        c.to_uppercase().collect()
+                    });
                     prev = true;
                 } else {
                     out.push(c);
@@ -213,7 +349,11 @@ fn str_method(s: &str, name: &str, args: &[Value], kw: &[(String, Value)], at: &
         "zfill" => {
             let w = int(0, 0).unwrap_or(0).max(0) as usize;
             let n = s.chars().count();
-            let (sign, rest) = if s.starts_with(['+', '-']) { s.split_at(1) } else { ("", s) };
+            let (sign, rest) = if s.starts_with(['+', '-']) {
+                s.split_at(1)
+            } else {
+                ("", s)
+            };
             str_out(format!("{sign}{}{rest}", "0".repeat(w.saturating_sub(n))))
         }
         _ => {
@@ -260,7 +400,12 @@ fn format(s: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Result<
                 } else {
                     kw.iter().find(|(k, _)| k == key).map(|(_, v)| v)
                 };
-                let v = v.ok_or_else(|| crate::diagnostic::Error::parse(format!("str.format: no value for field {{{key}}}")).at_line(at.line, Some(at.col)))?;
+                let v = v.ok_or_else(|| {
+                    crate::diagnostic::Error::parse(format!(
+                        "str.format: no value for field {{{key}}}"
+                    ))
+                    .at_line(at.line, Some(at.col))
+                })?;
                 out.push_str(&format_spec(v, spec, at)?);
             }
             c => out.push(c),

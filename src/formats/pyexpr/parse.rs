@@ -21,7 +21,11 @@ pub struct Expr {
 #[derive(Debug, Clone, PartialEq)]
 pub enum FPart {
     Text(String),
-    Field { expr: Expr, conv: Option<char>, spec: String },
+    Field {
+        expr: Expr,
+        conv: Option<char>,
+        spec: String,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -35,9 +39,20 @@ pub enum ExprKind {
     Tuple(Vec<Expr>),
     Dict(Vec<(Expr, Expr)>),
     /// `[elt for target in iter if cond ...]` (one `for` clause).
-    ListComp { elt: Box<Expr>, target: Box<Expr>, iter: Box<Expr>, conds: Vec<Expr> },
+    ListComp {
+        elt: Box<Expr>,
+        target: Box<Expr>,
+        iter: Box<Expr>,
+        conds: Vec<Expr>,
+    },
     Attr(Box<Expr>, String),
-    Call { func: Box<Expr>, args: Vec<Expr>, kwargs: Vec<(String, Expr)>, star: bool },
+    /// A call; each keyword argument with the line and column of its name.
+    Call {
+        func: Box<Expr>,
+        args: Vec<Expr>,
+        kwargs: Vec<(String, Expr, (usize, usize))>,
+        star: bool,
+    },
     Index(Box<Expr>, Box<Expr>),
     Slice(Option<Box<Expr>>, Option<Box<Expr>>, Option<Box<Expr>>),
     Unary(&'static str, Box<Expr>),
@@ -47,7 +62,11 @@ pub enum ExprKind {
     And(Box<Expr>, Box<Expr>),
     Or(Box<Expr>, Box<Expr>),
     Not(Box<Expr>),
-    IfElse { cond: Box<Expr>, then: Box<Expr>, other: Box<Expr> },
+    IfElse {
+        cond: Box<Expr>,
+        then: Box<Expr>,
+        other: Box<Expr>,
+    },
     /// Syntax the evaluator does not implement (lambda, generator, set,
     /// starred, walrus...): what it is, for the message.
     Unsupported(&'static str),
@@ -57,17 +76,49 @@ pub enum ExprKind {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Stmt {
     Expr(Expr),
-    Assign { targets: Vec<Expr>, value: Expr, line: usize },
-    AugAssign { target: Expr, op: &'static str, value: Expr, line: usize },
-    Def { name: String, params: Vec<(String, Option<Expr>)>, body: Vec<Stmt>, line: usize },
+    Assign {
+        targets: Vec<Expr>,
+        value: Expr,
+        line: usize,
+    },
+    AugAssign {
+        target: Expr,
+        op: &'static str,
+        value: Expr,
+        line: usize,
+    },
+    Def {
+        name: String,
+        params: Vec<(String, Option<Expr>)>,
+        body: Vec<Stmt>,
+        line: usize,
+    },
     Return(Option<Expr>, usize),
-    For { target: Expr, iter: Expr, body: Vec<Stmt>, orelse: Vec<Stmt>, line: usize },
-    If { cond: Expr, body: Vec<Stmt>, orelse: Vec<Stmt>, line: usize },
+    For {
+        target: Expr,
+        iter: Expr,
+        body: Vec<Stmt>,
+        orelse: Vec<Stmt>,
+        line: usize,
+    },
+    If {
+        cond: Expr,
+        body: Vec<Stmt>,
+        orelse: Vec<Stmt>,
+        line: usize,
+    },
     /// `with`, `try`, `while`, `class`: their blocks, run in an order the
     /// reader cannot know (what, line).
-    Block { what: &'static str, body: Vec<Stmt>, line: usize },
-    /// `import`, `pass`, `global`, ... or a statement this parser does not
-    /// read (what, line); names it binds are unknown.
+    Block {
+        what: &'static str,
+        body: Vec<Stmt>,
+        line: usize,
+    },
+    /// `import a.b`, `from m import x as y`: the names bound (`*` for a star
+    /// import).
+    Import(Vec<String>, usize),
+    /// `pass`, `global`, ... or a statement this parser does not read (what,
+    /// line); names it binds are unknown.
     Other(String, usize),
 }
 
@@ -79,7 +130,11 @@ struct P {
 
 /// Parse one expression (the whole text).
 pub fn expression(text: &str, line0: usize) -> Result<Expr> {
-    let mut p = P { t: tokens(text, false, line0)?, i: 0, depth: 0 };
+    let mut p = P {
+        t: tokens(text, false, line0)?,
+        i: 0,
+        depth: 0,
+    };
     let e = p.test_list()?;
     p.expect_end()?;
     Ok(e)
@@ -87,7 +142,11 @@ pub fn expression(text: &str, line0: usize) -> Result<Expr> {
 
 /// Parse a module.
 pub fn module(text: &str) -> Result<Vec<Stmt>> {
-    let mut p = P { t: tokens(text, true, 1)?, i: 0, depth: 0 };
+    let mut p = P {
+        t: tokens(text, true, 1)?,
+        i: 0,
+        depth: 0,
+    };
     let mut out = Vec::new();
     while !p.at_end() {
         out.push(p.statement()?);
@@ -140,7 +199,10 @@ impl P {
         if self.at_end() {
             return Ok(());
         }
-        self.fail(format!("expected the end of the expression, found {}", describe(self.peek())))
+        self.fail(format!(
+            "expected the end of the expression, found {}",
+            describe(self.peek())
+        ))
     }
     fn mk(&self, kind: ExprKind, (line, col): (usize, usize)) -> Expr {
         Expr { kind, line, col }
@@ -171,7 +233,8 @@ impl P {
     }
 
     fn ends_expr(&self) -> bool {
-        matches!(self.peek(), Tok::End | Tok::Newline) || [")", "]", "}", "=", ":"].iter().any(|o| self.is_op(o))
+        matches!(self.peek(), Tok::End | Tok::Newline)
+            || [")", "]", "}", "=", ":"].iter().any(|o| self.is_op(o))
     }
 
     fn test(&mut self) -> Result<Expr> {
@@ -192,7 +255,14 @@ impl P {
                     return self.fail("expected `else` in a conditional expression");
                 }
                 let other = self.test()?;
-                Ok(self.mk(ExprKind::IfElse { cond: cond.into(), then: e.into(), other: other.into() }, at))
+                Ok(self.mk(
+                    ExprKind::IfElse {
+                        cond: cond.into(),
+                        then: e.into(),
+                        other: other.into(),
+                    },
+                    at,
+                ))
             } else if self.is_op(":=") {
                 self.i += 1;
                 self.test()?;
@@ -245,7 +315,9 @@ impl P {
         if self.eat_name("in") {
             return Some("in");
         }
-        if self.is_name("not") && matches!(self.t.get(self.i + 1).map(|t| &t.tok), Some(Tok::Name(n)) if n == "in") {
+        if self.is_name("not")
+            && matches!(self.t.get(self.i + 1).map(|t| &t.tok), Some(Tok::Name(n)) if n == "in")
+        {
             self.i += 2;
             return Some("not in");
         }
@@ -265,21 +337,32 @@ impl P {
             items.push(self.binary(0)?);
         }
         if ops.is_empty() {
-            return Ok(items.pop().unwrap_or_else(|| self.mk(ExprKind::Unsupported("nothing"), at)));
+            return Ok(items
+                .pop()
+                .unwrap_or_else(|| self.mk(ExprKind::Unsupported("nothing"), at)));
         }
         Ok(self.mk(ExprKind::Compare(items, ops), at))
     }
 
     /// Binary operators by level: | ^ & << >> + - * / // % @.
     fn binary(&mut self, level: usize) -> Result<Expr> {
-        const LEVELS: &[&[&str]] = &[&["|"], &["^"], &["&"], &["<<", ">>"], &["+", "-"], &["*", "/", "//", "%", "@"]];
+        const LEVELS: &[&[&str]] = &[
+            &["|"],
+            &["^"],
+            &["&"],
+            &["<<", ">>"],
+            &["+", "-"],
+            &["*", "/", "//", "%", "@"],
+        ];
         if level == LEVELS.len() {
             return self.unary();
         }
         let at = self.pos();
         let mut e = self.binary(level + 1)?;
         loop {
-            let Some(o) = LEVELS[level].iter().find(|o| self.is_op(o)).copied() else { break };
+            let Some(o) = LEVELS[level].iter().find(|o| self.is_op(o)).copied() else {
+                break;
+            };
             self.i += 1;
             let r = self.binary(level + 1)?;
             e = self.mk(ExprKind::Binary(o, e.into(), r.into()), at);
@@ -342,9 +425,12 @@ impl P {
             if self.eat_op("**") || self.eat_op("*") {
                 star = true;
                 self.test()?;
-            } else if let (Tok::Name(n), Some(Tok::Op("="))) = (self.peek().clone(), self.t.get(self.i + 1).map(|t| &t.tok)) {
+            } else if let (Tok::Name(n), Some(Tok::Op("="))) =
+                (self.peek().clone(), self.t.get(self.i + 1).map(|t| &t.tok))
+            {
+                let at = self.pos();
                 self.i += 2;
-                kwargs.push((n, self.test()?));
+                kwargs.push((n, self.test()?, at));
             } else {
                 let a = self.test()?;
                 if self.is_name("for") {
@@ -359,7 +445,15 @@ impl P {
                 break;
             }
         }
-        Ok(self.mk(ExprKind::Call { func: func.into(), args, kwargs, star }, at))
+        Ok(self.mk(
+            ExprKind::Call {
+                func: func.into(),
+                args,
+                kwargs,
+                star,
+            },
+            at,
+        ))
     }
 
     fn subscript(&mut self) -> Result<Expr> {
@@ -373,7 +467,9 @@ impl P {
         };
         let a = part(self)?;
         if !self.eat_op(":") {
-            let Some(a) = a else { return self.fail("expected a subscript") };
+            let Some(a) = a else {
+                return self.fail("expected a subscript");
+            };
             if self.is_op(",") {
                 return self.fail("multi-dimensional subscripts are not evaluated");
             }
@@ -406,9 +502,16 @@ impl P {
         }
         let (target, iter) = first.ok_or_else(|| err(elt.line, elt.col, "expected `for`"))?;
         if many {
-            return Ok(ExprKind::Unsupported("a comprehension with several `for` clauses"));
+            return Ok(ExprKind::Unsupported(
+                "a comprehension with several `for` clauses",
+            ));
         }
-        Ok(ExprKind::ListComp { elt: elt.into(), target: target.into(), iter: iter.into(), conds })
+        Ok(ExprKind::ListComp {
+            elt: elt.into(),
+            target: target.into(),
+            iter: iter.into(),
+            conds,
+        })
     }
 
     fn target_list(&mut self) -> Result<Expr> {
@@ -446,7 +549,10 @@ impl P {
             Tok::Op("...") => ExprKind::Unsupported("Ellipsis"),
             other => {
                 self.i -= 1;
-                return self.fail(format!("expected an expression, found {}", describe(&other)));
+                return self.fail(format!(
+                    "expected an expression, found {}",
+                    describe(&other)
+                ));
             }
         };
         Ok(self.mk(kind, at))
@@ -464,7 +570,16 @@ impl P {
             push_literal(&mut parts, value, fstring, here)?;
         }
         if !any_f {
-            let s: String = parts.into_iter().map(|p| if let FPart::Text(t) = p { t } else { String::new() }).collect();
+            let s: String = parts
+                .into_iter()
+                .map(|p| {
+                    if let FPart::Text(t) = p {
+                        t
+                    } else {
+                        String::new()
+                    }
+                })
+                .collect();
             return Ok(self.mk(ExprKind::Str(s), at));
         }
         Ok(self.mk(ExprKind::FStr(parts), at))
@@ -547,7 +662,10 @@ impl P {
             }
         }
         if set {
-            return Ok(self.mk(ExprKind::Unsupported("a set, dict unpacking or comprehension"), at));
+            return Ok(self.mk(
+                ExprKind::Unsupported("a set, dict unpacking or comprehension"),
+                at,
+            ));
         }
         Ok(self.mk(ExprKind::Dict(items), at))
     }
@@ -555,7 +673,12 @@ impl P {
 
 /// An f-string's text into literal parts and `{...}` fields (`{{`, `}}` are
 /// braces); a plain string is one literal part.
-fn push_literal(parts: &mut Vec<FPart>, s: String, fstring: bool, at: (usize, usize)) -> Result<()> {
+fn push_literal(
+    parts: &mut Vec<FPart>,
+    s: String,
+    fstring: bool,
+    at: (usize, usize),
+) -> Result<()> {
     if !fstring {
         parts.push(FPart::Text(s));
         return Ok(());
@@ -604,7 +727,9 @@ fn fstring_field(s: &str, start: usize, at: (usize, usize)) -> Result<(usize, FP
             (None, b')' | b']') => depth = depth.saturating_sub(1),
             (None, b'}') if depth > 0 => depth -= 1,
             (None, b'}') => break,
-            (None, b'!') if depth == 0 && colon.is_none() && b.get(i + 1) != Some(&b'=') => bang = Some(i),
+            (None, b'!') if depth == 0 && colon.is_none() && b.get(i + 1) != Some(&b'=') => {
+                bang = Some(i)
+            }
             (None, b':') if depth == 0 && colon.is_none() => colon = Some(i),
             _ => {}
         }
@@ -618,7 +743,11 @@ fn fstring_field(s: &str, start: usize, at: (usize, usize)) -> Result<(usize, FP
     let spec = colon.map(|p| s[p + 1..i].to_string()).unwrap_or_default();
     let src = &s[start..expr_end];
     if src.trim().ends_with('=') {
-        return Err(err(at.0, at.1, "f-string `{x=}` debugging fields are not evaluated"));
+        return Err(err(
+            at.0,
+            at.1,
+            "f-string `{x=}` debugging fields are not evaluated",
+        ));
     }
     let expr = expression(src, at.0)?;
     Ok((i + 1, FPart::Field { expr, conv, spec }))
@@ -684,8 +813,18 @@ impl P {
                 }
                 let iter = self.test_list()?;
                 let body = self.block()?;
-                let orelse = if self.eat_name("else") { self.block()? } else { Vec::new() };
-                Ok(Stmt::For { target, iter, body, orelse, line })
+                let orelse = if self.eat_name("else") {
+                    self.block()?
+                } else {
+                    Vec::new()
+                };
+                Ok(Stmt::For {
+                    target,
+                    iter,
+                    body,
+                    orelse,
+                    line,
+                })
             }
             "if" => self.if_stmt(line),
             "while" | "with" | "class" | "try" | "async" => self.compound(line, kw),
@@ -695,7 +834,9 @@ impl P {
 
     fn def(&mut self, line: usize) -> Result<Stmt> {
         self.i += 1;
-        let Tok::Name(name) = self.peek().clone() else { return self.fail("expected a function name") };
+        let Tok::Name(name) = self.peek().clone() else {
+            return self.fail("expected a function name");
+        };
         self.i += 1;
         self.expect_op("(")?;
         let mut params = Vec::new();
@@ -706,12 +847,18 @@ impl P {
                     params.push((format!("*{n}"), None));
                 }
             } else {
-                let Tok::Name(n) = self.peek().clone() else { return self.fail("expected a parameter name") };
+                let Tok::Name(n) = self.peek().clone() else {
+                    return self.fail("expected a parameter name");
+                };
                 self.i += 1;
                 if self.eat_op(":") {
                     self.test()?;
                 }
-                let default = if self.eat_op("=") { Some(self.test()?) } else { None };
+                let default = if self.eat_op("=") {
+                    Some(self.test()?)
+                } else {
+                    None
+                };
                 params.push((n, default));
             }
             if !self.eat_op(",") {
@@ -723,7 +870,12 @@ impl P {
             self.test()?;
         }
         let body = self.block()?;
-        Ok(Stmt::Def { name, params, body, line })
+        Ok(Stmt::Def {
+            name,
+            params,
+            body,
+            line,
+        })
     }
 
     fn if_stmt(&mut self, line: usize) -> Result<Stmt> {
@@ -738,7 +890,12 @@ impl P {
         } else {
             Vec::new()
         };
-        Ok(Stmt::If { cond, body, orelse, line })
+        Ok(Stmt::If {
+            cond,
+            body,
+            orelse,
+            line,
+        })
     }
 
     /// `while`, `with`, `class`, `try` (with its `except`/`else`/`finally`):
@@ -755,7 +912,9 @@ impl P {
         loop {
             self.skip_header()?;
             body.extend(self.block()?);
-            let more = ["except", "else", "finally"].iter().any(|k| self.is_name(k));
+            let more = ["except", "else", "finally"]
+                .iter()
+                .any(|k| self.is_name(k));
             if !(kw == "try" && more) {
                 break;
             }
@@ -817,8 +976,17 @@ impl P {
         let start = self.i;
         let s = match self.simple() {
             Ok(s) if matches!(self.peek(), Tok::Newline | Tok::End) || self.is_op(";") => s,
-            Ok(_) => Stmt::Other(format!("a statement this reader does not parse ({})", describe(self.peek())), line),
-            Err(e) => Stmt::Other(format!("a statement this reader does not parse: {}", e.message), line),
+            Ok(_) => Stmt::Other(
+                format!(
+                    "a statement this reader does not parse ({})",
+                    describe(self.peek())
+                ),
+                line,
+            ),
+            Err(e) => Stmt::Other(
+                format!("a statement this reader does not parse: {}", e.message),
+                line,
+            ),
         };
         if matches!(s, Stmt::Other(..)) {
             self.i = start;
@@ -834,16 +1002,75 @@ impl P {
         Ok(s)
     }
 
+    /// The names an import binds.
+    fn import(&mut self, line: usize) -> Result<Stmt> {
+        let from = self.is_name("from");
+        self.i += 1;
+        if from {
+            while !self.is_name("import") {
+                if matches!(self.peek(), Tok::Newline | Tok::End) {
+                    return self.fail("expected `import` in a `from` statement");
+                }
+                self.i += 1;
+            }
+            self.i += 1;
+        }
+        let mut names = Vec::new();
+        let paren = self.eat_op("(");
+        loop {
+            if self.eat_op("*") {
+                names.push("*".to_string());
+            } else {
+                let mut dotted = Vec::new();
+                while let Tok::Name(n) = self.peek().clone() {
+                    self.i += 1;
+                    dotted.push(n);
+                    if !self.eat_op(".") {
+                        break;
+                    }
+                }
+                let Some(first) = dotted.first().cloned() else {
+                    return self.fail("expected a name to import");
+                };
+                let bound = if self.eat_name("as") {
+                    let Tok::Name(a) = self.peek().clone() else {
+                        return self.fail("expected a name after `as`");
+                    };
+                    self.i += 1;
+                    a
+                } else if from {
+                    dotted.last().cloned().unwrap_or(first)
+                } else {
+                    first
+                };
+                names.push(bound);
+            }
+            if !self.eat_op(",") || (paren && self.is_op(")")) {
+                break;
+            }
+        }
+        if paren {
+            self.expect_op(")")?;
+        }
+        Ok(Stmt::Import(names, line))
+    }
+
     fn simple(&mut self) -> Result<Stmt> {
         let (line, _) = self.pos();
         if let Tok::Name(kw) = self.peek().clone() {
             match kw.as_str() {
                 "return" => {
                     self.i += 1;
-                    let v = if matches!(self.peek(), Tok::Newline | Tok::End) || self.is_op(";") { None } else { Some(self.test_list()?) };
+                    let v = if matches!(self.peek(), Tok::Newline | Tok::End) || self.is_op(";") {
+                        None
+                    } else {
+                        Some(self.test_list()?)
+                    };
                     return Ok(Stmt::Return(v, line));
                 }
-                "import" | "from" | "pass" | "global" | "nonlocal" | "del" | "assert" | "raise" | "break" | "continue" => {
+                "import" | "from" => return self.import(line),
+                "pass" | "global" | "nonlocal" | "del" | "assert" | "raise" | "break"
+                | "continue" => {
                     while !matches!(self.peek(), Tok::Newline | Tok::End) && !self.is_op(";") {
                         self.i += 1;
                     }
@@ -864,20 +1091,35 @@ impl P {
                 }
                 targets.push(value.clone());
             }
-            return Ok(Stmt::Assign { targets, value, line });
+            return Ok(Stmt::Assign {
+                targets,
+                value,
+                line,
+            });
         }
         if self.eat_op(":") {
             self.test()?;
             if self.eat_op("=") {
                 let value = self.test_list()?;
-                return Ok(Stmt::Assign { targets: vec![first], value, line });
+                return Ok(Stmt::Assign {
+                    targets: vec![first],
+                    value,
+                    line,
+                });
             }
             return Ok(Stmt::Other("an annotation".into(), line));
         }
-        for op in ["+=", "-=", "*=", "/=", "//=", "%=", "**=", "|=", "&=", "^=", ">>=", "<<=", "@="] {
+        for op in [
+            "+=", "-=", "*=", "/=", "//=", "%=", "**=", "|=", "&=", "^=", ">>=", "<<=", "@=",
+        ] {
             if self.eat_op(op) {
                 let value = self.test_list()?;
-                return Ok(Stmt::AugAssign { target: first, op: &op[..op.len() - 1], value, line });
+                return Ok(Stmt::AugAssign {
+                    target: first,
+                    op: &op[..op.len() - 1],
+                    value,
+                    line,
+                });
             }
         }
         Ok(Stmt::Expr(first))

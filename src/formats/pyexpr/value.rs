@@ -49,6 +49,8 @@ pub struct Record {
     pub name: String,
     pub args: Vec<Value>,
     pub kwargs: Vec<(String, Value)>,
+    /// Where each keyword argument's name is (line, column).
+    pub kwpos: Vec<(String, (usize, usize))>,
     pub line: usize,
     pub col: usize,
 }
@@ -57,6 +59,11 @@ impl Record {
     /// Keyword argument `k`.
     pub fn kw(&self, k: &str) -> Option<&Value> {
         self.kwargs.iter().find(|(n, _)| n == k).map(|(_, v)| v)
+    }
+
+    /// Where keyword argument `k` is written.
+    pub fn kw_at(&self, k: &str) -> Option<(usize, usize)> {
+        self.kwpos.iter().find(|(n, _)| n == k).map(|(_, p)| *p)
     }
 }
 
@@ -152,7 +159,10 @@ impl Value {
             Value::Tuple(t) => format!("({})", join_repr(t)),
             Value::Dict(d) => format!(
                 "{{{}}}",
-                d.iter().map(|(k, v)| format!("{}: {}", k.repr(), v.repr())).collect::<Vec<_>>().join(", ")
+                d.iter()
+                    .map(|(k, v)| format!("{}: {}", k.repr(), v.repr()))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
             Value::Func(f) => format!("<function {f:?}>"),
             Value::Module(m) => format!("<module '{m}'>"),
@@ -169,7 +179,11 @@ fn join_repr(v: &[Value]) -> String {
 /// CPython's `repr(str)`: single quotes unless the text holds one and no
 /// double quote.
 fn str_repr(s: &str) -> String {
-    let q = if s.contains('\'') && !s.contains('"') { '"' } else { '\'' };
+    let q = if s.contains('\'') && !s.contains('"') {
+        '"'
+    } else {
+        '\''
+    };
     let mut out = String::with_capacity(s.len() + 2);
     out.push(q);
     for c in s.chars() {
@@ -182,7 +196,9 @@ fn str_repr(s: &str) -> String {
                 out.push('\\');
                 out.push(c);
             }
-            c if (c as u32) < 0x20 || c as u32 == 0x7f => out.push_str(&format!("\\x{:02x}", c as u32)),
+            c if (c as u32) < 0x20 || c as u32 == 0x7f => {
+                out.push_str(&format!("\\x{:02x}", c as u32))
+            }
             c => out.push(c),
         }
     }
@@ -212,12 +228,24 @@ pub fn float_repr(x: f64) -> String {
         } else if (point as usize) >= digits.len() {
             format!("{}{}.0", digits, "0".repeat(point as usize - digits.len()))
         } else {
-            format!("{}.{}", &digits[..point as usize], &digits[point as usize..])
+            format!(
+                "{}.{}",
+                &digits[..point as usize],
+                &digits[point as usize..]
+            )
         };
         return format!("{sign}{body}");
     }
-    let m = if digits.len() > 1 { format!("{}.{}", &digits[..1], &digits[1..]) } else { digits };
-    format!("{sign}{m}e{}{:02}", if exp < 0 { '-' } else { '+' }, exp.abs())
+    let m = if digits.len() > 1 {
+        format!("{}.{}", &digits[..1], &digits[1..])
+    } else {
+        digits
+    };
+    format!(
+        "{sign}{m}e{}{:02}",
+        if exp < 0 { '-' } else { '+' },
+        exp.abs()
+    )
 }
 
 #[cfg(test)]
