@@ -5,8 +5,8 @@
 //! {extrinsic_T, extrinsic_R}` and `camera: {Rcl, Pcl}`; FAST-LIVO2 all four
 //! in `extrin_calib:`.
 //!
-//! `Rcl, Pcl` is the pose of the LiDAR in the camera, `p_camera = Rcl p_lidar
-//! + Pcl`. hku-mars/FAST-LIVO @ dcebf84f38df004668930fbc8e2ec72ba0256000:
+//! `Rcl, Pcl` is the pose of the LiDAR in the camera,
+//! `p_camera = Rcl p_lidar + Pcl`. hku-mars/FAST-LIVO @ dcebf84f38df004668930fbc8e2ec72ba0256000:
 //! `src/laserMapping.cpp:1126-1129` reads `camera/Pcl`, `camera/Rcl`;
 //! `include/common_lib.h:42-43`, `225-228` `Rcl << MAT_FROM_ARRAY(R)`
 //! (row-major); `src/lidar_selection.cpp:35-38` `Pli = -rot.transpose() *

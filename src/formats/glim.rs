@@ -5,8 +5,8 @@
 //! koide3/glim @ 1007fecd3389b44a4c2f278035bd57ceba459fee:
 //! `src/glim/util/config.cpp:21` `nlohmann::json::parse(ifs, nullptr, true,
 //! true)` (comments ignored); `include/glim/util/config_impl.hpp:67-78` takes
-//! exactly 7 numbers, the translation first and `Eigen::Quaternion<T>(in.data()
-//! + 3).normalized()` (x, y, z, w); `config/config_sensors.json:30-32` "T_lidar_imu
+//! exactly 7 numbers, the translation first and
+//! `Eigen::Quaternion<T>(in.data() + 3).normalized()` (x, y, z, w); `config/config_sensors.json:30-32` "T_lidar_imu
 //! transforms points in the imu frame into the lidar frame ... p_lidar =
 //! T_lidar_imu * p_imu"; `src/glim/odometry/odometry_estimation_imu.cpp:38`
 //! reads it and `src/glim/odometry/estimation_frame.cpp:56` composes

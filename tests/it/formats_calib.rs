@@ -35,7 +35,7 @@ fn matrix(v: &Value) -> [[f64; 4]; 4] {
 fn pose(l: &Loaded, parent: &str, child: &str) -> Option<[[f64; 4]; 4]> {
     l.edges.iter().find_map(|e| {
         let t = if (e.parent.as_str(), e.child.as_str()) == (parent, child) {
-            e.transform.clone()
+            e.transform
         } else if (e.parent.as_str(), e.child.as_str()) == (child, parent) {
             e.transform.inverse()
         } else {

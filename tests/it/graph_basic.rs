@@ -409,6 +409,8 @@ fn keyed_reads_stacked_millimetres_and_json_matrices() {
         slict,
         &LoadOptions {
             key: Some("lidar_extr[0]".into()),
+            // The key's name gives no frames (issue 28: --assume gives them).
+            assume: extrinsic_audit::formats::Assume::parse("child-in-parent:body,lidar").ok(),
             ..Default::default()
         },
     )
@@ -423,6 +425,7 @@ fn keyed_reads_stacked_millimetres_and_json_matrices() {
         slict,
         &LoadOptions {
             key: Some("lidar_extr[1]".into()),
+            assume: extrinsic_audit::formats::Assume::parse("child-in-parent:body,lidar").ok(),
             ..Default::default()
         },
     )

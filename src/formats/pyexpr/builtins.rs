@@ -244,6 +244,14 @@ pub fn call(name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Re
             };
             Ok(Value::Int(n as i64))
         }
+        _ => sequences(name, args, kw, at),
+    }
+}
+
+/// The builtins over sequences, then `math`.
+fn sequences(name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Result<Value> {
+    let a0 = args.first();
+    match name {
         "list" | "tuple" => {
             arity(name, args, kw, 0, 1, at)?;
             let items = a0.map_or(Ok(Vec::new()), |v| iterate(v, at))?;

@@ -316,6 +316,15 @@ fn str_method(
             s.matches(text(args.first().unwrap_or(&Value::None), name, at)?)
                 .count() as i64,
         )),
+        _ => str_case(s, name, args),
+    }
+}
+
+/// The case, padding and class methods of `str`.
+fn str_case(s: &str, name: &str, args: &[Value]) -> Result<Value> {
+    let int = |i: usize, def: i64| args.get(i).map_or(Some(def), Value::as_int);
+    let str_out = |x: String| Ok(Value::Str(x));
+    match name {
         "capitalize" => {
             let mut c = s.chars();
             str_out(

@@ -359,10 +359,7 @@ impl P {
         }
         let at = self.pos();
         let mut e = self.binary(level + 1)?;
-        loop {
-            let Some(o) = LEVELS[level].iter().find(|o| self.is_op(o)).copied() else {
-                break;
-            };
+        while let Some(o) = LEVELS[level].iter().find(|o| self.is_op(o)).copied() {
             self.i += 1;
             let r = self.binary(level + 1)?;
             e = self.mk(ExprKind::Binary(o, e.into(), r.into()), at);

@@ -263,10 +263,12 @@ impl Assume {
                     [p, c] if !p.is_empty() && !c.is_empty() && p != c => {
                         Some((p.to_string(), c.to_string()))
                     }
-                    _ => return Err(format!(
+                    _ => {
+                        return Err(format!(
                         "expected two different frame names after ':' (PARENT,CHILD), found {:?}",
                         crate::sanitize::clip(f)
-                    )),
+                    ))
+                    }
                 }
             }
         };
