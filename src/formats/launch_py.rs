@@ -22,6 +22,7 @@
 
 use super::launch::parse_stp_args;
 use super::launch_subst::{ArgDecl, Condition, LaunchArgs};
+use super::pyexpr::budget::Budget;
 use super::pyexpr::eval::{bind, fail, iterate, BUILTINS};
 use super::pyexpr::{module, Eval, Expr, ExprKind, Func, Host, Record, Stmt, Value};
 use super::spec::{LoadOptions, Loaded};
@@ -30,11 +31,7 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::rc::Rc;
 
-/// Calls of the file's own functions nested deeper than this are refused (a
-/// function that calls itself).
-const MAX_CALL_DEPTH: usize = 32;
-/// Loop iterations and calls in all, beyond which the file is refused.
-const MAX_STEPS: usize = 100_000;
+use crate::tolerances::{MAX_PY_CALL_DEPTH as MAX_CALL_DEPTH, MAX_PY_STEPS as MAX_STEPS};
 
 /// The launch API names the reader knows, recognised even where a snippet
 /// does not import them.
@@ -79,6 +76,8 @@ struct Interp {
     decls: Vec<ArgDecl>,
     depth: usize,
     steps: usize,
+    /// What the file's expressions have created, all charged here.
+    budget: Rc<Budget>,
 }
 
 fn is_publisher(r: &Record) -> bool {
@@ -110,7 +109,8 @@ impl Interp {
     }
 
     fn eval(&mut self, e: &Expr) -> Result<Value> {
-        Eval::new(self).eval(e)
+        let budget = Rc::clone(&self.budget);
+        Eval::with_budget(self, budget).eval(e)
     }
 
     /// Evaluate, turning an error into a value known to be unknown.
@@ -125,6 +125,9 @@ impl Interp {
     }
 
     fn step(&mut self, at: &Expr) -> Result<()> {
+        if let Some(e) = self.budget.refused() {
+            return Err(e);
+        }
         self.steps += 1;
         if self.steps > MAX_STEPS {
             return fail(
@@ -586,6 +589,7 @@ pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
         decls: Vec::new(),
         depth: 0,
         steps: 0,
+        budget: Rc::default(),
     };
     it.run(&stmts)?;
     if it.defs.contains_key("generate_launch_description") {
@@ -595,6 +599,11 @@ pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
             col: 1,
         };
         it.call_def("generate_launch_description", Vec::new(), Vec::new(), &call)?;
+    }
+    // A limit the lenient evaluation turned into an unknown value still
+    // refuses the file.
+    if let Some(e) = it.budget.refused() {
+        return Err(e.in_file(path));
     }
     let args = LaunchArgs::from_decls(std::mem::take(&mut it.decls), &opts.xacro_args);
     let mut out = Loaded::default();

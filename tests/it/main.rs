@@ -42,6 +42,7 @@ mod hostile_numbers;
 mod hostile_options;
 mod hostile_output;
 mod hostile_points;
+mod hostile_python;
 mod hostile_writes;
 mod json_schemas;
 mod points_las;

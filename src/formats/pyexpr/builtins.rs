@@ -4,6 +4,7 @@
 //! formatting does), `int()` truncating, `float()`/`int()` of text as Python
 //! parses it, `math.floor`/`ceil` returning ints.
 
+use super::budget::items_fit;
 use super::eval::{equal, fail, iterate};
 use super::parse::Expr;
 use super::value::Value;
@@ -150,6 +151,41 @@ fn round(args: &[Value], at: &Expr) -> Result<Value> {
     }
 }
 
+/// `sum(items, start)`: numbers by `+`; lists or tuples joined in one pass
+/// (adding them pairwise would copy the total once per item).
+fn sum(start: Value, items: Vec<Value>, at: &Expr) -> Result<Value> {
+    let joined = match &start {
+        Value::List(_) | Value::Tuple(_) => start.items(),
+        _ => None,
+    };
+    let Some(mut out) = joined else {
+        let mut acc = start;
+        for v in items {
+            acc = super::eval::binary("+", &acc, &v, at)?;
+        }
+        return Ok(acc);
+    };
+    for v in items {
+        if std::mem::discriminant(&v) != std::mem::discriminant(&start) {
+            return fail(
+                at,
+                format!(
+                    "sum() of a {} into a {} is not evaluated",
+                    v.type_name(),
+                    start.type_name()
+                ),
+            );
+        }
+        let more = v.items().unwrap_or_default();
+        items_fit(out.len() + more.len(), "sum()", at)?;
+        out.extend(more);
+    }
+    Ok(match start {
+        Value::Tuple(_) => Value::Tuple(out),
+        _ => Value::list(out),
+    })
+}
+
 fn min_max(name: &str, args: &[Value], at: &Expr) -> Result<Value> {
     let items = if args.len() == 1 {
         iterate(&args[0], at)?
@@ -226,11 +262,15 @@ pub fn call(name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Re
         }
         "str" => {
             arity(name, args, kw, 0, 1, at)?;
-            Ok(Value::Str(a0.map(Value::to_str).unwrap_or_default()))
+            Ok(Value::Str(
+                a0.map(|v| v.try_to_str(at))
+                    .transpose()?
+                    .unwrap_or_default(),
+            ))
         }
         "repr" => {
             arity(name, args, kw, 1, 1, at)?;
-            Ok(Value::Str(args[0].repr()))
+            Ok(Value::Str(args[0].try_repr(at)?))
         }
         "len" => {
             arity(name, args, kw, 1, 1, at)?;
@@ -277,11 +317,8 @@ fn sequences(name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> R
         }
         "sum" => {
             arity(name, args, kw, 1, 2, at)?;
-            let mut acc = args.get(1).cloned().unwrap_or(Value::Int(0));
-            for v in iterate(&args[0], at)? {
-                acc = super::eval::binary("+", &acc, &v, at)?;
-            }
-            Ok(acc)
+            let start = args.get(1).cloned().unwrap_or(Value::Int(0));
+            sum(start, iterate(&args[0], at)?, at)
         }
         "range" => {
             arity(name, args, kw, 1, 3, at)?;
@@ -301,14 +338,11 @@ fn sequences(name: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> R
             if step == 0 {
                 return fail(at, "range() arg 3 must not be zero");
             }
-            let count = if step > 0 {
-                (stop - start).max(0) / step
-            } else {
-                (start - stop).max(0) / -step
-            };
-            if count > 100_000 {
-                return fail(at, "range() of more than 100000 items is not evaluated");
-            }
+            // In i128: `stop - start` and `-step` overflow i64 at its ends.
+            let (a, b, c) = (i128::from(start), i128::from(stop), i128::from(step));
+            let span = if c > 0 { b - a } else { a - b };
+            let count = ((span.max(0) + c.abs() - 1) / c.abs()) as i64;
+            items_fit(count as usize, "range()", at)?;
             Ok(Value::list(
                 (0..count).map(|k| Value::Int(start + k * step)).collect(),
             ))

@@ -6,6 +6,9 @@
 //! naming it. Nothing is ever executed. A value the host cannot know
 //! ([`Value::Unknown`]) propagates through every operation.
 
+use std::rc::Rc;
+
+use super::budget::{items_fit, str_fits, Budget};
 use super::parse::{Expr, ExprKind, FPart};
 use super::value::{float_repr, Func, Value};
 use crate::diagnostic::{Error, Result};
@@ -75,21 +78,41 @@ pub fn math_constant(n: &str) -> Option<f64> {
     })
 }
 
-/// An evaluator over `host`, with the comprehension variables in scope.
+/// An evaluator over `host`, with the comprehension variables in scope and
+/// the budget every value it creates is charged to.
 pub struct Eval<'h> {
     pub host: &'h mut dyn Host,
     scopes: Vec<Vec<(String, Value)>>,
+    budget: Rc<Budget>,
 }
 
 impl<'h> Eval<'h> {
+    /// An evaluator with a budget of its own.
     pub fn new(host: &'h mut dyn Host) -> Self {
+        Self::with_budget(host, Rc::default())
+    }
+
+    /// An evaluator charging `budget` (shared by a file's expressions).
+    pub fn with_budget(host: &'h mut dyn Host, budget: Rc<Budget>) -> Self {
         Eval {
             host,
             scopes: Vec::new(),
+            budget,
         }
     }
 
+    /// Evaluate `e`, charging the value to the budget.
     pub fn eval(&mut self, e: &Expr) -> Result<Value> {
+        let r = self
+            .eval_uncharged(e)
+            .and_then(|v| self.budget.charge(&v, e).map(|()| v));
+        if let Err(err) = &r {
+            self.budget.note(err);
+        }
+        r
+    }
+
+    fn eval_uncharged(&mut self, e: &Expr) -> Result<Value> {
         Ok(match &e.kind {
             ExprKind::Name(n) => self.name(n, e)?,
             ExprKind::Int(i) => Value::Int(*i),
@@ -236,13 +259,14 @@ impl<'h> Eval<'h> {
                         return Ok(v);
                     }
                     let v = match conv {
-                        Some('r') => Value::Str(v.repr()),
+                        Some('r') => Value::Str(v.try_repr(expr)?),
                         Some('s') | None => v,
                         Some(c) => {
                             return fail(expr, format!("f-string conversion !{c} is not evaluated"))
                         }
                     };
                     out.push_str(&format_spec(&v, spec, expr)?);
+                    str_fits(out.len(), "an f-string", expr)?;
                 }
             }
         }
@@ -282,6 +306,7 @@ impl<'h> Eval<'h> {
             let v = if keep { Some(self.eval(elt)?) } else { None };
             self.scopes.pop();
             out.extend(v);
+            items_fit(out.len(), "a list comprehension", elt)?;
         }
         Ok(Value::list(out))
     }
@@ -422,7 +447,10 @@ pub fn bind(target: &Expr, v: Value, scope: &mut Vec<(String, Value)>) -> Result
 pub fn iterate(v: &Value, at: &Expr) -> Result<Vec<Value>> {
     match v {
         Value::List(_) | Value::Tuple(_) => Ok(v.items().unwrap_or_default()),
-        Value::Str(s) => Ok(s.chars().map(|c| Value::Str(c.to_string())).collect()),
+        Value::Str(s) => {
+            items_fit(s.chars().count(), "iterating a string", at)?;
+            Ok(s.chars().map(|c| Value::Str(c.to_string())).collect())
+        }
         Value::Dict(d) => Ok(d.iter().map(|(k, _)| k.clone()).collect()),
         other => fail(
             at,
@@ -438,6 +466,9 @@ pub fn iterate(v: &Value, at: &Expr) -> Result<Vec<Value>> {
 pub fn equal(a: &Value, b: &Value) -> bool {
     match (a, b) {
         (Value::Str(x), Value::Str(y)) => x == y,
+        // The same list, as CPython's identity test first: a list that holds
+        // itself compares without recursing forever.
+        (Value::List(x), Value::List(y)) if Rc::ptr_eq(x, y) => true,
         (Value::None, Value::None) => true,
         (x, y) if x.as_f64().is_some() && y.as_f64().is_some() => match (x.as_int(), y.as_int()) {
             (Some(i), Some(j)) => i == j,
@@ -576,20 +607,23 @@ pub fn binary(op: &str, a: &Value, b: &Value, at: &Expr) -> Result<Value> {
         return Ok(b.clone());
     }
     match (op, a, b) {
-        ("+", Value::Str(x), Value::Str(y)) => return Ok(Value::Str(format!("{x}{y}"))),
+        ("+", Value::Str(x), Value::Str(y)) => {
+            str_fits(x.len() + y.len(), "`+`", at)?;
+            return Ok(Value::Str(format!("{x}{y}")));
+        }
         ("+", Value::List(x), Value::List(y)) => {
+            items_fit(x.borrow().len() + y.borrow().len(), "`+`", at)?;
             let mut v = x.borrow().clone();
             v.extend(y.borrow().iter().cloned());
             return Ok(Value::list(v));
         }
         ("+", Value::Tuple(x), Value::Tuple(y)) => {
-            return Ok(Value::Tuple(x.iter().chain(y).cloned().collect()))
+            items_fit(x.len() + y.len(), "`+`", at)?;
+            return Ok(Value::Tuple(x.iter().chain(y).cloned().collect()));
         }
         ("*", Value::Str(s), n) | ("*", n, Value::Str(s)) if n.as_int().is_some() => {
             let k = n.as_int().unwrap_or(0).max(0) as usize;
-            if s.len().saturating_mul(k) > 1 << 20 {
-                return fail(at, "string repetition beyond 1 MiB: not evaluated");
-            }
+            str_fits(s.len().saturating_mul(k), "string repetition", at)?;
             return Ok(Value::Str(s.repeat(k)));
         }
         ("%", Value::Str(_), _) => return fail(at, "printf-style `%` formatting is not evaluated"),
@@ -732,7 +766,10 @@ fn bounds(a: Option<i64>, b: Option<i64>, step: i64, len: usize) -> Vec<usize> {
         );
         while i < stop {
             out.push(i as usize);
-            i += step;
+            let Some(next) = i.checked_add(step) else {
+                break;
+            };
+            i = next;
         }
     } else {
         let (mut i, stop) = (
@@ -741,7 +778,10 @@ fn bounds(a: Option<i64>, b: Option<i64>, step: i64, len: usize) -> Vec<usize> {
         );
         while i > stop {
             out.push(i as usize);
-            i += step;
+            let Some(next) = i.checked_add(step) else {
+                break;
+            };
+            i = next;
         }
     }
     out
@@ -800,7 +840,7 @@ fn slice(
 /// `[0][width][.precision](f|e|g|%)`.
 pub fn format_spec(v: &Value, spec: &str, at: &Expr) -> Result<String> {
     if spec.is_empty() || spec == "s" {
-        return Ok(v.to_str());
+        return v.try_to_str(at);
     }
     if spec == "d" {
         return v.as_int().map(|i| i.to_string()).ok_or_else(|| {
@@ -827,6 +867,7 @@ pub fn format_spec(v: &Value, spec: &str, at: &Expr) -> Result<String> {
             .at_line(at.line, Some(at.col))
     })?;
     let p = prec.unwrap_or(6);
+    str_fits(width.max(p), &format!("format spec {spec:?}"), at)?;
     let s = match kind {
         "f" => format!("{x:.p$}"),
         "%" => format!("{:.p$}%", x * 100.0),

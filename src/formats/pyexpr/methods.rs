@@ -3,6 +3,7 @@
 //! `split()` without a separator splits on runs of blanks, `format` fills
 //! `{}`, `{0}` and `{name}` fields). Any other method is refused by name.
 
+use super::budget::{items_fit, str_fits};
 use super::builtins::position;
 use super::eval::{fail, format_spec, iterate};
 use super::parse::Expr;
@@ -108,11 +109,13 @@ fn list_method(
 ) -> Result<Value> {
     match (name, args) {
         ("append", [v]) => {
+            items_fit(l.borrow().len() + 1, "list.append()", at)?;
             l.borrow_mut().push(v.clone());
             Ok(Value::None)
         }
         ("extend", [v]) => {
             let items = iterate(v, at)?;
+            items_fit(l.borrow().len() + items.len(), "list.extend()", at)?;
             l.borrow_mut().extend(items);
             Ok(Value::None)
         }
@@ -202,6 +205,7 @@ fn split(s: &str, sep: Option<&str>, max: i64, right: bool, at: &Expr) -> Result
             }
         }
     };
+    items_fit(parts.len(), "str.split()", at)?;
     Ok(Value::list(parts.into_iter().map(Value::Str).collect()))
 }
 
@@ -282,6 +286,18 @@ fn str_method(
                 text(args.get(1).unwrap_or(&Value::None), name, at)?,
             );
             let count = int(2, -1).unwrap_or(-1);
+            let limit = usize::try_from(count).unwrap_or(usize::MAX);
+            let hits = if old.is_empty() {
+                s.chars().count() + 1
+            } else {
+                s.matches(old).count()
+            }
+            .min(limit);
+            str_fits(
+                (s.len() - hits * old.len()).saturating_add(hits.saturating_mul(new.len())),
+                "str.replace()",
+                at,
+            )?;
             if count < 0 {
                 str_out(s.replace(old, new))
             } else {
@@ -299,6 +315,9 @@ fn str_method(
             for v in iterate(args.first().unwrap_or(&Value::None), at)? {
                 parts.push(text(&v, "join: sequence item", at)?.to_string());
             }
+            let bytes = parts.iter().map(String::len).sum::<usize>()
+                + s.len().saturating_mul(parts.len().saturating_sub(1));
+            str_fits(bytes, "str.join()", at)?;
             str_out(parts.join(s))
         }
         "find" | "rfind" => {
@@ -316,12 +335,12 @@ fn str_method(
             s.matches(text(args.first().unwrap_or(&Value::None), name, at)?)
                 .count() as i64,
         )),
-        _ => str_case(s, name, args),
+        _ => str_case(s, name, args, at),
     }
 }
 
 /// The case, padding and class methods of `str`.
-fn str_case(s: &str, name: &str, args: &[Value]) -> Result<Value> {
+fn str_case(s: &str, name: &str, args: &[Value], at: &Expr) -> Result<Value> {
     let int = |i: usize, def: i64| args.get(i).map_or(Some(def), Value::as_int);
     let str_out = |x: String| Ok(Value::Str(x));
     match name {
@@ -357,6 +376,7 @@ fn str_case(s: &str, name: &str, args: &[Value]) -> Result<Value> {
         }
         "zfill" => {
             let w = int(0, 0).unwrap_or(0).max(0) as usize;
+            str_fits(w.max(s.len()), "str.zfill()", at)?;
             let n = s.chars().count();
             let (sign, rest) = if s.starts_with(['+', '-']) {
                 s.split_at(1)
@@ -416,6 +436,7 @@ fn format(s: &str, args: &[Value], kw: &[(String, Value)], at: &Expr) -> Result<
                     .at_line(at.line, Some(at.col))
                 })?;
                 out.push_str(&format_spec(v, spec, at)?);
+                str_fits(out.len(), "str.format()", at)?;
             }
             c => out.push(c),
         }

@@ -9,6 +9,7 @@
 //! for launch.py, a value known to be unknown) that names the construct and
 //! its line.
 
+pub mod budget;
 pub mod builtins;
 pub mod eval;
 pub mod lex;

@@ -149,7 +149,7 @@ pub fn module(text: &str) -> Result<Vec<Stmt>> {
     };
     let mut out = Vec::new();
     while !p.at_end() {
-        out.push(p.statement()?);
+        out.push(p.next_statement()?);
     }
     Ok(out)
 }
@@ -791,6 +791,23 @@ pub(crate) fn describe(t: &Tok) -> String {
 
 /// Statements.
 impl P {
+    /// A statement that consumes at least one token: a statement loop
+    /// that stood still would push statements until memory ran out.
+    fn next_statement(&mut self) -> Result<Stmt> {
+        let start = self.i;
+        if matches!(self.peek(), Tok::Indent) {
+            return self.fail("unexpected indent (an indented line that opens no block)");
+        }
+        let s = self.statement()?;
+        if self.i == start {
+            return self.fail(format!(
+                "expected a statement, found {}",
+                describe(self.peek())
+            ));
+        }
+        Ok(s)
+    }
+
     fn statement(&mut self) -> Result<Stmt> {
         let (line, _) = self.pos();
         while self.eat_op("@") {
@@ -950,7 +967,7 @@ impl P {
         self.i += 1;
         self.deeper()?;
         while !matches!(self.peek(), Tok::Dedent | Tok::End) {
-            out.push(self.statement()?);
+            out.push(self.next_statement()?);
         }
         self.depth -= 1;
         if matches!(self.peek(), Tok::Dedent) {

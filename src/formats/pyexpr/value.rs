@@ -7,6 +7,11 @@
 use std::cell::RefCell;
 use std::rc::Rc;
 
+use super::budget::str_fits;
+use super::parse::Expr;
+use crate::diagnostic::Result;
+use crate::tolerances::MAX_PY_STR_BYTES;
+
 /// A Python value.
 #[derive(Debug, Clone)]
 pub enum Value {
@@ -146,34 +151,105 @@ impl Value {
         }
     }
 
-    /// `repr(v)`.
-    pub fn repr(&self) -> String {
+    /// `str(v)` as a value: refused past the string cap.
+    pub fn try_to_str(&self, at: &Expr) -> Result<String> {
         match self {
-            Value::None => "None".into(),
-            Value::Bool(b) => if *b { "True" } else { "False" }.into(),
-            Value::Int(i) => i.to_string(),
-            Value::Float(f) => float_repr(*f),
-            Value::Str(s) => str_repr(s),
-            Value::List(l) => format!("[{}]", join_repr(&l.borrow())),
-            Value::Tuple(t) if t.len() == 1 => format!("({},)", t[0].repr()),
-            Value::Tuple(t) => format!("({})", join_repr(t)),
-            Value::Dict(d) => format!(
-                "{{{}}}",
-                d.iter()
-                    .map(|(k, v)| format!("{}: {}", k.repr(), v.repr()))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-            Value::Func(f) => format!("<function {f:?}>"),
-            Value::Module(m) => format!("<module '{m}'>"),
-            Value::Record(r) => format!("{}(...)", r.name),
-            Value::Unknown(w) => format!("<unknown: {w}>"),
+            Value::Str(s) => Ok(s.clone()),
+            other => other.try_repr(at),
         }
     }
-}
 
-fn join_repr(v: &[Value]) -> String {
-    v.iter().map(Value::repr).collect::<Vec<_>>().join(", ")
+    /// `repr(v)` for a message: past the string cap, cut and ended `...`.
+    pub fn repr(&self) -> String {
+        let mut out = String::new();
+        self.repr_into(&mut out, &mut Vec::new());
+        if out.len() > MAX_PY_STR_BYTES {
+            let mut cut = MAX_PY_STR_BYTES;
+            while !out.is_char_boundary(cut) {
+                cut -= 1;
+            }
+            out.truncate(cut);
+            out.push_str("...");
+        }
+        out
+    }
+
+    /// `repr(v)` as a value: refused past the string cap.
+    pub fn try_repr(&self, at: &Expr) -> Result<String> {
+        let mut out = String::new();
+        self.repr_into(&mut out, &mut Vec::new());
+        str_fits(out.len(), "repr()/str()", at)?;
+        Ok(out)
+    }
+
+    /// Append `repr(v)` to `out`, stopping once it passes the string cap; a
+    /// list inside itself is `[...]`, as CPython prints it (`open`: the lists
+    /// being printed).
+    fn repr_into(&self, out: &mut String, open: &mut Vec<*const RefCell<Vec<Value>>>) {
+        if out.len() > MAX_PY_STR_BYTES {
+            return;
+        }
+        let seq = |out: &mut String, v: &[Value], open: &mut Vec<_>| {
+            for (i, x) in v.iter().enumerate() {
+                if out.len() > MAX_PY_STR_BYTES {
+                    return;
+                }
+                if i > 0 {
+                    out.push_str(", ");
+                }
+                x.repr_into(out, open);
+            }
+        };
+        match self {
+            Value::None => out.push_str("None"),
+            Value::Bool(b) => out.push_str(if *b { "True" } else { "False" }),
+            Value::Int(i) => out.push_str(&i.to_string()),
+            Value::Float(f) => out.push_str(&float_repr(*f)),
+            Value::Str(s) => out.push_str(&str_repr(s)),
+            Value::List(l) => {
+                let p = Rc::as_ptr(l);
+                if open.contains(&p) {
+                    out.push_str("[...]");
+                    return;
+                }
+                open.push(p);
+                out.push('[');
+                seq(out, &l.borrow(), open);
+                out.push(']');
+                open.pop();
+            }
+            Value::Tuple(t) => {
+                out.push('(');
+                seq(out, t, open);
+                out.push_str(if t.len() == 1 { ",)" } else { ")" });
+            }
+            Value::Dict(d) => {
+                out.push('{');
+                for (i, (k, v)) in d.iter().enumerate() {
+                    if out.len() > MAX_PY_STR_BYTES {
+                        return;
+                    }
+                    if i > 0 {
+                        out.push_str(", ");
+                    }
+                    k.repr_into(out, open);
+                    out.push_str(": ");
+                    v.repr_into(out, open);
+                }
+                out.push('}');
+            }
+            Value::Func(f) => out.push_str(&match f {
+                Func::Builtin(n) => format!("<built-in function {n}>"),
+                Func::Method(recv, n) => {
+                    format!("<built-in method {n} of {} object>", recv.type_name())
+                }
+                Func::User(n) | Func::Host(n) => format!("<function {n}>"),
+            }),
+            Value::Module(m) => out.push_str(&format!("<module '{m}'>")),
+            Value::Record(r) => out.push_str(&format!("{}(...)", r.name)),
+            Value::Unknown(w) => out.push_str(&format!("<unknown: {w}>")),
+        }
+    }
 }
 
 /// CPython's `repr(str)`: single quotes unless the text holds one and no
@@ -275,5 +351,19 @@ mod tests {
         assert_eq!(str_repr("a'b"), "\"a'b\"");
         assert_eq!(str_repr("a\"b'c"), "'a\"b\\'c'");
         assert_eq!(Value::Tuple(vec![Value::Int(1)]).repr(), "(1,)");
+    }
+
+    #[test]
+    fn a_list_holding_itself_reprs_as_cpython() {
+        // CPython 3.11: l = [1]; l.append(l); l.append((l,)); repr(l)
+        let l = Value::list(vec![Value::Int(1)]);
+        let Value::List(cell) = &l else {
+            unreachable!()
+        };
+        cell.borrow_mut().push(l.clone());
+        cell.borrow_mut().push(Value::Tuple(vec![l.clone()]));
+        assert_eq!(l.repr(), "[1, [...], ([...],)]");
+        // Break the cycle so the test does not leak it.
+        cell.borrow_mut().clear();
     }
 }
