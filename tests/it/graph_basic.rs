@@ -387,12 +387,15 @@ fn kalibr_and_t_xyz_q_xyzw_keys() {
             ..Default::default()
         },
     );
-    // `cam_front` has an underscore: the name is ambiguous unless written A_T_B.
-    let l = match l {
-        Ok(l) => l,
-        Err(e) => panic!("{e}"),
-    };
-    assert_eq!(l.edges[0].parent, "parent");
+    // `cam_front` has an underscore: the name is ambiguous unless written
+    // A_T_B, so it is refused unless --assume says which (e3480dc).
+    let e = l.expect_err("an ambiguous --key is refused");
+    assert!(
+        e.message
+            .contains("says neither the frames nor the direction")
+            && e.message.contains("--assume child-in-parent:PARENT,CHILD"),
+        "{e}"
+    );
     let text = "cam_front_T_lidar_t_xyz_q_xyzw: [0.1, 0.2, 0.3, 0, 0, 0, 1]\n";
     let l = load_str(text, Path::new("sensor.yaml"), &LoadOptions::default()).expect("A_T_B");
     assert_eq!(
