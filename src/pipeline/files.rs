@@ -25,6 +25,16 @@ pub fn expand_paths(paths: &[PathBuf], accept: fn(&Path) -> bool) -> Result<Vec<
 /// A symlink at `path` is replaced by the file, not followed. An existing
 /// regular file's permissions are carried over to the new one.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomic_with(path, &mut |w| w.write_all(bytes))
+}
+
+/// [`write_atomic`] of what `write` writes: a large file (a fleet's
+/// baseline) streamed, never held whole. An error from `write` is an error
+/// of the write: the temporary is removed, the old file left.
+pub fn write_atomic_with(
+    path: &Path,
+    write: &mut dyn FnMut(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
@@ -36,7 +46,11 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let tmp = dir.join(format!(".{name}.tmp.{}", std::process::id()));
     let res = (|| -> std::io::Result<()> {
         let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
+        {
+            let mut w = std::io::BufWriter::new(&mut f);
+            write(&mut w)?;
+            w.flush()?;
+        }
         // An existing file keeps its mode (a 0600 baseline stays 0600).
         if let Some(m) = std::fs::metadata(path).ok().filter(|m| m.is_file()) {
             f.set_permissions(m.permissions())?;
