@@ -38,7 +38,7 @@ struct Entry {
 }
 
 /// Records by key, compactly (see the module doc).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct Store {
     names: Vec<Arc<str>>,
     index: HashMap<Arc<str>, u32>,
@@ -54,13 +54,23 @@ fn range(start: usize, end: usize) -> (u32, u32) {
     (start as u32, end as u32)
 }
 
+impl Default for Store {
+    fn default() -> Self {
+        Store {
+            names: Vec::new(),
+            index: HashMap::new(),
+            edges: Vec::new(),
+            pairs: Vec::new(),
+            entries: Vec::new(),
+            sorted: true,
+        }
+    }
+}
+
 impl Store {
     /// An empty store.
     pub fn new() -> Self {
-        Store {
-            sorted: true,
-            ..Store::default()
-        }
+        Store::default()
     }
 
     fn name(&mut self, s: &str) -> u32 {

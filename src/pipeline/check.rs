@@ -431,7 +431,7 @@ fn jobs(opts: &CheckOptions, files: &mut Vec<Found>) -> Result<Vec<Job>> {
             for f in &r.files {
                 let id = file_id(&f.path);
                 if let Some(id) = &id {
-                    grouped.insert(id.clone());
+                    grouped.insert(*id);
                 }
                 if !id.is_some_and(|id| have.contains(&id)) {
                     files.push(f.clone());
@@ -662,7 +662,7 @@ fn merge_and_write(
     prune: bool,
     path: &Path,
 ) -> Result<BaselineChanges> {
-    let old = old.unwrap_or_else(Store::new);
+    let old = old.unwrap_or_default();
     now.finish();
     let mut ch = BaselineChanges {
         path: path.to_string_lossy().replace('\\', "/"),
@@ -724,10 +724,7 @@ fn calibration_files(opts: &CheckOptions) -> Result<super::walk::Walked> {
     let mut walked = walk(&opts.paths, &opts.exclude)?;
     let base = opts.baseline.as_deref().and_then(file_id);
     walked.files.retain(|f| {
-        !base
-            .as_ref()
-            .is_some_and(|b| file_id(&f.path).as_ref() == Some(b))
-            && !baseline::is_baseline_file(&f.path)
+        base.is_none_or(|b| file_id(&f.path) != Some(b)) && !baseline::is_baseline_file(&f.path)
     });
     Ok(walked)
 }
