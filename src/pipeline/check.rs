@@ -11,6 +11,7 @@
 //! malformed baseline or a refused `--write-baseline` target is an error
 //! (exit 2), raised before anything is written.
 
+use super::files::{dir_of, same_file, unsafe_target};
 use super::manifest;
 use super::walk::{file_id, walk, FileId, Found};
 use super::{apply_renames, files::write_atomic_with, Rename};
@@ -86,13 +87,6 @@ impl CheckOptions {
 /// Reader warnings that are errors in a check whatever their size: a unit
 /// mistake is never rounding.
 pub const CHECK_ERRORS: &[Code] = &[Code::MillimetresInMetreField];
-
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    }
-}
 
 /// The checked files for a message: all of them up to 5, then a count.
 fn checked_list(files: &[Found]) -> String {
@@ -454,19 +448,13 @@ fn jobs(opts: &CheckOptions, files: &mut Vec<Found>) -> Result<Vec<Job>> {
 }
 
 /// The directory a baseline file's keys are relative to.
-fn dir_of(path: &Path) -> PathBuf {
-    match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    }
-}
-
 fn refused(path: &Path, why: String) -> Error {
     Error::usage(format!("--write-baseline: refused, nothing written: {why}")).in_file(path)
 }
 
-/// Refuse a `--write-baseline` target that is a checked input or exists and is
-/// not a regular file holding a baseline; then take the write lock and read
+/// Refuse a `--write-baseline` target that is a checked input, exists and is
+/// not a regular file holding a baseline, is a symlink or lies behind a
+/// symlinked directory ([`unsafe_target`]); then take the write lock and read
 /// the existing baseline when there is one. Runs before anything is written;
 /// the lock is held until the new baseline is in place.
 fn write_target(
@@ -487,7 +475,12 @@ fn write_target(
     let lock = baseline::lock_for_write(&dir, path)?;
     let link = match std::fs::symlink_metadata(path) {
         Ok(m) => m,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok((lock, None)),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return match unsafe_target(path) {
+                Some(why) => Err(refused(path, why)),
+                None => Ok((lock, None)),
+            };
+        }
         Err(e) => return Err(Error::io(path, &e)),
     };
     let meta = std::fs::metadata(path).map_err(|e| {
@@ -520,6 +513,9 @@ fn write_target(
             path,
             "it is one of the checked calibration files: expected a separate baseline file".into(),
         ));
+    }
+    if let Some(why) = unsafe_target(path) {
+        return Err(refused(path, why));
     }
     let old = baseline::read_store(path).map_err(|e| {
         refused(

@@ -4,6 +4,7 @@
 //! these and picks a renderer; nothing here prints.
 
 mod check;
+mod cleanup;
 pub mod detector;
 mod diff;
 pub mod files;
@@ -14,7 +15,7 @@ pub mod walk;
 
 pub use check::{check, check_with, CheckOptions, Robot};
 pub use diff::{diff, DiffOptions, SideRead};
-pub use files::{expand_paths, write_atomic};
+pub use files::{expand_paths, same_file, write_atomic};
 pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};
 
 use crate::diagnostic::{Code, Error, Result, Warning};
