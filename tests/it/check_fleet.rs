@@ -22,7 +22,7 @@ fn run(jobs: usize, args: &[&str]) -> Output {
 /// rotation matrix rounded as published (so that some files warn).
 fn rig(id: &str, k: usize) -> String {
     let x = 0.04 + k as f64 * 1e-4;
-    let r = if k % 5 == 0 {
+    let r = if k.is_multiple_of(5) {
         // Orthonormal only to ~1e-5: a non-orthonormal-rotation warning.
         "[[0.99999, 0, 0], [0, 1, 0], [0, 0, 1]]"
     } else {
