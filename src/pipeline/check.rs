@@ -138,6 +138,7 @@ struct FileState {
 /// its files' states, how many files it read.
 struct Outcome {
     findings: Vec<Diagnostic>,
+    notes: Vec<String>,
     pairs_found: Vec<bool>,
     states: Vec<FileState>,
     files: usize,
@@ -198,6 +199,8 @@ impl Checker<'_> {
                     pairs: Vec::new(),
                 },
                 locations: Locations::new(),
+                base_key: None,
+                write_key: None,
             }));
         }
         if formats::launch::holds_no_calibration(&f.path, self.opts.load.max_file_size) {
@@ -592,6 +595,7 @@ fn check_one(
     let mut ck = Checker {
         opts,
         findings: Vec::new(),
+        notes: Vec::new(),
         pairs_found: vec![false; opts.pairs.len()],
     };
     let mut states = ck.check_robot(robot)?;
@@ -601,6 +605,7 @@ fn check_one(
     }
     Ok(Outcome {
         findings: ck.findings,
+        notes: ck.notes,
         pairs_found: ck.pairs_found,
         states,
         files: robot.files.len(),
@@ -612,6 +617,8 @@ fn check_one(
 struct Gathered<'a> {
     opts: &'a CheckOptions,
     findings: Vec<Diagnostic>,
+    /// Files read and left to the files that include them, in order.
+    notes: Vec<String>,
     pairs_found: Vec<bool>,
     /// The baseline compared against, and which of its entries were checked.
     base: Option<(&'a Store, Vec<bool>)>,
@@ -624,6 +631,7 @@ struct Gathered<'a> {
 impl Gathered<'_> {
     fn take(&mut self, out: Outcome) {
         self.findings.extend(out.findings);
+        self.notes.extend(out.notes);
         for (f, now) in self.pairs_found.iter_mut().zip(out.pairs_found) {
             *f |= now;
         }
@@ -887,6 +895,6 @@ fn finish(
     }
     let mut report = CheckReport::new(files.len(), findings);
     report.baseline_written = changes;
-    report.notes = ck.notes;
+    report.notes = all.notes;
     Ok(report)
 }
