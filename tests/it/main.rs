@@ -4,6 +4,7 @@
 //! `points_*` and `scene_*` the degeneracy wing), helpers in `common`.
 
 mod calibrations;
+mod check_fleet;
 mod check_gate;
 mod check_hooks;
 mod cli_audit;
@@ -21,12 +22,15 @@ mod detector_threshold;
 mod diff;
 mod formats_bad_inputs;
 mod formats_bags;
+mod formats_calib;
 mod formats_detection;
 mod formats_extrinsics;
 mod formats_launch_conditions;
+mod formats_launch_py;
 mod formats_no_panic;
 mod formats_rigs;
 mod formats_xacro;
+mod formats_xacro_corpus;
 mod frames_pictures;
 mod graph_basic;
 mod graph_urdf_corpus;
@@ -40,7 +44,9 @@ mod hostile_numbers;
 mod hostile_options;
 mod hostile_output;
 mod hostile_points;
+mod hostile_python;
 mod hostile_writes;
+mod hostile_xacro;
 mod json_schemas;
 mod points_las;
 mod points_progress;
