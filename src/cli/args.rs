@@ -7,7 +7,7 @@
 
 use clap::{Args, ValueEnum};
 use extrinsic_audit::formats::bag::BagOptions;
-use extrinsic_audit::formats::LoadOptions;
+use extrinsic_audit::formats::{Assume, LoadOptions};
 use extrinsic_audit::geometry::{PitchTol, UserSigma};
 use extrinsic_audit::pipeline::Rename;
 use extrinsic_audit::render::OutputFormat;
@@ -117,6 +117,14 @@ pub struct ReadArgs {
     /// a rig TOML's own)
     #[arg(long)]
     pub invert: bool,
+    /// The direction of transforms no upstream code fixes (a plain 4x4 text
+    /// file, OKVIS imu_params.T_BS, GLIM T_lidar_camera, a --key that names no
+    /// frames), refused without it: child-in-parent or parent-in-child, with
+    /// :PARENT,CHILD for files that name no frames (e.g.
+    /// child-in-parent:base_link,lidar: the numbers are the pose of lidar in
+    /// base_link)
+    #[arg(long, value_parser = parse_assume, value_name = "DIRECTION[:PARENT,CHILD]")]
+    pub assume: Option<Assume>,
 }
 
 impl ReadArgs {
@@ -124,7 +132,13 @@ impl ReadArgs {
     pub fn apply(&self, load: &mut LoadOptions) {
         load.key = self.key.clone();
         load.invert = self.invert;
+        load.assume = self.assume.clone();
     }
+}
+
+/// `--assume`: parsed by the library (`formats::Assume::parse`).
+fn parse_assume(s: &str) -> Result<Assume, String> {
+    Assume::parse(s)
 }
 
 /// `--max-file-size`: the cap on every input file.
@@ -135,7 +149,8 @@ pub struct FileSizeArgs {
     pub max_file_size: u64,
 }
 
-/// `--arg`, `--package-path`, `--xacro`: how xacro (and launch) files expand.
+/// `--arg`, `--package-path`, `--xacro`, `--confine`: how xacro (and launch)
+/// files expand, and where reads may go.
 #[derive(Debug, Args, Clone)]
 pub struct XacroArgs {
     /// xacro and launch-file `$(arg NAME)` value (also `if="$(arg NAME)"` in a
@@ -150,6 +165,20 @@ pub struct XacroArgs {
     /// `xacro` program on PATH)
     #[arg(long = "xacro", value_enum, default_value_t = XacroMode::Native)]
     pub xacro_mode: XacroMode,
+    /// Read only files below DIR (symlinks resolved): the inputs, xacro
+    /// includes, load_yaml files, $(find) packages, rig TOML includes; xacro
+    /// reads no environment variable. For CI on pull requests; repeatable
+    #[arg(long = "confine", value_name = "DIR", value_parser = parse_confine)]
+    pub confine: Vec<PathBuf>,
+}
+
+/// `--confine DIR`: an existing directory.
+fn parse_confine(s: &str) -> Result<PathBuf, String> {
+    let p = PathBuf::from(s);
+    if !p.is_dir() {
+        return Err(format!("expected an existing directory, found `{s}`"));
+    }
+    Ok(p)
 }
 
 /// `--xacro native|external`.
@@ -165,6 +194,7 @@ impl XacroArgs {
         load.xacro_args = self.xacro_args.iter().cloned().collect();
         load.package_paths = self.package_paths.clone();
         load.xacro_external = self.xacro_mode == XacroMode::External;
+        load.confine = self.confine.clone();
     }
 }
 

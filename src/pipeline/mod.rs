@@ -10,6 +10,8 @@ mod diff;
 pub mod files;
 pub mod manifest;
 mod output;
+mod parallel;
+pub mod run;
 mod survey;
 pub mod walk;
 
@@ -240,8 +242,9 @@ pub fn transform_between(
     files: &[PathBuf],
     from: Option<&str>,
     to: Option<&str>,
+    opts: &LoadOptions,
 ) -> Result<crate::geometry::Transform> {
-    let loaded = load(files, &LoadOptions::default(), &[])?;
+    let loaded = load(files, opts, &[])?;
     let (from, to) = match (from, to) {
         (None, None) if loaded.graph.edges().len() != 1 => {
             return Err(Error::usage(format!(

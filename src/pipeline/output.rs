@@ -118,8 +118,13 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let e = check_output_target("--output", "command", dir.path(), &[]).unwrap_err();
         assert!(e.to_string().contains("found a directory"), "{e}");
-        let e =
-            check_output_target("--output", "command", &dir.path().join("no/such/x.mcap"), &[]).unwrap_err();
+        let e = check_output_target(
+            "--output",
+            "command",
+            &dir.path().join("no/such/x.mcap"),
+            &[],
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("existing directory"), "{e}");
     }
 }

@@ -24,6 +24,7 @@ mod sarif;
 mod style;
 mod text;
 
+pub use csv::line as csv_line;
 pub use layout::Layout;
 pub use style::{ColorChoice, Style};
 
@@ -209,18 +210,47 @@ pub fn render_bytes<R: Report>(
     style: Style,
     layout: &Layout,
 ) -> Result<Vec<u8>> {
-    if format != OutputFormat::Mcap {
-        return render(report, warnings, format, style, layout).map(String::into_bytes);
-    }
-    let doc = report.document();
-    match scene(&doc) {
-        Some(s) => mcap::write(s),
-        None => Err(refusal(format, &doc)),
+    let mut out = Vec::new();
+    render_to(report, warnings, format, style, layout, &mut out)?;
+    Ok(out)
+}
+
+/// [`render`] written to `out`, for every format; JSON is written as it is
+/// serialised (a survey of a fleet is never held as text), MCAP as its
+/// binary file.
+pub fn render_to<R: Report>(
+    report: &R,
+    warnings: &[Warning],
+    format: OutputFormat,
+    style: Style,
+    layout: &Layout,
+    out: &mut dyn std::io::Write,
+) -> Result<()> {
+    let cannot = |e: std::io::Error| {
+        Error::new(
+            crate::diagnostic::Code::Io,
+            format!("cannot write output: {e}"),
+        )
+    };
+    match format {
+        OutputFormat::Json => json::write(report, warnings, out),
+        OutputFormat::Mcap => {
+            let doc = report.document();
+            let bytes = match scene(&doc) {
+                Some(s) => mcap::write(s)?,
+                None => return Err(refusal(format, &doc)),
+            };
+            out.write_all(&bytes).map_err(cannot)
+        }
+        _ => {
+            let text = draw(&report.document(), format, style, layout)?;
+            out.write_all(text.as_bytes()).map_err(cannot)
+        }
     }
 }
 
 /// Draw a document in a text format (every format but JSON, which is the
-/// report itself, and MCAP, which is binary: [`render_bytes`]): the text
+/// report itself, and MCAP, which is binary: [`render_to`]): the text
 /// formats from its blocks, the pictures from its picture.
 pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout) -> Result<String> {
     let picture = picture(doc);
@@ -318,6 +348,7 @@ mod tests {
             of(Block::Plot(Plot {
                 size_px: (10, 10),
                 panels: vec![],
+                rows: 1,
             })),
             of(Block::Scene(Scene::default())),
         ];

@@ -12,6 +12,8 @@ pub mod diff;
 pub mod frames;
 pub mod rig;
 mod rig_scene;
+pub mod run;
+mod run_timeline;
 pub mod scan_scene;
 pub mod survey;
 mod survey_plot;

@@ -211,19 +211,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn times_split_into_seconds_and_nanoseconds() {
-        assert_eq!(
-            Time::from_ns(1_700_000_000_123_456_789),
-            Time {
-                sec: 1_700_000_000,
-                nsec: 123_456_789
-            }
-        );
-        assert_eq!(Time::from_ns(0), Time::default());
-        assert_eq!(Time::from_ns(u64::MAX).sec, u32::MAX);
-    }
-
-    #[test]
     fn enums_are_integers_and_unused_arrays_are_empty() {
         let f = PackedElementField {
             name: "x".into(),
