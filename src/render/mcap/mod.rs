@@ -191,7 +191,7 @@ pub fn rotation_from_x(u: [f64; 3]) -> [f64; 4] {
 /// An arrow from `from` along `d`; none when `d` is zero.
 fn arrow(from: [f64; 3], d: [f64; 3], paint: Paint) -> Option<ArrowPrimitive> {
     let len = d.iter().map(|c| c * c).sum::<f64>().sqrt();
-    if !(len > 0.0) {
+    if len.is_nan() || len <= 0.0 {
         return None;
     }
     let head = ARROW_HEAD * len;
@@ -272,8 +272,8 @@ fn point_cloud(c: &PointCloud) -> foxglove::PointCloud {
     let stride = 4 * fields.len();
     let mut raw = Vec::with_capacity(stride * c.points_m.len());
     for (i, p) in c.points_m.iter().enumerate() {
-        for k in 0..3 {
-            raw.extend_from_slice(&((p[k] - c.origin_m[k]) as f32).to_le_bytes());
+        for (x, o) in p.iter().zip(&c.origin_m) {
+            raw.extend_from_slice(&((x - o) as f32).to_le_bytes());
         }
         for (_, v) in &c.fields {
             let x = v.get(i).copied().unwrap_or(0.0);
