@@ -468,7 +468,7 @@ fn relative(path: &Path, text: &str, rot: &mut Rotations) -> Result<Vec<Transfor
         .map(|t| t.parse::<f64>())
         .collect::<std::result::Result<_, _>>()
         .map_err(|_| Error::parse("expected 4x4 matrices (16 numbers each)").in_file(path))?;
-    if v.is_empty() || v.len() % 16 != 0 {
+    if v.is_empty() || !v.len().is_multiple_of(16) {
         return Err(Error::parse(format!(
             "expected 4x4 matrices (16 numbers each), found {} numbers",
             v.len()
@@ -533,7 +533,7 @@ pub fn read_bag(
             }
         }
         if let Some(w) = ws.into_iter().next() {
-            if warnings.len() < 1 {
+            if warnings.is_empty() {
                 warnings.push(w.at(&Location::file(&m.file)));
             }
         }

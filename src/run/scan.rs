@@ -359,7 +359,7 @@ fn check(r: &mut Read) -> std::result::Result<(), Skipped> {
             continue;
         }
         let norm = n2.sqrt();
-        if !(norm >= NORMAL_ZERO_TOL) {
+        if norm.is_nan() || norm < NORMAL_ZERO_TOL {
             return Err((
                 Skip::InvalidCloud,
                 format!("a zero normal [{}, {}, {}]", n[0], n[1], n[2]),
@@ -465,7 +465,7 @@ fn family(asm: &Assembly, rule: &MetricRule, tau: f64) -> FamilyResult {
     let threshold = default_threshold(rule, tau);
     match analyse(asm, rule, threshold) {
         Ok(a) => FamilyResult {
-            eigenvalues: Some(a.eig.values.into()),
+            eigenvalues: Some(a.eig.values),
             threshold: a.raw_threshold(),
             count: Some(a.degenerate_count),
             footprint: Some(footprint(&a.degenerate_vectors())),

@@ -136,7 +136,7 @@ impl Window {
             return Place::Skip;
         }
         let first = *started.get_or_insert(index);
-        if (index - first) % self.every.max(1) == 0 {
+        if (index - first).is_multiple_of(self.every.max(1)) {
             Place::Keep
         } else {
             Place::Skip
