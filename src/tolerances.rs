@@ -156,9 +156,13 @@ pub const MAX_TRANSLATION_M: f64 = 1e6;
 /// with a large frame (tens of KiB in a debug build).
 pub const MAX_YAML_DEPTH: usize = 32;
 
-/// Largest baseline file read by `audit check --baseline` (bytes): a baseline
-/// holds one short record per edge, so 64 MiB is millions of edges.
-pub const MAX_BASELINE_FILE_SIZE: u64 = 64 * 1024 * 1024;
+/// Largest baseline file read or written by `audit check` (bytes). The
+/// baseline is streamed both ways and held compactly (`baseline::Store`, about
+/// a fifth of its text), and `--write-baseline` refuses to write one past this
+/// cap, so that every baseline the tool writes it reads. The tool writes about
+/// 1 KB per file of one edge and one pair (pretty JSON: 102 MB for 100,000
+/// rig files), so 1 GiB is about a million such files, held in about 200 MB.
+pub const MAX_BASELINE_FILE_SIZE: u64 = 1024 * 1024 * 1024;
 
 /// Largest `audit.toml` read by `audit check` (bytes): a manifest names a few
 /// robots with their files, renames and pairs, well under a KiB each.

@@ -38,19 +38,35 @@ pub fn emit_warned<R: Report>(
         Style::plain()
     };
     let layout = display::stdout_layout();
-    write_output(
-        out,
-        &render::render(report, warnings, format, style, &layout)?,
-    )
+    let mut pipe = Pipe { out, closed: false };
+    let written =
+        render::render_to(report, warnings, format, style, &layout, &mut pipe).and_then(|()| {
+            pipe.flush()
+                .map_err(|e| Error::new(Code::Io, format!("cannot write output: {e}")))
+        });
+    if pipe.closed {
+        // `audit ... | head -1`: the reader asked for no more; status 0.
+        std::process::exit(0);
+    }
+    written
 }
 
-/// Write `text` to standard output. A closed pipe (`audit ... | head -1`) ends
-/// the process quietly with status 0, as `head` asked for no more.
-fn write_output(out: &mut dyn Write, text: &str) -> Result<()> {
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
-        Ok(()) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
-        Err(e) => Err(Error::new(Code::Io, format!("cannot write output: {e}"))),
+/// Standard output as the renderers write it, noting a closed pipe.
+struct Pipe<'a> {
+    out: &'a mut dyn Write,
+    closed: bool,
+}
+
+impl Write for Pipe<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let r = self.out.write(buf);
+        self.closed |= matches!(&r, Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe);
+        r
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        let r = self.out.flush();
+        self.closed |= matches!(&r, Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe);
+        r
     }
 }
 

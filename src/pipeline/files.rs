@@ -166,6 +166,17 @@ fn create_new(p: &Path) -> std::io::Result<std::fs::File> {
 /// file gets `0666` less the umask, as `File::create` would. On any error the
 /// old file is untouched, the temporary removed, and the error names `path`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomic_with(path, &mut |w| w.write_all(bytes))
+}
+
+/// [`write_atomic`] of what `write` writes: a large file (a fleet's
+/// baseline) streamed through a buffer, never held whole. An error from
+/// `write` is an error of the write: the temporary is removed, the old file
+/// left.
+pub fn write_atomic_with(
+    path: &Path,
+    write: &mut dyn FnMut(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
     if let Some(why) = unsafe_target(path) {
         return Err(Error::usage(format!("refusing to write: {why}")).in_file(path));
     }
@@ -189,7 +200,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
             create_new(p)
         })
         .map_err(cannot)?;
-    tmp.write_all(bytes).map_err(cannot)?;
+    {
+        let mut w = std::io::BufWriter::new(tmp.as_file_mut());
+        write(&mut w).and_then(|()| w.flush()).map_err(cannot)?;
+    }
     if let Some(p) = old_mode {
         // An existing file keeps its mode exactly (a 0600 baseline stays 0600).
         tmp.as_file().set_permissions(p).map_err(cannot)?;

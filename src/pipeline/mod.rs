@@ -9,6 +9,7 @@ pub mod detector;
 mod diff;
 pub mod files;
 pub mod manifest;
+mod parallel;
 mod survey;
 pub mod walk;
 

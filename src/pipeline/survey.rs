@@ -247,27 +247,46 @@ pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
     };
     let mut warnings = Vec::new();
     let mut rows = Vec::new();
-    for f in &files {
-        let row = match survey_one(f, opts, &how, &mut warnings) {
-            Ok(row) => row,
-            // A folder holds other robots too: a walked file that cannot
-            // give the pair is reported, not fatal.
-            Err(e) if f.walked && (f.pair.is_some() || opts.pair.is_some()) => {
-                let loc = if e.location.is_empty() {
-                    Location::file(&f.path)
-                } else {
-                    e.location
-                };
-                warnings.push(
-                    Warning::new(Code::Ignored, format!("not surveyed: {}", e.message)).at(&loc),
-                );
-                continue;
+    let mut failed = None;
+    // Every file on every core, taken in order (`pipeline::parallel`).
+    super::parallel::ordered(
+        &files,
+        |_, f| {
+            let mut w = Vec::new();
+            (survey_one(f, opts, &how, &mut w), w)
+        },
+        |i, (row, w)| {
+            let f = &files[i];
+            warnings.extend(w);
+            match row {
+                Ok(row) => {
+                    if row.2 || opts.all {
+                        rows.push(row);
+                    }
+                }
+                // A folder holds other robots too: a walked file that cannot
+                // give the pair is reported, not fatal.
+                Err(e) if f.walked && (f.pair.is_some() || opts.pair.is_some()) => {
+                    let loc = if e.location.is_empty() {
+                        Location::file(&f.path)
+                    } else {
+                        e.location
+                    };
+                    warnings.push(
+                        Warning::new(Code::Ignored, format!("not surveyed: {}", e.message))
+                            .at(&loc),
+                    );
+                }
+                Err(e) => {
+                    failed = Some(e);
+                    return false;
+                }
             }
-            Err(e) => return Err(e),
-        };
-        if row.2 || opts.all {
-            rows.push(row);
-        }
+            true
+        },
+    );
+    if let Some(e) = failed {
+        return Err(e);
     }
     if rows.is_empty() && files.iter().all(|f| f.walked) {
         return Err(Error::usage(format!(

@@ -173,6 +173,30 @@ pub fn render<R: Report>(
     }
 }
 
+/// [`render`] written to `out`; JSON is written as it is serialised (a
+/// survey of a fleet is never held as text).
+pub fn render_to<R: Report>(
+    report: &R,
+    warnings: &[Warning],
+    format: OutputFormat,
+    style: Style,
+    layout: &Layout,
+    out: &mut dyn std::io::Write,
+) -> Result<()> {
+    match format {
+        OutputFormat::Json => json::write(report, warnings, out),
+        _ => {
+            let text = draw(&report.document(), format, style, layout)?;
+            out.write_all(text.as_bytes()).map_err(|e| {
+                Error::new(
+                    crate::diagnostic::Code::Io,
+                    format!("cannot write output: {e}"),
+                )
+            })
+        }
+    }
+}
+
 /// Draw a document in a format (every format but JSON, which is the report
 /// itself): the text formats from its blocks, the pictures from its picture.
 pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout) -> Result<String> {

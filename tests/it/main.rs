@@ -4,6 +4,7 @@
 //! `points_*` and `scene_*` the degeneracy wing), helpers in `common`.
 
 mod calibrations;
+mod check_fleet;
 mod check_gate;
 mod check_hooks;
 mod cli_audit;

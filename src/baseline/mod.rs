@@ -19,6 +19,13 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
 
+mod lock;
+pub mod store;
+pub mod stream;
+
+pub use lock::{lock_for_write, WriteLock};
+pub use store::Store;
+
 /// A baseline: per file (key: [`encode_key`] of its normalised path relative
 /// to the baseline's directory), its record.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Default)]
@@ -121,16 +128,7 @@ pub fn is_baseline_file(path: &Path) -> bool {
     {
         return false;
     }
-    let cap = crate::tolerances::MAX_BASELINE_FILE_SIZE;
-    let Ok(text) = crate::input::read_text(path, cap, "the baseline size cap") else {
-        return false;
-    };
-    match serde_json::from_str::<serde_json::Value>(&text) {
-        Ok(serde_json::Value::Object(m)) => {
-            m.contains_key("schema_version") && m.contains_key("files")
-        }
-        _ => false,
-    }
+    stream::looks_like_baseline(path)
 }
 
 /// The key of a relative path: components joined by `/`; `%` and every byte
@@ -244,6 +242,13 @@ fn absolute(p: &Path) -> Result<PathBuf> {
 pub fn key_for(file: &Path, root: &Path, dir: &Path) -> Result<String> {
     let dir = dir.canonicalize().map_err(|e| Error::io(dir, &e))?;
     let canon_root = root.canonicalize().map_err(|e| Error::io(root, &e))?;
+    key_in(file, root, &canon_root, &dir)
+}
+
+/// [`key_for`] with the real paths of `root` and `dir` already found
+/// (`canon_root`, `canon_dir`): one real path per file, not three.
+pub fn key_in(file: &Path, root: &Path, canon_root: &Path, canon_dir: &Path) -> Result<String> {
+    let (canon_root, dir) = (canon_root.to_path_buf(), canon_dir);
     let canon = file.canonicalize().map_err(|e| Error::io(file, &e))?;
     let place = if canon.starts_with(&canon_root) {
         canon
@@ -256,7 +261,7 @@ pub fn key_for(file: &Path, root: &Path, dir: &Path) -> Result<String> {
             Err(_) => canon,
         }
     };
-    Ok(encode_key(&relative_to(&place, &dir)))
+    Ok(encode_key(&relative_to(&place, dir)))
 }
 
 /// Read a baseline written by `audit check --write-baseline`. Refused (an
@@ -265,49 +270,40 @@ pub fn key_for(file: &Path, root: &Path, dir: &Path) -> Result<String> {
 /// quaternion that is not unit (a zero quaternion would switch the rotation
 /// drift check off).
 pub fn read(path: &Path) -> Result<Baseline> {
-    let text = crate::input::read_text(
-        path,
-        crate::tolerances::MAX_BASELINE_FILE_SIZE,
-        "the baseline size cap",
-    )?;
-    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
-        Error::parse(format!(
-            "expected a baseline written by `audit check --write-baseline`, found: {e}"
-        ))
-        .in_file(path)
-        .at_line(e.line(), Some(e.column()))
-    })?;
-    let bad = |what: String| Error::invalid(what).in_file(path);
-    let version = v.get("schema_version").and_then(|x| x.as_u64());
-    if version != Some(1) {
-        return Err(bad(format!(
-            "expected baseline schema_version 1, found {}",
-            v.get("schema_version")
-                .map(|x| x.to_string())
-                .unwrap_or_else(|| "none".into())
-        )));
-    }
-    let Some(entries) = v.get("files").and_then(|f| f.as_object()) else {
-        return Err(bad(
-            "expected `files`: an object of per-file records, found none".into(),
-        ));
-    };
     let mut files = BTreeMap::new();
-    for (key, entry) in entries {
-        let rec = BaselineFile::deserialize(entry)
-            .map_err(|e| bad(format!("baseline entry files[{key:?}]: {e}")))?;
-        validate_file(key, &rec).map_err(bad)?;
-        if decode_key(key).is_none() {
-            return Err(bad(format!(
-                "baseline entry files[{key:?}]: expected a key written by --write-baseline (`%` followed by two hex digits)"
-            )));
+    let mut twice = None;
+    stream::read_each(path, |key, rec| {
+        if files.contains_key(&key) {
+            twice.get_or_insert_with(|| key.clone());
         }
-        files.insert(key.clone(), rec);
-    }
+        files.insert(key, rec);
+    })?;
+    refuse_twice(path, twice)?;
     Ok(Baseline {
         schema_version: 1,
         files,
     })
+}
+
+/// Read the baseline at `path` into a compact [`Store`] (a fleet's baseline
+/// held at about 200 bytes per file). Refused as [`read`] says.
+pub fn read_store(path: &Path) -> Result<Store> {
+    let mut store = Store::new();
+    stream::read_each(path, |key, rec| store.insert(&key, &rec))?;
+    refuse_twice(path, store.finish())?;
+    Ok(store)
+}
+
+/// A key given twice is refused: which record would count is not for a
+/// gate to guess.
+fn refuse_twice(path: &Path, key: Option<String>) -> Result<()> {
+    match key {
+        Some(k) => Err(Error::invalid(format!(
+            "baseline entry files[{k:?}]: given twice, expected each file once (rewrite the baseline with --write-baseline)"
+        ))
+        .in_file(path)),
+        None => Ok(()),
+    }
 }
 
 /// Largest `| ||q|| - 1 |` of a stored quaternion (written as unit to ~1e-16).
@@ -334,7 +330,7 @@ fn validate_transform(entry: &str, t: &BaselineTransform) -> std::result::Result
     Ok(())
 }
 
-fn validate_file(key: &str, rec: &BaselineFile) -> std::result::Result<(), String> {
+pub(crate) fn validate_file(key: &str, rec: &BaselineFile) -> std::result::Result<(), String> {
     for (i, e) in rec.edges.iter().enumerate() {
         validate_transform(&format!("files[{key:?}].edges[{i}]"), e)?;
     }
@@ -568,6 +564,32 @@ pub fn compare_file(now: &CheckedFile, base: &BaselineFile, tol: Tolerances) -> 
     out
 }
 
+/// `new-file`: a checked file without an entry in the baseline.
+pub fn new_file(path: &Path) -> Diagnostic {
+    finding(
+        Code::NewFile,
+        Location::file(path),
+        "file is not in the baseline (accept it with --write-baseline)".into(),
+    )
+}
+
+/// `removed-file` for the entry `key` of a baseline kept in `dir` that was
+/// not checked, when its file no longer exists (a subset run checks fewer
+/// files: their entries are skipped).
+pub fn removed_file(key: &str, dir: &Path) -> Option<Diagnostic> {
+    let path = dir.join(decode_key(key)?);
+    if std::fs::symlink_metadata(&path).is_ok() {
+        return None;
+    }
+    Some(finding(
+        Code::RemovedFile,
+        Location::file(&path),
+        format!(
+            "file {key:?} is in the baseline but no longer exists (accept with --write-baseline --prune)"
+        ),
+    ))
+}
+
 /// Compare the checked files (by key) with a baseline kept in `dir`: per file,
 /// `new-file`, and `removed-file` for a baseline entry whose file is gone.
 /// Entries of files that exist but were not checked (a subset) are skipped.
@@ -581,25 +603,11 @@ pub fn compare(
     for (key, file) in now {
         match base.files.get(key) {
             Some(b) => out.extend(compare_file(file, b, tol)),
-            None => out.push(finding(
-                Code::NewFile,
-                Location::file(file.path),
-                "file is not in the baseline (accept it with --write-baseline)".into(),
-            )),
+            None => out.push(new_file(file.path)),
         }
     }
     for key in base.files.keys().filter(|k| !now.contains_key(*k)) {
-        let Some(rel) = decode_key(key) else { continue };
-        let path = dir.join(&rel);
-        if std::fs::symlink_metadata(&path).is_err() {
-            out.push(finding(
-                Code::RemovedFile,
-                Location::file(&path),
-                format!(
-                    "file {key:?} is in the baseline but no longer exists (accept with --write-baseline --prune)"
-                ),
-            ));
-        }
+        out.extend(removed_file(key, dir));
     }
     out
 }
