@@ -156,6 +156,31 @@ pub const MAX_TRANSLATION_M: f64 = 1e6;
 /// with a large frame (tens of KiB in a debug build).
 pub const MAX_YAML_DEPTH: usize = 32;
 
+/// Longest string the Python reader (launch `$(eval ...)`, launch.py)
+/// creates, in bytes: by `+`, `*`, `str.join`/`replace`/`zfill`/`format`,
+/// f-strings, `str()`/`repr()`. Launch files build names and numbers of tens
+/// of bytes; a file asking for more is refused before the string exists.
+pub const MAX_PY_STR_BYTES: usize = 1 << 20;
+
+/// Most items in one list, tuple or dict the Python reader creates (`range`,
+/// comprehensions, `+`, `append`/`extend`, `split`, iterating a string).
+pub const MAX_PY_ITEMS: usize = 100_000;
+
+/// The Python reader's work budget for one file, in bytes: every value an
+/// expression evaluates to is charged its size (a string its bytes, a tuple
+/// or dict its items, a list its slots, each value 32 bytes), so the values
+/// a file creates in all, which bounds the memory it can hold, stay under
+/// 256 MiB. Evaluating a real launch file charges a few KiB.
+pub const MAX_PY_WORK_BYTES: usize = 256 << 20;
+
+/// Calls of a launch.py file's own functions nested deeper than this are
+/// refused (a function that calls itself).
+pub const MAX_PY_CALL_DEPTH: usize = 32;
+
+/// Loop iterations and function calls a launch.py file may make in all,
+/// beyond which it is refused (a real file makes tens).
+pub const MAX_PY_STEPS: usize = 100_000;
+
 /// Largest baseline file read or written by `audit check` (bytes). The
 /// baseline is streamed both ways and held compactly (`baseline::Store`, about
 /// a fifth of its text), and `--write-baseline` refuses to write one past this

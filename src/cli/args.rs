@@ -7,7 +7,7 @@
 
 use clap::{Args, ValueEnum};
 use extrinsic_audit::formats::bag::BagOptions;
-use extrinsic_audit::formats::LoadOptions;
+use extrinsic_audit::formats::{Assume, LoadOptions};
 use extrinsic_audit::geometry::{PitchTol, UserSigma};
 use extrinsic_audit::pipeline::Rename;
 use extrinsic_audit::render::OutputFormat;
@@ -113,6 +113,14 @@ pub struct ReadArgs {
     /// a rig TOML's own)
     #[arg(long)]
     pub invert: bool,
+    /// The direction of transforms no upstream code fixes (a plain 4x4 text
+    /// file, OKVIS imu_params.T_BS, GLIM T_lidar_camera, a --key that names no
+    /// frames), refused without it: child-in-parent or parent-in-child, with
+    /// :PARENT,CHILD for files that name no frames (e.g.
+    /// child-in-parent:base_link,lidar: the numbers are the pose of lidar in
+    /// base_link)
+    #[arg(long, value_parser = parse_assume, value_name = "DIRECTION[:PARENT,CHILD]")]
+    pub assume: Option<Assume>,
 }
 
 impl ReadArgs {
@@ -120,7 +128,13 @@ impl ReadArgs {
     pub fn apply(&self, load: &mut LoadOptions) {
         load.key = self.key.clone();
         load.invert = self.invert;
+        load.assume = self.assume.clone();
     }
+}
+
+/// `--assume`: parsed by the library (`formats::Assume::parse`).
+fn parse_assume(s: &str) -> Result<Assume, String> {
+    Assume::parse(s)
 }
 
 /// `--max-file-size`: the cap on every input file.

@@ -387,12 +387,15 @@ fn kalibr_and_t_xyz_q_xyzw_keys() {
             ..Default::default()
         },
     );
-    // `cam_front` has an underscore: the name is ambiguous unless written A_T_B.
-    let l = match l {
-        Ok(l) => l,
-        Err(e) => panic!("{e}"),
-    };
-    assert_eq!(l.edges[0].parent, "parent");
+    // `cam_front` has an underscore: the name is ambiguous unless written
+    // A_T_B, so it is refused unless --assume says which (e3480dc).
+    let e = l.expect_err("an ambiguous --key is refused");
+    assert!(
+        e.message
+            .contains("says neither the frames nor the direction")
+            && e.message.contains("--assume child-in-parent:PARENT,CHILD"),
+        "{e}"
+    );
     let text = "cam_front_T_lidar_t_xyz_q_xyzw: [0.1, 0.2, 0.3, 0, 0, 0, 1]\n";
     let l = load_str(text, Path::new("sensor.yaml"), &LoadOptions::default()).expect("A_T_B");
     assert_eq!(
@@ -409,6 +412,8 @@ fn keyed_reads_stacked_millimetres_and_json_matrices() {
         slict,
         &LoadOptions {
             key: Some("lidar_extr[0]".into()),
+            // The key's name gives no frames (issue 28: --assume gives them).
+            assume: extrinsic_audit::formats::Assume::parse("child-in-parent:body,lidar").ok(),
             ..Default::default()
         },
     )
@@ -423,6 +428,7 @@ fn keyed_reads_stacked_millimetres_and_json_matrices() {
         slict,
         &LoadOptions {
             key: Some("lidar_extr[1]".into()),
+            assume: extrinsic_audit::formats::Assume::parse("child-in-parent:body,lidar").ok(),
             ..Default::default()
         },
     )

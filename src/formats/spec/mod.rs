@@ -193,6 +193,11 @@ pub struct LoadOptions {
     /// Which topics of a bag are read (`--tf-static-topic`, `--tf-topic`,
     /// `--description-topic`).
     pub bag: BagOptions,
+    /// `--assume DIRECTION[:PARENT,CHILD]`: the direction (and, for files that
+    /// name none, the frames) of the transforms whose convention cannot be
+    /// traced to the code that consumes the file; without it they are refused
+    /// (see [`Assume`]).
+    pub assume: Option<Assume>,
 }
 
 impl Default for LoadOptions {
@@ -209,6 +214,80 @@ impl Default for LoadOptions {
             xacro_args: BTreeMap::new(),
             package_paths: Vec::new(),
             bag: BagOptions::default(),
+            assume: None,
+        }
+    }
+}
+
+/// `--assume`: what the user says about a transform whose direction no
+/// upstream code fixes (a plain 4x4 text file, OKVIS `imu_params.T_BS`, GLIM
+/// `T_lidar_camera`, a `--key` whose name names no frames). A reader never
+/// guesses such a direction: without `--assume` it refuses the transform,
+/// naming this flag.
+///
+/// Written `child-in-parent` (the numbers are the pose of the child in the
+/// parent, `p_parent = R p_child + t`) or `parent-in-child` (the inverse),
+/// optionally followed by `:PARENT,CHILD`, the frames, for files that name
+/// none (`--assume child-in-parent:base_link,lidar`). The edge is always
+/// `PARENT -> CHILD`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Assume {
+    /// The numbers are the pose of the child in the parent (else the inverse).
+    pub child_in_parent: bool,
+    /// `(parent, child)` when given.
+    pub frames: Option<(String, String)>,
+}
+
+impl Assume {
+    /// Parse `child-in-parent[:PARENT,CHILD]` / `parent-in-child[:PARENT,CHILD]`.
+    pub fn parse(s: &str) -> std::result::Result<Assume, String> {
+        let (dir, frames) = match s.split_once(':') {
+            Some((d, f)) => (d, Some(f)),
+            None => (s, None),
+        };
+        let child_in_parent = match dir.trim() {
+            "child-in-parent" => true,
+            "parent-in-child" => false,
+            other => {
+                return Err(format!(
+                    "expected child-in-parent or parent-in-child (optionally :PARENT,CHILD), found {:?}",
+                    crate::sanitize::clip(other)
+                ))
+            }
+        };
+        let frames = match frames {
+            None => None,
+            Some(f) => {
+                let names: Vec<&str> = f.split(',').map(str::trim).collect();
+                match names.as_slice() {
+                    [p, c] if !p.is_empty() && !c.is_empty() && p != c => {
+                        Some((p.to_string(), c.to_string()))
+                    }
+                    _ => {
+                        return Err(format!(
+                        "expected two different frame names after ':' (PARENT,CHILD), found {:?}",
+                        crate::sanitize::clip(f)
+                    ))
+                    }
+                }
+            }
+        };
+        Ok(Assume {
+            child_in_parent,
+            frames,
+        })
+    }
+
+    /// How it is written on the command line.
+    pub fn flag(&self) -> String {
+        let dir = if self.child_in_parent {
+            "child-in-parent"
+        } else {
+            "parent-in-child"
+        };
+        match &self.frames {
+            Some((p, c)) => format!("--assume {dir}:{p},{c}"),
+            None => format!("--assume {dir}"),
         }
     }
 }
