@@ -169,6 +169,14 @@ codes! {
     /// would give are left out (the rest of the file is read); the message
     /// names both lines.
     AmbiguousKey = "ambiguous-key", Warning;
+    /// A message an xacro file prints with `xacro.warning()` or
+    /// `xacro.error()`: Python xacro prints it and goes on, and so does the
+    /// expander; the message gives the text and where it was raised.
+    XacroMessage = "xacro-message", Warning;
+    /// `$(find pkg)` found two or more packages named `pkg` on the search
+    /// path: the message says which directory was used and where the others
+    /// are.
+    DuplicatePackage = "duplicate-package", Warning;
     /// A frame name that resembles another frame of the graph (a Unicode
     /// confusable such as Cyrillic `і` for `i`, compatibility forms, case,
     /// white space at its ends) but is not it: two frames where one was

@@ -243,9 +243,30 @@ pub const BAG_PROGRESS_MIN_BYTES: u64 = 64 * 1024 * 1024;
 /// macro bomb (each doubling macro level doubles the count).
 pub const XACRO_MAX_ELEMENTS: usize = 200_000;
 
-/// Most bytes of text (attributes and text) one xacro expansion may produce,
-/// and the longest string an expression may build (`'a' * 10**9`).
+/// Most bytes of text (attributes and text) one xacro expansion may produce.
 pub const XACRO_MAX_OUTPUT_BYTES: usize = 32 * 1024 * 1024;
+
+/// Longest string one `${...}` value may be (bytes): `'a' * 10**9` stops
+/// here. The longest attribute of the real-package corpus is a few hundred
+/// bytes (docs/xacro.md).
+pub const XACRO_MAX_STRING_BYTES: usize = 4 * 1024 * 1024;
+
+/// Most items one list, tuple or dict of a `${...}` expression may hold
+/// (`[0] * 10**9` stops here; a million values take 24 MB).
+pub const XACRO_MAX_LIST_ITEMS: usize = 1_000_000;
+
+/// Most bytes of values (strings, lists, dicts) one expansion may create in
+/// all, counted as they are created, so live memory stays below it however
+/// values are shared or dropped. Real descriptions create a few hundred KB.
+pub const XACRO_MAX_EVAL_BYTES: u64 = 256 * 1024 * 1024;
+
+/// Most evaluation steps of one expansion: an expression node, an element,
+/// an item copied, compared or printed, 16 bytes of text scanned each count
+/// one. The real-package corpus takes at most about 60 000 (docs/xacro.md);
+/// ten million take about a second (a debug build: several), and stop an
+/// expression over shared nested lists (exponential work in little text)
+/// well before [`XACRO_MAX_SECONDS`].
+pub const XACRO_MAX_STEPS: u64 = 10_000_000;
 
 /// Deepest nesting of macro calls. Python xacro stops at Python's recursion
 /// limit (1000 frames, a few dozen frames per call); real files nest fewer
@@ -255,18 +276,42 @@ pub const XACRO_MAX_MACRO_DEPTH: usize = 100;
 /// Deepest nesting of `xacro:include` (a file including itself stops here).
 pub const XACRO_MAX_INCLUDE_DEPTH: usize = 32;
 
-/// Wall time (s) after which an expansion is stopped; real descriptions
-/// expand in milliseconds.
+/// Deepest nesting of elements, in a source file and in the expansion
+/// (counting macro bodies, blocks and `xacro:if`/`unless` as levels). Python
+/// xacro 2.1.1 fails between 500 and 1000 nested elements (measured; its
+/// recursion limit); a URDF nests about five.
+pub const XACRO_MAX_ELEMENT_DEPTH: usize = 500;
+
+/// Deepest chain of lazy properties evaluated inside one another (`a` is
+/// `${b}`, `b` is `${c}`, ...). Python xacro 2.1.1 fails between 150 and 200
+/// (measured); real files chain a few.
+pub const XACRO_MAX_PROPERTY_DEPTH: usize = 150;
+
+/// Wall time (s) after which an expansion is stopped (the built-in expander,
+/// and the child of `--xacro external`, killed with its process group); real
+/// descriptions expand in milliseconds.
 pub const XACRO_MAX_SECONDS: f64 = 10.0;
+
+/// `--xacro external`: once the child has exited, how long (s) its output
+/// pipes may stay open (a background process it left holding them is killed
+/// with the process group first; one outside the group is given up on).
+pub const XACRO_EXTERNAL_DRAIN_SECONDS: f64 = 1.0;
 
 /// Most bytes of the external `xacro` program's stderr kept for the error
 /// message (`--xacro external`); Python tracebacks of real failures are a few
 /// KiB.
 pub const XACRO_MAX_STDERR_BYTES: u64 = 16 * 1024;
 
-/// Deepest nesting of one `${...}` expression (parentheses, unary operators):
-/// the parser recurses per level.
+/// Deepest nesting of one `${...}` expression, in nodes: parentheses, unary
+/// operators, `**`, conditional expressions, calls and subscripts inside one
+/// another, lists in lists (a chain of one operator, `a + b + c + ...`, is
+/// one level, as are `x[0][1]` and `a.b.c`). Python refuses more than 200
+/// nested parentheses; real expressions nest a few levels.
 pub const XACRO_MAX_EXPR_DEPTH: usize = 100;
+
+/// Deepest nesting of list, tuple and dict values that printing, comparing
+/// and searching walk (`[[[...]]]` built through properties).
+pub const XACRO_MAX_VALUE_DEPTH: usize = 100;
 
 /// `$(find pkg)`: directory levels searched below each package-path entry
 /// (a colcon workspace keeps packages at `src/<repo>/<pkg>`).
@@ -275,6 +320,16 @@ pub const XACRO_PACKAGE_SEARCH_DEPTH: usize = 3;
 /// `$(find pkg)` without a package path: ancestor directories of the input
 /// searched (each with [`XACRO_PACKAGE_SEARCH_DEPTH`] levels below it).
 pub const XACRO_PACKAGE_SEARCH_UP: usize = 3;
+
+/// `$(find pkg)`: most directories one search visits (a package path
+/// pointing at `/` or a huge tree stops here with the count, not after
+/// minutes). A ROS distribution's share directory holds about 1 000
+/// packages.
+pub const XACRO_PACKAGE_SEARCH_MAX_DIRS: usize = 20_000;
+
+/// `$(find pkg)`: bytes of each `package.xml` read to find its `<name>`
+/// (the name is near the top; real manifests are a few KiB).
+pub const XACRO_PACKAGE_XML_BYTES: u64 = 64 * 1024;
 
 /// Deepest element nesting the URDF reader reads. A URDF nests about five
 /// levels (robot, link, visual, geometry, mesh); the pull reader's namespace

@@ -145,7 +145,8 @@ pub struct FileSizeArgs {
     pub max_file_size: u64,
 }
 
-/// `--arg`, `--package-path`, `--xacro`: how xacro (and launch) files expand.
+/// `--arg`, `--package-path`, `--xacro`, `--confine`: how xacro (and launch)
+/// files expand, and where reads may go.
 #[derive(Debug, Args, Clone)]
 pub struct XacroArgs {
     /// xacro and launch-file `$(arg NAME)` value (also `if="$(arg NAME)"` in a
@@ -160,6 +161,20 @@ pub struct XacroArgs {
     /// `xacro` program on PATH)
     #[arg(long = "xacro", value_enum, default_value_t = XacroMode::Native)]
     pub xacro_mode: XacroMode,
+    /// Read only files below DIR (symlinks resolved): the inputs, xacro
+    /// includes, load_yaml files, $(find) packages, rig TOML includes; xacro
+    /// reads no environment variable. For CI on pull requests; repeatable
+    #[arg(long = "confine", value_name = "DIR", value_parser = parse_confine)]
+    pub confine: Vec<PathBuf>,
+}
+
+/// `--confine DIR`: an existing directory.
+fn parse_confine(s: &str) -> Result<PathBuf, String> {
+    let p = PathBuf::from(s);
+    if !p.is_dir() {
+        return Err(format!("expected an existing directory, found `{s}`"));
+    }
+    Ok(p)
 }
 
 /// `--xacro native|external`.
@@ -175,6 +190,7 @@ impl XacroArgs {
         load.xacro_args = self.xacro_args.iter().cloned().collect();
         load.package_paths = self.package_paths.clone();
         load.xacro_external = self.xacro_mode == XacroMode::External;
+        load.confine = self.confine.clone();
     }
 }
 

@@ -1,7 +1,7 @@
 //! `audit check PATHS...`: CI checks on calibration files.
 
 use super::args::{
-    parse_nonneg, parse_positive, FileSizeArgs, JointArgs, OutputArgs, PitchTolArgs,
+    parse_nonneg, parse_positive, FileSizeArgs, JointArgs, OutputArgs, PitchTolArgs, XacroArgs,
 };
 use super::emit;
 use clap::Args;
@@ -77,6 +77,8 @@ pub struct CheckArgs {
     #[command(flatten)]
     pub size: FileSizeArgs,
     #[command(flatten)]
+    pub xacro: XacroArgs,
+    #[command(flatten)]
     pub output: OutputArgs,
 }
 
@@ -114,10 +116,14 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
                 rotation_deg: args.max_rotation_drift,
             },
             pitch_tol: args.pitch.pitch_tol,
-            load: LoadOptions {
-                joints: args.joints.positions(),
-                max_file_size: args.size.max_file_size,
-                ..LoadOptions::default()
+            load: {
+                let mut load = LoadOptions {
+                    joints: args.joints.positions(),
+                    max_file_size: args.size.max_file_size,
+                    ..LoadOptions::default()
+                };
+                args.xacro.apply(&mut load);
+                load
             },
             allow: args.allow.clone(),
             deny: args.deny.clone(),

@@ -2,7 +2,9 @@
 //! `calibrate-threshold`. Arguments here, made into the options of
 //! `extrinsic_audit::pipeline::detector`, which reads the scans and computes.
 
-use super::args::{parse_noise, parse_positive, parse_voxel, EllArgs, OutputArgs, TauArgs};
+use super::args::{
+    parse_noise, parse_positive, parse_voxel, EllArgs, OutputArgs, TauArgs, XacroArgs,
+};
 use super::display::TermBars;
 use super::emit;
 use extrinsic_audit::analysis::Family;
@@ -181,6 +183,9 @@ pub struct SweepArgs {
     /// With --rig: the other frame.
     #[arg(long)]
     pub to: Option<String>,
+    /// How the --rig files are read.
+    #[command(flatten)]
+    pub xacro: XacroArgs,
 }
 
 /// `--voxel` of `degeneracy` within [`RAW_VOXEL_RANGE_M`].
@@ -288,6 +293,8 @@ pub struct SimulateArgs {
         allow_hyphen_values = true
     )]
     pub update: String,
+    #[command(flatten)]
+    pub xacro: XacroArgs,
     #[command(flatten)]
     pub output: OutputArgs,
 }
@@ -399,6 +406,11 @@ pub fn sweep(args: &SweepArgs, out: &mut dyn Write) -> Result<i32> {
         rig: args.rig.clone(),
         from: args.from.clone(),
         to: args.to.clone(),
+        load: {
+            let mut load = extrinsic_audit::formats::LoadOptions::default();
+            args.xacro.apply(&mut load);
+            load
+        },
     };
     emit(&det::sweep_scan(&opts, &TermBars)?, s.output.format, out)?;
     Ok(0)
@@ -438,11 +450,14 @@ pub fn simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<i32> {
         ells: args.ell.ell.clone(),
         update: det::parse_update(&args.update)?,
     };
+    let mut load = extrinsic_audit::formats::LoadOptions::default();
+    args.xacro.apply(&mut load);
     let rig = SimulateRig {
         files: args.files.clone(),
         from: args.from.clone(),
         to: args.to.clone(),
         pose,
+        load,
     };
     let t = det::simulate_transform(&rig)?;
     emit(&det::simulate(&params, &t)?, args.output.format, out)?;

@@ -2,7 +2,7 @@
 //! calibrations. Exit 1 when a change exceeds `--tolerance`, 0 otherwise.
 
 use super::args::{
-    parse_nonneg, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs, RenameArgs,
+    parse_nonneg, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs, RenameArgs, XacroArgs,
 };
 use super::{emit, print_warnings};
 use clap::Args;
@@ -71,6 +71,8 @@ pub struct DiffArgs {
     #[arg(long)]
     pub invert_new: bool,
     #[command(flatten)]
+    pub xacro: XacroArgs,
+    #[command(flatten)]
     pub output: OutputArgs,
 }
 
@@ -87,9 +89,13 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
         from: args.from.clone(),
         to: args.to.clone(),
         renames: args.renames.renames.clone(),
-        load: LoadOptions {
-            joints: args.joints.positions(),
-            ..LoadOptions::default()
+        load: {
+            let mut load = LoadOptions {
+                joints: args.joints.positions(),
+                ..LoadOptions::default()
+            };
+            args.xacro.apply(&mut load);
+            load
         },
         old_read: SideRead {
             key: args.read.key.clone().or_else(|| args.key_old.clone()),

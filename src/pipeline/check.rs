@@ -138,6 +138,7 @@ struct FileState {
 /// its files' states, how many files it read.
 struct Outcome {
     findings: Vec<Diagnostic>,
+    notes: Vec<String>,
     pairs_found: Vec<bool>,
     states: Vec<FileState>,
     files: usize,
@@ -147,6 +148,8 @@ struct Outcome {
 struct Checker<'a> {
     opts: &'a CheckOptions,
     findings: Vec<Diagnostic>,
+    /// Files read and left to the files that include them.
+    notes: Vec<String>,
     pairs_found: Vec<bool>,
 }
 
@@ -181,6 +184,25 @@ impl Checker<'_> {
         acc: &mut RobotGraph,
     ) -> Result<Option<FileState>> {
         let index = acc.states;
+        if let Some(kind) = formats::xacro::include_only(&f.path, &self.opts.load) {
+            // An include: noted, not an error; its (empty) record still
+            // meets the baseline, so a robot file turned into one is caught.
+            self.notes.push(format!(
+                "{}: {}: an include, not a robot of its own; checked where a robot file includes it",
+                f.path.display(),
+                kind.reason()
+            ));
+            return Ok(Some(FileState {
+                found: f.clone(),
+                record: BaselineFile {
+                    edges: Vec::new(),
+                    pairs: Vec::new(),
+                },
+                locations: Locations::new(),
+                base_key: None,
+                write_key: None,
+            }));
+        }
         if formats::launch::holds_no_calibration(&f.path, self.opts.load.max_file_size) {
             self.findings.push(
                 Diagnostic::new(
@@ -573,6 +595,7 @@ fn check_one(
     let mut ck = Checker {
         opts,
         findings: Vec::new(),
+        notes: Vec::new(),
         pairs_found: vec![false; opts.pairs.len()],
     };
     let mut states = ck.check_robot(robot)?;
@@ -582,6 +605,7 @@ fn check_one(
     }
     Ok(Outcome {
         findings: ck.findings,
+        notes: ck.notes,
         pairs_found: ck.pairs_found,
         states,
         files: robot.files.len(),
@@ -593,6 +617,8 @@ fn check_one(
 struct Gathered<'a> {
     opts: &'a CheckOptions,
     findings: Vec<Diagnostic>,
+    /// Files read and left to the files that include them, in order.
+    notes: Vec<String>,
     pairs_found: Vec<bool>,
     /// The baseline compared against, and which of its entries were checked.
     base: Option<(&'a Store, Vec<bool>)>,
@@ -605,6 +631,7 @@ struct Gathered<'a> {
 impl Gathered<'_> {
     fn take(&mut self, out: Outcome) {
         self.findings.extend(out.findings);
+        self.notes.extend(out.notes);
         for (f, now) in self.pairs_found.iter_mut().zip(out.pairs_found) {
             *f |= now;
         }
@@ -780,6 +807,7 @@ pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckR
     let mut all = Gathered {
         opts,
         findings: std::mem::take(&mut walked.findings),
+        notes: Vec::new(),
         pairs_found: vec![false; opts.pairs.len()],
         base: base.as_ref().map(|b| (b, vec![false; b.len()])),
         compared: Vec::new(),
@@ -867,5 +895,6 @@ fn finish(
     }
     let mut report = CheckReport::new(files.len(), findings);
     report.baseline_written = changes;
+    report.notes = all.notes;
     Ok(report)
 }

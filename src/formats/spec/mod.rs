@@ -190,6 +190,13 @@ pub struct LoadOptions {
     pub xacro_args: BTreeMap<String, String>,
     /// `--package-path DIR`: where `$(find pkg)` looks first.
     pub package_paths: Vec<std::path::PathBuf>,
+    /// `--confine DIR` (repeatable; empty: off): every file read, the files
+    /// named on the command line and those a file includes (xacro includes,
+    /// `xacro.load_yaml`, `$(find)` packages, rig TOML includes), must lie
+    /// below one of these directories once symlinks are resolved; and xacro
+    /// reads no environment variable (`$(env)` is refused, `$(optenv)` gives
+    /// its default). For a CI gate on files from pull requests.
+    pub confine: Vec<std::path::PathBuf>,
     /// Which topics of a bag are read (`--tf-static-topic`, `--tf-topic`,
     /// `--description-topic`).
     pub bag: BagOptions,
@@ -213,6 +220,7 @@ impl Default for LoadOptions {
             xacro_external: false,
             xacro_args: BTreeMap::new(),
             package_paths: Vec::new(),
+            confine: Vec::new(),
             bag: BagOptions::default(),
             assume: None,
         }
@@ -288,6 +296,52 @@ impl Assume {
         match &self.frames {
             Some((p, c)) => format!("--assume {dir}:{p},{c}"),
             None => format!("--assume {dir}"),
+        }
+    }
+}
+
+impl LoadOptions {
+    /// Whether reads are confined (`--confine`).
+    pub fn confined(&self) -> bool {
+        !self.confine.is_empty()
+    }
+
+    /// `Err(why)` when `--confine` is given and `path` (symlinks resolved;
+    /// for a path that does not exist yet, its parent) is below none of its
+    /// directories.
+    pub fn check_confined(&self, path: &std::path::Path) -> std::result::Result<(), String> {
+        if self.confine.is_empty() {
+            return Ok(());
+        }
+        let real = std::fs::canonicalize(path).or_else(|e| {
+            let parent = path.parent().filter(|p| !p.as_os_str().is_empty());
+            match (parent, path.file_name()) {
+                (Some(d), Some(n)) => std::fs::canonicalize(d).map(|d| d.join(n)),
+                (None, Some(n)) => std::env::current_dir().map(|d| d.join(n)),
+                _ => Err(e),
+            }
+        });
+        let inside = |real: &std::path::Path| {
+            self.confine
+                .iter()
+                .any(|c| std::fs::canonicalize(c).is_ok_and(|c| real.starts_with(c)))
+        };
+        match real {
+            Ok(r) if inside(&r) => Ok(()),
+            Ok(r) => Err(format!(
+                "{} is outside the --confine directories ({}): not read",
+                if r.as_path() == path {
+                    path.display().to_string()
+                } else {
+                    format!("{} ({})", path.display(), r.display())
+                },
+                self.confine
+                    .iter()
+                    .map(|c| c.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+            Err(e) => Err(format!("{}: {e} (checking --confine)", path.display())),
         }
     }
 }

@@ -410,6 +410,8 @@ pub struct SimulateRig {
     pub to: Option<String>,
     /// Without files: the pose of frame B in frame A (`--shift`, `--rotate-rpy`).
     pub pose: Option<Transform>,
+    /// How the files are read (`--arg`, `--package-path`, `--confine`, ...).
+    pub load: crate::formats::LoadOptions,
 }
 
 /// The pose of frame B in frame A: composed from the files, or given.
@@ -420,9 +422,12 @@ pub fn simulate_transform(rig: &SimulateRig) -> Result<Transform> {
         )),
         (Some(t), true) => Ok(*t),
         (Some(_), false) => Err(Error::usage("--shift/--rotate-rpy apply only without FILE")),
-        (None, false) => {
-            super::transform_between(&rig.files, rig.from.as_deref(), rig.to.as_deref())
-        }
+        (None, false) => super::transform_between(
+            &rig.files,
+            rig.from.as_deref(),
+            rig.to.as_deref(),
+            &rig.load,
+        ),
     }
 }
 
@@ -604,6 +609,8 @@ pub struct SweepOptions {
     pub from: Option<String>,
     /// With `rig`: the other frame.
     pub to: Option<String>,
+    /// How the rig's files are read (`--arg`, `--package-path`, ...).
+    pub load: crate::formats::LoadOptions,
 }
 
 /// The paper's frame sweep on the user's scan ([`read_scan`], then
@@ -620,6 +627,7 @@ pub fn sweep_scan(opts: &SweepOptions, bars: &dyn ProgressFactory) -> Result<Swe
             &opts.rig,
             opts.from.as_deref(),
             opts.to.as_deref(),
+            &opts.load,
         )?)
     };
     sweep(
