@@ -84,6 +84,7 @@ pub mod pipeline;
 pub mod progress;
 pub mod render;
 pub mod report;
+pub mod run;
 pub mod sanitize;
 pub mod tolerances;
 

@@ -216,21 +216,50 @@ pub const MAX_QUOTED_CHARS: usize = 120;
 /// messages that quote several values.
 pub const MAX_MESSAGE_CHARS: usize = 2000;
 
-/// Largest record, chunk (compressed or not) or message a bag reader allocates
-/// (bytes). rosbag2 and `rosbag record` write chunks of 768 KiB to a few MiB;
-/// a length beyond this in a bag is corruption, refused before allocating.
-pub const MAX_BAG_RECORD_BYTES: usize = 1 << 30;
+/// Largest message, chunk (after decompression) or record a bag reader
+/// takes (bytes). rosbag2 and `rosbag record` write chunks of 768 KiB to a
+/// few MiB, a chunk holding at least one message; the largest legitimate
+/// messages are far below this: a 128k-point `PointCloud2` (Ouster OS1-128,
+/// 48-byte points) is ~6 MiB, a 262k-point one 12 MiB, a robot description a
+/// few MiB, an uncompressed 4K RGB image 24 MiB. A length beyond it is
+/// corruption or a bomb, refused before allocating, and a decompression stops
+/// as its output passes it. At most one chunk is decompressed at a time, so
+/// this bounds the reader's memory (issue 27: 1 GiB at most overall).
+pub const MAX_BAG_MESSAGE_BYTES: usize = 256 << 20;
 
 /// Largest rosbag2 `metadata.yaml` read (bytes): a few KiB in practice, with
 /// one entry per split file and topic.
 pub const MAX_BAG_METADATA_BYTES: u64 = 16 * 1024 * 1024;
 
-/// Largest file a compressed rosbag2 split (`compression_mode: FILE`, a
-/// `.db3.zstd` or `.mcap.zstd`) may decompress to (bytes): rosbag2 splits at a
-/// few GiB at most; beyond this is a zstd bomb. The file is decompressed into
-/// a temporary file (SQLite and the MCAP index need random access), deleted
-/// after reading.
-pub const MAX_BAG_DECOMPRESSED_BYTES: u64 = 64 * 1024 * 1024 * 1024;
+/// A bag file decompresses to at most this many times its own size in all
+/// (every chunk, message and compressed split counted), or
+/// [`MIN_BAG_FILE_OUTPUT_BYTES`], whichever is larger. Recorded sensor data
+/// compresses 1.5-4x with zstd, lz4 or bz2 (organised clouds full of NaN
+/// no-returns up to ~20x); 100x leaves room for all of it, while a bomb (18 KB
+/// bz2 chunks that grow to GBs) stops after a bounded amount of work: the cap
+/// bounds the time as well as the disk a compressed split's temporary file
+/// takes.
+pub const MAX_BAG_EXPANSION: u64 = 100;
+
+/// The per-file decompression cap of a small file (bytes): 1 GiB, so that a
+/// small bag with one large compressed message still reads.
+pub const MIN_BAG_FILE_OUTPUT_BYTES: u64 = 1 << 30;
+
+/// Most bytes of messages the transform reader keeps from one bag (`/tf_static`,
+/// `/robot_description`, on request `/tf`): every message is decoded after
+/// the read, so they are held together. A bag's static tree and description
+/// take kilobytes to a few MiB; a `/tf` of an hour at 1 kHz ~200 MiB.
+pub const MAX_BAG_KEPT_BYTES: usize = 512 << 20;
+
+/// SQLite's hard heap limit (bytes, process-wide), set before the first
+/// `.db3` is opened: a query over a hostile database (a recursive view, a
+/// huge sort) fails with "out of memory" instead of growing; reading a bag
+/// needs a few MiB (the page cache below and one row at a time).
+pub const MAX_SQLITE_HEAP_BYTES: i64 = 256 << 20;
+
+/// SQLite's page cache per connection (KiB): enough for the table scans of a
+/// rosbag2 read, well inside [`MAX_SQLITE_HEAP_BYTES`].
+pub const MAX_SQLITE_CACHE_KIB: u32 = 16 * 1024;
 
 /// A bag read that will go through at least this many bytes shows a progress
 /// line on stderr when stderr is a terminal (below it the read takes well
@@ -595,3 +624,53 @@ pub const PROGRESS_MIN_BYTES: u64 = 32 << 20;
 
 /// Point count from which `degeneracy` shows a progress bar (on a terminal).
 pub const PROGRESS_MIN_POINTS: usize = 1 << 20;
+
+// ---------------------------------------------------------------------------
+// Recorded runs (`audit run`, `run`)
+// ---------------------------------------------------------------------------
+
+/// Default voxel edge (m) of a run's scans whose normals are estimated: the
+/// paper's 0.10 m (its real-data pipeline), which the Python peer of the
+/// benchmark also uses. A scan with normal fields is used as stored.
+pub const RUN_VOXEL_M: f64 = 0.10;
+
+/// Most cells (`height * width`) one scan may have: 2^22 (4.2 million; a
+/// 128-beam, 2048-column sweep is 262,144). A larger scan is skipped with a
+/// named warning; the bound keeps one scan's working memory (~130 bytes per
+/// point with normals estimated) near 0.5 GiB.
+pub const MAX_SCAN_CELLS: usize = 1 << 22;
+
+/// Most cells of all the scans in flight at once (read, queued or being
+/// worked on): the work queue waits below it (one scan is always let
+/// through). With [`MAX_SCAN_CELLS`] it bounds a run's memory independently
+/// of its length (docs/runs.md states the bound).
+pub const MAX_RUN_INFLIGHT_CELLS: usize = 1 << 22;
+
+/// Most scans in flight per worker thread (the queue's depth).
+pub const RUN_SCANS_PER_WORKER: usize = 2;
+
+/// A pose sample within this many seconds of a scan's time is the scan's
+/// pose (no interpolation): the rounding of timestamps printed with 6 to 9
+/// decimals, far below a scan period (0.1 s at 10 Hz).
+pub const POSE_TIME_TOL_S: f64 = 1e-6;
+
+/// Largest poses file read (bytes): a KITTI sequence's poses are ~200 B per
+/// scan (4,541 scans: 0.9 MB); 256 MiB is a million scans' worth.
+pub const MAX_POSE_FILE_BYTES: u64 = 256 << 20;
+
+/// Most pairs a run's scan pairs reach back (`--pair-step`): each step held
+/// back is one scan's bytes in memory.
+pub const MAX_PAIR_STEP: usize = 64;
+
+/// Points the timeline keeps per series at most: when a run has more scans,
+/// neighbouring bins merge (the smallest eigenvalue of each bin kept), so
+/// the picture costs the same for any length.
+pub const TIMELINE_BINS: usize = 2048;
+
+/// Degenerate intervals and label-change examples kept per family and frame
+/// in the summary (the counts go on past them).
+pub const MAX_RUN_EXAMPLES: usize = 1000;
+
+/// Warnings printed per kind of skipped scan before the rest are only
+/// counted (the CSV and JSON lines name every one).
+pub const MAX_SKIP_WARNINGS: usize = 20;

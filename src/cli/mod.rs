@@ -11,6 +11,7 @@ pub mod detector;
 pub mod diff;
 pub mod display;
 mod frames;
+pub mod run;
 pub mod survey;
 
 use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};

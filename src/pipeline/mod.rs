@@ -10,6 +10,7 @@ mod diff;
 pub mod files;
 pub mod manifest;
 mod parallel;
+pub mod run;
 mod survey;
 pub mod walk;
 

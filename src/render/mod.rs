@@ -22,6 +22,7 @@ mod sarif;
 mod style;
 mod text;
 
+pub use csv::line as csv_line;
 pub use layout::Layout;
 pub use style::{ColorChoice, Style};
 
@@ -290,6 +291,7 @@ mod tests {
             of(Block::Plot(Plot {
                 size_px: (10, 10),
                 panels: vec![],
+                rows: 1,
             })),
         ];
         let takes = |d: &Document| -> String {

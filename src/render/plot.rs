@@ -1,5 +1,5 @@
 //! A [`Plot`] as SVG, drawn with `plotters` (SVG backend, no fonts: text is
-//! left to the viewer): the panels side by side, each with its caption, axis
+//! left to the viewer): the panels in their grid, each with its caption, axis
 //! titles and mesh, its series in order, then its legend box. Text from the
 //! document (point labels, legend entries) is shown with control and
 //! bidirectional characters as visible escapes; plotters escapes it for XML.
@@ -35,7 +35,8 @@ pub fn svg(p: &Plot) -> Result<String> {
     {
         let root = SVGBackend::with_string(&mut svg, p.size_px).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
-        let areas = root.split_evenly((1, p.panels.len().max(1)));
+        let rows = (p.rows.max(1) as usize).min(p.panels.len().max(1));
+        let areas = root.split_evenly((rows, p.panels.len().max(1).div_ceil(rows)));
         for (area, panel) in areas.iter().zip(&p.panels) {
             let (x, y) = (panel.x.range, panel.y.range);
             match (panel.x.log, panel.y.log) {
@@ -141,6 +142,15 @@ where
                 .draw_series(s.points.iter().map(text))
                 .map_err(plot_err)?;
             legend(a, l, move |(x, y)| Circle::new((x + 8, y), 2, c.filled()));
+        }
+        Mark::Span => {
+            let rect = |c: &[Point]| Rectangle::new([at(&c[0]), at(&c[1])], of(&c[0]).filled());
+            let a = chart
+                .draw_series(s.points.chunks_exact(2).map(rect))
+                .map_err(plot_err)?;
+            legend(a, l, move |(x, y)| {
+                Rectangle::new([(x, y - 5), (x + 16, y + 5)], c.filled())
+            });
         }
         Mark::Line { width } => {
             let line = LineSeries::new(s.points.iter().map(at), c.stroke_width(width));

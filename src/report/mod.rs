@@ -11,6 +11,8 @@ pub mod detector;
 pub mod diff;
 pub mod frames;
 pub mod rig;
+pub mod run;
+mod run_timeline;
 pub mod survey;
 mod survey_plot;
 

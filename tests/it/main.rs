@@ -55,6 +55,8 @@ mod points_regressions;
 mod points_streaming;
 mod readme;
 mod rig_toml;
+mod run_bags;
+mod run_fixtures;
 mod scene_simulate;
 mod scene_tunnel;
 mod snapshots;
