@@ -625,6 +625,19 @@ pub const PROGRESS_MIN_BYTES: u64 = 32 << 20;
 /// Point count from which `degeneracy` shows a progress bar (on a terminal).
 pub const PROGRESS_MIN_POINTS: usize = 1 << 20;
 
+/// A scan's weakest point-displacement direction counts as unconstrained by
+/// every point when its eigenvalue (its Rayleigh quotient `v^T H v / v^T M v`,
+/// in `[0, 1]`: the mean squared normal component of the points' motion over
+/// their mean squared motion) is at most this: the points' shares of it
+/// (`--format mcap`, `weakest_share`) are then rounding, and are written as 0.
+pub const SHARE_ZERO_EIGENVALUE: f64 = 1e-12;
+
+/// Most points of a scan drawn in its 3D scene (`--format mcap`): a larger
+/// scan is drawn as every k-th point, k the smallest that fits (2 million
+/// points are 32 MB of cloud data, about 43 MB in the file's base64 JSON,
+/// which Foxglove loads whole).
+pub const MAX_SCENE_CLOUD_POINTS: usize = 2_000_000;
+
 // ---------------------------------------------------------------------------
 // Recorded runs (`audit run`, `run`)
 // ---------------------------------------------------------------------------

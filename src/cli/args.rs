@@ -18,13 +18,17 @@ use extrinsic_audit::tolerances::{
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-/// `--format`: the output format of every command.
+/// `--format`, `--output`: what every command writes, and where.
 #[derive(Debug, Args, Clone)]
 pub struct OutputArgs {
     /// Output format (dot, mermaid and svg draw the frame tree, `audit FILE...
-    /// --frames`)
+    /// --frames`; mcap writes the 3D scene for Foxglove)
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
     pub format: OutputFormat,
+    /// Write the output to FILE instead of standard output (replaced
+    /// atomically; never one of the command's inputs)
+    #[arg(long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
 }
 
 /// `--ell`: the characteristic lengths.

@@ -9,6 +9,8 @@ use clap::Args;
 use extrinsic_audit::diagnostic::Result;
 use extrinsic_audit::formats::{Format, LoadOptions};
 use extrinsic_audit::pipeline::{self, RigOptions};
+use extrinsic_audit::render::OutputFormat;
+use extrinsic_audit::report::frames::frames_report;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -90,7 +92,10 @@ impl AuditArgs {
 }
 
 pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
+    super::check_output(&args.output, &args.files)?;
     let loaded = pipeline::load(&args.files, &args.load_options()?, &args.renames.renames)?;
+    // The files named and those they included.
+    let inputs = loaded.files_read(&args.files);
     print_warnings(loaded.graph.warnings());
     print_notes(loaded.graph.notes());
     pipeline::deny_warnings(args.strict, loaded.graph.warnings())?;
@@ -100,7 +105,8 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
             &loaded,
             args.from.as_deref(),
             args.to.as_deref(),
-            args.output.format,
+            &args.output,
+            &inputs,
             out,
         );
     }
@@ -122,11 +128,11 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
         .chain(&chain.warnings)
         .cloned()
         .collect();
-    emit_warned(
-        &pipeline::report(&chain, &opts)?,
-        &warnings,
-        args.output.format,
-        out,
-    )?;
+    let mut report = pipeline::report(&chain, &opts)?;
+    // The 3D scene draws the whole tree, the chain marked.
+    if args.output.format == OutputFormat::Mcap {
+        report.tree = Some(frames_report(&loaded.graph, Some(&chain)));
+    }
+    emit_warned(&report, &warnings, &args.output, &inputs, out)?;
     Ok(0)
 }

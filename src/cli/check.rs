@@ -100,6 +100,14 @@ fn parse_pair(s: &str) -> std::result::Result<(String, String), String> {
 }
 
 pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
+    let inputs: Vec<PathBuf> = args
+        .paths
+        .iter()
+        .chain(&args.baseline)
+        .chain(&args.write_baseline)
+        .cloned()
+        .collect();
+    super::check_output(&args.output, &inputs)?;
     let progress = super::display::TermProgress::new();
     let report = pipeline::check_with(
         &CheckOptions {
@@ -131,6 +139,6 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
         },
         &progress,
     )?;
-    emit(&report, args.output.format, out)?;
+    emit(&report, &args.output, &inputs, out)?;
     Ok(report.exit_code())
 }

@@ -16,6 +16,7 @@ use extrinsic_audit::pipeline::detector::{
     self as det, CalibrateOptions, DegeneracyOptions, InitialGuess, ScanOptions, SimulateParams,
     SimulateRig, SweepOptions, TunnelParams,
 };
+use extrinsic_audit::render::OutputFormat;
 use extrinsic_audit::tolerances::{
     DEFAULT_ELLS, PAIR_GATE_M, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
 };
@@ -344,6 +345,15 @@ pub struct CalibrateThresholdArgs {
 }
 
 impl DegeneracyArgs {
+    /// The files read: the points, the target, the initial-guess file.
+    fn inputs(&self) -> Vec<PathBuf> {
+        std::iter::once(&self.points)
+            .chain(&self.target)
+            .chain(&self.initial_guess_file)
+            .cloned()
+            .collect()
+    }
+
     /// How the scan is read.
     pub fn scan_options(&self) -> Result<ScanOptions> {
         let frame = det::parse_frame(self.shift.as_deref(), self.rotate_rpy.as_deref())?;
@@ -375,21 +385,28 @@ impl DegeneracyArgs {
             target: self.target.clone(),
             gate: self.gate,
             initial_guess,
+            keep_points: false,
         })
     }
 }
 
 /// `audit degeneracy`.
 pub fn degeneracy(args: &DegeneracyArgs, out: &mut dyn Write) -> Result<i32> {
+    let inputs = args.inputs();
+    super::check_output(&args.output, &inputs)?;
+    let mut scan = args.scan_options()?;
+    // The 3D scene draws the points: keep them.
+    scan.keep_points = args.output.format == OutputFormat::Mcap;
     let opts = DegeneracyOptions {
-        scan: args.scan_options()?,
+        scan,
         tau: args.tau.tau,
         ells: args.ell.ell.clone(),
         show_matrices: args.show_matrices,
     };
     emit(
         &det::degeneracy_scan(&opts, &TermBars)?,
-        args.output.format,
+        &args.output,
+        &inputs,
         out,
     )?;
     Ok(0)
@@ -398,6 +415,9 @@ pub fn degeneracy(args: &DegeneracyArgs, out: &mut dyn Write) -> Result<i32> {
 /// `audit sweep`.
 pub fn sweep(args: &SweepArgs, out: &mut dyn Write) -> Result<i32> {
     let s = &args.scan;
+    let mut inputs = s.inputs();
+    inputs.extend(args.rig.iter().cloned());
+    super::check_output(&s.output, &inputs)?;
     let opts = SweepOptions {
         scan: s.scan_options()?,
         tau: s.tau.tau,
@@ -412,12 +432,13 @@ pub fn sweep(args: &SweepArgs, out: &mut dyn Write) -> Result<i32> {
             load
         },
     };
-    emit(&det::sweep_scan(&opts, &TermBars)?, s.output.format, out)?;
+    emit(&det::sweep_scan(&opts, &TermBars)?, &s.output, &inputs, out)?;
     Ok(0)
 }
 
 /// `audit tunnel`.
 pub fn tunnel(args: &TunnelArgs, out: &mut dyn Write) -> Result<i32> {
+    super::check_output(&args.output, &[])?;
     let report = det::tunnel(&TunnelParams {
         radius: args.radius,
         length: args.length,
@@ -426,7 +447,7 @@ pub fn tunnel(args: &TunnelArgs, out: &mut dyn Write) -> Result<i32> {
         shift: det::parse_triple(&args.shift, "--shift")?,
         tau: args.tau.tau,
     })?;
-    emit(&report, args.output.format, out)?;
+    emit(&report, &args.output, &[], out)?;
     Ok(0)
 }
 
@@ -459,8 +480,9 @@ pub fn simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<i32> {
         pose,
         load,
     };
+    super::check_output(&args.output, &args.files)?;
     let t = det::simulate_transform(&rig)?;
-    emit(&det::simulate(&params, &t)?, args.output.format, out)?;
+    emit(&det::simulate(&params, &t)?, &args.output, &args.files, out)?;
     Ok(0)
 }
 
@@ -473,6 +495,7 @@ pub fn calibrate_threshold(args: &CalibrateThresholdArgs, out: &mut dyn Write) -
         ells: args.ell.ell.clone(),
         threads: args.threads,
     };
-    emit(&det::calibrate(&opts, &TermBars)?, args.output.format, out)?;
+    super::check_output(&args.output, &[])?;
+    emit(&det::calibrate(&opts, &TermBars)?, &args.output, &[], out)?;
     Ok(0)
 }

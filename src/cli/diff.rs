@@ -83,6 +83,8 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
             args.tolerance.len()
         )));
     };
+    let inputs = [args.old.clone(), args.new.clone()];
+    super::check_output(&args.output, &inputs)?;
     let (report, warnings) = pipeline::diff(&DiffOptions {
         old: args.old.clone(),
         new: args.new.clone(),
@@ -117,6 +119,6 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
         },
     })?;
     print_warnings(&warnings);
-    emit(&report, args.output.format, out)?;
+    emit(&report, &args.output, &inputs, out)?;
     Ok(if report.exceeded.is_empty() { 0 } else { 1 })
 }

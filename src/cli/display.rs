@@ -58,6 +58,20 @@ pub fn stdout_layout() -> Layout {
     }
 }
 
+/// The style and layout of an output file (`--output`): as a pipe gets them,
+/// every column and no colour unless `--color always`.
+pub fn file_style_layout() -> (Style, Layout) {
+    let a = args();
+    let style = Style::chosen(a.color, false);
+    let layout = Layout {
+        width: None,
+        wide: a.wide,
+        columns: a.columns,
+        cwd: std::env::current_dir().ok(),
+    };
+    (style, layout)
+}
+
 fn terminal_width() -> usize {
     let env = std::env::var("COLUMNS")
         .ok()

@@ -1,22 +1,24 @@
-//! `audit FILE... --frames [--from A --to B] --format text|json|markdown|dot|mermaid|svg`:
+//! `audit FILE... --frames [--from A --to B] --format text|json|markdown|dot|mermaid|svg|mcap`:
 //! the frame tree, the chain highlighted when asked, through the one output
 //! path (its document is a graph; the formats that cannot draw one refuse).
 
+use super::args::OutputArgs;
 use super::emit_warned;
 use extrinsic_audit::diagnostic::{Error, Result};
 use extrinsic_audit::pipeline::Loaded;
-use extrinsic_audit::render::OutputFormat;
 use extrinsic_audit::report::frames::frames_report;
 use std::io::Write;
+use std::path::PathBuf;
 
-/// Print the frame tree of `loaded` in `format`, the `from` -> `to` chain
+/// Print the frame tree of `loaded` as `output` asks, the `from` -> `to` chain
 /// marked when both are given; its JSON carries the graph's warnings (already
 /// printed on standard error).
 pub fn run(
     loaded: &Loaded,
     from: Option<&str>,
     to: Option<&str>,
-    format: OutputFormat,
+    output: &OutputArgs,
+    inputs: &[PathBuf],
     out: &mut dyn Write,
 ) -> Result<i32> {
     let chain = match (from, to) {
@@ -29,6 +31,6 @@ pub fn run(
         }
     };
     let rep = frames_report(&loaded.graph, chain.as_ref());
-    emit_warned(&rep, loaded.graph.warnings(), format, out)?;
+    emit_warned(&rep, loaded.graph.warnings(), output, inputs, out)?;
     Ok(0)
 }

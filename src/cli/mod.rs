@@ -14,25 +14,51 @@ mod frames;
 pub mod run;
 pub mod survey;
 
+use args::OutputArgs;
 use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
 use extrinsic_audit::document::Report;
+use extrinsic_audit::pipeline;
 use extrinsic_audit::render::{self, OutputFormat, Style};
 use extrinsic_audit::sanitize;
-use std::io::Write;
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
 
-/// Render `report` in `format` to `out` (colour for tables on a terminal).
-pub fn emit<R: Report>(report: &R, format: OutputFormat, out: &mut dyn Write) -> Result<()> {
-    emit_warned(report, &[], format, out)
+/// Render `report` as `output` asks (`--format`, `--output`) to `out` or
+/// the output file; `inputs` are the files the command read (never written
+/// over).
+pub fn emit<R: Report>(
+    report: &R,
+    output: &OutputArgs,
+    inputs: &[PathBuf],
+    out: &mut dyn Write,
+) -> Result<()> {
+    emit_warned(report, &[], output, inputs, out)
 }
 
 /// [`emit`], the JSON carrying `warnings` (already printed on stderr). Every
-/// report, the frame tree included, reaches standard output here.
+/// report, the frame tree included, reaches standard output or its
+/// `--output` file here: a file through the atomic writer, after the check
+/// that it is none of `inputs`; a binary format never to a terminal.
 pub fn emit_warned<R: Report>(
     report: &R,
     warnings: &[Warning],
-    format: OutputFormat,
+    output: &OutputArgs,
+    inputs: &[PathBuf],
     out: &mut dyn Write,
 ) -> Result<()> {
+    let format = output.format;
+    if let Some(path) = &output.output {
+        pipeline::check_output_target("--output", "command", path, inputs)?;
+        let (style, layout) = display::file_style_layout();
+        let bytes = render::render_bytes(report, warnings, format, style, &layout)?;
+        return pipeline::write_atomic(path, &bytes);
+    }
+    if format.is_binary() && std::io::stdout().is_terminal() {
+        return Err(Error::usage(format!(
+            "--format {} is binary: refusing to write it to a terminal; give --output FILE.{0} or redirect standard output",
+            format.name()
+        )));
+    }
     let style = if format == OutputFormat::Table {
         display::stdout_style()
     } else {
@@ -50,6 +76,14 @@ pub fn emit_warned<R: Report>(
         std::process::exit(0);
     }
     written
+}
+
+/// Check `--output` before a command does its work (the write checks again).
+pub fn check_output(output: &OutputArgs, inputs: &[PathBuf]) -> Result<()> {
+    match &output.output {
+        Some(path) => pipeline::check_output_target("--output", "command", path, inputs),
+        None => Ok(()),
+    }
 }
 
 /// Standard output as the renderers write it, noting a closed pipe.

@@ -380,6 +380,13 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
         )));
     }
     let opts = args.options()?;
+    if args.output.output.is_some() && format == OutputFormat::Csv {
+        // The per-scan rows stream as they come; their file is --csv's.
+        return Err(Error::usage(
+            "--output with --format csv: the per-scan rows are streamed; give --csv FILE",
+        ));
+    }
+    super::check_output(&args.output, &args.run)?;
     for (flag, t, ext) in [
         ("--csv", &args.csv, "csv"),
         ("--jsonl", &args.jsonl, "jsonl"),
@@ -411,10 +418,13 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
     if let Some(t) = &args.timeline {
         extrinsic_audit::pipeline::write_atomic(t, svg()?.as_bytes())?;
     }
-    match format {
-        OutputFormat::Csv => {}
-        OutputFormat::Svg => stdout_line(out, svg()?.trim_end())?,
-        _ => emit_warned(&report, &warnings, format, out)?,
+    match (format, &args.output.output) {
+        (OutputFormat::Csv, _) => {}
+        (OutputFormat::Svg, Some(t)) => {
+            extrinsic_audit::pipeline::write_atomic(t, svg()?.as_bytes())?
+        }
+        (OutputFormat::Svg, None) => stdout_line(out, svg()?.trim_end())?,
+        _ => emit_warned(&report, &warnings, &args.output, &args.run, out)?,
     }
     Ok(0)
 }

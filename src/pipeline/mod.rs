@@ -9,6 +9,7 @@ pub mod detector;
 mod diff;
 pub mod files;
 pub mod manifest;
+mod output;
 mod parallel;
 pub mod run;
 mod survey;
@@ -17,6 +18,7 @@ pub mod walk;
 pub use check::{check, check_with, CheckOptions, Robot};
 pub use diff::{diff, DiffOptions, SideRead};
 pub use files::{expand_paths, same_file, write_atomic};
+pub use output::check_output_target;
 pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};
 
 use crate::diagnostic::{Code, Error, Result, Warning};

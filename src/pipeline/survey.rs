@@ -72,7 +72,7 @@ struct Input {
 }
 
 /// `FILE:FROM:TO` split, when `p` is not itself an existing path.
-fn split_pair(p: &Path) -> (PathBuf, Option<(String, String)>) {
+pub(super) fn split_pair(p: &Path) -> (PathBuf, Option<(String, String)>) {
     if p.exists() {
         return (p.to_path_buf(), None);
     }
@@ -92,7 +92,7 @@ fn split_pair(p: &Path) -> (PathBuf, Option<(String, String)>) {
 }
 
 /// Any file a directory walk reads, but a check manifest.
-fn is_any_input(p: &Path) -> bool {
+pub(super) fn is_any_input(p: &Path) -> bool {
     formats::is_calibration_file(p)
         && p.file_name()
             .is_some_and(|n| n != super::manifest::MANIFEST)
@@ -313,49 +313,7 @@ pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
             target.display()
         )));
     }
-    if target.is_dir() {
-        return Err(Error::usage(format!(
-            "--plot {}: expected a file, found a directory",
-            target.display()
-        )));
-    }
-    // Compare where the files really are (`./a.svg` and `a.svg`, symlinks).
-    let real = |p: &Path| {
-        let dir = p
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        dir.canonicalize()
-            .ok()
-            .map(|d| d.join(p.file_name().unwrap_or_default()))
-    };
-    let t = real(target).ok_or_else(|| {
-        Error::usage(format!(
-            "--plot {}: expected a file in an existing directory",
-            target.display()
-        ))
-    })?;
-    let t = t.canonicalize().unwrap_or(t);
-    for p in inputs {
-        let (p, _) = split_pair(p);
-        let walked = p.is_dir()
-            && p.canonicalize().ok().is_some_and(|d| t.starts_with(d))
-            && is_any_input(&t);
-        if super::same_file(&p, target) || walked {
-            return Err(Error::usage(format!(
-                "--plot {}: refusing to write over an input of the survey ({})",
-                target.display(),
-                p.display()
-            )));
-        }
-    }
-    if let Some(why) = super::files::unsafe_target(target) {
-        return Err(Error::usage(format!(
-            "--plot {}: refusing to write: {why}",
-            target.display()
-        )));
-    }
-    Ok(())
+    super::output::check_output_target("--plot", "survey", target, inputs)
 }
 
 /// Draw the survey plot to `target` after [`check_plot_target`] (again: the

@@ -48,6 +48,7 @@ mod hostile_python;
 mod hostile_writes;
 mod hostile_xacro;
 mod json_schemas;
+mod mcap_export;
 mod points_las;
 mod points_progress;
 mod points_readers;
