@@ -70,6 +70,8 @@ where
         .configure_mesh()
         .x_desc(shown(&p.x.label))
         .y_desc(shown(&p.y.label))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
         .light_line_style(WHITE.mix(0.0))
         .draw()
         .map_err(plot_err)?;
@@ -88,6 +90,33 @@ where
         .draw()
         .map_err(plot_err)?;
     Ok(())
+}
+
+/// A tick label with at most three significant digits: plain between 1e-3
+/// and 1e4, else `1.5e-5` (plotters' own labels on a log axis print the
+/// tick's binary value, `9.99999999e-5`).
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !a.is_finite() {
+        return format!("{v}");
+    }
+    let trim = |s: String| -> String {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    if (1e-3..1e4).contains(&a) {
+        let decimals = (2 - a.log10().floor() as i32).max(0) as usize;
+        trim(format!("{v:.decimals$}"))
+    } else {
+        let s = format!("{v:.2e}");
+        match s.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", trim(m.to_string())),
+            None => s,
+        }
+    }
 }
 
 /// One series, with its legend entry (its mark, or a short line) when it
@@ -172,5 +201,27 @@ where
 {
     if let Some(l) = label {
         anno.label(shown(l)).legend(icon);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn ticks_have_three_significant_digits_at_most() {
+        let cases = [
+            (9.99999999e-5, "1e-4"),
+            (1.5e-5, "1.5e-5"),
+            (0.001, "0.001"),
+            (0.25, "0.25"),
+            (1.0, "1"),
+            (12.5, "12.5"),
+            (2500.0, "2500"),
+            (1e6, "1e6"),
+            (-0.5, "-0.5"),
+            (0.0, "0"),
+        ];
+        for (v, want) in cases {
+            assert_eq!(super::tick(v), want, "{v}");
+        }
     }
 }
