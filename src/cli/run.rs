@@ -12,6 +12,7 @@ use extrinsic_audit::diagnostic::{Code, Error, Result};
 use extrinsic_audit::formats::bag::BagLimits;
 use extrinsic_audit::formats::LoadOptions;
 use extrinsic_audit::pipeline::detector::parse_triple;
+use extrinsic_audit::pipeline::files::AtomicFile;
 use extrinsic_audit::pipeline::run::{self as pr, RunOptions};
 use extrinsic_audit::render::{self, OutputFormat};
 use extrinsic_audit::report::run::{RunHeader, RunSink};
@@ -126,7 +127,7 @@ pub struct RunArgs {
     pub tau: TauArgs,
     #[command(flatten)]
     pub ell: EllArgs,
-    /// Worker threads (0: one per core).
+    /// Worker threads (0: AUDIT_JOBS when set, else one per core, as check and survey)
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub threads: usize,
     /// Write one CSV row per scan (or pair) to FILE (.csv).
@@ -234,81 +235,53 @@ impl RunArgs {
     }
 }
 
-/// `--csv`, `--jsonl`, `--timeline`: a file name with its extension, in an
-/// existing directory, that is none of the run's inputs (nor inside an
-/// input folder).
+/// `--csv`, `--jsonl`, `--timeline`: a file name with its extension that
+/// the run may write (`check_output_target`: none of its inputs, nor inside
+/// an input folder; not a symlink or a file of several names).
 fn check_target(flag: &str, target: &Path, ext: &str, inputs: &[PathBuf]) -> Result<()> {
-    let usage = |m: String| Error::usage(format!("{flag} {}: {m}", target.display()));
     if !target
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case(ext))
     {
-        return Err(usage(format!("expected a file name ending in .{ext}")));
+        return Err(Error::usage(format!(
+            "{flag} {}: expected a file name ending in .{ext}",
+            target.display()
+        )));
     }
-    let dir = target
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let dir = dir
-        .canonicalize()
-        .map_err(|_| usage("expected a file in an existing directory".into()))?;
-    let real = dir.join(target.file_name().unwrap_or_default());
-    for p in inputs.iter().chain(std::iter::once(&real)) {
-        if p == &real {
-            continue;
-        }
-        let Ok(c) = p.canonicalize() else { continue };
-        if c == real
-            || (c.is_dir() && real.starts_with(&c))
-            || real.canonicalize().is_ok_and(|r| r == c)
+    // A run reads every point file of an input folder (a CSV among them),
+    // so nothing is written inside one.
+    let dir = target.parent().filter(|d| !d.as_os_str().is_empty());
+    let real_dir = dir.unwrap_or(Path::new(".")).canonicalize();
+    if let Ok(d) = &real_dir {
+        if let Some(p) = inputs
+            .iter()
+            .find(|p| p.is_dir() && p.canonicalize().is_ok_and(|c| d.starts_with(c)))
         {
-            return Err(usage(format!(
-                "refusing to write over or into an input ({})",
+            return Err(Error::usage(format!(
+                "{flag} {}: refusing to write into an input folder of the run ({})",
+                target.display(),
                 p.display()
             )));
         }
     }
-    if real.is_dir() {
-        return Err(usage("expected a file, found a directory".into()));
-    }
-    Ok(())
+    extrinsic_audit::pipeline::check_output_target(flag, "run", target, inputs)
 }
 
-/// A file written as the scans finish: a temporary file created exclusively
-/// beside it, renamed over it when the run ends well, removed otherwise.
-struct Streamed {
-    target: PathBuf,
-    file: std::io::BufWriter<tempfile::NamedTempFile>,
-}
+/// A file written as the scans finish, put in place when the run ends well
+/// (the atomic writer's temporary; removed otherwise).
+struct Streamed(AtomicFile);
 
 impl Streamed {
     fn create(target: &Path) -> Result<Self> {
-        let dir = target
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        let tmp = tempfile::Builder::new()
-            .prefix(".audit-run-")
-            .tempfile_in(dir)
-            .map_err(|e| Error::io(target, &e))?;
-        Ok(Streamed {
-            target: target.to_path_buf(),
-            file: std::io::BufWriter::new(tmp),
-        })
+        AtomicFile::create(target).map(Streamed)
     }
 
     fn line(&mut self, s: &str) -> Result<()> {
-        writeln!(self.file, "{s}").map_err(|e| Error::io(&self.target, &e))
+        writeln!(self.0, "{s}").map_err(|e| self.0.error(e))
     }
 
     fn finish(self) -> Result<()> {
-        let tmp = self
-            .file
-            .into_inner()
-            .map_err(|e| Error::io(&self.target, e.error()))?;
-        tmp.persist(&self.target)
-            .map_err(|e| Error::io(&self.target, &e.error))?;
-        Ok(())
+        self.0.commit()
     }
 }
 
@@ -320,13 +293,9 @@ struct Sinks<'a> {
     stdout_csv: Option<&'a mut dyn Write>,
 }
 
-fn csv_line(cells: &[String]) -> String {
-    render::csv_line(cells)
-}
-
 impl RunSink for Sinks<'_> {
     fn begin(&mut self, h: &RunHeader) -> Result<()> {
-        let head = csv_line(&h.csv_header());
+        let head = render::csv_line(&h.csv_header());
         if let Some(c) = self.csv.as_mut() {
             c.line(&head)?;
         }
@@ -338,7 +307,7 @@ impl RunSink for Sinks<'_> {
 
     fn outcome(&mut self, h: &RunHeader, o: &Outcome) -> Result<()> {
         if self.csv.is_some() || self.stdout_csv.is_some() {
-            let row = csv_line(&h.csv_row(o));
+            let row = render::csv_line(&h.csv_row(o));
             if let Some(c) = self.csv.as_mut() {
                 c.line(&row)?;
             }

@@ -603,7 +603,8 @@ pub fn run(
     });
     sink.begin(&header)?;
     let threads = match opts.threads {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        // AUDIT_JOBS or the cores, as check and survey choose.
+        0 => super::parallel::threads(),
         n => n,
     };
     let lim = Limits {
