@@ -84,10 +84,30 @@ pub fn literal_half_unit(text: &str) -> Option<f64> {
 /// conventions): integers and zeros take the finest place of the tuple, a
 /// tuple without any decimal is exact.
 pub fn tuple_half_units(texts: &[&str]) -> Vec<f64> {
-    let own: Vec<Option<f64>> = texts.iter().map(|t| literal_half_unit(t)).collect();
-    let finest = own.iter().flatten().copied().fold(f64::INFINITY, f64::min);
+    let mut out = vec![0.0; texts.len()];
+    fill_half_units(texts, &mut out);
+    out
+}
+
+/// [`tuple_half_units`] of a fixed-size tuple, without allocating (the URDF
+/// reader's path, once per joint).
+pub fn half_units<const N: usize>(texts: &[&str; N]) -> [f64; N] {
+    let mut out = [0.0; N];
+    fill_half_units(texts, &mut out);
+    out
+}
+
+fn fill_half_units(texts: &[&str], out: &mut [f64]) {
+    // NaN marks "adopts the finest place" (a half-unit is never NaN).
+    let mut finest = f64::INFINITY;
+    for (o, t) in out.iter_mut().zip(texts) {
+        *o = literal_half_unit(t).unwrap_or(f64::NAN);
+        finest = finest.min(*o);
+    }
     let fill = if finest.is_finite() { finest } else { 0.0 };
-    own.into_iter().map(|h| h.unwrap_or(fill)).collect()
+    for o in out.iter_mut().filter(|o| o.is_nan()) {
+        *o = fill;
+    }
 }
 
 /// Half-units of a tuple of parsed numbers, from the digits of their shortest
