@@ -296,3 +296,220 @@ fn refuse_xacro(idx: &LineIndex, first: Option<&XacroAt>, path: &Path) -> Result
     ))
     .at_line(l, Some(c)))
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::formats::{xml, LoadOptions};
+    use std::path::Path;
+
+    fn load(text: &str) -> crate::diagnostic::Result<crate::formats::Loaded> {
+        super::super::parse(text, Path::new("t.urdf"), &LoadOptions::default())
+    }
+
+    fn error(text: &str) -> String {
+        match load(text) {
+            Err(e) => e.to_string(),
+            Ok(_) => "accepted".into(),
+        }
+    }
+
+    /// The error's message and line (`accepted`, no line, when there is none).
+    fn line_of(text: &str) -> (String, Option<usize>) {
+        match load(text) {
+            Err(e) => (e.message.clone(), e.location.line),
+            Ok(_) => ("accepted".into(), None),
+        }
+    }
+
+    fn joint(name: &str, parent: &str, child: &str, xyz: &str) -> String {
+        format!(
+            "<joint name=\"{name}\" type=\"fixed\"><parent link=\"{parent}\"/><child link=\"{child}\"/><origin xyz=\"{xyz}\"/></joint>\n"
+        )
+    }
+
+    fn robot(body: &str) -> String {
+        format!("<robot name=\"r\">\n{body}</robot>\n")
+    }
+
+    /// Links may follow the joints that name them, in any order: the edges
+    /// are those of the file written links first.
+    #[test]
+    fn links_declared_after_their_joints() {
+        let (ja, jb) = (
+            joint("ja", "a", "b", "1 2 3"),
+            joint("jb", "b", "c", "4 5 6"),
+        );
+        let links = "<link name=\"a\"/>\n<link name=\"b\"/>\n<link name=\"c\"/>\n";
+        let first = load(&robot(&format!("{links}{ja}{jb}"))).unwrap();
+        for body in [
+            format!("{ja}{jb}{links}"),
+            format!("<link name=\"a\"/>\n{ja}<link name=\"b\"/>\n{jb}<link name=\"c\"/>\n"),
+            format!("{jb}<link name=\"c\"/>\n{ja}<link name=\"b\"/>\n<link name=\"a\"/>\n"),
+        ] {
+            let l = load(&robot(&body)).unwrap();
+            let pairs = |l: &crate::formats::Loaded| {
+                let mut v: Vec<_> = l
+                    .edges
+                    .iter()
+                    .map(|e| {
+                        (
+                            e.parent.clone(),
+                            e.child.clone(),
+                            *e.transform.translation(),
+                        )
+                    })
+                    .collect();
+                v.sort_by(|a, b| a.0.cmp(&b.0));
+                v
+            };
+            assert_eq!(pairs(&l), pairs(&first), "{body}");
+        }
+    }
+
+    /// The error reported is the first in the order of the checks, wherever
+    /// in the file the pass met it.
+    #[test]
+    fn the_first_error_in_check_order_wins() {
+        let links = "<link name=\"a\"/>\n<link name=\"b\"/>\n<link name=\"c\"/>\n";
+        let bad_xyz = joint("j1", "a", "b", "1 2");
+        let undeclared = joint("j2", "b", "nowhere", "0 0 0");
+        let xyz_msg = "joint 'j1' <origin xyz>: expected 3 numbers, found 2 (\"1 2\")";
+        let link_msg = "joint 'j2': child link 'nowhere' is not declared as a <link>";
+        // Joints in file order: the earlier joint's error, of either kind.
+        assert!(error(&robot(&format!("{links}{bad_xyz}{undeclared}"))).contains(xyz_msg));
+        assert!(error(&robot(&format!("{undeclared}{bad_xyz}{links}"))).contains(link_msg));
+        // In one joint, an undeclared parent comes before a bad origin.
+        let both = joint("j3", "gone", "b", "1 2");
+        let e = error(&robot(&format!("{both}{links}")));
+        assert!(
+            e.contains("joint 'j3': parent link 'gone' is not declared"),
+            "{e}"
+        );
+        // A duplicate link, declared after the bad joint, comes first.
+        let e = line_of(&robot(&format!("{links}{bad_xyz}<link name=\"a\"/>\n")));
+        assert!(
+            e.0.contains("link 'a' declared twice") && e.1 == Some(6),
+            "{e:?}"
+        );
+        // Un-expanded xacro late in the file comes before both.
+        let e = line_of(&robot(&format!(
+            "{links}{bad_xyz}<link name=\"${{x}}\"/>\n"
+        )));
+        assert!(
+            e.0.contains("un-expanded xacro (<link>)") && e.1 == Some(6),
+            "{e:?}"
+        );
+        // And malformed XML anywhere comes first: roxmltree's words.
+        let text = format!("<robot name=\"r\">\n{links}{bad_xyz}</robt>\n");
+        let want = xml::error(
+            &roxmltree::Document::parse_with_options(&text, xml::parse_options()).unwrap_err(),
+            &text,
+        )
+        .to_string();
+        assert_eq!(error(&text), want);
+        // A bad version at the root comes before the joints.
+        let text = format!("<robot name=\"r\" version=\"2\">\n{links}{bad_xyz}</robot>");
+        assert!(error(&text).contains("<robot version>"), "{}", error(&text));
+    }
+
+    /// An error at the end of a long file names its line.
+    #[test]
+    fn a_late_error_names_its_line() {
+        let n = 20_000;
+        let mut body = String::from("<link name=\"l0\"/>\n");
+        for k in 1..n {
+            body.push_str(&format!("<link name=\"l{k}\"/>\n"));
+            body.push_str(&joint(
+                &format!("j{k}"),
+                &format!("l{}", k - 1),
+                &format!("l{k}"),
+                "0.1 0 0",
+            ));
+        }
+        let ok = load(&robot(&body)).unwrap();
+        assert_eq!(ok.edges.len(), n - 1);
+        body.push_str(&joint("last", &format!("l{}", n - 1), "l0", "0.1 0 nan"));
+        let e = load(&robot(&body)).unwrap_err();
+        // Line 1 is <robot>, then two lines per link and joint but the first.
+        assert_eq!(e.location.line, Some(2 * n + 1), "{e}");
+        assert!(
+            e.to_string()
+                .contains("joint 'last' <origin xyz>: expected finite numbers, found \"nan\""),
+            "{e}"
+        );
+    }
+
+    /// Numbers with signs and exponents, entities and character references
+    /// in values, comments and CDATA inside a joint: read as XML and urdfdom
+    /// read them.
+    #[test]
+    fn values_signs_exponents_entities() {
+        let text = robot(
+            "<link name=\"a&amp;b\"/><link name=\"c\"/>\n\
+             <joint name=\"j\" type=\"fixed\"><!-- <origin xyz=\"9 9 9\"/> -->\
+             <parent link=\"a&amp;b\"/><![CDATA[<child link=\"x\"/>]]><child link='c'/>\
+             <origin xyz=\"+1e-3&#32;-2.5E+2 .5\" rpy=\"-0 +0.0 1e0\"/></joint>\n",
+        );
+        let l = load(&text).unwrap();
+        let e = &l.edges[0];
+        assert_eq!((e.parent.as_str(), e.child.as_str()), ("a&b", "c"));
+        assert_eq!(e.transform.translation().as_slice(), &[0.001, -250.0, 0.5]);
+        let want = crate::geometry::Transform::from_rpy([-0.0, 0.0, 1.0], [0.0; 3]).unwrap();
+        assert_eq!(e.transform.rotation(), want.rotation());
+    }
+
+    /// `${` and `$(` anywhere in a value, as written or once decoded, are
+    /// xacro; a `$` alone is not.
+    #[test]
+    fn xacro_expressions_in_values() {
+        for (value, xacro) in [
+            ("${pi}", true),
+            ("$(find pkg)", true),
+            ("a$&#123;b}", true),
+            ("$&#40;arg x)", true),
+            ("a$b", false),
+            ("$ {x}", false),
+        ] {
+            let text = robot(&format!(
+                "<link name=\"a\"/>\n<link name=\"b\" note=\"{value}\"/>\n"
+            ));
+            let e = line_of(&text);
+            assert_eq!(
+                e.0.contains("un-expanded xacro (<link>)"),
+                xacro,
+                "{value}: {e:?}"
+            );
+            if xacro {
+                assert_eq!(e.1, Some(3), "{e:?}");
+            }
+        }
+    }
+
+    /// Duplicated attributes past the pairwise limit, and namespace scopes,
+    /// get roxmltree's error; a xacro prefix in scope is xacro.
+    #[test]
+    fn duplicates_and_namespace_scopes() {
+        let attrs: String = (0..40).map(|i| format!(" a{i}=\"{i}\"")).collect();
+        for text in [
+            robot(&format!("<link name=\"a\"{attrs} a39=\"x\"/>\n")),
+            robot(&format!("<link name=\"a\"{attrs} a3=\"x\"/>\n")),
+            robot("<a xmlns:x=\"urn:x\"><x:b/></a><x:c/>\n<link name=\"a\"/>\n"),
+        ] {
+            let want = xml::error(
+                &roxmltree::Document::parse_with_options(&text, xml::parse_options()).unwrap_err(),
+                &text,
+            )
+            .to_string();
+            assert_eq!(error(&text), want, "{text}");
+        }
+        let text = robot(
+            "<link name=\"a\"/>\n<a xmlns:x=\"urn:other\"><x:b/></a>\n\
+             <c xmlns:x=\"http://www.ros.org/wiki/xacro\">\n<x:d/></c>\n",
+        );
+        let e = line_of(&text);
+        assert!(
+            e.0.contains("un-expanded xacro (<xacro:d>)") && e.1 == Some(5),
+            "{e:?}"
+        );
+    }
+}
