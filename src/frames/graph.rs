@@ -51,7 +51,9 @@ use crate::tolerances::{
     CYCLE_LIST_MAX, DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, REDUNDANT_ROTATION_TOL,
     REDUNDANT_TRANSLATION_TOL, TREE_MAX_INDENT,
 };
-use std::collections::HashMap;
+// foldhash: frame names are short and hashed several times per edge; SipHash
+// was a tenth of loading a 100,000-link URDF (issue 29). Seeded per process.
+use foldhash::{HashMap, HashMapExt};
 
 /// One step of a composed chain: an edge walked down (parent -> child) or up
 /// (`inverted`, child -> parent).

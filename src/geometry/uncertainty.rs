@@ -52,6 +52,10 @@ use serde::Serialize;
 /// adopt the tuple's finest place ([`tuple_half_units`]). `Some(0.0)` means
 /// exact (a double printed in full).
 pub fn literal_half_unit(text: &str) -> Option<f64> {
+    plain_half_unit(text).unwrap_or_else(|| general_half_unit(text))
+}
+
+fn general_half_unit(text: &str) -> Option<f64> {
     let t = text.trim().trim_start_matches(['+', '-']);
     let (mant, exp) = match t.find(['e', 'E']) {
         Some(i) => (&t[..i], t[i + 1..].parse::<i32>().ok()?),
@@ -78,6 +82,30 @@ pub fn literal_half_unit(text: &str) -> Option<f64> {
         None => 0,
     };
     Some(0.5 * 10f64.powi(exp - decimals))
+}
+
+/// [`literal_half_unit`] of the common literal in one pass over its bytes:
+/// signs, then digits and dots only (`None` for anything else, white space or
+/// an exponent: the general path reads those). A URDF reads six per joint.
+fn plain_half_unit(text: &str) -> Option<Option<f64>> {
+    let b = text.as_bytes();
+    let mant = &b[b.iter().take_while(|&&c| c == b'+' || c == b'-').count()..];
+    let (mut significant, mut dot) = (0usize, None);
+    for (k, &c) in mant.iter().enumerate() {
+        match c {
+            b'0' if significant == 0 => {}
+            b'0'..=b'9' => significant += 1,
+            b'.' => dot = dot.or(Some(k)),
+            _ => return None,
+        }
+    }
+    Some(if significant == 0 {
+        None // zero, in any spelling
+    } else if significant >= EXACT_SIGNIFICANT_DIGITS {
+        Some(0.0)
+    } else {
+        dot.map(|d| 0.5 * 10f64.powi(-((mant.len() - d - 1) as i32)))
+    })
 }
 
 /// Half-units of the numbers of one tuple as written (see the module
@@ -828,5 +856,35 @@ pub fn pitch_decision(h: f64, sigma_h: f64, tol: PitchTol) -> PitchDecision {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod half_unit_tests {
+    use super::{general_half_unit, plain_half_unit};
+
+    /// The one-pass reading of plain literals agrees with the general one on
+    /// every literal of a small alphabet it accepts.
+    #[test]
+    fn plain_path_agrees_with_the_general_one() {
+        let alphabet = ["0", "1", "5", ".", "-", "+", "e", " "];
+        let mut texts = vec![String::new()];
+        for _ in 0..5 {
+            let next: Vec<String> = texts
+                .iter()
+                .flat_map(|t| alphabet.iter().map(move |c| format!("{t}{c}")))
+                .collect();
+            texts.extend(next);
+        }
+        texts.push("1.2345678901234567890".into());
+        texts.push("-0.000123456789012345678".into());
+        let mut plain = 0;
+        for t in &texts {
+            if let Some(h) = plain_half_unit(t) {
+                plain += 1;
+                assert_eq!(h, general_half_unit(t), "{t:?}");
+            }
+        }
+        assert!(plain > 1000, "{plain}");
     }
 }

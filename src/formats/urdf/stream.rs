@@ -33,7 +33,6 @@ use crate::formats::xacro::markers as xacro;
 use crate::formats::xml;
 use crate::tolerances::URDF_MAX_XML_DEPTH;
 use quick_xml::events::{BytesStart, Event};
-use quick_xml::name::PrefixDeclaration;
 use quick_xml::reader::Reader;
 use std::borrow::Cow;
 use std::ops::Range;
@@ -471,34 +470,35 @@ impl<'a, 'p> Walker<'a, 'p> {
                 Ok(a) => a,
                 Err(err) => return Err(self.fail(start, &err.to_string())),
             };
+            let (Some(key), Some(raw)) = (sub(text, a.key.as_ref()), sub(text, &a.value)) else {
+                return Err(self.fail(start, "an attribute"));
+            };
             if !self.validated {
-                let key = sub(text, a.key.as_ref()).unwrap_or("");
                 let twice = self.keys.len() >= PAIRWISE_ATTRS || self.keys.contains(&key);
                 self.keys.push(key);
                 if twice || !qname_ok(key.as_bytes()) {
                     self.suspect()?;
                 }
             }
-            let Some(raw) = sub(text, &a.value) else {
-                return Err(self.fail(start, "an attribute"));
+            // The name split once at its first colon, as quick-xml splits it.
+            let (prefix, local) = match key.find(':') {
+                Some(i) => (Some(&key[..i]), &key[i + 1..]),
+                None => (None, key),
             };
-            if let Some(binding) = a.key.as_namespace_binding() {
-                // xmlns declarations are not attributes (roxmltree).
-                if raw.is_empty() || a.key.prefix().is_some() {
+            if key == "xmlns" || prefix == Some("xmlns") {
+                // xmlns declarations are not attributes (roxmltree); a
+                // prefixed one is left to roxmltree's checks.
+                if raw.is_empty() || prefix.is_some() {
                     self.suspect()?;
                 }
-                let prefix = match binding {
-                    PrefixDeclaration::Default => None,
-                    PrefixDeclaration::Named(p) => sub(text, p).map(str::as_bytes),
-                };
                 let named = raw.contains("xacro");
-                scopes.bindings.push((prefix, named, raw.is_empty(), depth));
+                let declared = prefix.map(|_| local.as_bytes());
+                scopes
+                    .bindings
+                    .push((declared, named, raw.is_empty(), depth));
                 continue;
             }
-            let prefixed = a.key.prefix().is_some();
-            let Some(local) = sub(text, a.key.local_name().into_inner()) else {
-                return Err(self.fail(start, "an attribute"));
-            };
+            let prefixed = prefix.is_some();
             let s = scan(raw);
             if prefixed || s.lt || s.char_ref {
                 self.suspect()?;
