@@ -55,7 +55,7 @@ done
 python3 - "$OUT" <<'EOF' | tee "$OUT/growth.md"
 import glob, json, math, statistics, sys
 out = sys.argv[1]
-names = ["audit check", "audit survey --format json", "Python loop (tomllib + numpy)", "find | xargs cat"]
+names = ["audit check", "audit survey --format json", "Python loop (tomllib + numpy)", "find \\| xargs cat"]
 rss = {}
 for line in open(f"{out}/rss.txt"):
     n, i, kib = line.split()
