@@ -15,6 +15,7 @@
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result};
 use crate::frames::Edge;
 use crate::geometry::Transform;
+use crate::tolerances::{DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
@@ -76,13 +77,24 @@ pub struct BaselinePair {
     pub declared: bool,
 }
 
-/// Drift tolerances.
-#[derive(Debug, Clone, Copy)]
-pub struct Tolerances {
+/// How far a transform may drift from its baseline before `check` reports
+/// it. `Default`: [`DEFAULT_MAX_TRANSLATION_DRIFT`] and
+/// [`DEFAULT_MAX_ROTATION_DRIFT_DEG`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DriftTolerances {
     /// On translations (m).
     pub translation_m: f64,
     /// On rotations (deg).
     pub rotation_deg: f64,
+}
+
+impl Default for DriftTolerances {
+    fn default() -> Self {
+        DriftTolerances {
+            translation_m: DEFAULT_MAX_TRANSLATION_DRIFT,
+            rotation_deg: DEFAULT_MAX_ROTATION_DRIFT_DEG,
+        }
+    }
 }
 
 impl BaselineTransform {
@@ -397,7 +409,7 @@ fn drift(
     what: String,
     now: &BaselineTransform,
     base: &BaselineTransform,
-    tol: Tolerances,
+    tol: DriftTolerances,
     at: Location,
 ) -> Option<Diagnostic> {
     let dt = (0..3)
@@ -461,7 +473,7 @@ fn finding(code: Code, at: Location, message: String) -> Diagnostic {
 fn compare_edges(
     now: &CheckedFile,
     base: &BaselineFile,
-    tol: Tolerances,
+    tol: DriftTolerances,
     out: &mut Vec<Diagnostic>,
 ) {
     for b in &base.edges {
@@ -531,7 +543,11 @@ fn pair_gone(now: &CheckedFile, base: &BaselineFile, b: &BaselinePair) -> Diagno
 }
 
 /// Compare one file's record with the baseline's.
-pub fn compare_file(now: &CheckedFile, base: &BaselineFile, tol: Tolerances) -> Vec<Diagnostic> {
+pub fn compare_file(
+    now: &CheckedFile,
+    base: &BaselineFile,
+    tol: DriftTolerances,
+) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     compare_edges(now, base, tol, &mut out);
     for b in &base.pairs {
@@ -575,7 +591,7 @@ pub fn compare(
     now: &BTreeMap<String, CheckedFile>,
     base: &Baseline,
     dir: &Path,
-    tol: Tolerances,
+    tol: DriftTolerances,
 ) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     for (key, file) in now {

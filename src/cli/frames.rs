@@ -3,24 +3,21 @@
 //! path (its document is a graph; the formats that cannot draw one refuse).
 
 use super::emit_warned;
-use extrinsic_audit::diagnostic::{Error, Result};
-use extrinsic_audit::pipeline::Loaded;
-use extrinsic_audit::render::OutputFormat;
-use extrinsic_audit::report::frames::frames_report;
+use extrinsic_audit::{Error, OutputFormat, Result, Robot};
 use std::io::Write;
 
-/// Print the frame tree of `loaded` in `format`, the `from` -> `to` chain
-/// marked when both are given; its JSON carries the graph's warnings (already
+/// Print the frame tree of `robot` in `format`, the `from` -> `to` chain
+/// marked when both are given; its JSON carries the robot's warnings (already
 /// printed on standard error).
 pub fn run(
-    loaded: &Loaded,
+    robot: &Robot,
     from: Option<&str>,
     to: Option<&str>,
     format: OutputFormat,
     out: &mut dyn Write,
 ) -> Result<i32> {
     let chain = match (from, to) {
-        (Some(f), Some(t)) => Some(loaded.graph.transform(f, t)?),
+        (Some(f), Some(t)) => Some(robot.chain(f, t)?),
         (None, None) => None,
         _ => {
             return Err(Error::usage(
@@ -28,7 +25,7 @@ pub fn run(
             ))
         }
     };
-    let rep = frames_report(&loaded.graph, chain.as_ref());
-    emit_warned(&rep, loaded.graph.warnings(), format, out)?;
+    let rep = robot.frame_tree(chain.as_ref());
+    emit_warned(&rep, robot.warnings(), format, out)?;
     Ok(0)
 }

@@ -1,8 +1,8 @@
 //! The commands' arguments and the output. Each command module parses its
-//! arguments, calls `extrinsic_audit::pipeline`, and renders the typed report
-//! it gets back with `extrinsic_audit::render` (through [`emit`]); the flags
-//! several commands share are declared once, in `args`. The command tree and
-//! the dispatch are in `main.rs`.
+//! arguments, calls the library, and renders the typed report it gets back
+//! with `extrinsic_audit::render` (through [`emit`]); the flags several
+//! commands share are declared once, in `args`. The command tree and the
+//! dispatch are in `main.rs`.
 
 pub mod args;
 pub mod audit;
@@ -13,10 +13,8 @@ pub mod display;
 mod frames;
 pub mod survey;
 
-use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
-use extrinsic_audit::document::Report;
-use extrinsic_audit::render::{self, OutputFormat, Style};
-use extrinsic_audit::sanitize;
+use extrinsic_audit::internals::sanitize;
+use extrinsic_audit::{render, Code, Error, OutputFormat, Report, Result, Warning};
 use std::io::Write;
 
 /// Render `report` in `format` to `out` (colour for tables on a terminal).
@@ -32,16 +30,29 @@ pub fn emit_warned<R: Report>(
     format: OutputFormat,
     out: &mut dyn Write,
 ) -> Result<()> {
-    let style = if format == OutputFormat::Table {
-        display::stdout_style()
-    } else {
-        Style::plain()
-    };
-    let layout = display::stdout_layout();
-    write_output(
-        out,
-        &render::render(report, warnings, format, style, &layout)?,
-    )
+    let mut opts = display::stdout_options();
+    opts.color &= format == OutputFormat::Table;
+    opts.warnings = warnings.to_vec();
+    write_output(out, &render(report, format, &opts)?)
+}
+
+/// `--strict`: warnings (already printed) stop the command, an error naming
+/// their codes.
+pub fn deny_warnings(strict: bool, warnings: &[Warning]) -> Result<()> {
+    if !strict || warnings.is_empty() {
+        return Ok(());
+    }
+    let mut codes: Vec<&str> = warnings.iter().map(|w| w.code.name()).collect();
+    codes.sort_unstable();
+    codes.dedup();
+    Err(Error::new(
+        Code::WarningsDenied,
+        format!(
+            "--strict: expected no warnings, found {} ({})",
+            warnings.len(),
+            codes.join(", ")
+        ),
+    ))
 }
 
 /// Write `text` to standard output. A closed pipe (`audit ... | head -1`) ends

@@ -15,7 +15,9 @@
 //! moved back to the frame (`v = Ad(I, c) v_c`), so axis points are in the
 //! frame's coordinates; pitch and kind do not depend on the frame.
 
-use super::*;
+use super::accumulate::Assembly;
+use super::analysis::Analysis;
+use super::subspace::{canonical_basis_scored, TwistScrew};
 use crate::tolerances::{FOOTPRINT_SCORE_TOL, ROTATION_FRACTION_TOL, SCREW_PITCH_REL_TOL};
 use nalgebra::Vector6;
 

@@ -34,16 +34,6 @@ pub struct PairStats {
     pub mean_distance: f64,
 }
 
-/// The matched source points with the target normals in the source frame.
-pub fn correspondences(
-    source: &[[f64; 3]],
-    target: &Cloud,
-    guess: &Transform,
-    gate: f64,
-) -> Result<(Cloud, PairStats)> {
-    matches(source, target, guess, gate).map(|(c, _, st)| (c, st))
-}
-
 /// [`correspondences`] with the index in `source` of each matched point.
 fn matches(
     source: &[[f64; 3]],

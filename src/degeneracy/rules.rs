@@ -2,7 +2,7 @@
 
 #![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
 
-use super::*;
+use super::accumulate::Assembly;
 use crate::analysis::metric::{block_scaling_ell, Family};
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::{DEFAULT_ELLS, JACOBI_FLOOR};

@@ -5,7 +5,7 @@
 //! `yaml_shapes`); frames from a `T_A_B` / `A_T_B` name or Kalibr's
 //! `camN.T_cam_imu`, else `parent -> child` with a warning.
 
-use super::spec::{Confidence, LoadOptions, Loaded};
+use super::spec::{Confidence, LoadOptions, Parsed};
 use super::yaml::{self, Node, Value};
 use super::yaml_shapes::{
     err_at, frames_from_key, kalibr_frames, kalibr_imu, loc_of, matrix_edge, MATRIX_YAML_ID,
@@ -45,7 +45,7 @@ macro_rules! yaml_dialect {
 }
 pub(crate) use yaml_dialect;
 
-pub(crate) type DocsParser = fn(&[Node], &str, &Path) -> Result<Loaded>;
+pub(crate) type DocsParser = fn(&[Node], &str, &Path) -> Result<Parsed>;
 
 /// Parse YAML text with one dialect's reader; `--key` reads one key instead
 /// (except in tf_static dumps, whose keys are not transforms).
@@ -55,7 +55,7 @@ pub(crate) fn parse_with(
     text: &str,
     path: &Path,
     opts: &LoadOptions,
-) -> Result<Loaded> {
+) -> Result<Parsed> {
     let docs = yaml::parse_documents(text).map_err(|e| explain_yaml_error(e, text))?;
     if let (Some(key), true) = (&opts.key, keyed) {
         return parse_keyed(&docs, key, text, path);
@@ -95,7 +95,7 @@ fn find_key<'a>(n: &'a Node, key: &str, out: &mut Vec<(&'a Node, &'a Node)>) {
 }
 
 /// `--key NAME`: one key anywhere (or a dotted path from the top).
-pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<Loaded> {
+pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<Parsed> {
     // `NAME[i]`: the i-th of stacked 4x4 matrices under NAME.
     let (key, index) = match key.strip_suffix(']').and_then(|k| k.rsplit_once('[')) {
         Some((k, i)) => match i.trim().parse::<usize>() {
@@ -118,7 +118,7 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
         }
     };
     let last = key.rsplit('.').next().unwrap_or(key);
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     // Kalibr `camN.T_cam_imu`: frames named from the block (camN, imu).
     let block = key.rsplit('.').nth(1);
     let imu = kalibr_imu(docs);

@@ -38,7 +38,7 @@
 //! that were not set make the path an error.
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::frames::Edge;
+use crate::frames::edge::Edge;
 use crate::geometry::se3::Transform;
 use crate::tolerances::{
     CYCLE_LIST_MAX, DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, REDUNDANT_ROTATION_TOL,

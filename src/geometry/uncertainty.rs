@@ -735,10 +735,12 @@ impl PitchVerdict {
     }
 }
 
-/// `--pitch-tol`: `auto` (the three-way verdict) or a length in metres.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// `--pitch-tol`: `auto` (the three-way verdict, the default) or a length in
+/// metres.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum PitchTol {
     /// Decided from `h` and its standard uncertainty.
+    #[default]
     Auto,
     /// `|h| <= tol` (m): two-way.
     Fixed(f64),

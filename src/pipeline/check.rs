@@ -11,15 +11,16 @@
 //! malformed baseline or a refused `--write-baseline` target is an error
 //! (exit 2), raised before anything is written.
 
+use super::files::write_atomic;
+use super::load::apply_renames;
 use super::manifest;
 use super::walk::{walk, Found};
-use super::{apply_renames, write_atomic, Rename};
 use crate::baseline::{
-    self, Baseline, BaselineFile, BaselinePair, BaselineTransform, CheckedFile, Locations,
-    Tolerances,
+    self, Baseline, BaselineFile, BaselinePair, BaselineTransform, CheckedFile, DriftTolerances,
+    Locations,
 };
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result, Severity, Warning};
-use crate::formats::{self, LoadOptions};
+use crate::formats::{self, LoadOptions, Rename};
 use crate::frames::FrameGraph;
 use crate::geometry::{PitchTol, PitchVerdict, ScrewKind};
 use crate::progress::{NoProgress, Progress};
@@ -29,8 +30,10 @@ use crate::report::CheckReport;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// What `audit check` is asked to check.
-#[derive(Debug, Clone)]
+/// What `audit check` is asked to check. `Default`: the command's defaults,
+/// no paths.
+#[derive(Debug, Clone, Default)]
+#[non_exhaustive]
 pub struct CheckOptions {
     /// Calibration files or directories of them.
     pub paths: Vec<PathBuf>,
@@ -50,10 +53,11 @@ pub struct CheckOptions {
     /// A finding when a checked pair does not have zero screw pitch.
     pub require_zero_pitch: bool,
     /// Drift tolerances against the baseline.
-    pub drift: Tolerances,
+    pub drift: DriftTolerances,
     /// `--pitch-tol`: `auto` or a tolerance on `|h|` (m).
     pub pitch_tol: PitchTol,
-    /// How files are read (joint values, size cap).
+    /// How files are read (joint values, size cap; renames come from each
+    /// directory's `audit.toml`, per robot: `renames` here is refused).
     pub load: LoadOptions,
     /// Codes accepted: reported at severity warning, never a problem.
     pub allow: Vec<Code>,
@@ -575,6 +579,37 @@ fn write_baseline(path: &Path, b: &Baseline) -> Result<()> {
 
 /// Run the check; writes the baseline when asked (after refusing a target
 /// that is an input or not a regular baseline file, before reading anything).
+///
+/// ```
+/// use extrinsic_audit::{check, CheckOptions, Code};
+/// use std::path::Path;
+///
+/// # fn main() -> extrinsic_audit::Result<()> {
+/// let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+/// // The shipped calibrations against their baseline: every rig file and the
+/// // URDF read, nothing drifted.
+/// let dir = root.join("calibrations");
+/// let mut opts = CheckOptions::default();
+/// opts.paths = vec![dir.clone()];
+/// opts.baseline = Some(dir.join("baseline.json"));
+/// let report = check(&opts)?;
+/// let is_calibration = |p: &Path| p.extension().is_some_and(|x| x == "toml" || x == "urdf");
+/// let files = std::fs::read_dir(&dir).unwrap().filter(|e| is_calibration(&e.as_ref().unwrap().path()));
+/// assert_eq!(report.files_checked, files.count());
+/// assert_eq!((report.problems, report.exit_code()), (0, 0));
+///
+/// // ANYmal C's LiDAR sits 0.3908 m from its base (pytransform3d): a
+/// // 0.3 m limit on the lever arm is a problem, exit 1.
+/// let mut opts = CheckOptions::default();
+/// opts.paths = vec![root.join("tests/fixtures/urdf/anymal_c_lidar.urdf")];
+/// opts.pairs = vec![("base".into(), "lidar".into())];
+/// opts.max_lever_arm = Some(0.3);
+/// let report = check(&opts)?;
+/// assert_eq!(report.exit_code(), 1);
+/// assert!(report.findings.iter().any(|d| d.code == Code::LeverArm && d.message.contains("0.390790 m")));
+/// # Ok(())
+/// # }
+/// ```
 pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
     check_with(opts, &NoProgress)
 }
@@ -582,6 +617,11 @@ pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
 /// [`check`], reporting one step per file read to `progress` (a large
 /// directory takes seconds).
 pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckReport> {
+    if !opts.load.renames.is_empty() {
+        return Err(Error::usage(
+            "check: expected renames in each directory's audit.toml (per robot), found renames in the load options",
+        ));
+    }
     let mut walked = walk(&opts.paths, &opts.exclude)?;
     walked.files.retain(|f| {
         !opts

@@ -5,7 +5,7 @@
 use super::expand::Expander;
 use super::scope::{MacroEntry, MacroScope, MacroTable};
 use super::tree::{self, Elem, Node, Src};
-use super::value::{eval_literal, Scope, Slot, Table, Value};
+use super::value::{eval_literal, Bindings, Scope, Slot, Value};
 use crate::diagnostic::Result;
 use crate::formats::yaml;
 use std::path::{Path, PathBuf};
@@ -130,7 +130,7 @@ impl Expander<'_> {
         let (ns_syms, ns_macros) = match e.attr("ns") {
             Some(ns) => {
                 let ns = self.eval_str(ns, syms, &e.src)?;
-                let s = Table::child(syms, true);
+                let s = Bindings::child(syms, true);
                 let m = MacroTable::root();
                 syms.set(&ns, Slot::Val(Value::Ns(s.clone())));
                 macros.set(&ns, MacroEntry::Ns(m.clone()));

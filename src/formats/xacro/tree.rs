@@ -35,7 +35,7 @@ impl Src {
 pub enum Node {
     Elem(Elem),
     Text(String),
-    Comment(String),
+    Comment,
 }
 
 #[derive(Debug, Clone)]
@@ -172,7 +172,7 @@ fn convert(
         } else if c.is_text() {
             children.push(Node::Text(c.text().unwrap_or("").to_string()));
         } else if c.is_comment() {
-            children.push(Node::Comment(c.text().unwrap_or("").to_string()));
+            children.push(Node::Comment);
         }
     }
     let (line, col) = idx.pos(n.range().start);
@@ -255,7 +255,7 @@ impl Writer {
             .filter(|n| match n {
                 Node::Elem(_) => true,
                 Node::Text(t) => !t.trim().is_empty(),
-                Node::Comment(_) => false,
+                Node::Comment => false,
             })
             .collect();
         if kids.is_empty() {
@@ -273,7 +273,7 @@ impl Writer {
             match k {
                 Node::Elem(c) => self.elem(c, depth + 1),
                 Node::Text(t) => self.push(&escape(t, false)),
-                Node::Comment(_) => {}
+                Node::Comment => {}
             }
         }
         let indent = if only_text {
