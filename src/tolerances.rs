@@ -260,8 +260,8 @@ pub const SIGNED_PERMUTATION_TOL: f64 = 1e-9;
 
 /// Absolute zero-pitch tolerance on `|h|` (m) where no uncertainty is at hand
 /// (the detector's adapted metric, library callers of `analyze`). The reports
-/// default to `--pitch-tol auto` ([`PITCH_K`]); this is also their floor
-/// ([`PITCH_FLOAT_FLOOR_M`]).
+/// default to `--pitch-tol auto` (`PITCH_K`); this is also their floor
+/// (`PITCH_FLOAT_FLOOR_M`).
 pub const DEFAULT_PITCH_TOL: f64 = 1e-9;
 
 /// Rotation angle (degrees) below which a rig's screw axis is set by calibration

@@ -325,7 +325,7 @@ pub struct FamilyVerdict {
 /// screw `s` (from `t.screw(pitch_tol)`).
 ///
 /// `d = 0` means `||d|| <= LENGTH_ZERO_TOL`; a signed permutation is tested with
-/// [`SIGNED_PERMUTATION_TOL`].
+/// `SIGNED_PERMUTATION_TOL`.
 pub fn family_verdicts(t: &Transform, s: &Screw) -> [FamilyVerdict; Family::ALL.len()] {
     let no_lever = t.lever_arm() <= LENGTH_ZERO_TOL;
     Family::ALL.map(|family| {

@@ -47,7 +47,7 @@ pub struct AuditArgs {
     /// Skip format detection (see the README's formats table)
     #[arg(long, value_name = "NAME")]
     pub input_format: Option<String>,
-    /// Read every URDF as this version (1.0, 1.1 or 1.2) whatever its <robot version>
+    /// Read every URDF as this version (1.0, 1.1 or 1.2) whatever its `<robot version>`
     /// says: 1.1 applies quat_xyzw, which ROS ignores in a 1.0 file
     #[arg(long, value_name = "X.Y")]
     pub urdf_version: Option<UrdfVersion>,

@@ -84,7 +84,7 @@ pub fn classify_subspace(asm: &Assembly, an: &Analysis) -> Vec<ScoredScrew> {
 }
 
 /// Footprint flags from scores: an axis is flagged when its score is at least
-/// [`FOOTPRINT_SCORE_TOL`].
+/// `FOOTPRINT_SCORE_TOL`.
 pub fn footprint_flags(scores: &[f64; 6]) -> [bool; 6] {
     scores.map(|s| s >= FOOTPRINT_SCORE_TOL)
 }

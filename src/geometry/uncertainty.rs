@@ -519,7 +519,7 @@ pub struct Outputs {
     pub h: f64,
 }
 
-/// [`Outputs`] of `t` against the nominal axis `e0`.
+/// `Outputs` of `t` against the nominal axis `e0`.
 pub fn outputs(t: &Transform, e0: Option<&Vector3<f64>>) -> Outputs {
     let (mut phi, axis) = t.rotation_angle_axis();
     let h = match (axis, e0) {

@@ -121,7 +121,7 @@ impl FormatSpec {
     }
 }
 
-/// A format: a handle on its [`FormatSpec`] (compared by id). `from_name`
+/// A format: a handle on its `FormatSpec` (compared by id). `from_name`
 /// lives with the list of formats (`formats::registry`).
 #[derive(Clone, Copy)]
 pub struct Format(pub &'static FormatSpec);

@@ -76,7 +76,7 @@ fn pair_json(p: &ScanPair) -> PairJson {
 
 /// Every family on points with normals, re-expressed in `frame` (the points
 /// are copied; `audit degeneracy` streams a file instead, see
-/// [`degeneracy_of`]).
+/// `degeneracy_of`).
 pub fn degeneracy(
     data: &PointData,
     frame: &Transform,
@@ -502,7 +502,7 @@ pub fn calibrate_threshold_with(
 /// synthetic corridors, every default family ([`MetricRule::default_set`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CalibrateOptions {
-    /// Seeds per configuration and scene, 1 to [`MAX_CALIBRATION_SEEDS`].
+    /// Seeds per configuration and scene, 1 to `MAX_CALIBRATION_SEEDS`.
     pub seeds: u64,
     /// Range-noise levels (m), 0 to [`MAX_SIM_NOISE_M`].
     pub noise_levels: Vec<f64>,
@@ -511,7 +511,7 @@ pub struct CalibrateOptions {
     /// Characteristic lengths (m) of the characteristic length family.
     pub ells: Vec<f64>,
     /// Worker threads (0: the default, one per core up to 8; at most
-    /// [`MAX_CALIBRATION_THREADS`]).
+    /// `MAX_CALIBRATION_THREADS`).
     pub threads: usize,
 }
 
