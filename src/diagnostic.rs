@@ -169,6 +169,14 @@ codes! {
     /// would give are left out (the rest of the file is read); the message
     /// names both lines.
     AmbiguousKey = "ambiguous-key", Warning;
+    /// A frame name that resembles another frame of the graph (a Unicode
+    /// confusable such as Cyrillic `і` for `i`, compatibility forms, case,
+    /// white space at its ends) but is not it: two frames where one was
+    /// meant; the message names the frame it resembles.
+    ConfusableFrameName = "confusable-frame-name", Warning;
+    /// A frame name with white space at its start or end (kept as part of
+    /// the name, as tf2 keeps it).
+    PaddedFrameName = "padded-frame-name", Warning;
 
     // Findings of `audit check` (errors unless a policy says otherwise).
     /// A file in the checked paths is not in the baseline.

@@ -168,6 +168,17 @@ pub const MAX_MANIFEST_FILE_SIZE: u64 = 1024 * 1024;
 /// tool or a person writes it is under 1 KiB.
 pub const MAX_MATRIX_FILE_SIZE: u64 = 64 * 1024;
 
+/// Random characters (letters and digits, 62 each: 71 bits) in the name of a
+/// temporary file the writer creates beside its target
+/// (`pipeline::write_atomic`): a name planted in advance is never met.
+pub const WRITE_TEMP_RANDOM_CHARS: usize = 12;
+
+/// Temporary files registered at once for removal on SIGINT, SIGTERM and
+/// SIGHUP (`pipeline::cleanup`; each write registers one for its duration: a
+/// command writes one or two). A write beyond it still works, unprotected
+/// against those signals.
+pub const MAX_SIGNAL_CLEANUP_PATHS: usize = 64;
+
 /// Longest value (characters) a message quotes from a file before it is
 /// shortened (the head and the tail kept, with the count of what was cut).
 pub const MAX_QUOTED_CHARS: usize = 120;
@@ -426,6 +437,20 @@ pub const RAW_NORMAL_RADIUS_M: f64 = 0.30;
 /// Default fewest neighbours (the point itself counted) for a normal of a raw
 /// scan: the synthetic pipeline's 8 (paper).
 pub const RAW_MIN_NEIGHBOURS: usize = 8;
+
+/// Duplicate points of a raw scan, merged before the voxel grid and the
+/// normals (`degeneracy::normals::merge_duplicates`): two points are one when
+/// they fall in the same cell of a grid (anchored at the origin) whose edge
+/// is this fraction of the scan's scale `max(1 m, largest |coordinate|)`.
+/// 2^-40 (9.1e-13) is a few thousand f64 ulps of the largest coordinate: it
+/// merges every exact duplicate (a driver or a converter repeating records)
+/// and points equal but for arithmetic rounding, and nothing a sensor can
+/// resolve: 0.9 pm near the origin, 3.6 um for UTM coordinates of 4e6 m (a
+/// LiDAR resolves millimetres). Relative, so far-from-origin scans are
+/// treated as ones at the origin; points that differ by less but straddle a
+/// cell boundary stay two (each then a neighbour of the other, as any two
+/// close points are).
+pub const DUPLICATE_POINT_REL_TOL: f64 = 1.0 / (1u64 << 40) as f64;
 
 /// Accepted `--voxel` of `audit degeneracy` (m): from a millimetre to 10 m.
 pub const RAW_VOXEL_RANGE_M: (f64, f64) = (1e-3, 10.0);

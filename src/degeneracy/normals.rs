@@ -11,13 +11,17 @@
 //! al. 2011: 1 on a plane, 0 on a line or an isotropic blob) is below
 //! `min_planarity`. On a spinning LiDAR's ground the neighbourhoods of sparse
 //! rings are lines whose smallest-eigenvalue direction is arbitrary about
-//! the ring; the gate drops them. The work is split over
+//! the ring; the gate drops them. Duplicate points are merged first
+//! ([`merge_duplicates`]): fifty copies of a point are one point, not fifty
+//! neighbours standing in for a surface (60 points repeated 50 times give
+//! the normals of the 60). The work is split over
 //! threads by contiguous point ranges; the output keeps the input order, so it
 //! does not depend on the thread count.
 
 use super::scene::Cloud;
 use crate::diagnostic::{Error, Result};
 use crate::progress::{NoProgress, Progress};
+use crate::tolerances::DUPLICATE_POINT_REL_TOL;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 use std::num::NonZero;
@@ -217,6 +221,46 @@ fn estimate_range(
     (out, st, kept)
 }
 
+/// Points with duplicates merged, and their weights when the input had any.
+pub type Merged = (Vec<[f64; 3]>, Option<Vec<f64>>);
+
+/// `points` with duplicates merged, or `None` when there are none: the first
+/// of each group of points in one cell of the duplicate grid
+/// ([`DUPLICATE_POINT_REL_TOL`] of the scan's scale), in input order, with
+/// the mean of the group's weights (as the voxel grid does).
+pub fn merge_duplicates(points: &[[f64; 3]], weights: Option<&[f64]>) -> Option<Merged> {
+    let scale = points.iter().flatten().fold(1.0f64, |m, c| m.max(c.abs()));
+    let cell = DUPLICATE_POINT_REL_TOL * scale;
+    if !cell.is_finite() || points.len() < 2 {
+        return None;
+    }
+    // |c| / cell <= 2^40: the keys fit an i64 exactly.
+    let key = |p: &[f64; 3]| p.map(|c| (c / cell).floor() as i64);
+    let mut order: Vec<([i64; 3], usize)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (key(p), i))
+        .collect();
+    order.sort_unstable();
+    // Each group: its first point (input order), its weights' sum, its size.
+    let mut firsts: Vec<(usize, f64, usize)> = Vec::new();
+    for run in order.chunk_by(|a, b| a.0 == b.0) {
+        let w: f64 = run
+            .iter()
+            .map(|&(_, i)| weights.and_then(|w| w.get(i)).copied().unwrap_or(1.0))
+            .sum();
+        firsts.push((run[0].1, w, run.len()));
+    }
+    if firsts.len() == points.len() {
+        return None;
+    }
+    drop(order);
+    firsts.sort_unstable_by_key(|f| f.0);
+    let kept = firsts.iter().map(|f| points[f.0]).collect();
+    let w = weights.map(|_| firsts.iter().map(|f| f.1 / f.2 as f64).collect());
+    Some((kept, w))
+}
+
 /// Points between two progress reports of the normal estimation.
 const PROGRESS_STEP: usize = 4096;
 
@@ -311,4 +355,32 @@ fn normals_on_threads(
         st.not_planar += s.not_planar;
     }
     Ok((cloud, st, kept))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn duplicates_merge_within_the_cell_and_keep_the_first_in_order() {
+        // Far from the origin: scale 4e6 m, cell 4e6 * 2^-40 (3.6 um).
+        let cell = DUPLICATE_POINT_REL_TOL * 4.0e6;
+        let c = |k: f64| (1.0e12 + k) * cell; // a cell boundary near 3.6e6 m
+        let base = [c(0.5), 4.0e6, 10.0];
+        let pts = [
+            [1.0, 2.0, 3.0],
+            base,
+            [c(0.5) + 0.25 * cell, 4.0e6, 10.0], // same cell: merged
+            [1.0, 2.0, 3.0],                     // exact copy: merged
+            [c(2.5), 4.0e6, 10.0],               // two cells on (7 um): kept
+        ];
+        let w = [1.0, 2.0, 4.0, 3.0, 5.0];
+        let (kept, weights) = merge_duplicates(&pts, Some(&w)).expect("duplicates");
+        assert_eq!(kept, [pts[0], pts[1], pts[4]]);
+        assert_eq!(weights, Some(vec![2.0, 3.0, 5.0]));
+        // No duplicate: nothing copied.
+        assert_eq!(merge_duplicates(&[pts[0], pts[1], pts[4]], None), None);
+        // Near the origin the cell is 2^-40 m: a picometre apart stays two.
+        assert_eq!(merge_duplicates(&[[0.0; 3], [1e-12, 0.0, 0.0]], None), None);
+    }
 }

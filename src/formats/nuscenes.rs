@@ -16,10 +16,11 @@
 //! record tokens and its edges are left out; `--key TOKEN` reads one record.
 
 use crate::diagnostic::{Code, Error, Result, Warning};
+use crate::formats::json::json_documents;
 use crate::formats::spec::{
     check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Parsed,
 };
-use crate::formats::yaml::{self, Node, Value};
+use crate::formats::yaml::{Node, Value};
 use crate::formats::yaml_shapes::{err_at, exactly, loc_of};
 use crate::frames::Edge;
 use crate::geometry::se3::{QuatOrder, Transform};
@@ -36,20 +37,27 @@ fn text_field(n: &Node, key: &str) -> Result<String> {
         .ok_or_else(|| err_at(n, format!("record: expected a string `{key}`, found none")))
 }
 
-/// `sensor_token -> channel` from `sensor.json` beside `path`, if readable.
-fn channels(path: &Path) -> Option<BTreeMap<String, String>> {
-    let p = path.parent()?.join("sensor.json");
-    let text = crate::input::read_text(&p, SENSOR_JSON_MAX, "sensor.json").ok()?;
-    let docs = yaml::parse_documents(&text.replace('\t', " ")).ok()?;
-    let Value::Seq(items) = &docs.first()?.value else {
-        return None;
+/// `sensor_token -> channel` from `sensor.json` beside `path`; `None` when
+/// there is none. One that is there but not valid JSON (a key given twice
+/// included) is an error naming it: its channel names would be a guess.
+fn channels(path: &Path) -> Result<Option<BTreeMap<String, String>>> {
+    let Some(p) = path.parent().map(|d| d.join("sensor.json")) else {
+        return Ok(None);
     };
-    Some(
+    if !p.is_file() {
+        return Ok(None);
+    }
+    let text = crate::input::read_text(&p, SENSOR_JSON_MAX, "sensor.json")?;
+    let docs = json_documents(&text).map_err(|e| e.in_file(&p))?;
+    let Some(Value::Seq(items)) = docs.first().map(|d| &d.value) else {
+        return Ok(None);
+    };
+    Ok(Some(
         items
             .iter()
             .filter_map(|it| Some((it.get("token")?.as_str()?, it.get("channel")?.as_str()?)))
             .collect(),
-    )
+    ))
 }
 
 /// One record as an edge `ego -> frame`.
@@ -92,13 +100,13 @@ fn record_edge(
 
 /// nuScenes calibrated_sensor.json.
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
-    let docs = yaml::parse_documents(&text.replace('\t', " "))?;
+    let docs = json_documents(text)?;
     let Some(Value::Seq(items)) = docs.first().map(|d| &d.value) else {
         return Err(Error::parse(
             "nuScenes calibrated_sensor.json: expected a list of records, found another value",
         ));
     };
-    let names = channels(path);
+    let names = channels(path)?;
     let mut out = Parsed::default();
     let mut by_frame: BTreeMap<String, Vec<(String, Edge)>> = BTreeMap::new();
     for it in items {

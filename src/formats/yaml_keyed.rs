@@ -57,6 +57,10 @@ pub(crate) fn parse_with(
     opts: &LoadOptions,
 ) -> Result<Parsed> {
     let docs = yaml::parse_documents(text).map_err(|e| explain_yaml_error(e, text))?;
+    // A JSON file read by a YAML dialect keeps JSON's rule on keys.
+    if super::json::is_json(text) {
+        super::json::refuse_duplicate_keys(&docs)?;
+    }
     if let (Some(key), true) = (&opts.key, keyed) {
         return parse_keyed(&docs, key, text, path);
     }

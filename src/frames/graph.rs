@@ -37,6 +37,7 @@
 //! `joint-at-default` warning in [`Chain::warnings`]; floating and planar joints
 //! that were not set make the path an error.
 
+use super::names::{Likeness, Resemblance};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::frames::edge::Edge;
 use crate::geometry::se3::Transform;
@@ -162,6 +163,8 @@ pub struct FrameGraph {
     redundant: Vec<RedundantEdge>,
     /// Notes: redundant edges that agree with the tree.
     notes: Vec<String>,
+    /// The resemblance keys of the frames (look-alike names).
+    resemblance: Resemblance,
 }
 
 fn vec3(v: &nalgebra::Vector3<f64>) -> String {
@@ -487,7 +490,9 @@ impl FrameGraph {
         &self.notes
     }
 
-    fn frame_id(&mut self, name: &str) -> usize {
+    /// The index of frame `name`, added (first met at `at`) when new; a new
+    /// name that resembles a known one, or is padded, is warned about.
+    fn frame_id(&mut self, name: &str, at: &Location) -> usize {
         if let Some(&i) = self.index.get(name) {
             return i;
         }
@@ -498,7 +503,47 @@ impl FrameGraph {
         self.children.push(Vec::new());
         self.uf.push(i);
         self.index.insert(name.to_string(), i);
+        if let Some(like) = self.resemblance.add(i, name, &self.names) {
+            let w = self.likeness_warning(name, like).at(at);
+            self.warnings.push(w);
+        }
         i
+    }
+
+    /// The `confusable-frame-name` or `padded-frame-name` warning of frame
+    /// `name` (see `frames::names`).
+    fn likeness_warning(&self, name: &str, like: Likeness) -> Warning {
+        let shown = |n: &str| format!("\"{}\"", crate::sanitize::quote(n));
+        match like {
+            Likeness::Resembles { other, how } => Warning::new(
+                Code::ConfusableFrameName,
+                format!(
+                    "frame {} resembles frame {}{}: {how}; they are two frames, so an edge written for one does not attach to the other",
+                    shown(name),
+                    shown(&self.names[other]),
+                    self.first_place(other)
+                        .map_or_else(String::new, |l| format!(" (at {l})")),
+                ),
+            ),
+            Likeness::Padded => Warning::new(
+                Code::PaddedFrameName,
+                format!(
+                    "frame {} has white space at its start or end: kept as part of the name (tf2 does), so it matches no frame written without it",
+                    shown(name)
+                ),
+            ),
+        }
+    }
+
+    /// Where frame `i` was first given: its parent edge, its first child
+    /// edge, or its declaration.
+    fn first_place(&self, i: usize) -> Option<&Location> {
+        self.parent[i]
+            .or_else(|| self.children[i].first().copied())
+            .and_then(|ei| self.edges.get(ei))
+            .map(|e| &e.provenance.location)
+            .or_else(|| self.declared.get(&i))
+            .filter(|l| !l.is_empty())
     }
 
     /// Declare a frame, with no edge: known to the graph (listed, a root of its
@@ -508,7 +553,7 @@ impl FrameGraph {
         if name.is_empty() {
             return Err(Error::frame("expected a non-empty frame name, found \"\"").at(&location));
         }
-        let i = self.frame_id(name);
+        let i = self.frame_id(name, &location);
         if self.parent[i].is_none() && self.children[i].is_empty() {
             self.declared.entry(i).or_insert(location);
         }
@@ -524,7 +569,7 @@ impl FrameGraph {
     pub fn add_edge(&mut self, edge: Edge) -> Result<()> {
         if self.check_edge(&edge)? {
             let ei = self.edges.len();
-            self.link(&edge.parent, &edge.child, ei);
+            self.link(&edge, ei);
             self.edges.push(edge);
         }
         Ok(())
@@ -542,7 +587,7 @@ impl FrameGraph {
             let edge = std::mem::replace(&mut self.edges[ei], empty);
             let linked = self.check_edge(&edge);
             if matches!(linked, Ok(true)) {
-                self.link(&edge.parent, &edge.child, ei);
+                self.link(&edge, ei);
             }
             self.edges[ei] = edge;
             if !linked? {
@@ -600,9 +645,10 @@ impl FrameGraph {
     }
 
     /// Link edge `ei` (checked) from `parent` to `child`.
-    fn link(&mut self, parent: &str, child: &str, ei: usize) {
-        let p = self.frame_id(parent);
-        let c = self.frame_id(child);
+    fn link(&mut self, edge: &Edge, ei: usize) {
+        let at = &edge.provenance.location;
+        let p = self.frame_id(&edge.parent, at);
+        let c = self.frame_id(&edge.child, at);
         let (rp, rc) = (self.find(p), self.find(c));
         self.uf[rc] = rp;
         self.parent[c] = Some(ei);

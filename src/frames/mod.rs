@@ -3,6 +3,7 @@
 
 mod edge;
 mod graph;
+mod names;
 
 pub use edge::{Edge, JointState, JointType, Provenance};
 pub use graph::*;

@@ -11,7 +11,7 @@
 //! malformed baseline or a refused `--write-baseline` target is an error
 //! (exit 2), raised before anything is written.
 
-use super::files::write_atomic;
+use super::files::{dir_of, same_file, unsafe_target, write_atomic};
 use super::load::apply_renames;
 use super::manifest;
 use super::walk::{walk, Found};
@@ -89,13 +89,6 @@ impl CheckOptions {
 /// Reader warnings that are errors in a check whatever their size: a unit
 /// mistake is never rounding.
 pub const CHECK_ERRORS: &[Code] = &[Code::MillimetresInMetreField];
-
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    }
-}
 
 /// The checked files for a message: all of them up to 5, then a count.
 fn checked_list(files: &[Found]) -> String {
@@ -436,20 +429,14 @@ fn robots(opts: &CheckOptions, files: &mut Vec<Found>) -> Result<Vec<Robot>> {
 }
 
 /// The directory a baseline file's keys are relative to.
-fn dir_of(path: &Path) -> PathBuf {
-    match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    }
-}
-
 fn refused(path: &Path, why: String) -> Error {
     Error::usage(format!("--write-baseline: refused, nothing written: {why}")).in_file(path)
 }
 
-/// Refuse a `--write-baseline` target that is a checked input or exists and is
-/// not a regular file holding a baseline; the existing baseline when there is
-/// one. Runs before anything is written.
+/// Refuse a `--write-baseline` target that is a checked input, exists and is
+/// not a regular file holding a baseline, is a symlink or lies behind a
+/// symlinked directory ([`unsafe_target`]); the existing baseline when there
+/// is one. Runs before anything is written.
 fn write_target(path: &Path, files: &[Found], given: &[PathBuf]) -> Result<Option<Baseline>> {
     let link = match std::fs::symlink_metadata(path) {
         Ok(m) => m,
@@ -464,7 +451,10 @@ fn write_target(path: &Path, files: &[Found], given: &[PathBuf]) -> Result<Optio
                     ),
                 ));
             }
-            return Ok(None);
+            return match unsafe_target(path) {
+                Some(why) => Err(refused(path, why)),
+                None => Ok(None),
+            };
         }
         Err(e) => return Err(Error::io(path, &e)),
     };
@@ -495,6 +485,9 @@ fn write_target(path: &Path, files: &[Found], given: &[PathBuf]) -> Result<Optio
             path,
             "it is one of the checked calibration files: expected a separate baseline file".into(),
         ));
+    }
+    if let Some(why) = unsafe_target(path) {
+        return Err(refused(path, why));
     }
     baseline::read(path).map(Some).map_err(|e| {
         refused(

@@ -337,17 +337,22 @@ pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
     let t = t.canonicalize().unwrap_or(t);
     for p in inputs {
         let (p, _) = split_pair(p);
-        let is_input = p.canonicalize().ok().is_some_and(|c| c == t);
         let walked = p.is_dir()
             && p.canonicalize().ok().is_some_and(|d| t.starts_with(d))
             && is_any_input(&t);
-        if is_input || walked {
+        if super::same_file(&p, target) || walked {
             return Err(Error::usage(format!(
                 "--plot {}: refusing to write over an input of the survey ({})",
                 target.display(),
                 p.display()
             )));
         }
+    }
+    if let Some(why) = super::files::unsafe_target(target) {
+        return Err(Error::usage(format!(
+            "--plot {}: refusing to write: {why}",
+            target.display()
+        )));
     }
     Ok(())
 }

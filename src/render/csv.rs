@@ -1,5 +1,21 @@
 //! CSV (RFC 4180, minimal quoting): the document's data tables, or its display
 //! tables when it has none, separated by blank lines.
+//!
+//! Formula injection (OWASP, "CSV Injection", owasp.org/www-community/attacks/CSV_Injection):
+//! a spreadsheet reads a cell that begins with `=`, `+`, `-`, `@`, a tab, a
+//! carriage return or a line feed as a formula, and a frame name is whatever
+//! a file holds. Such a cell is written as OWASP's sanitisation says: a single
+//! quote prepended (the spreadsheet shows the text), the cell wrapped in
+//! double quotes, every double quote doubled (`=1+2";=1+2` becomes
+//! `"'=1+2"";=1+2"`). One exception, ours (OWASP's page names none; the same
+//! carve-out as WooCommerce's exporter, PR 53022, and csv-stringify, PR 510):
+//! a cell that is a plain decimal number ([`is_number`]: `-0.3640`, `+1`,
+//! `-1.5e-7`) stays as it is, so that pandas and a spreadsheet read a
+//! negative number as a number; such a cell holds no operator, name or call,
+//! so nothing in it can be evaluated. `-inf` and `-1,5` are not plain decimal
+//! numbers and are escaped. Cells holding a separator (`,`, or `;` for a
+//! spreadsheet in a locale that splits on it), a quote, a tab or a line break
+//! are quoted, so that no part of a cell can begin a cell of its own.
 
 use crate::document::{Block, Document, Table};
 
@@ -24,18 +40,94 @@ pub fn render(doc: &Document) -> String {
 
 /// One table as CSV.
 pub fn table(t: &Table) -> String {
-    let q = |s: &str| {
-        if s.contains([',', '"', '\n', '\r']) {
-            format!("\"{}\"", s.replace('"', "\"\""))
-        } else {
-            s.to_string()
-        }
-    };
-    let mut s = t.header.iter().map(|h| q(h)).collect::<Vec<_>>().join(",");
+    let row = |r: &[String]| r.iter().map(|c| cell(c)).collect::<Vec<_>>().join(",");
+    let mut s = row(&t.header);
     s.push('\n');
     for r in &t.rows {
-        s.push_str(&r.iter().map(|c| q(c)).collect::<Vec<_>>().join(","));
+        s.push_str(&row(r));
         s.push('\n');
     }
     s
+}
+
+/// First characters that make a spreadsheet read a cell as a formula (OWASP).
+const FORMULA_STARTS: [char; 7] = ['=', '+', '-', '@', '\t', '\r', '\n'];
+
+/// One cell: escaped when a spreadsheet would read it as a formula (and it
+/// is not a plain number), quoted when it holds a separator, quote or line
+/// break, as it is otherwise.
+pub fn cell(s: &str) -> String {
+    let quoted = |s: &str| format!("\"{}\"", s.replace('"', "\"\""));
+    if s.starts_with(FORMULA_STARTS) && !is_number(s) {
+        quoted(&format!("'{s}"))
+    } else if s.contains([',', ';', '"', '\t', '\n', '\r']) {
+        quoted(s)
+    } else {
+        s.to_string()
+    }
+}
+
+/// A plain decimal number: an optional sign, digits with at most one decimal
+/// point (at least one digit), an optional exponent `e`/`E` with an optional
+/// sign and at least one digit; nothing else (no space, no `inf`, no `,`).
+pub fn is_number(s: &str) -> bool {
+    let b = s.as_bytes();
+    let mut i = usize::from(b.first().is_some_and(|c| matches!(c, b'+' | b'-')));
+    let digits = |i: &mut usize| {
+        let start = *i;
+        while b.get(*i).is_some_and(u8::is_ascii_digit) {
+            *i += 1;
+        }
+        *i - start
+    };
+    let mut n = digits(&mut i);
+    if b.get(i) == Some(&b'.') {
+        i += 1;
+        n += digits(&mut i);
+    }
+    if n == 0 {
+        return false;
+    }
+    if b.get(i).is_some_and(|c| matches!(c, b'e' | b'E')) {
+        i += 1;
+        i += usize::from(b.get(i).is_some_and(|c| matches!(c, b'+' | b'-')));
+        if digits(&mut i) == 0 {
+            return false;
+        }
+    }
+    i == b.len()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_plain_decimal_literals_only() {
+        for n in ["0", "-0.3640", "+1", "-1.5e-7", "2E+10", ".5", "-5.", "12"] {
+            assert!(is_number(n), "{n}");
+        }
+        for t in [
+            "", "-", "+.", "-e5", "1e", "-1e+", "-inf", "-1,5", "-1 ", " 1", "-1+2", "1.2.3",
+            "-0x10",
+        ] {
+            assert!(!is_number(t), "{t:?}");
+        }
+    }
+
+    #[test]
+    fn formulas_are_escaped_as_owasp_says() {
+        // OWASP's two examples.
+        assert_eq!(cell("=1+2\";=1+2"), "\"'=1+2\"\";=1+2\"");
+        assert_eq!(cell("=1+2'\" ;,=1+2"), "\"'=1+2'\"\" ;,=1+2\"");
+        assert_eq!(
+            cell("-2+3+cmd|' /C calc'!A0"),
+            "\"'-2+3+cmd|' /C calc'!A0\""
+        );
+        assert_eq!(cell("@SUM(1+1)"), "\"'@SUM(1+1)\"");
+        assert_eq!(cell("\tx"), "\"'\tx\"");
+        assert_eq!(cell("-0.3640"), "-0.3640");
+        assert_eq!(cell("a;b"), "\"a;b\"");
+        assert_eq!(cell("lidar"), "lidar");
+    }
 }

@@ -359,6 +359,9 @@ impl MatricesJson {
 pub struct NormalsJson {
     /// Points read (finite).
     pub points_read: usize,
+    /// Duplicate points merged before the voxel grid (same point within
+    /// `DUPLICATE_POINT_REL_TOL` of the scan's scale).
+    pub duplicates_merged: usize,
     /// Voxel edge (m) of the down-sampling; null without.
     pub voxel_m: Option<f64>,
     /// Points after the voxel grid.
@@ -551,8 +554,9 @@ impl MatricesJson {
 impl NormalsJson {
     fn line(&self) -> String {
         format!(
-            "normals estimated: {} points read, {} after the voxel grid ({}), radius {} m{}, at least {} neighbours{}, toward {} m: {} kept, {} dropped (sparse), {} dropped (not planar)",
+            "normals estimated: {} points read, {} duplicates merged, {} after the voxel grid ({}), radius {} m{}, at least {} neighbours{}, toward {} m: {} kept, {} dropped (sparse), {} dropped (not planar)",
             self.points_read,
+            self.duplicates_merged,
             self.points_after_voxel,
             self.voxel_m.map_or("none".to_string(), |v| format!("{v} m")),
             self.radius_m,

