@@ -16,7 +16,7 @@ pub mod walk;
 
 pub use check::{check, check_with, CheckOptions};
 pub use diff::{diff, DiffOptions, SideRead};
-pub use files::{same_file, write_atomic};
+pub use files::write_atomic;
 pub use load::{load, Loaded};
 pub use rig::{report, RigOptions};
 pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};

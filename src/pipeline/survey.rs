@@ -10,7 +10,7 @@
 //! `ignored` warning (a folder holds other robots too); a file named on the
 //! command line is an error.
 
-use super::files::{expand_paths, write_atomic};
+use super::files::{expand_paths, same_file, write_atomic};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::{self, LoadOptions, RigMeta};
 use crate::frames::FrameGraph;
@@ -340,7 +340,7 @@ pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
         let walked = p.is_dir()
             && p.canonicalize().ok().is_some_and(|d| t.starts_with(d))
             && is_any_input(&t);
-        if super::same_file(&p, target) || walked {
+        if same_file(&p, target) || walked {
             return Err(Error::usage(format!(
                 "--plot {}: refusing to write over an input of the survey ({})",
                 target.display(),
