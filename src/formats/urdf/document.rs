@@ -14,7 +14,7 @@ use super::read::{self, Context, JointRaw, Links, PendingLink, Version};
 use super::stream::{El, Item, JointEl, XacroAt};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::source::LineIndex;
-use crate::formats::spec::{LoadOptions, Loaded};
+use crate::formats::spec::{LoadOptions, Parsed};
 use crate::formats::xacro::markers as xacro;
 use crate::frames::{Edge, FrameDecl};
 use foldhash::{HashMap, HashMapExt};
@@ -160,7 +160,7 @@ impl<'c, 'a> Document<'c, 'a> {
     }
 
     /// The file's edges, frames and warnings, or its first error.
-    pub(super) fn finish(self) -> Result<Loaded> {
+    pub(super) fn finish(self) -> Result<Parsed> {
         let idx = self.idx;
         if let Some(e) = self.root_error {
             return Err(e);
@@ -192,11 +192,11 @@ impl<'c, 'a> Document<'c, 'a> {
         let (frames, roots) = link_frames(idx, &self.decls, &edges, self.path);
         drop(self.decls);
         root_links(&roots, self.path, &mut warnings);
-        Ok(Loaded {
+        Ok(Parsed {
             edges,
             frames,
             warnings,
-            ..Loaded::default()
+            ..Parsed::default()
         })
     }
 }
@@ -302,7 +302,7 @@ mod tests {
     use crate::formats::{xml, LoadOptions};
     use std::path::Path;
 
-    fn load(text: &str) -> crate::diagnostic::Result<crate::formats::Loaded> {
+    fn load(text: &str) -> crate::diagnostic::Result<crate::formats::Parsed> {
         super::super::parse(text, Path::new("t.urdf"), &LoadOptions::default())
     }
 
@@ -347,7 +347,7 @@ mod tests {
             format!("{jb}<link name=\"c\"/>\n{ja}<link name=\"b\"/>\n<link name=\"a\"/>\n"),
         ] {
             let l = load(&robot(&body)).unwrap();
-            let pairs = |l: &crate::formats::Loaded| {
+            let pairs = |l: &crate::formats::Parsed| {
                 let mut v: Vec<_> = l
                     .edges
                     .iter()

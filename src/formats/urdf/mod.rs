@@ -75,16 +75,14 @@ mod read;
 mod stream;
 mod values;
 
-pub use crate::formats::spec::UrdfVersion;
-
 use crate::diagnostic::Result;
 use crate::formats::source::LineIndex;
-use crate::formats::spec::{Confidence, FormatSpec, LoadOptions, Loaded};
+use crate::formats::spec::{Confidence, FormatSpec, LoadOptions, Parsed};
 use crate::formats::xml;
 use std::path::Path;
 
 /// Parse URDF text.
-pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let idx = LineIndex::new(text);
     let mut doc = document::Document::new(text, &idx, path, opts, SPEC.id);
     stream::read(text, path, |item| {
