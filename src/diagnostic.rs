@@ -169,6 +169,24 @@ codes! {
     /// would give are left out (the rest of the file is read); the message
     /// names both lines.
     AmbiguousKey = "ambiguous-key", Warning;
+    /// A scan (or scan pair) of a recorded run left out of the analysis,
+    /// with its reason (empty, fields or steps that lie, no pose, ...); the
+    /// other scans are still reported.
+    ScanSkipped = "scan-skipped", Warning;
+    /// A recorded run stopped reading at damage (a truncated or corrupt
+    /// file): the scans before it are reported.
+    RunDamaged = "run-damaged", Warning;
+    /// A frame a scan or a body frame needs that the run's transforms never
+    /// name: the scan is reported in its own frame only.
+    FrameMissing = "frame-missing", Warning;
+    /// A message an xacro file prints with `xacro.warning()` or
+    /// `xacro.error()`: Python xacro prints it and goes on, and so does the
+    /// expander; the message gives the text and where it was raised.
+    XacroMessage = "xacro-message", Warning;
+    /// `$(find pkg)` found two or more packages named `pkg` on the search
+    /// path: the message says which directory was used and where the others
+    /// are.
+    DuplicatePackage = "duplicate-package", Warning;
     /// A frame name that resembles another frame of the graph (a Unicode
     /// confusable such as Cyrillic `і` for `i`, compatibility forms, case,
     /// white space at its ends) but is not it: two frames where one was

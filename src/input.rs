@@ -230,7 +230,9 @@ pub fn read_open(f: impl Read, len: u64, cap: u64) -> std::result::Result<Vec<u8
             cap,
         });
     }
-    let mut buf = Vec::new();
+    // Room for the size the descriptor reports (and the byte that finds the
+    // end): one read for a small file, not one per doubling of the buffer.
+    let mut buf = Vec::with_capacity(usize::try_from(len).map_or(0, |n| n.saturating_add(1)));
     f.take(cap.saturating_add(1))
         .read_to_end(&mut buf)
         .map_err(ReadError::Io)?;

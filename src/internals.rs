@@ -67,6 +67,10 @@ pub mod formats {
         pub use crate::formats::bag::*;
     }
 
+    pub mod glim {
+        pub use crate::formats::glim::strip_json_comments;
+    }
+
     pub mod rig_toml {
         pub use crate::formats::rig_toml::parse;
     }
@@ -102,7 +106,17 @@ pub mod geometry {
 }
 
 pub mod pipeline {
-    pub use crate::pipeline::{check_plot_target, load, write_atomic, write_survey_plot};
+    pub use crate::pipeline::{
+        check_output_target, check_plot_target, load, write_atomic, write_survey_plot,
+    };
+
+    pub mod files {
+        pub use crate::pipeline::files::AtomicFile;
+    }
+
+    pub mod run {
+        pub use crate::pipeline::run::{run, RunOptions};
+    }
 
     pub mod manifest {
         pub use crate::pipeline::manifest::parse_pair;
@@ -118,10 +132,30 @@ pub mod pipeline {
 }
 
 pub mod render {
-    pub use crate::render::{ColorChoice, Style};
+    pub use crate::render::{csv_line, draw, ColorChoice, Layout, Style};
 
     pub mod layout {
         pub use crate::render::layout::{wrap, MIN_TERMINAL_WIDTH};
+    }
+}
+
+pub mod report {
+    pub mod run {
+        pub use crate::report::run::{RunHeader, RunSink};
+    }
+}
+
+pub mod run {
+    pub mod poses {
+        pub use crate::run::poses::PoseFormat;
+    }
+
+    pub mod scan {
+        pub use crate::run::scan::{Outcome, Settings};
+    }
+
+    pub mod source {
+        pub use crate::run::source::{Bound, Window};
     }
 }
 
@@ -134,8 +168,8 @@ pub mod tolerances {
         DEFAULT_DIFF_ROTATION_TOL_DEG, DEFAULT_DIFF_TRANSLATION_TOL_MM, DEFAULT_ELLS,
         DEFAULT_MAX_FILE_SIZE, DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT,
         DEFAULT_PITCH_TOL, DEFAULT_TAU, ELL_RANGE_M, KAPPA_RANGE, MAX_COORDINATE, MAX_ELLS,
-        MAX_JOINT_VALUE, MAX_MESSAGE_CHARS, MAX_SIGMA_R_DEG, MAX_SIGMA_T_M, MAX_SIM_NOISE_M,
-        MAX_TRANSLATION_M, PAIR_GATE_M, PROGRESS_MIN_BYTES, RAW_MIN_NEIGHBOURS,
-        RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M, SIM_VOXEL_RANGE_M, SMALL_ROTATION_DEG,
+        MAX_JOINT_VALUE, MAX_MESSAGE_CHARS, MAX_SCAN_CELLS, MAX_SIGMA_R_DEG, MAX_SIGMA_T_M,
+        MAX_SIM_NOISE_M, MAX_TRANSLATION_M, PAIR_GATE_M, PROGRESS_MIN_BYTES, RAW_MIN_NEIGHBOURS,
+        RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M, RUN_VOXEL_M, SIM_VOXEL_RANGE_M, SMALL_ROTATION_DEG,
     };
 }

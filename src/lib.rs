@@ -119,13 +119,14 @@ mod pipeline;
 mod progress;
 mod render;
 mod report;
+mod run;
 mod sanitize;
 mod tolerances;
 
 // Robots: load, compose, report.
 pub use analysis::{analyze, Family, RigAnalysis};
 pub use api::Robot;
-pub use formats::{BagOptions, Format, LoadOptions, Rename, UrdfVersion};
+pub use formats::{Assume, BagOptions, Format, LoadOptions, Rename, UrdfVersion};
 pub use frames::{Chain, ChainStep, Edge, JointState, JointType, Provenance};
 pub use geometry::{PitchTol, QuatOrder, Screw, ScrewKind, Transform, UserSigma};
 pub use pipeline::RigOptions;
@@ -141,7 +142,7 @@ pub use pipeline::detector::{Coords, DetectorOptions, InitialGuess, NormalOption
 pub use progress::{NoProgress, Progress, ProgressFactory};
 
 // Reports and their output.
-pub use api::{render, RenderOptions};
+pub use api::{render, render_bytes, render_to, RenderOptions};
 pub use document::Report;
 pub use render::OutputFormat;
 pub use report::detector::{DegeneracyReport, SweepReport};

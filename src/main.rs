@@ -11,7 +11,7 @@
 mod cli;
 
 use clap::{Parser, Subcommand};
-use cli::{audit, check, detector, diff, display, survey};
+use cli::{audit, check, detector, diff, display, run, survey};
 use extrinsic_audit::Result;
 use std::io::Write;
 use std::process::ExitCode;
@@ -78,6 +78,8 @@ enum Command {
     // about/long_about come from the Args struct.
     Diff(diff::DiffArgs),
     Sweep(detector::SweepArgs),
+    // about/long_about come from the Args struct.
+    Run(run::RunArgs),
     /// Print shell completions (bash, zsh, fish, elvish, powershell)
     #[command(
         long_about = "Print a completion script for your shell to standard output.",
@@ -135,6 +137,7 @@ fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
         Some(Command::CalibrateThreshold(args)) => detector::calibrate_threshold(&args, out),
         Some(Command::Diff(args)) => diff::run(&args, out),
         Some(Command::Sweep(args)) => detector::sweep(&args, out),
+        Some(Command::Run(args)) => run::run(&args, out),
         Some(Command::Completions { shell }) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();
             clap_complete::generate(shell, &mut cmd, "audit", out);

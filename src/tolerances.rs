@@ -156,9 +156,38 @@ pub const MAX_TRANSLATION_M: f64 = 1e6;
 /// with a large frame (tens of KiB in a debug build).
 pub const MAX_YAML_DEPTH: usize = 32;
 
-/// Largest baseline file read by `audit check --baseline` (bytes): a baseline
-/// holds one short record per edge, so 64 MiB is millions of edges.
-pub const MAX_BASELINE_FILE_SIZE: u64 = 64 * 1024 * 1024;
+/// Longest string the Python reader (launch `$(eval ...)`, launch.py)
+/// creates, in bytes: by `+`, `*`, `str.join`/`replace`/`zfill`/`format`,
+/// f-strings, `str()`/`repr()`. Launch files build names and numbers of tens
+/// of bytes; a file asking for more is refused before the string exists.
+pub const MAX_PY_STR_BYTES: usize = 1 << 20;
+
+/// Most items in one list, tuple or dict the Python reader creates (`range`,
+/// comprehensions, `+`, `append`/`extend`, `split`, iterating a string).
+pub const MAX_PY_ITEMS: usize = 100_000;
+
+/// The Python reader's work budget for one file, in bytes: every value an
+/// expression evaluates to is charged its size (a string its bytes, a tuple
+/// or dict its items, a list its slots, each value 32 bytes), so the values
+/// a file creates in all, which bounds the memory it can hold, stay under
+/// 256 MiB. Evaluating a real launch file charges a few KiB.
+pub const MAX_PY_WORK_BYTES: usize = 256 << 20;
+
+/// Calls of a launch.py file's own functions nested deeper than this are
+/// refused (a function that calls itself).
+pub const MAX_PY_CALL_DEPTH: usize = 32;
+
+/// Loop iterations and function calls a launch.py file may make in all,
+/// beyond which it is refused (a real file makes tens).
+pub const MAX_PY_STEPS: usize = 100_000;
+
+/// Largest baseline file read or written by `audit check` (bytes). The
+/// baseline is streamed both ways and held compactly (`baseline::Store`, about
+/// a fifth of its text), and `--write-baseline` refuses to write one past this
+/// cap, so that every baseline the tool writes it reads. The tool writes about
+/// 1 KB per file of one edge and one pair (pretty JSON: 102 MB for 100,000
+/// rig files), so 1 GiB is about a million such files, held in about 200 MB.
+pub const MAX_BASELINE_FILE_SIZE: u64 = 1024 * 1024 * 1024;
 
 /// Largest `audit.toml` read by `audit check` (bytes): a manifest names a few
 /// robots with their files, renames and pairs, well under a KiB each.
@@ -187,21 +216,50 @@ pub const MAX_QUOTED_CHARS: usize = 120;
 /// messages that quote several values.
 pub const MAX_MESSAGE_CHARS: usize = 2000;
 
-/// Largest record, chunk (compressed or not) or message a bag reader allocates
-/// (bytes). rosbag2 and `rosbag record` write chunks of 768 KiB to a few MiB;
-/// a length beyond this in a bag is corruption, refused before allocating.
-pub const MAX_BAG_RECORD_BYTES: usize = 1 << 30;
+/// Largest message, chunk (after decompression) or record a bag reader
+/// takes (bytes). rosbag2 and `rosbag record` write chunks of 768 KiB to a
+/// few MiB, a chunk holding at least one message; the largest legitimate
+/// messages are far below this: a 128k-point `PointCloud2` (Ouster OS1-128,
+/// 48-byte points) is ~6 MiB, a 262k-point one 12 MiB, a robot description a
+/// few MiB, an uncompressed 4K RGB image 24 MiB. A length beyond it is
+/// corruption or a bomb, refused before allocating, and a decompression stops
+/// as its output passes it. At most one chunk is decompressed at a time, so
+/// this bounds the reader's memory (issue 27: 1 GiB at most overall).
+pub const MAX_BAG_MESSAGE_BYTES: usize = 256 << 20;
 
 /// Largest rosbag2 `metadata.yaml` read (bytes): a few KiB in practice, with
 /// one entry per split file and topic.
 pub const MAX_BAG_METADATA_BYTES: u64 = 16 * 1024 * 1024;
 
-/// Largest file a compressed rosbag2 split (`compression_mode: FILE`, a
-/// `.db3.zstd` or `.mcap.zstd`) may decompress to (bytes): rosbag2 splits at a
-/// few GiB at most; beyond this is a zstd bomb. The file is decompressed into
-/// a temporary file (SQLite and the MCAP index need random access), deleted
-/// after reading.
-pub const MAX_BAG_DECOMPRESSED_BYTES: u64 = 64 * 1024 * 1024 * 1024;
+/// A bag file decompresses to at most this many times its own size in all
+/// (every chunk, message and compressed split counted), or
+/// [`MIN_BAG_FILE_OUTPUT_BYTES`], whichever is larger. Recorded sensor data
+/// compresses 1.5-4x with zstd, lz4 or bz2 (organised clouds full of NaN
+/// no-returns up to ~20x); 100x leaves room for all of it, while a bomb (18 KB
+/// bz2 chunks that grow to GBs) stops after a bounded amount of work: the cap
+/// bounds the time as well as the disk a compressed split's temporary file
+/// takes.
+pub const MAX_BAG_EXPANSION: u64 = 100;
+
+/// The per-file decompression cap of a small file (bytes): 1 GiB, so that a
+/// small bag with one large compressed message still reads.
+pub const MIN_BAG_FILE_OUTPUT_BYTES: u64 = 1 << 30;
+
+/// Most bytes of messages the transform reader keeps from one bag (`/tf_static`,
+/// `/robot_description`, on request `/tf`): every message is decoded after
+/// the read, so they are held together. A bag's static tree and description
+/// take kilobytes to a few MiB; a `/tf` of an hour at 1 kHz ~200 MiB.
+pub const MAX_BAG_KEPT_BYTES: usize = 512 << 20;
+
+/// SQLite's hard heap limit (bytes, process-wide), set before the first
+/// `.db3` is opened: a query over a hostile database (a recursive view, a
+/// huge sort) fails with "out of memory" instead of growing; reading a bag
+/// needs a few MiB (the page cache below and one row at a time).
+pub const MAX_SQLITE_HEAP_BYTES: i64 = 256 << 20;
+
+/// SQLite's page cache per connection (KiB): enough for the table scans of a
+/// rosbag2 read, well inside [`MAX_SQLITE_HEAP_BYTES`].
+pub const MAX_SQLITE_CACHE_KIB: u32 = 16 * 1024;
 
 /// A bag read that will go through at least this many bytes shows a progress
 /// line on stderr when stderr is a terminal (below it the read takes well
@@ -214,9 +272,30 @@ pub const BAG_PROGRESS_MIN_BYTES: u64 = 64 * 1024 * 1024;
 /// macro bomb (each doubling macro level doubles the count).
 pub const XACRO_MAX_ELEMENTS: usize = 200_000;
 
-/// Most bytes of text (attributes and text) one xacro expansion may produce,
-/// and the longest string an expression may build (`'a' * 10**9`).
+/// Most bytes of text (attributes and text) one xacro expansion may produce.
 pub const XACRO_MAX_OUTPUT_BYTES: usize = 32 * 1024 * 1024;
+
+/// Longest string one `${...}` value may be (bytes): `'a' * 10**9` stops
+/// here. The longest attribute of the real-package corpus is a few hundred
+/// bytes (docs/xacro.md).
+pub const XACRO_MAX_STRING_BYTES: usize = 4 * 1024 * 1024;
+
+/// Most items one list, tuple or dict of a `${...}` expression may hold
+/// (`[0] * 10**9` stops here; a million values take 24 MB).
+pub const XACRO_MAX_LIST_ITEMS: usize = 1_000_000;
+
+/// Most bytes of values (strings, lists, dicts) one expansion may create in
+/// all, counted as they are created, so live memory stays below it however
+/// values are shared or dropped. Real descriptions create a few hundred KB.
+pub const XACRO_MAX_EVAL_BYTES: u64 = 256 * 1024 * 1024;
+
+/// Most evaluation steps of one expansion: an expression node, an element,
+/// an item copied, compared or printed, 16 bytes of text scanned each count
+/// one. The real-package corpus takes at most about 60 000 (docs/xacro.md);
+/// ten million take about a second (a debug build: several), and stop an
+/// expression over shared nested lists (exponential work in little text)
+/// well before [`XACRO_MAX_SECONDS`].
+pub const XACRO_MAX_STEPS: u64 = 10_000_000;
 
 /// Deepest nesting of macro calls. Python xacro stops at Python's recursion
 /// limit (1000 frames, a few dozen frames per call); real files nest fewer
@@ -226,18 +305,42 @@ pub const XACRO_MAX_MACRO_DEPTH: usize = 100;
 /// Deepest nesting of `xacro:include` (a file including itself stops here).
 pub const XACRO_MAX_INCLUDE_DEPTH: usize = 32;
 
-/// Wall time (s) after which an expansion is stopped; real descriptions
-/// expand in milliseconds.
+/// Deepest nesting of elements, in a source file and in the expansion
+/// (counting macro bodies, blocks and `xacro:if`/`unless` as levels). Python
+/// xacro 2.1.1 fails between 500 and 1000 nested elements (measured; its
+/// recursion limit); a URDF nests about five.
+pub const XACRO_MAX_ELEMENT_DEPTH: usize = 500;
+
+/// Deepest chain of lazy properties evaluated inside one another (`a` is
+/// `${b}`, `b` is `${c}`, ...). Python xacro 2.1.1 fails between 150 and 200
+/// (measured); real files chain a few.
+pub const XACRO_MAX_PROPERTY_DEPTH: usize = 150;
+
+/// Wall time (s) after which an expansion is stopped (the built-in expander,
+/// and the child of `--xacro external`, killed with its process group); real
+/// descriptions expand in milliseconds.
 pub const XACRO_MAX_SECONDS: f64 = 10.0;
+
+/// `--xacro external`: once the child has exited, how long (s) its output
+/// pipes may stay open (a background process it left holding them is killed
+/// with the process group first; one outside the group is given up on).
+pub const XACRO_EXTERNAL_DRAIN_SECONDS: f64 = 1.0;
 
 /// Most bytes of the external `xacro` program's stderr kept for the error
 /// message (`--xacro external`); Python tracebacks of real failures are a few
 /// KiB.
 pub const XACRO_MAX_STDERR_BYTES: u64 = 16 * 1024;
 
-/// Deepest nesting of one `${...}` expression (parentheses, unary operators):
-/// the parser recurses per level.
+/// Deepest nesting of one `${...}` expression, in nodes: parentheses, unary
+/// operators, `**`, conditional expressions, calls and subscripts inside one
+/// another, lists in lists (a chain of one operator, `a + b + c + ...`, is
+/// one level, as are `x[0][1]` and `a.b.c`). Python refuses more than 200
+/// nested parentheses; real expressions nest a few levels.
 pub const XACRO_MAX_EXPR_DEPTH: usize = 100;
+
+/// Deepest nesting of list, tuple and dict values that printing, comparing
+/// and searching walk (`[[[...]]]` built through properties).
+pub const XACRO_MAX_VALUE_DEPTH: usize = 100;
 
 /// `$(find pkg)`: directory levels searched below each package-path entry
 /// (a colcon workspace keeps packages at `src/<repo>/<pkg>`).
@@ -246,6 +349,16 @@ pub const XACRO_PACKAGE_SEARCH_DEPTH: usize = 3;
 /// `$(find pkg)` without a package path: ancestor directories of the input
 /// searched (each with [`XACRO_PACKAGE_SEARCH_DEPTH`] levels below it).
 pub const XACRO_PACKAGE_SEARCH_UP: usize = 3;
+
+/// `$(find pkg)`: most directories one search visits (a package path
+/// pointing at `/` or a huge tree stops here with the count, not after
+/// minutes). A ROS distribution's share directory holds about 1 000
+/// packages.
+pub const XACRO_PACKAGE_SEARCH_MAX_DIRS: usize = 20_000;
+
+/// `$(find pkg)`: bytes of each `package.xml` read to find its `<name>`
+/// (the name is near the top; real manifests are a few KiB).
+pub const XACRO_PACKAGE_XML_BYTES: u64 = 64 * 1024;
 
 /// Deepest element nesting the URDF reader reads. A URDF nests about five
 /// levels (robot, link, visual, geometry, mesh); the pull reader's namespace
@@ -507,3 +620,66 @@ pub const PROGRESS_MIN_BYTES: u64 = 32 << 20;
 
 /// Point count from which `degeneracy` shows a progress bar (on a terminal).
 pub const PROGRESS_MIN_POINTS: usize = 1 << 20;
+
+/// A scan's weakest point-displacement direction counts as unconstrained by
+/// every point when its eigenvalue (its Rayleigh quotient `v^T H v / v^T M v`,
+/// in `[0, 1]`: the mean squared normal component of the points' motion over
+/// their mean squared motion) is at most this: the points' shares of it
+/// (`--format mcap`, `weakest_share`) are then rounding, and are written as 0.
+pub const SHARE_ZERO_EIGENVALUE: f64 = 1e-12;
+
+/// Most points of a scan drawn in its 3D scene (`--format mcap`): a larger
+/// scan is drawn as every k-th point, k the smallest that fits (2 million
+/// points are 32 MB of cloud data, about 43 MB in the file's base64 JSON,
+/// which Foxglove loads whole).
+pub const MAX_SCENE_CLOUD_POINTS: usize = 2_000_000;
+
+// ---------------------------------------------------------------------------
+// Recorded runs (`audit run`, `run`)
+// ---------------------------------------------------------------------------
+
+/// Default voxel edge (m) of a run's scans whose normals are estimated: the
+/// paper's 0.10 m (its real-data pipeline), which the Python peer of the
+/// benchmark also uses. A scan with normal fields is used as stored.
+pub const RUN_VOXEL_M: f64 = 0.10;
+
+/// Most cells (`height * width`) one scan may have: 2^22 (4.2 million; a
+/// 128-beam, 2048-column sweep is 262,144). A larger scan is skipped with a
+/// named warning; the bound keeps one scan's working memory (~130 bytes per
+/// point with normals estimated) near 0.5 GiB.
+pub const MAX_SCAN_CELLS: usize = 1 << 22;
+
+/// Most cells of all the scans in flight at once (read, queued or being
+/// worked on): the work queue waits below it (one scan is always let
+/// through). With [`MAX_SCAN_CELLS`] it bounds a run's memory independently
+/// of its length (docs/runs.md states the bound).
+pub const MAX_RUN_INFLIGHT_CELLS: usize = 1 << 22;
+
+/// Most scans in flight per worker thread (the queue's depth).
+pub const RUN_SCANS_PER_WORKER: usize = 2;
+
+/// A pose sample within this many seconds of a scan's time is the scan's
+/// pose (no interpolation): the rounding of timestamps printed with 6 to 9
+/// decimals, far below a scan period (0.1 s at 10 Hz).
+pub const POSE_TIME_TOL_S: f64 = 1e-6;
+
+/// Largest poses file read (bytes): a KITTI sequence's poses are ~200 B per
+/// scan (4,541 scans: 0.9 MB); 256 MiB is a million scans' worth.
+pub const MAX_POSE_FILE_BYTES: u64 = 256 << 20;
+
+/// Most pairs a run's scan pairs reach back (`--pair-step`): each step held
+/// back is one scan's bytes in memory.
+pub const MAX_PAIR_STEP: usize = 64;
+
+/// Points the timeline keeps per series at most: when a run has more scans,
+/// neighbouring bins merge (the smallest eigenvalue of each bin kept), so
+/// the picture costs the same for any length.
+pub const TIMELINE_BINS: usize = 2048;
+
+/// Degenerate intervals and label-change examples kept per family and frame
+/// in the summary (the counts go on past them).
+pub const MAX_RUN_EXAMPLES: usize = 1000;
+
+/// Warnings printed per kind of skipped scan before the rest are only
+/// counted (the CSV and JSON lines name every one).
+pub const MAX_SKIP_WARNINGS: usize = 20;

@@ -26,6 +26,9 @@ pub struct ScanFile {
     pub classes: Vec<u8>,
     /// A scan pair: `points` is the source, matched against this target.
     pub pair: Option<PairOptions>,
+    /// Keep (a stride of) the points in the report, for the 3D scene that
+    /// [`render_bytes`](crate::render_bytes) writes as MCAP.
+    pub keep_points: bool,
 }
 
 impl ScanFile {
@@ -207,6 +210,7 @@ impl Detector {
         s.estimate_normals = scan.estimate_normals;
         s.normals = self.opts.normals;
         s.classes = scan.classes.clone();
+        s.keep_points = scan.keep_points;
         if let Some(p) = &scan.pair {
             s.target = Some(p.target.clone());
             s.gate = p.gate;

@@ -9,5 +9,5 @@ mod output;
 mod robot;
 
 pub use detector::{Detector, PairOptions, ScanFile};
-pub use output::{render, RenderOptions};
+pub use output::{render, render_bytes, render_to, RenderOptions};
 pub use robot::Robot;

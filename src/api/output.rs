@@ -58,16 +58,64 @@ pub struct RenderOptions {
 /// # }
 /// ```
 pub fn render<R: Report>(report: &R, format: OutputFormat, opts: &RenderOptions) -> Result<String> {
-    let layout = Layout {
-        width: opts.width,
-        wide: opts.wide,
-        columns: opts.columns.clone(),
-        cwd: opts.cwd.clone(),
-    };
-    let style = if opts.color {
-        Style { color: true }
-    } else {
-        Style::plain()
-    };
+    let (style, layout) = opts.parts();
     render::render(report, &opts.warnings, format, style, &layout)
+}
+
+/// `report` in `format` as bytes: what [`render`] gives, and the binary
+/// formats too (MCAP: the 3D scene as Foxglove's JSON-schema messages on
+/// `/tf`, `/audit/scene`, `/audit/points`).
+///
+/// ```
+/// use extrinsic_audit::{render_bytes, LoadOptions, OutputFormat, RenderOptions, RigOptions, Robot};
+///
+/// # fn main() -> extrinsic_audit::Result<()> {
+/// let urdf = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/urdf/anymal_c_lidar.urdf");
+/// let robot = Robot::load(&[urdf], &LoadOptions::default())?;
+/// let (report, _) = robot.report("base", "lidar", &RigOptions::default())?;
+/// let mcap = render_bytes(&report, OutputFormat::Mcap, &RenderOptions::default())?;
+/// // An MCAP file opens and closes with its magic, b"\x89MCAP0\r\n".
+/// assert_eq!(&mcap[..8], b"\x89MCAP0\r\n");
+/// assert_eq!(&mcap[mcap.len() - 8..], b"\x89MCAP0\r\n");
+/// // The text formats are the same bytes as `render`'s.
+/// let text = render_bytes(&report, OutputFormat::Markdown, &RenderOptions::default())?;
+/// assert_eq!(text, extrinsic_audit::render(&report, OutputFormat::Markdown, &RenderOptions::default())?.into_bytes());
+/// # Ok(())
+/// # }
+/// ```
+pub fn render_bytes<R: Report>(
+    report: &R,
+    format: OutputFormat,
+    opts: &RenderOptions,
+) -> Result<Vec<u8>> {
+    let (style, layout) = opts.parts();
+    render::render_bytes(report, &opts.warnings, format, style, &layout)
+}
+
+/// [`render_bytes`] written to `out` as it is made (JSON and MCAP stream).
+pub fn render_to<R: Report>(
+    report: &R,
+    format: OutputFormat,
+    opts: &RenderOptions,
+    out: &mut dyn std::io::Write,
+) -> Result<()> {
+    let (style, layout) = opts.parts();
+    render::render_to(report, &opts.warnings, format, style, &layout, out)
+}
+
+impl RenderOptions {
+    fn parts(&self) -> (Style, Layout) {
+        let layout = Layout {
+            width: self.width,
+            wide: self.wide,
+            columns: self.columns.clone(),
+            cwd: self.cwd.clone(),
+        };
+        let style = if self.color {
+            Style { color: true }
+        } else {
+            Style::plain()
+        };
+        (style, layout)
+    }
 }

@@ -36,6 +36,8 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone)]
 pub struct Robot {
     loaded: Loaded,
+    /// The files named to `load`.
+    named: Vec<PathBuf>,
 }
 
 impl Robot {
@@ -47,7 +49,28 @@ impl Robot {
         let files: Vec<PathBuf> = files.iter().map(|f| f.as_ref().to_path_buf()).collect();
         let loaded = pipeline::load(&files, opts)?;
         loaded.check_joint_names(opts.joints.keys().map(String::as_str))?;
-        Ok(Robot { loaded })
+        Ok(Robot {
+            loaded,
+            named: files,
+        })
+    }
+
+    /// The files read: those named to [`Robot::load`], then every other
+    /// file an edge came from (a xacro include, a launch file's URDF), each
+    /// once (what an output written beside them must not replace).
+    ///
+    /// ```
+    /// use extrinsic_audit::{LoadOptions, Robot};
+    ///
+    /// # fn main() -> extrinsic_audit::Result<()> {
+    /// let urdf = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/urdf/anymal_c_lidar.urdf");
+    /// let robot = Robot::load(&[urdf], &LoadOptions::default())?;
+    /// assert_eq!(robot.files(), [std::path::PathBuf::from(urdf)]);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn files(&self) -> Vec<PathBuf> {
+        self.loaded.files_read(&self.named)
     }
 
     /// Every frame, sorted.
@@ -144,7 +167,10 @@ impl Robot {
         opts: &RigOptions,
     ) -> Result<(RigReport, Vec<Warning>)> {
         let chain = self.chain(from, to)?;
-        Ok((pipeline::report(&chain, opts)?, chain.warnings))
+        let mut report = pipeline::report(&chain, opts)?;
+        // The 3D scene (MCAP) draws the whole tree, the chain marked.
+        report.tree = Some(self.frame_tree(Some(&chain)));
+        Ok((report, chain.warnings))
     }
 
     /// The frame tree as a report (text, JSON, DOT, Mermaid, SVG), the

@@ -10,17 +10,21 @@ use extrinsic_audit::internals::tolerances::{
     DEFAULT_ELLS, DEFAULT_MAX_FILE_SIZE, DEFAULT_TAU, ELL_RANGE_M, KAPPA_RANGE, MAX_JOINT_VALUE,
     MAX_SIGMA_R_DEG, MAX_SIGMA_T_M, MAX_SIM_NOISE_M, SIM_VOXEL_RANGE_M,
 };
-use extrinsic_audit::{BagOptions, LoadOptions, OutputFormat, PitchTol, Rename, UserSigma};
+use extrinsic_audit::{Assume, BagOptions, LoadOptions, OutputFormat, PitchTol, Rename, UserSigma};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-/// `--format`: the output format of every command.
+/// `--format`, `--output`: what every command writes, and where.
 #[derive(Debug, Args, Clone)]
 pub struct OutputArgs {
     /// Output format (dot, mermaid and svg draw the frame tree, `audit FILE...
-    /// --frames`)
+    /// --frames`; mcap writes the 3D scene for Foxglove)
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
     pub format: OutputFormat,
+    /// Write the output to FILE instead of standard output (replaced
+    /// atomically; never one of the command's inputs)
+    #[arg(long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
 }
 
 /// `--ell`: the characteristic lengths.
@@ -109,6 +113,14 @@ pub struct ReadArgs {
     /// a rig TOML's own)
     #[arg(long)]
     pub invert: bool,
+    /// The direction of transforms no upstream code fixes (a plain 4x4 text
+    /// file, OKVIS imu_params.T_BS, GLIM T_lidar_camera, a --key that names no
+    /// frames), refused without it: child-in-parent or parent-in-child, with
+    /// :PARENT,CHILD for files that name no frames (e.g.
+    /// child-in-parent:base_link,lidar: the numbers are the pose of lidar in
+    /// base_link)
+    #[arg(long, value_parser = parse_assume, value_name = "DIRECTION[:PARENT,CHILD]")]
+    pub assume: Option<Assume>,
 }
 
 impl ReadArgs {
@@ -116,7 +128,13 @@ impl ReadArgs {
     pub fn apply(&self, load: &mut LoadOptions) {
         load.key = self.key.clone();
         load.invert = self.invert;
+        load.assume = self.assume.clone();
     }
+}
+
+/// `--assume`: parsed by the library (`formats::Assume::parse`).
+fn parse_assume(s: &str) -> Result<Assume, String> {
+    Assume::parse(s)
 }
 
 /// `--max-file-size`: the cap on every input file.
@@ -127,7 +145,8 @@ pub struct FileSizeArgs {
     pub max_file_size: u64,
 }
 
-/// `--arg`, `--package-path`, `--xacro`: how xacro (and launch) files expand.
+/// `--arg`, `--package-path`, `--xacro`, `--confine`: how xacro (and launch)
+/// files expand, and where reads may go.
 #[derive(Debug, Args, Clone)]
 pub struct XacroArgs {
     /// xacro and launch-file `$(arg NAME)` value (also `if="$(arg NAME)"` in a
@@ -142,6 +161,20 @@ pub struct XacroArgs {
     /// `xacro` program on PATH)
     #[arg(long = "xacro", value_enum, default_value_t = XacroMode::Native)]
     pub xacro_mode: XacroMode,
+    /// Read only files below DIR (symlinks resolved): the inputs, xacro
+    /// includes, load_yaml files, $(find) packages, rig TOML includes; xacro
+    /// reads no environment variable. For CI on pull requests; repeatable
+    #[arg(long = "confine", value_name = "DIR", value_parser = parse_confine)]
+    pub confine: Vec<PathBuf>,
+}
+
+/// `--confine DIR`: an existing directory.
+fn parse_confine(s: &str) -> Result<PathBuf, String> {
+    let p = PathBuf::from(s);
+    if !p.is_dir() {
+        return Err(format!("expected an existing directory, found `{s}`"));
+    }
+    Ok(p)
 }
 
 /// `--xacro native|external`.
@@ -157,6 +190,7 @@ impl XacroArgs {
         load.xacro_args = self.xacro_args.iter().cloned().collect();
         load.package_paths = self.package_paths.clone();
         load.xacro_external = self.xacro_mode == XacroMode::External;
+        load.confine = self.confine.clone();
     }
 }
 

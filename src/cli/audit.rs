@@ -87,7 +87,10 @@ impl AuditArgs {
 }
 
 pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
+    super::check_output(&args.output, &args.files)?;
     let robot = Robot::load(&args.files, &args.load_options()?)?;
+    // The files named and those they included.
+    let inputs = robot.files();
     print_warnings(robot.warnings());
     print_notes(robot.notes());
     deny_warnings(args.strict, robot.warnings())?;
@@ -96,7 +99,8 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
             &robot,
             args.from.as_deref(),
             args.to.as_deref(),
-            args.output.format,
+            &args.output,
+            &inputs,
             out,
         );
     }
@@ -117,6 +121,6 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
         .chain(&chain_warnings)
         .cloned()
         .collect();
-    emit_warned(&report, &warnings, args.output.format, out)?;
+    emit_warned(&report, &warnings, &args.output, &inputs, out)?;
     Ok(0)
 }

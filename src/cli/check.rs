@@ -1,7 +1,7 @@
 //! `audit check PATHS...`: CI checks on calibration files.
 
 use super::args::{
-    parse_nonneg, parse_positive, FileSizeArgs, JointArgs, OutputArgs, PitchTolArgs,
+    parse_nonneg, parse_positive, FileSizeArgs, JointArgs, OutputArgs, PitchTolArgs, XacroArgs,
 };
 use super::emit;
 use clap::Args;
@@ -77,6 +77,8 @@ pub struct CheckArgs {
     #[command(flatten)]
     pub size: FileSizeArgs,
     #[command(flatten)]
+    pub xacro: XacroArgs,
+    #[command(flatten)]
     pub output: OutputArgs,
 }
 
@@ -98,6 +100,14 @@ fn parse_pair(s: &str) -> std::result::Result<(String, String), String> {
 }
 
 pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
+    let inputs: Vec<PathBuf> = args
+        .paths
+        .iter()
+        .chain(&args.baseline)
+        .chain(&args.write_baseline)
+        .cloned()
+        .collect();
+    super::check_output(&args.output, &inputs)?;
     let progress = super::display::TermProgress::new();
     let mut opts = CheckOptions::default();
     opts.paths = args.paths.clone();
@@ -115,10 +125,11 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
     opts.pitch_tol = args.pitch.pitch_tol;
     opts.load.joints = args.joints.positions();
     opts.load.max_file_size = args.size.max_file_size;
+    args.xacro.apply(&mut opts.load);
     opts.allow = args.allow.clone();
     opts.deny = args.deny.clone();
     opts.deny_warnings = args.deny_warnings;
     let report = check_with(&opts, &progress)?;
-    emit(&report, args.output.format, out)?;
+    emit(&report, &args.output, &inputs, out)?;
     Ok(report.exit_code())
 }

@@ -3,7 +3,9 @@
 //! `simulate`, `calibrate-threshold` (from `internals`). Arguments here, made
 //! into the library's options; the library reads the scans and computes.
 
-use super::args::{parse_noise, parse_positive, parse_voxel, EllArgs, OutputArgs, TauArgs};
+use super::args::{
+    parse_noise, parse_positive, parse_voxel, EllArgs, OutputArgs, TauArgs, XacroArgs,
+};
 use super::display::TermBars;
 use super::emit;
 use extrinsic_audit::internals::degeneracy::scene::TUNNEL_RADIUS;
@@ -16,8 +18,8 @@ use extrinsic_audit::internals::tolerances::{
     DEFAULT_ELLS, PAIR_GATE_M, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
 };
 use extrinsic_audit::{
-    Detector, DetectorOptions, Error, Family, InitialGuess, LoadOptions, PairOptions, Result,
-    Robot, ScanFile,
+    Detector, DetectorOptions, Error, Family, InitialGuess, LoadOptions, OutputFormat, PairOptions,
+    Result, Robot, ScanFile,
 };
 use std::io::Write;
 use std::path::PathBuf;
@@ -183,6 +185,9 @@ pub struct SweepArgs {
     /// With --rig: the other frame.
     #[arg(long)]
     pub to: Option<String>,
+    /// How the --rig files are read.
+    #[command(flatten)]
+    pub xacro: XacroArgs,
 }
 
 /// `--voxel` of `degeneracy` within [`RAW_VOXEL_RANGE_M`].
@@ -291,6 +296,8 @@ pub struct SimulateArgs {
     )]
     pub update: String,
     #[command(flatten)]
+    pub xacro: XacroArgs,
+    #[command(flatten)]
     pub output: OutputArgs,
 }
 
@@ -339,6 +346,15 @@ pub struct CalibrateThresholdArgs {
 }
 
 impl DegeneracyArgs {
+    /// The files read: the points, the target, the initial-guess file.
+    fn inputs(&self) -> Vec<PathBuf> {
+        std::iter::once(&self.points)
+            .chain(&self.target)
+            .chain(&self.initial_guess_file)
+            .cloned()
+            .collect()
+    }
+
     /// The detector these options ask for.
     pub fn detector(&self) -> Result<Detector> {
         let mut o = DetectorOptions::default();
@@ -393,8 +409,13 @@ impl DegeneracyArgs {
 
 /// `audit degeneracy`.
 pub fn degeneracy(args: &DegeneracyArgs, out: &mut dyn Write) -> Result<i32> {
-    let report = args.detector()?.scan_with(&args.scan_file()?, &TermBars)?;
-    emit(&report, args.output.format, out)?;
+    let inputs = args.inputs();
+    super::check_output(&args.output, &inputs)?;
+    let mut scan = args.scan_file()?;
+    // The 3D scene draws the points: keep them.
+    scan.keep_points = args.output.format == OutputFormat::Mcap;
+    let report = args.detector()?.scan_with(&scan, &TermBars)?;
+    emit(&report, &args.output, &inputs, out)?;
     Ok(0)
 }
 
@@ -404,21 +425,27 @@ pub fn sweep(args: &SweepArgs, out: &mut dyn Write) -> Result<i32> {
     if args.rig.is_empty() && (args.from.is_some() || args.to.is_some()) {
         return Err(Error::usage("--from/--to apply only with --rig"));
     }
+    let mut inputs = s.inputs();
+    inputs.extend(args.rig.iter().cloned());
+    super::check_output(&s.output, &inputs)?;
     let (detector, scan) = (s.detector()?, s.scan_file()?);
     let rig = if args.rig.is_empty() {
         None
     } else {
-        let robot = Robot::load(&args.rig, &LoadOptions::default())?;
+        let mut load = LoadOptions::default();
+        args.xacro.apply(&mut load);
+        let robot = Robot::load(&args.rig, &load)?;
         let (from, to) = robot.frame_pair(args.from.as_deref(), args.to.as_deref())?;
         Some(robot.transform(&from, &to)?)
     };
     let report = detector.sweep(&scan, args.seed, rig.as_ref(), &TermBars)?;
-    emit(&report, s.output.format, out)?;
+    emit(&report, &s.output, &inputs, out)?;
     Ok(0)
 }
 
 /// `audit tunnel`.
 pub fn tunnel(args: &TunnelArgs, out: &mut dyn Write) -> Result<i32> {
+    super::check_output(&args.output, &[])?;
     let report = det::tunnel(&TunnelParams {
         radius: args.radius,
         length: args.length,
@@ -427,7 +454,7 @@ pub fn tunnel(args: &TunnelArgs, out: &mut dyn Write) -> Result<i32> {
         shift: det::parse_triple(&args.shift, "--shift")?,
         tau: args.tau.tau,
     })?;
-    emit(&report, args.output.format, out)?;
+    emit(&report, &args.output, &[], out)?;
     Ok(0)
 }
 
@@ -451,14 +478,18 @@ pub fn simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<i32> {
         ells: args.ell.ell.clone(),
         update: det::parse_update(&args.update)?,
     };
+    let mut load = LoadOptions::default();
+    args.xacro.apply(&mut load);
     let rig = SimulateRig {
         files: args.files.clone(),
         from: args.from.clone(),
         to: args.to.clone(),
         pose,
+        load,
     };
+    super::check_output(&args.output, &args.files)?;
     let t = det::simulate_transform(&rig)?;
-    emit(&det::simulate(&params, &t)?, args.output.format, out)?;
+    emit(&det::simulate(&params, &t)?, &args.output, &args.files, out)?;
     Ok(0)
 }
 
@@ -471,6 +502,7 @@ pub fn calibrate_threshold(args: &CalibrateThresholdArgs, out: &mut dyn Write) -
         ells: args.ell.ell.clone(),
         threads: args.threads,
     };
-    emit(&det::calibrate(&opts, &TermBars)?, args.output.format, out)?;
+    super::check_output(&args.output, &[])?;
+    emit(&det::calibrate(&opts, &TermBars)?, &args.output, &[], out)?;
     Ok(0)
 }

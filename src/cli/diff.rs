@@ -2,7 +2,7 @@
 //! calibrations. Exit 1 when a change exceeds `--tolerance`, 0 otherwise.
 
 use super::args::{
-    parse_nonneg, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs, RenameArgs,
+    parse_nonneg, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs, RenameArgs, XacroArgs,
 };
 use super::{emit, print_warnings};
 use clap::Args;
@@ -70,6 +70,8 @@ pub struct DiffArgs {
     #[arg(long)]
     pub invert_new: bool,
     #[command(flatten)]
+    pub xacro: XacroArgs,
+    #[command(flatten)]
     pub output: OutputArgs,
 }
 
@@ -80,11 +82,14 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
             args.tolerance.len()
         )));
     };
+    let inputs = [args.old.clone(), args.new.clone()];
+    super::check_output(&args.output, &inputs)?;
     let mut opts = DiffOptions::new(&args.old, &args.new);
     opts.from = args.from.clone();
     opts.to = args.to.clone();
     opts.load.renames = args.renames.renames.clone();
     opts.load.joints = args.joints.positions();
+    args.xacro.apply(&mut opts.load);
     opts.old_read.key = args.read.key.clone().or_else(|| args.key_old.clone());
     opts.old_read.invert = args.read.invert || args.invert_old;
     opts.new_read.key = args.read.key.clone().or_else(|| args.key_new.clone());
@@ -95,6 +100,6 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
     opts.tolerance.rotation_deg = rotation_deg;
     let (report, warnings) = diff(&opts)?;
     print_warnings(&warnings);
-    emit(&report, args.output.format, out)?;
+    emit(&report, &args.output, &inputs, out)?;
     Ok(if report.exceeded.is_empty() { 0 } else { 1 })
 }

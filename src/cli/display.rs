@@ -61,6 +61,18 @@ pub fn stdout_options() -> RenderOptions {
     opts
 }
 
+/// How an output file (`--output`) is written: as a pipe gets it, every
+/// column and no colour unless `--color always`.
+pub fn file_options() -> RenderOptions {
+    let a = args();
+    let mut opts = RenderOptions::default();
+    opts.color = Style::chosen(a.color, false).color;
+    opts.wide = a.wide;
+    opts.columns = a.columns;
+    opts.cwd = std::env::current_dir().ok();
+    opts
+}
+
 fn terminal_width() -> usize {
     let env = std::env::var("COLUMNS")
         .ok()

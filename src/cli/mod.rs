@@ -11,29 +11,68 @@ pub mod detector;
 pub mod diff;
 pub mod display;
 mod frames;
+pub mod run;
 pub mod survey;
 
+use args::OutputArgs;
+use extrinsic_audit::internals::pipeline;
 use extrinsic_audit::internals::sanitize;
-use extrinsic_audit::{render, Code, Error, OutputFormat, Report, Result, Warning};
-use std::io::Write;
+use extrinsic_audit::{
+    render_bytes, render_to, Code, Error, OutputFormat, Report, Result, Warning,
+};
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
 
-/// Render `report` in `format` to `out` (colour for tables on a terminal).
-pub fn emit<R: Report>(report: &R, format: OutputFormat, out: &mut dyn Write) -> Result<()> {
-    emit_warned(report, &[], format, out)
+/// Render `report` as `output` asks (`--format`, `--output`) to `out` or
+/// the output file; `inputs` are the files the command read (never written
+/// over).
+pub fn emit<R: Report>(
+    report: &R,
+    output: &OutputArgs,
+    inputs: &[PathBuf],
+    out: &mut dyn Write,
+) -> Result<()> {
+    emit_warned(report, &[], output, inputs, out)
 }
 
 /// [`emit`], the JSON carrying `warnings` (already printed on stderr). Every
-/// report, the frame tree included, reaches standard output here.
+/// report, the frame tree included, reaches standard output or its
+/// `--output` file here: a file through the atomic writer, after the check
+/// that it is none of `inputs`; a binary format never to a terminal.
 pub fn emit_warned<R: Report>(
     report: &R,
     warnings: &[Warning],
-    format: OutputFormat,
+    output: &OutputArgs,
+    inputs: &[PathBuf],
     out: &mut dyn Write,
 ) -> Result<()> {
+    let format = output.format;
+    if let Some(path) = &output.output {
+        pipeline::check_output_target("--output", "command", path, inputs)?;
+        let mut opts = display::file_options();
+        opts.warnings = warnings.to_vec();
+        let bytes = render_bytes(report, format, &opts)?;
+        return pipeline::write_atomic(path, &bytes);
+    }
+    if format.is_binary() && std::io::stdout().is_terminal() {
+        return Err(Error::usage(format!(
+            "--format {} is binary: refusing to write it to a terminal; give --output FILE.{0} or redirect standard output",
+            format.name()
+        )));
+    }
     let mut opts = display::stdout_options();
     opts.color &= format == OutputFormat::Table;
     opts.warnings = warnings.to_vec();
-    write_output(out, &render(report, format, &opts)?)
+    let mut pipe = Pipe { out, closed: false };
+    let written = render_to(report, format, &opts, &mut pipe).and_then(|()| {
+        pipe.flush()
+            .map_err(|e| Error::new(Code::Io, format!("cannot write output: {e}")))
+    });
+    if pipe.closed {
+        // `audit ... | head -1`: the reader asked for no more; status 0.
+        std::process::exit(0);
+    }
+    written
 }
 
 /// `--strict`: warnings (already printed) stop the command, an error naming
@@ -55,13 +94,30 @@ pub fn deny_warnings(strict: bool, warnings: &[Warning]) -> Result<()> {
     ))
 }
 
-/// Write `text` to standard output. A closed pipe (`audit ... | head -1`) ends
-/// the process quietly with status 0, as `head` asked for no more.
-fn write_output(out: &mut dyn Write, text: &str) -> Result<()> {
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
-        Ok(()) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
-        Err(e) => Err(Error::new(Code::Io, format!("cannot write output: {e}"))),
+/// Check `--output` before a command does its work (the write checks again).
+pub fn check_output(output: &OutputArgs, inputs: &[PathBuf]) -> Result<()> {
+    match &output.output {
+        Some(path) => pipeline::check_output_target("--output", "command", path, inputs),
+        None => Ok(()),
+    }
+}
+
+/// Standard output as the renderers write it, noting a closed pipe.
+struct Pipe<'a> {
+    out: &'a mut dyn Write,
+    closed: bool,
+}
+
+impl Write for Pipe<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let r = self.out.write(buf);
+        self.closed |= matches!(&r, Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe);
+        r
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        let r = self.out.flush();
+        self.closed |= matches!(&r, Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe);
+        r
     }
 }
 

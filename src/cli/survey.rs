@@ -52,6 +52,7 @@ pub struct SurveyArgs {
 }
 
 pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
+    super::check_output(&args.output, &args.paths)?;
     if let Some(plot) = &args.plot {
         check_plot_target(plot, &args.paths)?;
     }
@@ -69,6 +70,6 @@ pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
     if let Some(plot) = &args.plot {
         write_survey_plot(plot, &args.paths, &report)?;
     }
-    emit_warned(&report, &warnings, args.output.format, out)?;
+    emit_warned(&report, &warnings, &args.output, &args.paths, out)?;
     Ok(0)
 }

@@ -34,6 +34,16 @@ pub struct PairStats {
     pub mean_distance: f64,
 }
 
+/// The matched source points with the target normals in the source frame.
+pub fn correspondences(
+    source: &[[f64; 3]],
+    target: &Cloud,
+    guess: &Transform,
+    gate: f64,
+) -> Result<(Cloud, PairStats)> {
+    matches(source, target, guess, gate).map(|(c, _, st)| (c, st))
+}
+
 /// [`correspondences`] with the index in `source` of each matched point.
 fn matches(
     source: &[[f64; 3]],
@@ -88,6 +98,36 @@ fn matches(
     Ok((out, index, stats))
 }
 
+/// The matched source points with the target normals in the source frame
+/// (what [`pair_assembly_weighted`] assembles) and their source weights.
+pub fn matched_weighted(
+    source: &[[f64; 3]],
+    weights: Option<&[f64]>,
+    target: &Cloud,
+    guess: &Transform,
+    gate: f64,
+) -> Result<(Cloud, Option<Vec<f64>>)> {
+    matched_stats(source, weights, target, guess, gate).map(|(c, w, _)| (c, w))
+}
+
+/// [`matched_weighted`] with the search's statistics.
+fn matched_stats(
+    source: &[[f64; 3]],
+    weights: Option<&[f64]>,
+    target: &Cloud,
+    guess: &Transform,
+    gate: f64,
+) -> Result<(Cloud, Option<Vec<f64>>, PairStats)> {
+    let (c, index, st) = matches(source, target, guess, gate)?;
+    let w: Option<Vec<f64>> = weights.map(|w| {
+        index
+            .iter()
+            .map(|&i| w.get(i).copied().unwrap_or(1.0))
+            .collect()
+    });
+    Ok((c, w, st))
+}
+
 /// `H` and `M` of a pair (see the module notes); an error without any
 /// correspondence.
 pub fn pair_assembly(
@@ -108,19 +148,13 @@ pub fn pair_assembly_weighted(
     guess: &Transform,
     gate: f64,
 ) -> Result<(Assembly, PairStats)> {
-    let (c, index, st) = matches(source, target, guess, gate)?;
+    let (c, w, st) = matched_stats(source, weights, target, guess, gate)?;
     if c.is_empty() {
         return Err(Error::invalid(format!(
             "no correspondence: none of the {} source points has a target point within {gate} m (check --initial-guess or raise --gate)",
             source.len()
         )));
     }
-    let w: Option<Vec<f64>> = weights.map(|w| {
-        index
-            .iter()
-            .map(|&i| w.get(i).copied().unwrap_or(1.0))
-            .collect()
-    });
     Ok((
         Assembly::from_points(&c.points, &c.normals, w.as_deref())?,
         st,

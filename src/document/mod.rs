@@ -6,17 +6,21 @@
 //! [`SCHEMA_VERSION`]) that lays itself out as a [`Document`]: blocks in
 //! reading order (headline, sections, notes, text, [`Table`]s, diagnostics)
 //! and, for the pictures, a [`Graph`] (the frame tree) or a [`Plot`] (the
-//! survey plot). Every number a person reads is formatted by [`numbers`].
+//! survey plot), and for the 3D formats a [`Scene`] (frames, shapes and point
+//! clouds; the text formats skip it). Every number a person reads is
+//! formatted by [`numbers`].
 //! Text in a document is as the report has it (names from files included):
 //! each renderer escapes it for its own format.
 
 pub mod graph;
 pub mod numbers;
 pub mod plot;
+pub mod scene;
 mod table;
 
 pub use graph::{Graph, GraphLink, GraphNode};
 pub use plot::Plot;
+pub use scene::Scene;
 pub use table::Table;
 
 use crate::diagnostic::Diagnostic;
@@ -71,6 +75,9 @@ pub enum Block {
     Graph(Graph),
     /// A chart (the survey plot), drawn only as SVG.
     Plot(Plot),
+    /// A 3D scene (the rig, the frame tree, a scan), drawn only by the 3D
+    /// formats (MCAP); the others skip it.
+    Scene(Scene),
 }
 
 impl Document {

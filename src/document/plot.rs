@@ -1,16 +1,20 @@
-//! A chart: panels side by side, each with two axes (linear or logarithmic)
-//! and series of marks or lines drawn in order, later series over earlier
-//! ones; a series with a legend entry is listed in its panel's legend box
-//! (a series without points is a legend entry only). What the survey plot
-//! is drawn from. Text is as the report has it: the renderer escapes it.
+//! A chart: panels in a grid (rows of equal panels, filled left to right),
+//! each with two axes (linear or logarithmic) and series of marks, lines or
+//! shaded spans drawn in order, later series over earlier ones; a series
+//! with a legend entry is listed in its panel's legend box (a series without
+//! points is a legend entry only). What the survey plot and the run
+//! timeline are drawn from. Text is as the report has it: the renderer
+//! escapes it.
 
 /// The chart.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plot {
     /// Size in pixels, width by height.
     pub size_px: (u32, u32),
-    /// Panels, left to right, sharing the width evenly.
+    /// Panels, left to right then row after row, sharing the size evenly.
     pub panels: Vec<Panel>,
+    /// Rows of panels (1: side by side).
+    pub rows: u32,
 }
 
 /// One panel.
@@ -103,6 +107,9 @@ pub enum Mark {
         /// Stroke width.
         width: u32,
     },
+    /// Filled rectangles, one per pair of points (opposite corners): shaded
+    /// intervals.
+    Span,
 }
 
 /// A series of points drawn one way.

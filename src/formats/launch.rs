@@ -26,25 +26,32 @@
 //! - ROS 2 launch YAML (`node: {pkg, exec, args}`), `args` a string or a list,
 //!   with `arg:` declarations, `$(var x)` and `if:` / `unless:` on the node
 //!   and its groups decided as for launch XML;
-//! - ROS 2 Python launch files: the `arguments=[...]` list of a `Node(...)`
-//!   whose executable is `static_transform_publisher`, its elements string or
-//!   number literals or `LaunchConfiguration('x')` (resolved from the file's
-//!   `DeclareLaunchArgument('x', default_value=...)` and `--arg x=VALUE`);
-//!   `condition=IfCondition(...)` / `UnlessCondition(...)` on the Node or an
-//!   enclosing `GroupAction` decided the same way; any other element (a
-//!   variable, an f-string, a `PythonExpression`) is refused, naming it;
+//! - ROS 2 Python launch files, read statically by `launch_py` (literals,
+//!   `LaunchConfiguration`, `PythonExpression`, conditions, and what the
+//!   file's own helper functions and `for` loops build; never executed);
 //! - command lines saved as text (`rosrun tf static_transform_publisher ...`,
 //!   `ros2 run tf2_ros static_transform_publisher ...`), one a line, `\`
 //!   continuations joined, `#` comments skipped.
 //!
 //! LIO-Livox launch files carry `<rosparam param="Extrinsic_Tlb">` with a
-//! row-major 4x4 instead: read as the LiDAR pose in the IMU frame (edge
-//! `imu -> lidar`, the sign LIO-Livox's mid360.launch uses for the Livox factory
-//! offset); the file does not say which direction it is, so an
-//! `assumed-convention` warning says so and `--invert` flips it.
+//! row-major 4x4 instead: `T_lb`, the pose of the IMU (b, body) in the LiDAR
+//! (l), `p_lidar = R p_imu + t`, edge `lidar -> imu`, as LIO-Livox's code uses
+//! it (Livox-SDK/LIO-Livox @ 2296e4bea59bcfec09624a6f052fd6bfbe2b1e6a):
+//! `src/lio/PoseEstimation.cpp:576-593` loads `~Extrinsic_Tlb` row-major
+//! (`R << vecTlb[0..2], [4..6], [8..10]; t << vecTlb[3], [7], [11]`,
+//! `exRlb = R; exPlb = t; exRbl = R^T; exPbl = -R^T t`); `:354-355`
+//! `P = Pwl + Qwl*exPlb; Q = Qwl * exRlb` (`T_wb = T_wl T_lb`); `:449-450`
+//! `Qwl = Q * exRbl; Pwl = Q * exPbl + P` (`T_wl = T_wb T_bl`); and
+//! `src/lio/Estimator.cpp:113-114` `Tbl = exTlb^-1`, with which LiDAR points
+//! go to the map (`include/utils/ceresfunc.h:469-485`). LIO-Livox
+//! re-orthonormalises the rotation (`Quaterniond(R).normalized()`); the
+//! tool's rounding warning says when that matters. (The shipped
+//! `mid360.launch` numbers carry FAST-LIO's LiDAR-in-IMU sign while
+//! `horizon.launch` carries the negative: the code, not the numbers, decides
+//! the reading; see calibrations/README.md.)
 
 use super::launch_subst::{ArgDecl, Condition, LaunchArgs};
-use super::source::{line_col, LineIndex};
+use super::source::LineIndex;
 use super::spec::{
     check_metres, locate_warnings, parse_number, Confidence, FormatSpec, Input, LoadOptions, Parsed,
 };
@@ -479,18 +486,12 @@ pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Pa
         let mut ws = Vec::new();
         let t = Transform::from_matrix4(m, &mut ws).map_err(|e| e.at(&loc))?;
         locate_warnings(ws, &loc, &mut out.warnings);
-        out.warnings.push(
-            Warning::new(
-                Code::AssumedConvention,
-                format!("<rosparam param=\"{param}\"> read as the LiDAR pose in the IMU frame (imu -> lidar, FAST-LIO sign); the file does not state the direction: pass --invert if yours stores the other one"),
-            )
-            .at(&loc),
-        );
         check_metres(&[v[3], v[7], v[11]], param, &loc, &mut out.warnings);
+        // T_lb: the IMU's pose in the LiDAR (PoseEstimation.cpp:354-355).
         out.edges.push(
             Edge::new(
-                "imu",
                 "lidar",
+                "imu",
                 t,
                 loc,
                 LIO_LIVOX_LAUNCH.id,
@@ -707,331 +708,6 @@ pub fn parse_commands(text: &str, path: &Path, opts: &LoadOptions) -> Result<Par
     Ok(out)
 }
 
-/// Index of the `)` / `]` closing the bracket at `open` (Python source),
-/// skipping string literals and comments.
-fn matching_close(src: &[u8], open: usize) -> Option<usize> {
-    let (o, c) = match src.get(open)? {
-        b'(' => (b'(', b')'),
-        b'[' => (b'[', b']'),
-        _ => return None,
-    };
-    let mut depth = 0usize;
-    let mut i = open;
-    while i < src.len() {
-        let ch = src[i];
-        if ch == b'\'' || ch == b'"' {
-            let q = ch;
-            i += 1;
-            while i < src.len() && src[i] != q {
-                if src[i] == b'\\' {
-                    i += 1;
-                }
-                i += 1;
-            }
-        } else if ch == b'#' {
-            while i < src.len() && src[i] != b'\n' {
-                i += 1;
-            }
-        } else if ch == o || (o == b'(' && ch == b'[') || (o == b'[' && ch == b'(') {
-            depth += 1;
-        } else if ch == c || (o == b'(' && ch == b']') || (o == b'[' && ch == b')') {
-            depth = depth.saturating_sub(1);
-            if depth == 0 {
-                return (ch == c).then_some(i);
-            }
-        }
-        i += 1;
-    }
-    None
-}
-
-/// Split the inside of a Python list at top-level commas.
-fn split_top_level(s: &str) -> Vec<(usize, String)> {
-    let b = s.as_bytes();
-    let mut out = Vec::new();
-    let mut depth = 0i32;
-    let mut start = 0;
-    let mut i = 0;
-    while i < b.len() {
-        match b[i] {
-            b'\'' | b'"' => {
-                let q = b[i];
-                i += 1;
-                while i < b.len() && b[i] != q {
-                    if b[i] == b'\\' {
-                        i += 1;
-                    }
-                    i += 1;
-                }
-            }
-            b'#' => {
-                while i < b.len() && b[i] != b'\n' {
-                    i += 1;
-                }
-            }
-            b'(' | b'[' | b'{' => depth += 1,
-            b')' | b']' | b'}' => depth -= 1,
-            b',' if depth == 0 => {
-                out.push((start, s[start..i].to_string()));
-                start = i + 1;
-            }
-            _ => {}
-        }
-        i += 1;
-    }
-    if start < s.len() && !s[start..].trim().is_empty() {
-        out.push((start, s[start..].to_string()));
-    }
-    out
-}
-
-fn python_literal(e: &str) -> Option<String> {
-    let t = e.trim();
-    // Drop a trailing comment line inside the list.
-    let t = t
-        .lines()
-        .map(|l| l.trim())
-        .filter(|l| !l.starts_with('#') && !l.is_empty())
-        .collect::<Vec<_>>()
-        .join(" ");
-    let t = t.trim();
-    for q in ['\'', '"'] {
-        if t.len() >= 2 && t.starts_with(q) && t.ends_with(q) {
-            let inner = &t[1..t.len() - 1];
-            if !inner.contains(q) && !inner.contains('\\') {
-                return Some(inner.to_string());
-            }
-        }
-    }
-    parse_number(t).map(|_| t.to_string())
-}
-
-/// `LaunchConfiguration('x')` (any module prefix) as the launch-XML
-/// substitution `$(var x)`, so Python args resolve like XML args.
-fn py_launch_configuration(e: &str) -> Option<String> {
-    let t = e.trim();
-    let open = t.find("LaunchConfiguration(")?;
-    let before = &t[..open];
-    if !(before.is_empty() || before.ends_with('.')) || !t.ends_with(')') {
-        return None;
-    }
-    let inner = &t[open + "LaunchConfiguration(".len()..t.len() - 1];
-    let first = split_top_level(inner).into_iter().next()?.1;
-    let name = python_literal(first.trim().trim_start_matches("variable_name=").trim())?;
-    Some(format!("$(var {name})"))
-}
-
-/// A top-level keyword argument `key=...` of a Python call body: its value
-/// and its offset in `body`.
-fn py_kwarg(body: &str, key: &str) -> Option<(usize, String)> {
-    split_top_level(body).into_iter().find_map(|(off, el)| {
-        let t = el.trim_start();
-        let rest = t.strip_prefix(key)?.trim_start();
-        let value = rest.strip_prefix('=')?;
-        (!value.starts_with('=')).then(|| (off + (el.len() - t.len()), value.trim().to_string()))
-    })
-}
-
-/// `DeclareLaunchArgument('x', default_value='v')` calls of a Python launch
-/// file, as launch-arg declarations (a default that is not a literal is no
-/// default: `--arg` must give it).
-fn py_arg_decls(text: &str) -> Vec<ArgDecl> {
-    let src = text.as_bytes();
-    let mut out = Vec::new();
-    for (at, _) in text.match_indices("DeclareLaunchArgument(") {
-        let open = at + "DeclareLaunchArgument".len();
-        let Some(close) = matching_close(src, open) else {
-            continue;
-        };
-        let body = &text[open + 1..close];
-        let name = py_kwarg(body, "name")
-            .map(|(_, v)| v)
-            .or_else(|| split_top_level(body).into_iter().next().map(|(_, e)| e))
-            .and_then(|e| python_literal(&e));
-        let Some(name) = name else { continue };
-        let default = py_kwarg(body, "default_value").and_then(|(_, v)| python_literal(&v));
-        out.push(ArgDecl {
-            name,
-            value: None,
-            default,
-        });
-    }
-    out
-}
-
-/// The `if` / `unless` condition of a Python launch `condition=...`:
-/// `IfCondition(X)` / `UnlessCondition(X)` with `X` a literal or
-/// `LaunchConfiguration('x')`; anything else cannot be decided from the file.
-fn py_condition(value: &str, place: &str) -> std::result::Result<Condition, String> {
-    let t = value.trim();
-    for (call, attr) in [("IfCondition(", "if"), ("UnlessCondition(", "unless")] {
-        let Some(open) = t.find(call) else { continue };
-        let before = &t[..open];
-        if !(before.is_empty() || before.ends_with('.')) || !t.ends_with(')') {
-            continue;
-        }
-        let inner = t[open + call.len()..t.len() - 1].trim();
-        let inner = inner.strip_prefix("predicate_expression=").unwrap_or(inner);
-        let raw = python_literal(inner).or_else(|| py_launch_configuration(inner));
-        if let Some(raw) = raw {
-            return Ok(Condition {
-                attr,
-                raw,
-                place: place.to_string(),
-            });
-        }
-    }
-    Err(format!(
-        "condition={} cannot be decided from the file: expected IfCondition(...) or UnlessCondition(...) of a literal or LaunchConfiguration('NAME')",
-        crate::sanitize::quote(t)
-    ))
-}
-
-/// The conditions on the Node call at `call` (`Node(` opening at `open`)
-/// and on every `GroupAction(...)` enclosing it.
-fn py_conditions(text: &str, call: usize, open: usize, close: usize) -> Result<Vec<Condition>> {
-    let src = text.as_bytes();
-    let mut spans = vec![(open, close, String::new())];
-    for (at, _) in text[..call].match_indices("GroupAction(") {
-        let g_open = at + "GroupAction".len();
-        if let Some(g_close) = matching_close(src, g_open) {
-            if g_close > close {
-                spans.push((g_open, g_close, " on its enclosing GroupAction".to_string()));
-            }
-        }
-    }
-    let mut conds = Vec::new();
-    for (o, c, place) in spans {
-        let body = &text[o + 1..c];
-        if let Some((off, value)) = py_kwarg(body, "condition") {
-            let cond = py_condition(&value, &place).map_err(|m| {
-                let (l, col) = line_col(text, o + 1 + off);
-                Error::parse(m).at_line(l, Some(col))
-            })?;
-            conds.push(cond);
-        }
-    }
-    Ok(conds)
-}
-
-/// ROS 2 Python launch files: literal argument lists, launch configurations
-/// and conditions (see the module docs).
-pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
-    let src = text.as_bytes();
-    let args = LaunchArgs::from_decls(py_arg_decls(text), &opts.xacro_args);
-    let mut out = Parsed::default();
-    // The first Node switched off, for the error when none runs.
-    let mut skipped: Option<(usize, String)> = None;
-    let mut search_from = 0;
-    let mut seen_calls: Vec<usize> = Vec::new();
-    while let Some(rel) = text[search_from..].find("static_transform_publisher") {
-        let at = search_from + rel;
-        search_from = at + 1;
-        // Skip comment lines.
-        let line_start = text[..at].rfind('\n').map(|p| p + 1).unwrap_or(0);
-        if text[line_start..at].trim_start().starts_with('#') {
-            continue;
-        }
-        // The enclosing Node( call.
-        let Some(call) = text[..at].rfind("Node(") else {
-            let (l, c) = line_col(text, at);
-            return Err(Error::parse(
-                "static_transform_publisher outside a Node(...) call: expected Node(package='tf2_ros', executable='static_transform_publisher', arguments=[...])",
-            )
-            .at_line(l, Some(c)));
-        };
-        let open = call + 4;
-        let Some(close) = matching_close(src, open) else {
-            let (l, c) = line_col(text, call);
-            return Err(Error::parse("Node( without its closing parenthesis").at_line(l, Some(c)));
-        };
-        if close < at || seen_calls.contains(&call) {
-            continue;
-        }
-        seen_calls.push(call);
-        let body = &text[open + 1..close];
-        let (l, c) = line_col(text, call);
-        let loc = Location::at(path, l, Some(c));
-        let conds = py_conditions(text, call, open, close)?;
-        if let Some(why) = args.first_off(&conds, &loc)? {
-            skipped.get_or_insert((l, why.clone()));
-            out.warnings.push(
-                Warning::new(
-                    Code::Ignored,
-                    format!("static_transform_publisher Node not started ({why}): its transform is not read"),
-                )
-                .at(&loc),
-            );
-            continue;
-        }
-        let Some(arel) = body.find("arguments") else {
-            return Err(Error::parse(
-                "static_transform_publisher Node without `arguments=[...]`: expected a literal argument list",
-            )
-            .at(&loc));
-        };
-        let after = &body[arel + "arguments".len()..];
-        let after_eq = after.trim_start().strip_prefix('=').map(|s| s.trim_start());
-        let list_off = match after_eq {
-            Some(s) if s.starts_with('[') => {
-                open + 1 + arel + "arguments".len() + (after.len() - s.len())
-            }
-            _ => {
-                let (l2, c2) = line_col(text, open + 1 + arel);
-                let shown: String = after_eq.unwrap_or(after).chars().take(40).collect();
-                return Err(Error::parse(format!(
-                    "static_transform_publisher arguments: expected a literal list `[...]`, found {:?} (not literal: evaluate it or write the values)",
-                    shown.trim()
-                ))
-                .at_line(l2, Some(c2)));
-            }
-        };
-        let Some(lclose) = matching_close(src, list_off) else {
-            let (l2, c2) = line_col(text, list_off);
-            return Err(
-                Error::parse("arguments=[ without its closing bracket").at_line(l2, Some(c2))
-            );
-        };
-        let inner = &text[list_off + 1..lclose];
-        let mut toks = Vec::new();
-        for (off, el) in split_top_level(inner) {
-            let value = match python_literal(&el) {
-                Some(v) => Some(v),
-                None => match py_launch_configuration(&el) {
-                    Some(var) => Some(args.resolve(&var, &loc)?),
-                    None => None,
-                },
-            };
-            match value {
-                Some(s) => toks.extend(s.split_whitespace().map(String::from)),
-                None => {
-                    let lead = el.len() - el.trim_start().len();
-                    let (l2, c2) = line_col(text, list_off + 1 + off + lead);
-                    return Err(Error::parse(format!(
-                        "static_transform_publisher argument {:?} is not a literal: expected string or number literals only (evaluate it or write the value)",
-                        el.trim()
-                    ))
-                    .at_line(l2, Some(c2)));
-                }
-            }
-        }
-        out.edges.push(parse_stp_args(
-            &toks,
-            &loc,
-            LAUNCH_PY.id,
-            "Node(arguments=[...]) ",
-            &mut out.warnings,
-        )?);
-    }
-    if let (true, Some((line, why))) = (out.edges.is_empty(), skipped) {
-        return Err(Error::parse(format!(
-            "every static_transform_publisher Node is switched off (the first by {why}): expected at least one that runs; set the launch argument it depends on with --arg NAME=VALUE"
-        ))
-        .at_line(line, None));
-    }
-    Ok(out)
-}
-
 /// Whether XML text is a launch file, and whether it holds static transform
 /// publishers or a LIO-Livox extrinsic.
 fn launch_xml(i: &Input) -> Option<(bool, bool)> {
@@ -1085,7 +761,7 @@ pub const LAUNCH_XML: FormatSpec = FormatSpec {
 /// LIO-Livox launch files with `Extrinsic_Tlb`.
 pub const LIO_LIVOX_LAUNCH: FormatSpec = FormatSpec {
     id: "lio-livox-launch",
-    description: "LIO-Livox launch `<rosparam param=\"Extrinsic_Tlb\">` 4x4 row-major: read as the LiDAR pose in the IMU frame (FAST-LIO sign, as mid360.launch uses), edge imu -> lidar; the direction is assumed (--invert flips it)",
+    description: "LIO-Livox launch `<rosparam param=\"Extrinsic_Tlb\">` 4x4 row-major (T_lb): the IMU pose in the LiDAR frame, as PoseEstimation.cpp composes it (T_wb = T_wl T_lb), edge lidar -> imu",
     extensions: &[],
     walk: &[".launch"],
     magic: &[],
@@ -1112,12 +788,12 @@ pub const LAUNCH_YAML: FormatSpec = FormatSpec {
 /// ROS 2 Python launch.
 pub const LAUNCH_PY: FormatSpec = FormatSpec {
     id: "launch-py",
-    description: "ROS 2 Python launch: `arguments=[...]` of static_transform_publisher Nodes (literals and `LaunchConfiguration` of a `DeclareLaunchArgument` or `--arg`), `IfCondition`/`UnlessCondition` decided; anything else is refused",
+    description: "ROS 2 Python launch, read statically (never run): static_transform_publisher Nodes wherever the file builds them (its helper functions, `for` loops over lists it writes), `arguments` from literals, f-strings, `+`, `LaunchConfiguration` / `PythonExpression` of a `DeclareLaunchArgument` or `--arg`; `IfCondition`/`UnlessCondition` decided; anything else is refused naming its line",
     extensions: &["py", "launch.py"],
     walk: &[".launch.py"],
     magic: &[],
     sniff: |i| i.text_head().contains("LaunchDescription").then_some(Confidence::Names),
-    parse: |i, o| parse_launch_py(i.text()?, i.path(), o),
+    parse: |i, o| super::launch_py::parse_launch_py(i.text()?, i.path(), o),
     checked: true,
 };
 

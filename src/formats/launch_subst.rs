@@ -8,8 +8,12 @@
 //!   `arg: {name, default}` / `let: {name, value}` the same. Args are
 //!   file-wide.
 //! - `$(arg x)` (ROS 1) and `$(var x)` (ROS 2) are replaced by that value; a
-//!   default may itself use `$(arg y)`. Any other substitution (`$(find ...)`,
-//!   `$(eval ...)`, `$(env ...)`) is left for the caller to refuse.
+//!   default may itself use `$(arg y)`. `$(eval ...)` is evaluated as
+//!   roslaunch (ROS 1) or `ros2 launch` (ROS 2) evaluates it, statically (see
+//!   `launch_eval`); the file is ROS 2 when it declares `<let>`, starts a
+//!   node with `exec=` or uses `$(var ...)`, and launch YAML and Python files
+//!   always are. Any other substitution (`$(find ...)`, `$(env ...)`) is left
+//!   for the caller to refuse.
 //! - `if="..."` / `unless="..."` on a node or on any enclosing element
 //!   (`<group>`, `<include>`; in launch YAML an `if:` / `unless:` key on the
 //!   node or an enclosing mapping): the value, once substituted, must be `true`,
@@ -19,6 +23,7 @@
 //! A value that cannot be known from the file is refused, naming the
 //! `--arg` to pass.
 
+use super::launch_eval::{closing, eval_ros1, eval_ros2};
 use crate::diagnostic::{Error, Location, Result};
 use crate::sanitize::quote;
 use std::collections::BTreeMap;
@@ -65,6 +70,9 @@ enum Decl {
 pub struct LaunchArgs<'a> {
     declared: BTreeMap<String, Decl>,
     given: &'a BTreeMap<String, String>,
+    /// ROS 2 substitution rules (`$(eval)` anywhere, inner substitutions
+    /// first); else roslaunch's.
+    ros2: bool,
 }
 
 impl<'a> LaunchArgs<'a> {
@@ -81,7 +89,13 @@ impl<'a> LaunchArgs<'a> {
                     default: n.attribute("default").map(String::from),
                 })
             });
-        Self::from_decls(decls, given)
+        let ros2 = doc.descendants().any(|n| {
+            n.is_element() && (n.tag_name().name() == "let" || n.attribute("exec").is_some())
+        }) || doc.input_text().contains("$(var ");
+        LaunchArgs {
+            ros2,
+            ..Self::from_decls(decls, given)
+        }
     }
 
     /// Args from their declarations (the first declaration of a name counts).
@@ -98,7 +112,22 @@ impl<'a> LaunchArgs<'a> {
             };
             declared.entry(d.name).or_insert(decl);
         }
-        LaunchArgs { declared, given }
+        LaunchArgs {
+            declared,
+            given,
+            ros2: true,
+        }
+    }
+
+    /// Whether the file declares arg `name` or `--arg` gives it.
+    pub(crate) fn declares(&self, name: &str) -> bool {
+        self.declared.contains_key(name) || self.given.contains_key(name)
+    }
+
+    /// The value of arg `name`, its own substitutions resolved.
+    pub(crate) fn arg_value(&self, name: &str, loc: &Location, depth: usize) -> Result<String> {
+        let v = self.value(name, loc)?;
+        self.resolve_depth(&v, loc, depth + 1)
     }
 
     /// `s` with every `$(arg x)` / `$(var x)` replaced by its value.
@@ -114,10 +143,34 @@ impl<'a> LaunchArgs<'a> {
             ))
             .at(loc));
         }
+        // roslaunch: `$(eval ...)` only as the whole value.
+        if !self.ros2 && s.starts_with("$(eval ") && s.ends_with(')') {
+            return eval_ros1(&s[7..s.len() - 1], self, loc, depth);
+        }
         let mut out = String::with_capacity(s.len());
         let mut rest = s;
         while let Some(at) = rest.find("$(") {
             out.push_str(&rest[..at]);
+            if rest[at..].starts_with("$(eval ") || rest[at..].starts_with("$(eval)") {
+                let Some(close) = closing(rest, at) else {
+                    return Err(Error::parse(format!(
+                        "{}: `$(eval` without its closing `)`",
+                        quote(s)
+                    ))
+                    .at(loc));
+                };
+                if !self.ros2 {
+                    return Err(Error::parse(format!(
+                        "{}: roslaunch evaluates $(eval ...) only when it is the whole attribute value; inside other text `eval` is an unknown substitution command and roslaunch refuses the file",
+                        quote(s)
+                    ))
+                    .at(loc));
+                }
+                let inner = self.resolve_depth(&rest[at + 7..close], loc, depth + 1)?;
+                out.push_str(&eval_ros2(&inner, loc)?);
+                rest = &rest[close + 1..];
+                continue;
+            }
             let after = &rest[at + 2..];
             let Some(close) = after.find(')') else {
                 out.push_str(&rest[at..]);

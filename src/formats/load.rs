@@ -13,6 +13,15 @@ use std::path::Path;
 /// or a rosbag2 folder) is read through its index, never whole; anything else
 /// at most `opts.max_file_size` bytes.
 pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Parsed> {
+    if let Err(why) = opts.check_confined(path).or_else(|e| {
+        if crate::input::is_stdin(path) {
+            Ok(())
+        } else {
+            Err(e)
+        }
+    }) {
+        return Err(Error::limit(why).in_file(path));
+    }
     load(Input::open(path, opts.max_file_size)?, opts)
 }
 

@@ -23,21 +23,37 @@
 //!   ([`load_file`], [`load_bytes`], [`load_str`]: detection, parser, the
 //!   common checks).
 
+pub mod apollo;
 pub mod arrow_ipc;
+pub mod autoware;
 pub mod av2;
 pub mod bag;
+pub mod basalt;
+pub(crate) mod calib_shapes;
+pub mod euroc;
+pub mod fast_livo;
+pub mod glim;
 pub(crate) mod json;
 pub mod kitti_m2dgr;
 pub mod kitti_object;
 pub mod las;
 pub mod launch;
+pub(crate) mod launch_eval;
+pub mod launch_py;
 pub mod launch_subst;
 pub mod lio_yaml;
+pub mod livox_driver2;
 mod load;
+pub mod matrix_text;
 pub mod matrix_tree;
 pub mod nuscenes;
+pub mod okvis;
+pub mod opencalib;
+pub mod orb_slam3;
 pub mod ouster;
 pub mod ouster_extrinsics;
+pub(crate) mod pyexpr;
+pub mod r3live;
 pub mod registry;
 pub mod rig_toml;
 pub mod shell;
@@ -54,4 +70,4 @@ pub(crate) mod yaml_shapes;
 
 pub use load::{detect_file, detect_format, load_bytes, load_file, load_str};
 pub use registry::{all_formats, is_calibration_file, FORMATS};
-pub use spec::{BagOptions, Format, LoadOptions, Parsed, Rename, RigMeta, UrdfVersion};
+pub use spec::{Assume, BagOptions, Format, LoadOptions, Parsed, Rename, RigMeta, UrdfVersion};

@@ -43,7 +43,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
         return Err(Error::parse("empty JSON document"));
     };
     if let Some(key) = &opts.key {
-        return yaml_keyed::parse_keyed(&docs, key, text, path);
+        return yaml_keyed::parse_keyed(&docs, key, text, path, opts.assume.as_ref());
     }
     let mut out = Parsed::default();
     for (key, child) in [

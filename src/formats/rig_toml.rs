@@ -193,15 +193,21 @@ fn read(
     opts: &LoadOptions,
     includes: Option<&dyn Includes>,
 ) -> Result<Parsed> {
-    let file: RigFile = toml::from_str(text).map_err(|e| {
-        let mut err = Error::parse(format!("rig TOML: {}", e.message().trim_end()));
-        err = err.in_file(path);
-        if let Some(span) = e.span() {
-            let (l, c) = line_col(text, span.start);
-            err = err.at_line(l, Some(c));
-        }
-        err
-    })?;
+    // Parsed once: the typed file and the numbers' spans are both read from
+    // the one document (lexing and parsing are most of a rig file's cost).
+    let doc = toml::de::DeTable::parse(text);
+    let file: RigFile = doc
+        .clone()
+        .and_then(|d| RigFile::deserialize(toml::de::Deserializer::from(d)))
+        .map_err(|e| {
+            let mut err = Error::parse(format!("rig TOML: {}", e.message().trim_end()));
+            err = err.in_file(path);
+            if let Some(span) = e.span() {
+                let (l, c) = line_col(text, span.start);
+                err = err.at_line(l, Some(c));
+            }
+            err
+        })?;
 
     let mut warnings = Vec::new();
     if opts.invert || opts.key.is_some() {
@@ -219,7 +225,8 @@ fn read(
     let user = user_sigma(&rig, &rig_loc)?;
     let meta = check_rig(rig, &rig_loc)?;
     // The same file again, each number with its span: the digits as written.
-    let literals: Vec<LiteralSpans> = toml::from_str::<RawFile>(text)
+    let literals: Vec<LiteralSpans> = doc
+        .and_then(|d| RawFile::deserialize(toml::de::Deserializer::from(d)))
         .map(|f| f.transform)
         .unwrap_or_default();
 

@@ -5,6 +5,11 @@
 //!   `transforms:` list each. Each item: the pose of `child_frame_id` in
 //!   `header.frame_id` (`transform.translation` x y z, `transform.rotation`
 //!   x y z w), edge `frame_id -> child_frame_id`. A leading `/` is dropped.
+//!   The same dump of `/tf` (`ros2 topic echo /tf`) is read the same way: a
+//!   transform repeated with the same values is one edge; one that changes
+//!   between messages (or changes parent) is kept as a moving frame that only
+//!   a query whose path uses it refuses, naming the two messages (an edge off
+//!   the queried chain does not block the file).
 //! - `fast-lio` (FAST-LIO, FAST-LIVO2 `extrin_calib`, Point-LIO, Faster-LIO):
 //!   `extrinsic_T` (3) and `extrinsic_R` (9, row-major). FAST-LIO's README: "the
 //!   LiDAR's pose (position and rotation matrix) in IMU body frame", i.e.
@@ -92,12 +97,57 @@ fn tf_tree_keys(i: &Input) -> Option<Confidence> {
 }
 
 yaml_dialect!(TF_STATIC_ECHO, "tf-static-echo", false, tf_echo, |d, _, p| parse_tf_echo(d, p), "`rostopic echo /tf_static` / `ros2 topic echo /tf_static` YAML (several documents): child_frame_id pose in header.frame_id");
-yaml_dialect!(FAST_LIO, "fast-lio", true, |i| keys(i.has_key("extrinsic_T")), |d, _, p| parse_fast_lio(d, p), "FAST-LIO / FAST-LIVO2 / Point-LIO `extrinsic_T` + `extrinsic_R` (row-major): the LiDAR pose in the IMU frame, edge imu -> lidar");
+yaml_dialect!(FAST_LIO, "fast-lio", true, |i| keys(i.has_key("extrinsic_T")), |d, _, p| parse_fast_lio(d, p, FAST_LIO.id), "FAST-LIO / FAST-LIVO2 / Point-LIO `extrinsic_T` + `extrinsic_R` (row-major): the LiDAR pose in the IMU frame, edge imu -> lidar");
 yaml_dialect!(LIO_SAM, "lio-sam", true, |i| keys(i.has_key("extrinsicTrans") || i.has_key("extrinsicRot")), |d, _, p| parse_lio_sam(d, p), "LIO-SAM `extrinsicRot` + `extrinsicTrans` (\"T_lb\"): extrinsicRot rotates IMU readings into the LiDAR frame and the code uses extrinsicTrans as lidar2Imu, so the pair is the IMU pose in the LiDAR frame, edge lidar -> imu; extrinsicRPY (attitude only) is not used");
 yaml_dialect!(COCO_LIC, "coco-lic", true, |i| keys(i.has_key("Extrinsics") && i.has_key("Trans")), |d, _, p| parse_coco_lic(d, p), "Coco-LIC `lidarN: Extrinsics: {Trans, Rot}` (\"lidar to imu\"): LiDAR pose in the IMU frame, edges imu -> lidarN");
 yaml_dialect!(SLICT, "slict", true, |i| keys(i.has_key("lidar_extr")), |d, _, p| parse_slict(d, p), "SLICT `lidar_extr`: stacked row-major 4x4, \"transform of coordinates in lidar's frame to body\": edges body -> lidar (lidar0, lidar1, ... when several); the (4,4) entry is a timestamp flag and the bottom row is not used");
 yaml_dialect!(TF_TREE_YAML, "tf-tree-yaml", true, tf_tree_keys, |d, _, p| parse_tf_tree(d, p), "tf-tree YAML (`<parent>_to_<child>: {x, y, z, roll, pitch, yaw}`, GrandTour): child pose in parent, URDF rpy");
 yaml_dialect!(QUATERNION_YAML, "quaternion-yaml", true, quaternion_keys, parse_quaternion, "`quaternion_A_B` (qw, qx, qy, qz: w first) + `translation_A_B` blocks (FusionPortable): the pose of B in A, edge A -> B");
+
+/// Keep one edge per child frame: repeats with the same values are one edge;
+/// a child whose transform (or parent) changes between messages becomes a
+/// floating joint without a value ([`crate::frames::MOVING_TF`]), so that only
+/// a query whose path uses it is refused, naming the messages that disagree.
+fn scope_changes(edges: Vec<Edge>) -> Vec<Edge> {
+    let mut out: Vec<Edge> = Vec::new();
+    for e in edges {
+        let Some(first) = out.iter_mut().find(|f| f.child == e.child) else {
+            out.push(e);
+            continue;
+        };
+        if first.joint.is_some() || (first.parent == e.parent && first.transform == e.transform) {
+            continue;
+        }
+        let line = |x: &Edge| {
+            x.provenance
+                .location
+                .line
+                .map_or("?".to_string(), |l| l.to_string())
+        };
+        let why = if first.parent == e.parent {
+            format!(
+                "changes between the messages of the dump (lines {} and {})",
+                line(first),
+                line(&e)
+            )
+        } else {
+            format!(
+                "has another parent, {}, at line {} (line {}: {})",
+                e.parent,
+                line(&e),
+                line(first),
+                first.parent
+            )
+        };
+        first.joint = Some(crate::frames::JointState {
+            name: format!("{}{why}", crate::frames::MOVING_TF),
+            joint_type: crate::frames::JointType::Floating,
+            value: None,
+            defaulted: false,
+        });
+    }
+    out
+}
 
 fn parse_tf_echo(docs: &[Node], path: &Path) -> Result<Parsed> {
     let mut out = Parsed::default();
@@ -167,10 +217,13 @@ fn parse_tf_echo(docs: &[Node], path: &Path) -> Result<Parsed> {
             );
         }
     }
+    out.edges = scope_changes(out.edges);
     Ok(out)
 }
 
-fn parse_fast_lio(docs: &[Node], path: &Path) -> Result<Parsed> {
+/// `extrinsic_T` + `extrinsic_R` as the edge `imu -> lidar` of format `id`
+/// (FAST-LIVO's files hold them too).
+pub(crate) fn parse_fast_lio(docs: &[Node], path: &Path, id: &'static str) -> Result<Parsed> {
     let m = unique_map(docs, "extrinsic_T")?;
     let tn = m
         .get("extrinsic_T")
@@ -193,15 +246,8 @@ fn parse_fast_lio(docs: &[Node], path: &Path) -> Result<Parsed> {
     check_metres(&d, "extrinsic_T", &loc, &mut ws);
     locate_warnings(ws, &loc, &mut out.warnings);
     out.edges.push(
-        Edge::new(
-            "imu",
-            "lidar",
-            t,
-            loc,
-            FAST_LIO.id,
-            "extrinsic_T + extrinsic_R",
-        )
-        .with_precision(written_precision(Written::Matrix3(mat3(r)), d, 1.0)),
+        Edge::new("imu", "lidar", t, loc, id, "extrinsic_T + extrinsic_R")
+            .with_precision(written_precision(Written::Matrix3(mat3(r)), d, 1.0)),
     );
     Ok(out)
 }

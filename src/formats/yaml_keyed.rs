@@ -3,14 +3,16 @@
 //! (a dotted path `a.b.c`, or `NAME[i]` for the i-th of stacked 4x4
 //! matrices) in any YAML or JSON file, whichever shape it holds (see
 //! `yaml_shapes`); frames from a `T_A_B` / `A_T_B` name or Kalibr's
-//! `camN.T_cam_imu`, else `parent -> child` with a warning.
+//! `camN.T_cam_imu`; a name that gives neither the frames nor the direction
+//! is read only with `--assume DIRECTION:PARENT,CHILD` (refused without).
 
-use super::spec::{Confidence, LoadOptions, Parsed};
+use super::calib_shapes::assumed;
+use super::spec::{Assume, Confidence, LoadOptions, Parsed};
 use super::yaml::{self, Node, Value};
 use super::yaml_shapes::{
-    err_at, frames_from_key, kalibr_frames, kalibr_imu, loc_of, matrix_edge, MATRIX_YAML_ID,
+    err_at, frames_from_key, kalibr_frames, kalibr_imu, matrix_edge, MATRIX_YAML_ID,
 };
-use crate::diagnostic::{Code, Error, Result, Warning};
+use crate::diagnostic::{Error, Result};
 use std::path::Path;
 
 /// The keys are present: the level every YAML dialect sniffs at.
@@ -62,7 +64,7 @@ pub(crate) fn parse_with(
         super::json::refuse_duplicate_keys(&docs)?;
     }
     if let (Some(key), true) = (&opts.key, keyed) {
-        return parse_keyed(&docs, key, text, path);
+        return parse_keyed(&docs, key, text, path, opts.assume.as_ref());
     }
     read(&docs, text, path)
 }
@@ -99,7 +101,13 @@ fn find_key<'a>(n: &'a Node, key: &str, out: &mut Vec<(&'a Node, &'a Node)>) {
 }
 
 /// `--key NAME`: one key anywhere (or a dotted path from the top).
-pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<Parsed> {
+pub fn parse_keyed(
+    docs: &[Node],
+    key: &str,
+    text: &str,
+    path: &Path,
+    assume: Option<&Assume>,
+) -> Result<Parsed> {
     // `NAME[i]`: the i-th of stacked 4x4 matrices under NAME.
     let (key, index) = match key.strip_suffix(']').and_then(|k| k.rsplit_once('[')) {
         Some((k, i)) => match i.trim().parse::<usize>() {
@@ -127,17 +135,21 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
     let block = key.rsplit('.').nth(1);
     let imu = kalibr_imu(docs);
     let kalibr = block.and_then(|cam| kalibr_frames(cam, last, imu));
-    let frames = match kalibr.or_else(|| frames_from_key(last)) {
-        Some(f) => f,
-        None => {
-            out.warnings.push(
-                Warning::new(
-                    Code::AssumedConvention,
-                    format!("--key {key}: the name does not say which frames (T_A_B or A_T_B); frames named `parent` -> `child`, the value read as the child's pose in the parent"),
-                )
-                .at(&loc_of(path, k)),
-            );
-            ("parent".to_string(), "child".to_string())
+    let named = kalibr.or_else(|| frames_from_key(last));
+    let frames = match (&named, assume) {
+        (Some(f), _) => f.clone(),
+        (None, Some(Assume { frames: Some(f), .. })) => f.clone(),
+        (None, Some(a)) => {
+            return Err(Error::usage(format!(
+                "--key {key}: the name does not say which frames (T_A_B or A_T_B): expected {}:PARENT,CHILD",
+                a.flag()
+            )))
+        }
+        (None, None) => {
+            return Err(err_at(
+                k,
+                format!("--key {key}: the name says neither the frames nor the direction (T_A_B or A_T_B would): pass --assume child-in-parent:PARENT,CHILD (the value is the pose of CHILD in PARENT) or --assume parent-in-child:PARENT,CHILD"),
+            ))
         }
     };
     let label = match index {
@@ -153,7 +165,11 @@ pub fn parse_keyed(docs: &[Node], key: &str, text: &str, path: &Path) -> Result<
         path,
         &mut out.warnings,
     )?;
-    out.edges.push(e);
+    // A name that gives no frames gives no direction either: --assume does.
+    out.edges.push(match (named, assume) {
+        (None, Some(a)) => assumed(a, e),
+        _ => e,
+    });
     Ok(out)
 }
 

@@ -39,13 +39,20 @@
 
 use super::names::{Likeness, Resemblance};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::frames::edge::Edge;
+use crate::frames::edge::{Edge, JointType};
+
 use crate::geometry::se3::Transform;
 use crate::tolerances::{
     CYCLE_LIST_MAX, DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, REDUNDANT_ROTATION_TOL,
     REDUNDANT_TRANSLATION_TOL, TREE_MAX_INDENT,
 };
 use std::collections::HashMap;
+
+/// The [`crate::frames::JointState::name`] prefix of a transform that changes
+/// between the messages of a tf dump (`formats::yaml_dialects`): a floating
+/// joint without a value, so that only a path that uses it is refused; the
+/// rest of the name says which messages disagree.
+pub const MOVING_TF: &str = "moving tf: ";
 
 /// One step of a composed chain: an edge walked down (parent -> child) or up
 /// (`inverted`, child -> parent).
@@ -878,6 +885,17 @@ impl FrameGraph {
         let mut defaulted = Vec::new();
         for s in &steps {
             if let Some(j) = &s.edge.joint {
+                if j.value.is_none()
+                    && j.joint_type == JointType::Floating
+                    && j.name.starts_with(MOVING_TF)
+                {
+                    // A tf transform that changes between messages (formats::yaml_dialects).
+                    return Err(Error::frame(format!(
+                        "the transform {} -> {} lies on the path {from} -> {to} and {}: no single pose; refusing (record it with a static publisher, or give it in another file)",
+                        s.edge.parent, s.edge.child, &j.name[MOVING_TF.len()..]
+                    ))
+                    .at(&s.edge.provenance.location));
+                }
                 if j.value.is_none() {
                     return Err(Error::frame(format!(
                         "joint '{}' ({}) lies on the path {from} -> {to}: its pose is not defined by the file; refusing (set it to its origin with --joint {}=0, or give this transform in another file)",

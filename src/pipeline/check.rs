@@ -11,13 +11,14 @@
 //! malformed baseline or a refused `--write-baseline` target is an error
 //! (exit 2), raised before anything is written.
 
-use super::files::{dir_of, same_file, unsafe_target, write_atomic};
+use super::files::write_atomic_with;
+use super::files::{dir_of, same_file, unsafe_target};
 use super::load::apply_renames;
 use super::manifest;
-use super::walk::{walk, Found};
+use super::walk::{file_id, walk, FileId, Found};
 use crate::baseline::{
-    self, Baseline, BaselineFile, BaselinePair, BaselineTransform, CheckedFile, DriftTolerances,
-    Locations,
+    self, BaselineFile, BaselinePair, BaselineTransform, CheckedFile, DriftTolerances, Locations,
+    Store, WriteLock,
 };
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result, Severity, Warning};
 use crate::formats::{self, LoadOptions, Rename};
@@ -27,8 +28,9 @@ use crate::progress::{NoProgress, Progress};
 use crate::report::check::BaselineChanges;
 use crate::report::rig::{rig_report, Judgement};
 use crate::report::CheckReport;
-use std::collections::BTreeMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 /// What `audit check` is asked to check. `Default`: the command's defaults,
 /// no paths.
@@ -126,19 +128,33 @@ struct RobotGraph {
     states: usize,
 }
 
-/// One checked file's state: its record and where its values are written.
+/// One checked file's state: its record and where its values are written,
+/// with its keys in the baselines compared and written.
 struct FileState {
     found: Found,
     record: BaselineFile,
     locations: Locations,
+    base_key: Option<String>,
+    write_key: Option<String>,
 }
 
+/// What one robot's check yields: its findings, which `--pair`s it has,
+/// its files' states, how many files it read.
+struct Outcome {
+    findings: Vec<Diagnostic>,
+    notes: Vec<String>,
+    pairs_found: Vec<bool>,
+    states: Vec<FileState>,
+    files: usize,
+}
+
+/// The check of one robot, on a worker thread.
 struct Checker<'a> {
     opts: &'a CheckOptions,
     findings: Vec<Diagnostic>,
+    /// Files read and left to the files that include them.
+    notes: Vec<String>,
     pairs_found: Vec<bool>,
-    /// One step per file read.
-    progress: &'a dyn Progress,
 }
 
 fn loc_of(l: &Location) -> Location {
@@ -171,8 +187,26 @@ impl Checker<'_> {
         f: &Found,
         acc: &mut RobotGraph,
     ) -> Result<Option<FileState>> {
-        self.progress.advance(1);
         let index = acc.states;
+        if let Some(kind) = formats::xacro::include_only(&f.path, &self.opts.load) {
+            // An include: noted, not an error; its (empty) record still
+            // meets the baseline, so a robot file turned into one is caught.
+            self.notes.push(format!(
+                "{}: {}: an include, not a robot of its own; checked where a robot file includes it",
+                f.path.display(),
+                kind.reason()
+            ));
+            return Ok(Some(FileState {
+                found: f.clone(),
+                record: BaselineFile {
+                    edges: Vec::new(),
+                    pairs: Vec::new(),
+                },
+                locations: Locations::new(),
+                base_key: None,
+                write_key: None,
+            }));
+        }
         if formats::launch::holds_no_calibration(&f.path, self.opts.load.max_file_size) {
             self.findings.push(
                 Diagnostic::new(
@@ -235,6 +269,8 @@ impl Checker<'_> {
             found: f.clone(),
             record,
             locations,
+            base_key: None,
+            write_key: None,
         }))
     }
 
@@ -393,36 +429,45 @@ impl Checker<'_> {
     }
 }
 
-/// Group the files into robots: each checked directory's `audit.toml`
-/// robots (their files loaded together), then every other file on its own.
-/// The manifests themselves are not calibration files.
-fn robots(opts: &CheckOptions, files: &mut Vec<Found>) -> Result<Vec<Robot>> {
+/// One unit of work: a manifest's robot, or a walked file on its own (by
+/// its index in the walk, so that a fleet's files are not copied).
+enum Job {
+    Robot(Robot),
+    File(usize),
+}
+
+/// Group the files into jobs: each checked directory's `audit.toml` robots
+/// (their files loaded together), then every other file on its own. The
+/// manifests themselves are not calibration files.
+fn jobs(opts: &CheckOptions, files: &mut Vec<Found>) -> Result<Vec<Job>> {
     files.retain(|f| f.path.file_name().is_none_or(|n| n != manifest::MANIFEST));
     let mut out = Vec::new();
-    let mut grouped: Vec<PathBuf> = Vec::new();
+    let mut grouped: HashSet<FileId> = HashSet::new();
+    let mut walked: Option<HashSet<FileId>> = None;
     for dir in opts.paths.iter().filter(|p| p.is_dir()) {
         for r in manifest::read(dir)? {
+            let have = walked
+                .get_or_insert_with(|| files.iter().filter_map(|f| file_id(&f.path)).collect());
             for f in &r.files {
-                grouped.extend(f.path.canonicalize().ok());
-                if !files.iter().any(|x| same_file(&x.path, &f.path)) {
+                let id = file_id(&f.path);
+                if let Some(id) = &id {
+                    grouped.insert(*id);
+                }
+                if !id.is_some_and(|id| have.contains(&id)) {
                     files.push(f.clone());
                 }
             }
-            out.push(Robot {
+            out.push(Job::Robot(Robot {
                 name: Some(r.name),
                 files: r.files,
                 renames: r.renames,
                 pairs: r.pairs,
-            });
+            }));
         }
     }
-    for f in files.iter() {
-        let canon = f.path.canonicalize().ok();
-        if !canon.is_some_and(|c| grouped.contains(&c)) {
-            out.push(Robot {
-                files: vec![f.clone()],
-                ..Robot::default()
-            });
+    for (i, f) in files.iter().enumerate() {
+        if grouped.is_empty() || !file_id(&f.path).is_some_and(|id| grouped.contains(&id)) {
+            out.push(Job::File(i));
         }
     }
     Ok(out)
@@ -435,25 +480,31 @@ fn refused(path: &Path, why: String) -> Error {
 
 /// Refuse a `--write-baseline` target that is a checked input, exists and is
 /// not a regular file holding a baseline, is a symlink or lies behind a
-/// symlinked directory ([`unsafe_target`]); the existing baseline when there
-/// is one. Runs before anything is written.
-fn write_target(path: &Path, files: &[Found], given: &[PathBuf]) -> Result<Option<Baseline>> {
+/// symlinked directory ([`unsafe_target`]); then take the write lock and read
+/// the existing baseline when there is one. Runs before anything is written;
+/// the lock is held until the new baseline is in place.
+fn write_target(
+    path: &Path,
+    files: &[Found],
+    given: &[PathBuf],
+) -> Result<(WriteLock, Option<Store>)> {
+    let dir = dir_of(path);
+    if !std::fs::metadata(&dir).is_ok_and(|m| m.is_dir()) {
+        return Err(refused(
+            path,
+            format!(
+                "expected an existing directory {}, found none",
+                dir.display()
+            ),
+        ));
+    }
+    let lock = baseline::lock_for_write(&dir, path)?;
     let link = match std::fs::symlink_metadata(path) {
         Ok(m) => m,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            let dir = dir_of(path);
-            if !std::fs::metadata(&dir).is_ok_and(|m| m.is_dir()) {
-                return Err(refused(
-                    path,
-                    format!(
-                        "expected an existing directory {}, found none",
-                        dir.display()
-                    ),
-                ));
-            }
             return match unsafe_target(path) {
                 Some(why) => Err(refused(path, why)),
-                None => Ok(None),
+                None => Ok((lock, None)),
             };
         }
         Err(e) => return Err(Error::io(path, &e)),
@@ -480,7 +531,10 @@ fn write_target(path: &Path, files: &[Found], given: &[PathBuf]) -> Result<Optio
             format!("expected a regular file, found {via}{what}"),
         ));
     }
-    if files.iter().any(|f| same_file(&f.path, path)) || given.iter().any(|g| same_file(g, path)) {
+    let id = file_id(path);
+    if files.iter().any(|f| id.is_some() && file_id(&f.path) == id)
+        || given.iter().any(|g| same_file(g, path))
+    {
         return Err(refused(
             path,
             "it is one of the checked calibration files: expected a separate baseline file".into(),
@@ -489,85 +543,200 @@ fn write_target(path: &Path, files: &[Found], given: &[PathBuf]) -> Result<Optio
     if let Some(why) = unsafe_target(path) {
         return Err(refused(path, why));
     }
-    baseline::read(path).map(Some).map_err(|e| {
+    let old = baseline::read_store(path).map_err(|e| {
         refused(
             path,
             format!("it exists and is not a baseline ({})", e.message),
         )
+    })?;
+    Ok((lock, Some(old)))
+}
+
+/// Keys of checked files in a baseline kept in one directory; the checked
+/// roots' real paths found once, not per file.
+struct KeyDir {
+    dir: PathBuf,
+    roots: Mutex<HashMap<PathBuf, PathBuf>>,
+}
+
+impl KeyDir {
+    fn new(baseline: &Path) -> Result<Self> {
+        let dir = dir_of(baseline);
+        Ok(KeyDir {
+            dir: dir.canonicalize().map_err(|e| Error::io(&dir, &e))?,
+            roots: Mutex::new(HashMap::new()),
+        })
+    }
+
+    fn key(&self, f: &Found) -> Result<String> {
+        let known = self
+            .roots
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&f.root)
+            .cloned();
+        let root = match known {
+            Some(r) => r,
+            None => {
+                let r = f.root.canonicalize().map_err(|e| Error::io(&f.root, &e))?;
+                let mut m = self.roots.lock().unwrap_or_else(|e| e.into_inner());
+                m.insert(f.root.clone(), r.clone());
+                r
+            }
+        };
+        baseline::key_in(&f.path, &f.root, &root, &self.dir)
+    }
+}
+
+/// Check one robot on a worker: its findings, the `--pair`s it has, its
+/// files' states with their keys.
+fn check_one(
+    opts: &CheckOptions,
+    robot: &Robot,
+    base: Option<&KeyDir>,
+    write: Option<&KeyDir>,
+) -> Result<Outcome> {
+    let mut ck = Checker {
+        opts,
+        findings: Vec::new(),
+        notes: Vec::new(),
+        pairs_found: vec![false; opts.pairs.len()],
+    };
+    let mut states = ck.check_robot(robot)?;
+    for st in &mut states {
+        st.base_key = base.map(|k| k.key(&st.found)).transpose()?;
+        st.write_key = write.map(|k| k.key(&st.found)).transpose()?;
+    }
+    Ok(Outcome {
+        findings: ck.findings,
+        notes: ck.notes,
+        pairs_found: ck.pairs_found,
+        states,
+        files: robot.files.len(),
     })
 }
 
-/// The checked files keyed for a baseline kept in `dir`.
-fn keyed<'a>(states: &'a [FileState], dir: &Path) -> Result<BTreeMap<String, CheckedFile<'a>>> {
-    let mut out = BTreeMap::new();
-    for st in states {
-        let key = baseline::key_for(&st.found.path, &st.found.root, dir)?;
-        out.insert(
-            key,
-            CheckedFile {
-                path: &st.found.path,
-                record: &st.record,
-                locations: &st.locations,
-            },
-        );
-    }
-    Ok(out)
+/// What the run gathers as results arrive, in order: the findings, the
+/// baseline's comparison, the records of the baseline to write.
+struct Gathered<'a> {
+    opts: &'a CheckOptions,
+    findings: Vec<Diagnostic>,
+    /// Files read and left to the files that include them, in order.
+    notes: Vec<String>,
+    pairs_found: Vec<bool>,
+    /// The baseline compared against, and which of its entries were checked.
+    base: Option<(&'a Store, Vec<bool>)>,
+    /// Baseline findings by key (sorted by key at the end, as a baseline is).
+    compared: Vec<(String, Diagnostic)>,
+    /// The checked files' records for `--write-baseline`.
+    written: Store,
 }
 
-/// Merge the checked files into `old` (or replace it with `prune`); what
-/// changed.
-fn merge(
-    old: Option<Baseline>,
-    now: &BTreeMap<String, CheckedFile>,
+impl Gathered<'_> {
+    fn take(&mut self, out: Outcome) {
+        self.findings.extend(out.findings);
+        self.notes.extend(out.notes);
+        for (f, now) in self.pairs_found.iter_mut().zip(out.pairs_found) {
+            *f |= now;
+        }
+        for st in out.states {
+            if let (Some((base, seen)), Some(key)) = (&mut self.base, &st.base_key) {
+                let now = CheckedFile {
+                    path: &st.found.path,
+                    record: &st.record,
+                    locations: &st.locations,
+                };
+                let found = match base.find(key) {
+                    Some(i) => {
+                        seen[i] = true;
+                        if base.holds(i, &st.record) {
+                            Vec::new()
+                        } else {
+                            baseline::compare_file(&now, &base.record(i), self.opts.drift)
+                        }
+                    }
+                    None => vec![baseline::new_file(now.path)],
+                };
+                self.compared
+                    .extend(found.into_iter().map(|d| (key.clone(), d)));
+            }
+            if let Some(key) = &st.write_key {
+                self.written.insert(key, &st.record);
+            }
+        }
+    }
+
+    /// The baseline's findings in key order, then its entries whose files
+    /// are gone.
+    fn baseline_findings(&mut self, dir: &Path) -> Vec<Diagnostic> {
+        let mut compared = std::mem::take(&mut self.compared);
+        compared.sort_by(|a, b| a.0.cmp(&b.0));
+        let mut out: Vec<Diagnostic> = compared.into_iter().map(|(_, d)| d).collect();
+        if let Some((base, seen)) = &self.base {
+            for i in (0..base.len()).filter(|&i| !seen[i]) {
+                out.extend(baseline::removed_file(base.key(i), dir));
+            }
+        }
+        out
+    }
+}
+
+/// Merge the checked files (`now`, sorted) into `old` (or replace it with
+/// `prune`), write the result to `path`, and say what changed.
+fn merge_and_write(
+    old: Option<Store>,
+    mut now: Store,
     prune: bool,
     path: &Path,
-) -> (Baseline, BaselineChanges) {
-    let old = old.unwrap_or(Baseline {
-        schema_version: 1,
-        files: BTreeMap::new(),
-    });
+) -> Result<BaselineChanges> {
+    let old = old.unwrap_or_default();
+    now.finish();
     let mut ch = BaselineChanges {
         path: path.to_string_lossy().replace('\\', "/"),
         ..BaselineChanges::default()
     };
-    let mut files = if prune {
-        BTreeMap::new()
-    } else {
-        old.files.clone()
-    };
-    for (k, f) in now {
-        match old.files.get(k) {
-            None => ch.added.push(k.clone()),
-            Some(r) if r != f.record => ch.updated.push(k.clone()),
-            Some(_) => ch.unchanged += 1,
+    // Both sorted: one pass, the checked file's record winning; a key
+    // checked twice keeps its last record (as a map insert would).
+    let mut order: Vec<(bool, usize)> = Vec::with_capacity(old.len() + now.len());
+    let (mut i, mut j) = (0, 0);
+    while i < old.len() || j < now.len() {
+        if j + 1 < now.len() && now.key(j) == now.key(j + 1) {
+            j += 1;
+            continue;
         }
-        files.insert(k.clone(), f.record.clone());
+        let take_now = j < now.len() && (i >= old.len() || now.key(j) <= old.key(i));
+        if take_now {
+            let key = now.key(j);
+            match (i < old.len() && old.key(i) == key).then_some(i) {
+                Some(o) => {
+                    if old.holds(o, &now.record(j)) {
+                        ch.unchanged += 1;
+                    } else {
+                        ch.updated.push(key.to_string());
+                    }
+                    i += 1;
+                }
+                None => ch.added.push(key.to_string()),
+            }
+            order.push((true, j));
+            j += 1;
+        } else {
+            if prune {
+                ch.removed.push(old.key(i).to_string());
+            } else {
+                order.push((false, i));
+            }
+            i += 1;
+        }
     }
-    if prune {
-        ch.removed = old
-            .files
-            .keys()
-            .filter(|k| !now.contains_key(*k))
-            .cloned()
-            .collect();
-    }
-    (
-        Baseline {
-            schema_version: 1,
-            files,
-        },
-        ch,
-    )
-}
-
-fn write_baseline(path: &Path, b: &Baseline) -> Result<()> {
-    // Never write an empty or partial baseline: a serialisation error is an
-    // error, not "".
-    let mut text = serde_json::to_string_pretty(b).map_err(|e| {
-        Error::new(Code::Io, format!("cannot serialise the baseline: {e}")).in_file(path)
+    let entries = |(fresh, k): &(bool, usize)| {
+        let s = if *fresh { &now } else { &old };
+        (s.key(*k), s.record(*k))
+    };
+    write_atomic_with(path, &mut |w| {
+        baseline::stream::write_to(w, order.iter().map(entries))
     })?;
-    text.push('\n');
-    write_atomic(path, text.as_bytes())
+    Ok(ch)
 }
 
 /// Run the check; writes the baseline when asked (after refusing a target
@@ -607,31 +776,39 @@ pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
     check_with(opts, &NoProgress)
 }
 
+/// The walked files that are calibrations: not the baseline compared
+/// against, not a baseline at all.
+fn calibration_files(opts: &CheckOptions) -> Result<super::walk::Walked> {
+    let mut walked = walk(&opts.paths, &opts.exclude)?;
+    let base = opts.baseline.as_deref().and_then(file_id);
+    walked.files.retain(|f| {
+        base.is_none_or(|b| file_id(&f.path) != Some(b)) && !baseline::is_baseline_file(&f.path)
+    });
+    Ok(walked)
+}
+
 /// [`check`], reporting one step per file read to `progress` (a large
-/// directory takes seconds).
+/// directory takes seconds). The robots are checked on every core
+/// (`pipeline::parallel`), their results taken in the walk's order.
 pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckReport> {
     if !opts.load.renames.is_empty() {
         return Err(Error::usage(
             "check: expected renames in each directory's audit.toml (per robot), found renames in the load options",
         ));
     }
-    let mut walked = walk(&opts.paths, &opts.exclude)?;
-    walked.files.retain(|f| {
-        !opts
-            .baseline
-            .as_deref()
-            .is_some_and(|b| same_file(&f.path, b))
-            && !baseline::is_baseline_file(&f.path)
-    });
+    let mut walked = calibration_files(opts)?;
     let given: Vec<PathBuf> = opts
         .paths
         .iter()
         .filter(|p| !baseline::is_baseline_file(p))
         .cloned()
         .collect();
-    let old = match &opts.write_baseline {
-        Some(p) => write_target(p, &walked.files, &given)?,
-        None => None,
+    let (lock, old) = match &opts.write_baseline {
+        Some(p) => {
+            let (l, old) = write_target(p, &walked.files, &given)?;
+            (Some(l), old)
+        }
+        None => (None, None),
     };
     if let Some(b) = opts.baseline.as_deref().filter(|b| !b.exists()) {
         return Err(Error::usage(format!(
@@ -641,7 +818,11 @@ pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckR
         ))
         .in_file(b));
     }
-    let base = opts.baseline.as_deref().map(baseline::read).transpose()?;
+    let base = opts
+        .baseline
+        .as_deref()
+        .map(baseline::read_store)
+        .transpose()?;
     if walked.files.is_empty() {
         // Only baselines or manifests given (a commit that changes only the
         // baseline): nothing to check, nothing wrong.
@@ -656,57 +837,104 @@ pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckR
             ));
         }
     }
-    let robots = robots(opts, &mut walked.files)?;
-    let mut ck = Checker {
+    let jobs = jobs(opts, &mut walked.files)?;
+    let base_keys = opts.baseline.as_deref().map(KeyDir::new).transpose()?;
+    let write_keys = opts
+        .write_baseline
+        .as_deref()
+        .map(KeyDir::new)
+        .transpose()?;
+    let mut all = Gathered {
         opts,
         findings: std::mem::take(&mut walked.findings),
+        notes: Vec::new(),
         pairs_found: vec![false; opts.pairs.len()],
-        progress,
+        base: base.as_ref().map(|b| (b, vec![false; b.len()])),
+        compared: Vec::new(),
+        written: Store::new(),
     };
-    let total: usize = robots.iter().map(|r| r.files.len()).sum();
+    let total: usize = jobs
+        .iter()
+        .map(|j| match j {
+            Job::Robot(r) => r.files.len(),
+            Job::File(_) => 1,
+        })
+        .sum();
     progress.start(total as u64, "files checked");
-    let mut states = Vec::new();
-    for r in &robots {
-        let s = ck.check_robot(r);
-        if s.is_err() {
-            progress.finish();
-        }
-        states.extend(s?);
-    }
+    let mut failed = None;
+    let files = &walked.files;
+    super::parallel::ordered(
+        &jobs,
+        |_, job: &Job| match job {
+            Job::Robot(r) => check_one(opts, r, base_keys.as_ref(), write_keys.as_ref()),
+            Job::File(i) => {
+                let r = Robot {
+                    files: vec![files[*i].clone()],
+                    ..Robot::default()
+                };
+                check_one(opts, &r, base_keys.as_ref(), write_keys.as_ref())
+            }
+        },
+        |_, out| match out {
+            Ok(out) => {
+                progress.advance(out.files as u64);
+                all.take(out);
+                true
+            }
+            Err(e) => {
+                failed = Some(e);
+                false
+            }
+        },
+    );
     progress.finish();
-    for (i, found) in ck.pairs_found.clone().iter().enumerate() {
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    finish(opts, all, &walked.files, old, lock)
+}
+
+/// After every robot: the `--pair`s found nowhere, the baseline's findings,
+/// the baseline written (the lock released once it is in place), the
+/// severity policy.
+fn finish(
+    opts: &CheckOptions,
+    mut all: Gathered,
+    files: &[Found],
+    old: Option<Store>,
+    lock: Option<WriteLock>,
+) -> Result<CheckReport> {
+    for (i, found) in all.pairs_found.clone().iter().enumerate() {
         if !found {
             let (a, b) = &opts.pairs[i];
-            ck.push(
-                Code::Frame,
-                Location::default(),
-                format!(
-                    "--pair {a}:{b}: no checked file has both frames (checked: {})",
-                    checked_list(&walked.files)
-                ),
+            all.findings.push(
+                Diagnostic::new(
+                    Code::Frame,
+                    format!(
+                        "--pair {a}:{b}: no checked file has both frames (checked: {})",
+                        checked_list(files)
+                    ),
+                )
+                .at(&Location::default()),
             );
         }
     }
-    if let (Some(base), Some(path)) = (&base, &opts.baseline) {
-        let dir = dir_of(path);
-        ck.findings.extend(baseline::compare(
-            &keyed(&states, &dir)?,
-            base,
-            &dir,
-            opts.drift,
-        ));
+    if let Some(path) = &opts.baseline {
+        let found = all.baseline_findings(&dir_of(path));
+        all.findings.extend(found);
     }
     let mut changes = None;
     if let Some(path) = &opts.write_baseline {
-        let now = keyed(&states, &dir_of(path))?;
-        let (new, ch) = merge(old, &now, opts.prune, path);
-        write_baseline(path, &new)?;
-        changes = Some(ch);
+        let written = std::mem::take(&mut all.written);
+        changes = Some(merge_and_write(old, written, opts.prune, path)?);
     }
-    for f in &mut ck.findings {
+    drop(lock);
+    let mut findings = all.findings;
+    for f in &mut findings {
         f.severity = opts.severity(f);
     }
-    let mut report = CheckReport::new(walked.files.len(), ck.findings);
+    let mut report = CheckReport::new(files.len(), findings);
     report.baseline_written = changes;
+    report.notes = all.notes;
     Ok(report)
 }

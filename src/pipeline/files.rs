@@ -166,41 +166,106 @@ fn create_new(p: &Path) -> std::io::Result<std::fs::File> {
 /// file gets `0666` less the umask, as `File::create` would. On any error the
 /// old file is untouched, the temporary removed, and the error names `path`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    if let Some(why) = unsafe_target(path) {
-        return Err(Error::usage(format!("refusing to write: {why}")).in_file(path));
-    }
-    let cannot =
-        |e: std::io::Error| Error::new(Code::Io, format!("cannot write: {e}")).in_file(path);
-    let dir = dir_of(path);
-    let old_mode = std::fs::metadata(path)
-        .ok()
-        .filter(|m| m.is_file())
-        .map(|m| m.permissions());
-    let prefix = temp_prefix(path);
-    // Registered before it is created (a signal between the two would leave
-    // it); a name that turns out to be taken is forgotten with the retry.
-    let mut interrupted = None;
-    let mut tmp = tempfile::Builder::new()
-        .prefix(&prefix)
-        .suffix(".tmp")
-        .rand_bytes(WRITE_TEMP_RANDOM_CHARS)
-        .make_in(&dir, |p| {
-            interrupted = Some(cleanup::register(p));
-            create_new(p)
+    write_atomic_with(path, &mut |w| w.write_all(bytes))
+}
+
+/// [`write_atomic`] of what `write` writes: a large file (a fleet's
+/// baseline) streamed through a buffer, never held whole. An error from
+/// `write` is an error of the write: the temporary is removed, the old file
+/// left.
+pub fn write_atomic_with(
+    path: &Path,
+    write: &mut dyn FnMut(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
+    let mut f = AtomicFile::create(path)?;
+    write(&mut f).map_err(|e| f.error(e))?;
+    f.commit()
+}
+
+/// A file written atomically over time (`audit run`'s rows as the scans
+/// finish): [`write_atomic`]'s temporary, buffered, put in place by
+/// [`commit`](AtomicFile::commit); dropped without it, the temporary is
+/// removed and the old file left.
+pub struct AtomicFile {
+    path: PathBuf,
+    dir: PathBuf,
+    old_mode: Option<std::fs::Permissions>,
+    out: std::io::BufWriter<tempfile::NamedTempFile>,
+    _interrupted: Option<cleanup::Registered>,
+}
+
+impl AtomicFile {
+    /// Create the temporary beside `path` (refused as [`write_atomic`]
+    /// refuses a target).
+    pub fn create(path: &Path) -> Result<Self> {
+        if let Some(why) = unsafe_target(path) {
+            return Err(Error::usage(format!("refusing to write: {why}")).in_file(path));
+        }
+        let dir = dir_of(path);
+        let old_mode = std::fs::metadata(path)
+            .ok()
+            .filter(|m| m.is_file())
+            .map(|m| m.permissions());
+        let prefix = temp_prefix(path);
+        // Registered before it is created (a signal between the two would
+        // leave it); a name that turns out to be taken is forgotten with the
+        // retry.
+        let mut interrupted = None;
+        let tmp = tempfile::Builder::new()
+            .prefix(&prefix)
+            .suffix(".tmp")
+            .rand_bytes(WRITE_TEMP_RANDOM_CHARS)
+            .make_in(&dir, |p| {
+                interrupted = Some(cleanup::register(p));
+                create_new(p)
+            })
+            .map_err(|e| cannot_write(path, e))?;
+        Ok(AtomicFile {
+            path: path.to_path_buf(),
+            dir,
+            old_mode,
+            out: std::io::BufWriter::new(tmp),
+            _interrupted: interrupted,
         })
-        .map_err(cannot)?;
-    tmp.write_all(bytes).map_err(cannot)?;
-    if let Some(p) = old_mode {
-        // An existing file keeps its mode exactly (a 0600 baseline stays 0600).
-        tmp.as_file().set_permissions(p).map_err(cannot)?;
     }
-    tmp.as_file().sync_all().map_err(cannot)?;
-    // On failure the temporary comes back inside the error and is removed
-    // when that is dropped.
-    tmp.persist(path).map_err(|e| cannot(e.error))?;
-    // Best effort: some file systems cannot sync a directory.
-    if let Ok(d) = std::fs::File::open(&dir) {
-        let _ = d.sync_all();
+
+    /// A write error of this file, naming its target.
+    pub fn error(&self, e: std::io::Error) -> Error {
+        cannot_write(&self.path, e)
     }
-    Ok(())
+
+    /// Flush, sync, and rename the temporary over the target, then sync the
+    /// directory so that the rename is durable.
+    pub fn commit(self) -> Result<()> {
+        let path = self.path;
+        let cannot = |e| cannot_write(&path, e);
+        let tmp = self.out.into_inner().map_err(|e| cannot(e.into_error()))?;
+        if let Some(p) = self.old_mode {
+            // An existing file keeps its mode exactly (a 0600 baseline stays
+            // 0600).
+            tmp.as_file().set_permissions(p).map_err(cannot)?;
+        }
+        tmp.as_file().sync_all().map_err(cannot)?;
+        // On failure the temporary comes back inside the error and is
+        // removed when that is dropped.
+        tmp.persist(&path).map_err(|e| cannot(e.error))?;
+        // Best effort: some file systems cannot sync a directory.
+        if let Ok(d) = std::fs::File::open(&self.dir) {
+            let _ = d.sync_all();
+        }
+        Ok(())
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.out.write(buf)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+}
+
+fn cannot_write(path: &Path, e: std::io::Error) -> Error {
+    Error::new(Code::Io, format!("cannot write: {e}")).in_file(path)
 }

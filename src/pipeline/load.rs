@@ -164,8 +164,9 @@ pub fn transform_between(
     files: &[PathBuf],
     from: Option<&str>,
     to: Option<&str>,
+    opts: &LoadOptions,
 ) -> Result<crate::geometry::Transform> {
-    let loaded = load(files, &LoadOptions::default())?;
+    let loaded = load(files, opts)?;
     let (from, to) = match (from, to) {
         (None, None) if loaded.graph.edges().len() != 1 => {
             return Err(Error::usage(format!(

@@ -10,7 +10,10 @@ mod diff;
 pub mod files;
 mod load;
 pub mod manifest;
+mod output;
+mod parallel;
 mod rig;
+pub mod run;
 mod survey;
 pub mod walk;
 
@@ -18,5 +21,6 @@ pub use check::{check, check_with, CheckOptions};
 pub use diff::{diff, DiffOptions, SideRead};
 pub use files::write_atomic;
 pub use load::{load, Loaded};
+pub use output::check_output_target;
 pub use rig::{report, RigOptions};
 pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};

@@ -10,7 +10,7 @@
 //! `ignored` warning (a folder holds other robots too); a file named on the
 //! command line is an error.
 
-use super::files::{expand_paths, same_file, write_atomic};
+use super::files::{expand_paths, write_atomic};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::{self, LoadOptions, RigMeta};
 use crate::frames::FrameGraph;
@@ -73,7 +73,7 @@ struct Input {
 }
 
 /// `FILE:FROM:TO` split, when `p` is not itself an existing path.
-fn split_pair(p: &Path) -> (PathBuf, Option<(String, String)>) {
+pub(super) fn split_pair(p: &Path) -> (PathBuf, Option<(String, String)>) {
     if p.exists() {
         return (p.to_path_buf(), None);
     }
@@ -93,7 +93,7 @@ fn split_pair(p: &Path) -> (PathBuf, Option<(String, String)>) {
 }
 
 /// Any file a directory walk reads, but a check manifest.
-fn is_any_input(p: &Path) -> bool {
+pub(super) fn is_any_input(p: &Path) -> bool {
     formats::is_calibration_file(p)
         && p.file_name()
             .is_some_and(|n| n != super::manifest::MANIFEST)
@@ -265,27 +265,46 @@ pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
     };
     let mut warnings = Vec::new();
     let mut rows = Vec::new();
-    for f in &files {
-        let row = match survey_one(f, opts, &how, &mut warnings) {
-            Ok(row) => row,
-            // A folder holds other robots too: a walked file that cannot
-            // give the pair is reported, not fatal.
-            Err(e) if f.walked && (f.pair.is_some() || opts.pair.is_some()) => {
-                let loc = if e.location.is_empty() {
-                    Location::file(&f.path)
-                } else {
-                    e.location
-                };
-                warnings.push(
-                    Warning::new(Code::Ignored, format!("not surveyed: {}", e.message)).at(&loc),
-                );
-                continue;
+    let mut failed = None;
+    // Every file on every core, taken in order (`pipeline::parallel`).
+    super::parallel::ordered(
+        &files,
+        |_, f| {
+            let mut w = Vec::new();
+            (survey_one(f, opts, &how, &mut w), w)
+        },
+        |i, (row, w)| {
+            let f = &files[i];
+            warnings.extend(w);
+            match row {
+                Ok(row) => {
+                    if row.2 || opts.all {
+                        rows.push(row);
+                    }
+                }
+                // A folder holds other robots too: a walked file that cannot
+                // give the pair is reported, not fatal.
+                Err(e) if f.walked && (f.pair.is_some() || opts.pair.is_some()) => {
+                    let loc = if e.location.is_empty() {
+                        Location::file(&f.path)
+                    } else {
+                        e.location
+                    };
+                    warnings.push(
+                        Warning::new(Code::Ignored, format!("not surveyed: {}", e.message))
+                            .at(&loc),
+                    );
+                }
+                Err(e) => {
+                    failed = Some(e);
+                    return false;
+                }
             }
-            Err(e) => return Err(e),
-        };
-        if row.2 || opts.all {
-            rows.push(row);
-        }
+            true
+        },
+    );
+    if let Some(e) = failed {
+        return Err(e);
     }
     if rows.is_empty() && files.iter().all(|f| f.walked) {
         return Err(Error::usage(format!(
@@ -312,49 +331,7 @@ pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
             target.display()
         )));
     }
-    if target.is_dir() {
-        return Err(Error::usage(format!(
-            "--plot {}: expected a file, found a directory",
-            target.display()
-        )));
-    }
-    // Compare where the files really are (`./a.svg` and `a.svg`, symlinks).
-    let real = |p: &Path| {
-        let dir = p
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        dir.canonicalize()
-            .ok()
-            .map(|d| d.join(p.file_name().unwrap_or_default()))
-    };
-    let t = real(target).ok_or_else(|| {
-        Error::usage(format!(
-            "--plot {}: expected a file in an existing directory",
-            target.display()
-        ))
-    })?;
-    let t = t.canonicalize().unwrap_or(t);
-    for p in inputs {
-        let (p, _) = split_pair(p);
-        let walked = p.is_dir()
-            && p.canonicalize().ok().is_some_and(|d| t.starts_with(d))
-            && is_any_input(&t);
-        if same_file(&p, target) || walked {
-            return Err(Error::usage(format!(
-                "--plot {}: refusing to write over an input of the survey ({})",
-                target.display(),
-                p.display()
-            )));
-        }
-    }
-    if let Some(why) = super::files::unsafe_target(target) {
-        return Err(Error::usage(format!(
-            "--plot {}: refusing to write: {why}",
-            target.display()
-        )));
-    }
-    Ok(())
+    super::output::check_output_target("--plot", "survey", target, inputs)
 }
 
 /// Draw the survey plot to `target` after [`check_plot_target`] (again: the

@@ -30,6 +30,32 @@ pub struct Found {
     pub root: PathBuf,
 }
 
+/// What names one file whatever the path to it: device and inode on Unix
+/// (one `stat`, where a real path costs a `readlink` per component), the
+/// real path elsewhere.
+#[cfg(unix)]
+pub type FileId = (u64, u64);
+/// What names one file whatever the path to it (the real path here).
+#[cfg(not(unix))]
+pub type FileId = PathBuf;
+
+#[cfg(unix)]
+fn id_of(m: &std::fs::Metadata, _path: &Path) -> Option<FileId> {
+    use std::os::unix::fs::MetadataExt;
+    Some((m.dev(), m.ino()))
+}
+
+#[cfg(not(unix))]
+fn id_of(_m: &std::fs::Metadata, path: &Path) -> Option<FileId> {
+    path.canonicalize().ok()
+}
+
+/// The [`FileId`] of the file `path` leads to (symlinks followed); `None`
+/// when there is none.
+pub fn file_id(path: &Path) -> Option<FileId> {
+    std::fs::metadata(path).ok().and_then(|m| id_of(&m, path))
+}
+
 /// What the walk found, and what it has to say (loops, limits).
 #[derive(Debug, Clone, Default)]
 pub struct Walked {
@@ -79,6 +105,8 @@ struct Walker<'a> {
     accept: fn(&Path) -> bool,
     root: PathBuf,
     visited: HashSet<PathBuf>,
+    /// The files taken so far (over every given path): each file once.
+    seen: &'a mut HashSet<FileId>,
     out: Walked,
 }
 
@@ -125,10 +153,16 @@ impl Walker<'_> {
             let is_dir = meta.as_ref().is_ok_and(|m| m.is_dir());
             if is_dir && (self.accept)(&path) && crate::formats::bag::is_bag(&path) {
                 // A rosbag2 folder (metadata.yaml + its files) is one input.
-                self.out.files.push(Found {
-                    path,
-                    root: self.root.clone(),
-                });
+                if meta
+                    .ok()
+                    .and_then(|m| id_of(&m, &path))
+                    .is_none_or(|id| self.seen.insert(id))
+                {
+                    self.out.files.push(Found {
+                        path,
+                        root: self.root.clone(),
+                    });
+                }
             } else if is_dir {
                 self.dir(&path, depth + 1)?;
             } else if !(self.accept)(&path) || is_default_excluded(&path) {
@@ -142,7 +176,11 @@ impl Walker<'_> {
                     "not a regular file (a FIFO, device, socket or dangling symlink): refused, not opened",
                 )
                 .at(&Location::file(&path)));
-            } else {
+            } else if meta
+                .ok()
+                .and_then(|m| id_of(&m, &path))
+                .is_none_or(|id| self.seen.insert(id))
+            {
                 self.out.files.push(Found {
                     path,
                     root: self.root.clone(),
@@ -173,13 +211,16 @@ pub fn walk_with(
     accept: fn(&Path) -> bool,
 ) -> Result<Walked> {
     let mut out = Walked::default();
+    let mut seen = HashSet::new();
     for p in paths {
         let meta = std::fs::metadata(p).map_err(|e| Error::io(p, &e))?;
         if !meta.is_dir() {
-            out.files.push(Found {
-                path: p.clone(),
-                root: p.clone(),
-            });
+            if id_of(&meta, p).is_none_or(|id| seen.insert(id)) {
+                out.files.push(Found {
+                    path: p.clone(),
+                    root: p.clone(),
+                });
+            }
             continue;
         }
         let mut w = Walker {
@@ -187,14 +228,12 @@ pub fn walk_with(
             accept,
             root: p.clone(),
             visited: HashSet::new(),
+            seen: &mut seen,
             out: Walked::default(),
         };
         w.dir(p, 0)?;
         out.files.extend(w.out.files);
         out.findings.extend(w.out.findings);
     }
-    let mut seen = HashSet::new();
-    out.files
-        .retain(|f| seen.insert(f.path.canonicalize().unwrap_or_else(|_| f.path.clone())));
     Ok(out)
 }

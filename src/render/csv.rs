@@ -40,14 +40,19 @@ pub fn render(doc: &Document) -> String {
 
 /// One table as CSV.
 pub fn table(t: &Table) -> String {
-    let row = |r: &[String]| r.iter().map(|c| cell(c)).collect::<Vec<_>>().join(",");
-    let mut s = row(&t.header);
+    let mut s = line(&t.header);
     s.push('\n');
     for r in &t.rows {
-        s.push_str(&row(r));
+        s.push_str(&line(r));
         s.push('\n');
     }
     s
+}
+
+/// One CSV record (no line end), each cell through [`cell`]. A command that
+/// streams its rows (`audit run`) writes them with this.
+pub fn line(cells: &[String]) -> String {
+    cells.iter().map(|c| cell(c)).collect::<Vec<_>>().join(",")
 }
 
 /// First characters that make a spreadsheet read a cell as a formula (OWASP).

@@ -55,7 +55,7 @@ pub fn render(doc: &Document) -> String {
                 s.push_str("```\n");
             }
             // A chart is drawn as SVG only (refused before it gets here).
-            Block::Plot(_) => {}
+            Block::Plot(_) | Block::Scene(_) => {}
         }
     }
     s

@@ -3,8 +3,9 @@
 //! (`json.rs`); every other format draws the report's [`Document`]
 //! ([`draw`]): text, markdown, GitHub workflow commands, CSV and SARIF
 //! from its blocks, and the pictures from its picture block: DOT, Mermaid
-//! and SVG from a graph (`graph/`), SVG from a plot (`plot.rs`). A format
-//! that cannot draw a document (a picture of a report without one, SARIF
+//! and SVG from a graph (`graph/`), SVG from a plot (`plot.rs`); MCAP
+//! from its 3D scene block (`mcap/`, binary, through [`render_bytes`]). A
+//! format that cannot draw a document (a picture of a report without one, SARIF
 //! without findings, CSV of a picture) is a usage error naming the formats
 //! that can, never other output.
 //!
@@ -17,11 +18,13 @@ mod graph;
 mod json;
 pub mod layout;
 mod markdown;
+pub mod mcap;
 mod plot;
 mod sarif;
 mod style;
 mod text;
 
+pub use csv::line as csv_line;
 pub use layout::Layout;
 pub use style::{ColorChoice, Style};
 
@@ -53,6 +56,9 @@ pub enum OutputFormat {
     Mermaid,
     /// The frame tree (--frames) as SVG (drawn by audit, no Graphviz needed).
     Svg,
+    /// The 3D scene as MCAP for Foxglove (rig, frame tree, degeneracy; binary:
+    /// with --output FILE.mcap or to a pipe).
+    Mcap,
 }
 
 /// What a format needs of a document to draw it.
@@ -70,6 +76,8 @@ enum Needs {
     Graph,
     /// A graph or a chart.
     Picture,
+    /// A 3D scene.
+    Scene,
 }
 
 /// What the picture formats do.
@@ -115,6 +123,12 @@ impl OutputFormat {
             OutputFormat::Dot => ("dot", FRAME_TREE, "a picture", Needs::Graph),
             OutputFormat::Mermaid => ("mermaid", FRAME_TREE, "a picture", Needs::Graph),
             OutputFormat::Svg => ("svg", FRAME_TREE, "a picture", Needs::Picture),
+            OutputFormat::Mcap => (
+                "mcap",
+                "writes a 3D scene for Foxglove (a rig, the frame tree, `audit degeneracy`)",
+                "a scene",
+                Needs::Scene,
+            ),
         }
     }
 
@@ -140,7 +154,13 @@ impl OutputFormat {
                 .any(|b| matches!(b, Block::Diagnostics(_))),
             Needs::Graph => matches!(picture, Some(Block::Graph(_))),
             Needs::Picture => picture.is_some(),
+            Needs::Scene => scene(doc).is_some(),
         }
+    }
+
+    /// Whether the format is binary (never written to a terminal).
+    pub fn is_binary(self) -> bool {
+        self == OutputFormat::Mcap
     }
 
     /// Every format, in the order `--help` lists them.
@@ -154,6 +174,14 @@ fn picture(doc: &Document) -> Option<&Block> {
     doc.blocks
         .iter()
         .find(|b| matches!(b, Block::Graph(_) | Block::Plot(_)))
+}
+
+/// The document's 3D scene: its first scene block.
+fn scene(doc: &Document) -> Option<&crate::document::Scene> {
+    doc.blocks.iter().find_map(|b| match b {
+        Block::Scene(s) => Some(s),
+        _ => None,
+    })
 }
 
 /// Render a report in a format: JSON carrying `warnings` (already printed on
@@ -173,8 +201,57 @@ pub fn render<R: Report>(
     }
 }
 
-/// Draw a document in a format (every format but JSON, which is the report
-/// itself): the text formats from its blocks, the pictures from its picture.
+/// [`render`] as bytes, for every format: the binary ones (MCAP) written
+/// whole, the others as their UTF-8 text.
+pub fn render_bytes<R: Report>(
+    report: &R,
+    warnings: &[Warning],
+    format: OutputFormat,
+    style: Style,
+    layout: &Layout,
+) -> Result<Vec<u8>> {
+    let mut out = Vec::new();
+    render_to(report, warnings, format, style, layout, &mut out)?;
+    Ok(out)
+}
+
+/// [`render`] written to `out`, for every format; JSON is written as it is
+/// serialised (a survey of a fleet is never held as text), MCAP as its
+/// binary file.
+pub fn render_to<R: Report>(
+    report: &R,
+    warnings: &[Warning],
+    format: OutputFormat,
+    style: Style,
+    layout: &Layout,
+    out: &mut dyn std::io::Write,
+) -> Result<()> {
+    let cannot = |e: std::io::Error| {
+        Error::new(
+            crate::diagnostic::Code::Io,
+            format!("cannot write output: {e}"),
+        )
+    };
+    match format {
+        OutputFormat::Json => json::write(report, warnings, out),
+        OutputFormat::Mcap => {
+            let doc = report.document();
+            let bytes = match scene(&doc) {
+                Some(s) => mcap::write(s)?,
+                None => return Err(refusal(format, &doc)),
+            };
+            out.write_all(&bytes).map_err(cannot)
+        }
+        _ => {
+            let text = draw(&report.document(), format, style, layout)?;
+            out.write_all(text.as_bytes()).map_err(cannot)
+        }
+    }
+}
+
+/// Draw a document in a text format (every format but JSON, which is the
+/// report itself, and MCAP, which is binary: [`render_to`]): the text
+/// formats from its blocks, the pictures from its picture.
 pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout) -> Result<String> {
     let picture = picture(doc);
     let graph = || match picture {
@@ -202,6 +279,11 @@ pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout)
         }
         OutputFormat::Markdown => markdown::render(doc),
         OutputFormat::Json => return Err(refusal(format, doc)),
+        OutputFormat::Mcap => {
+            return Err(Error::usage(
+                "--format mcap is binary: it is rendered as bytes (render_bytes)",
+            ))
+        }
         OutputFormat::Github => github::render(doc),
         OutputFormat::Csv => csv::render(doc),
         OutputFormat::Sarif => sarif::render(doc),
@@ -246,7 +328,7 @@ fn one_of(names: &[&str]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::document::{Graph, Plot};
+    use crate::document::{Graph, Plot, Scene};
 
     fn of(block: Block) -> Document {
         let mut d = Document::new();
@@ -266,7 +348,9 @@ mod tests {
             of(Block::Plot(Plot {
                 size_px: (10, 10),
                 panels: vec![],
+                rows: 1,
             })),
+            of(Block::Scene(Scene::default())),
         ];
         let takes = |d: &Document| -> String {
             let t: Vec<&str> = OutputFormat::all()
@@ -280,6 +364,15 @@ mod tests {
         assert_eq!(takes(&docs[1]), "text markdown json github csv sarif");
         assert_eq!(takes(&docs[2]), "text markdown json dot mermaid svg");
         assert_eq!(takes(&docs[3]), "json svg");
+        // A scene goes with the text formats, and is drawn only as MCAP.
+        assert_eq!(takes(&docs[4]), "text markdown json github csv mcap");
+        assert!(draw(
+            &docs[4],
+            OutputFormat::Mcap,
+            Style::plain(),
+            &Layout::default()
+        )
+        .is_err());
         let e = draw(
             &docs[0],
             OutputFormat::Dot,

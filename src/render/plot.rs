@@ -1,5 +1,5 @@
 //! A [`Plot`] as SVG, drawn with `plotters` (SVG backend, no fonts: text is
-//! left to the viewer): the panels side by side, each with its caption, axis
+//! left to the viewer): the panels in their grid, each with its caption, axis
 //! titles and mesh, its series in order, then its legend box. Text from the
 //! document (point labels, legend entries) is shown with control and
 //! bidirectional characters as visible escapes; plotters escapes it for XML.
@@ -35,7 +35,8 @@ pub fn svg(p: &Plot) -> Result<String> {
     {
         let root = SVGBackend::with_string(&mut svg, p.size_px).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
-        let areas = root.split_evenly((1, p.panels.len().max(1)));
+        let rows = (p.rows.max(1) as usize).min(p.panels.len().max(1));
+        let areas = root.split_evenly((rows, p.panels.len().max(1).div_ceil(rows)));
         for (area, panel) in areas.iter().zip(&p.panels) {
             let (x, y) = (panel.x.range, panel.y.range);
             match (panel.x.log, panel.y.log) {
@@ -69,6 +70,8 @@ where
         .configure_mesh()
         .x_desc(shown(&p.x.label))
         .y_desc(shown(&p.y.label))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
         .light_line_style(WHITE.mix(0.0))
         .draw()
         .map_err(plot_err)?;
@@ -87,6 +90,33 @@ where
         .draw()
         .map_err(plot_err)?;
     Ok(())
+}
+
+/// A tick label with at most three significant digits: plain between 1e-3
+/// and 1e4, else `1.5e-5` (plotters' own labels on a log axis print the
+/// tick's binary value, `9.99999999e-5`).
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !a.is_finite() {
+        return format!("{v}");
+    }
+    let trim = |s: String| -> String {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    if (1e-3..1e4).contains(&a) {
+        let decimals = (2 - a.log10().floor() as i32).max(0) as usize;
+        trim(format!("{v:.decimals$}"))
+    } else {
+        let s = format!("{v:.2e}");
+        match s.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", trim(m.to_string())),
+            None => s,
+        }
+    }
 }
 
 /// One series, with its legend entry (its mark, or a short line) when it
@@ -142,6 +172,15 @@ where
                 .map_err(plot_err)?;
             legend(a, l, move |(x, y)| Circle::new((x + 8, y), 2, c.filled()));
         }
+        Mark::Span => {
+            let rect = |c: &[Point]| Rectangle::new([at(&c[0]), at(&c[1])], of(&c[0]).filled());
+            let a = chart
+                .draw_series(s.points.chunks_exact(2).map(rect))
+                .map_err(plot_err)?;
+            legend(a, l, move |(x, y)| {
+                Rectangle::new([(x, y - 5), (x + 16, y + 5)], c.filled())
+            });
+        }
         Mark::Line { width } => {
             let line = LineSeries::new(s.points.iter().map(at), c.stroke_width(width));
             let a = chart.draw_series(line).map_err(plot_err)?;
@@ -162,5 +201,27 @@ where
 {
     if let Some(l) = label {
         anno.label(shown(l)).legend(icon);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn ticks_have_three_significant_digits_at_most() {
+        let cases = [
+            (9.99999999e-5, "1e-4"),
+            (1.5e-5, "1.5e-5"),
+            (0.001, "0.001"),
+            (0.25, "0.25"),
+            (1.0, "1"),
+            (12.5, "12.5"),
+            (2500.0, "2500"),
+            (1e6, "1e6"),
+            (-0.5, "-0.5"),
+            (0.0, "0"),
+        ];
+        for (v, want) in cases {
+            assert_eq!(super::tick(v), want, "{v}");
+        }
     }
 }

@@ -60,7 +60,7 @@ pub fn render_laid(doc: &Document, st: Style, lay: &Layout) -> String {
                 s.push('\n');
             }
             // A chart is drawn as SVG only (refused before it gets here).
-            Block::Plot(_) => {}
+            Block::Plot(_) | Block::Scene(_) => {}
         }
     }
     s

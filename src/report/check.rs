@@ -25,6 +25,10 @@ pub struct CheckReport {
     pub findings: Vec<Diagnostic>,
     /// What `--write-baseline` changed (`null` when no baseline was written).
     pub baseline_written: Option<BaselineChanges>,
+    /// Files read but not checked on their own, and why (an xacro file that
+    /// only defines macros: an include), one line each; never a problem.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
 }
 
 /// What `--write-baseline` changed, by baseline key.
@@ -86,6 +90,7 @@ impl CheckReport {
             warnings,
             findings,
             baseline_written: None,
+            notes: Vec::new(),
         }
     }
 
@@ -119,6 +124,10 @@ impl Report for CheckReport {
             good: self.problems == 0,
         });
         doc.push(Block::Diagnostics(self.findings.clone()));
+        if !self.notes.is_empty() {
+            let lines: Vec<String> = self.notes.iter().map(|n| format!("note: {n}")).collect();
+            doc.text(lines.join("\n"));
+        }
         doc.text(self.summary_line());
         if let Some(b) = &self.baseline_written {
             doc.text(b.lines());

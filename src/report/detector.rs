@@ -7,7 +7,7 @@ use crate::degeneracy::threshold::{FamilyResult, Interval};
 use crate::degeneracy::{Assembly, ScoredScrew, TwistScrew, AXIS_NAMES};
 use crate::diagnostic::Warning;
 use crate::document::numbers::{degrees, metres, sci, sci_vec, unit, vector};
-use crate::document::{Document, Report, Table};
+use crate::document::{Block, Document, Report, Table};
 use serde::Serialize;
 
 /// Flagged axis names, or `none`.
@@ -165,6 +165,45 @@ pub struct DegeneracyReport {
     pub pair: Option<PairJson>,
     /// The point file's warnings, as text.
     pub warnings: Vec<String>,
+    /// What the 3D scene draws beyond the JSON (`--format mcap`).
+    #[serde(skip)]
+    pub scene: ScanSceneData,
+}
+
+/// What the 3D scene of a scan or pair draws beyond its JSON.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ScanSceneData {
+    /// The points' weighted centroid in the report's frame (m).
+    pub centroid_m: [f64; 3],
+    /// Their RMS distance from it (m).
+    pub rms_radius_m: f64,
+    /// The rotation of `frame` as a unit quaternion `[x, y, z, w]`.
+    pub frame_xyzw: [f64; 4],
+    /// A pair's initial guess, the pose of the source frame in the target
+    /// frame: translation (m) and rotation `[x, y, z, w]`.
+    pub guess: Option<([f64; 3], [f64; 4])>,
+    /// The weakest point-displacement eigenvector `[omega; t]` in the
+    /// report's frame (`M`-normalised), and its eigenvalue.
+    pub weakest: ([f64; 6], f64),
+    /// The points drawn, when they were kept.
+    pub cloud: Option<SceneCloud>,
+}
+
+/// The points of a scan's scene.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SceneCloud {
+    /// The points drawn, in the input frame (m): every `stride`-th of those
+    /// assembled.
+    pub points_m: Vec<[f64; 3]>,
+    /// Each drawn point's share of the weakest direction (of all points'
+    /// sum, 1); `None` when that direction moves no point along its normal.
+    pub shares: Option<Vec<f64>>,
+    /// Points assembled.
+    pub total: usize,
+    /// One point drawn in `stride`.
+    pub stride: usize,
+    /// A pair's target points, every `stride`-th, in the target frame.
+    pub target_m: Option<Vec<[f64; 3]>>,
 }
 
 /// `audit sweep`: the paper's frame sweep on the user's cloud.
@@ -482,6 +521,7 @@ impl Report for DegeneracyReport {
         for w in &self.warnings {
             doc.text(w.clone());
         }
+        doc.push(Block::Scene(self.scene()));
         doc
     }
 }

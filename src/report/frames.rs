@@ -12,9 +12,11 @@
 //! order their edges were read, so a parent always comes before its children.
 
 use crate::document::numbers::{degrees_trimmed, fixed};
+use crate::document::scene::{axis_length, Entity, Paint, SceneTransform, Shape};
 use crate::document::SCHEMA_VERSION;
-use crate::document::{Block, Document, Graph, GraphLink, GraphNode, Report};
+use crate::document::{Block, Document, Graph, GraphLink, GraphNode, Report, Scene};
 use crate::frames::{Chain, Edge, FrameGraph};
+use crate::tolerances::LENGTH_ZERO_TOL;
 use serde::Serialize;
 use std::collections::{HashMap, HashSet};
 
@@ -59,6 +61,10 @@ pub struct FrameEdgeJson {
     pub format: String,
     /// The edge is on the `--from` -> `--to` chain.
     pub on_chain: bool,
+    /// `R` as a unit quaternion `[x, y, z, w]` (the 3D scene's transform;
+    /// the JSON has `rpy_deg`).
+    #[serde(skip)]
+    pub quaternion_xyzw: [f64; 4],
 }
 
 /// `chain`: the frame pair asked for and the frames of its path, in order.
@@ -113,6 +119,7 @@ fn edge_json(e: &Edge, on_chain: bool) -> FrameEdgeJson {
         column: loc.column,
         format: e.provenance.format.to_string(),
         on_chain,
+        quaternion_xyzw: t.quaternion_xyzw(),
     }
 }
 
@@ -251,10 +258,62 @@ impl FramesReport {
     }
 }
 
+impl FramesReport {
+    /// The tree in 3D: every edge as a transform (pose of the child in the
+    /// parent), and with a chain, each of its edges as a line from the
+    /// parent's origin to the child's and the axes of its two ends; the
+    /// queried chain in the metadata.
+    pub fn scene(&self) -> Scene {
+        let mut s = Scene::default();
+        s.metadata
+            .push(("frames".into(), self.frames.len().to_string()));
+        s.transforms = self
+            .edges
+            .iter()
+            .map(|e| SceneTransform {
+                parent: e.parent.clone(),
+                child: e.child.clone(),
+                translation_m: e.translation_m,
+                rotation_xyzw: e.quaternion_xyzw,
+            })
+            .collect();
+        let Some(c) = &self.chain else {
+            return s;
+        };
+        s.metadata.extend([
+            ("from".to_string(), c.from.clone()),
+            ("to".to_string(), c.to.clone()),
+            ("chain".to_string(), c.path.join(" -> ")),
+        ]);
+        let mut longest: f64 = 0.0;
+        for e in self.edges.iter().filter(|e| e.on_chain) {
+            let d = e.translation_m;
+            let len = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+            longest = longest.max(len);
+            if len > LENGTH_ZERO_TOL {
+                let mut line = Entity::new(format!("chain/{}/{}", e.parent, e.child), &e.parent);
+                line.shapes.push(Shape::Line {
+                    points: vec![[0.0; 3], d],
+                    paint: Paint::Chain,
+                });
+                line.fact("on_chain", true);
+                s.entities.push(line);
+            }
+        }
+        let axis = axis_length(longest);
+        s.entities.push(Entity::axes(&c.from, axis));
+        if c.to != c.from {
+            s.entities.push(Entity::axes(&c.to, axis));
+        }
+        s
+    }
+}
+
 impl Report for FramesReport {
     fn document(&self) -> Document {
         let mut doc = Document::new();
         doc.push(Block::Graph(self.graph()));
+        doc.push(Block::Scene(self.scene()));
         doc
     }
 }

@@ -11,6 +11,10 @@ pub mod detector;
 pub mod diff;
 pub mod frames;
 pub mod rig;
+mod rig_scene;
+pub mod run;
+mod run_timeline;
+pub mod scan_scene;
 pub mod survey;
 mod survey_plot;
 

@@ -218,6 +218,10 @@ pub struct RigReport {
     /// The chain's edges for the text renderings (the JSON has `sources`).
     #[serde(skip)]
     pub chain: Vec<ChainRow>,
+    /// The whole frame tree, the chain marked, for the 3D scene (every edge
+    /// of the graph); `None`: the scene has the one `from -> to` transform.
+    #[serde(skip)]
+    pub tree: Option<super::frames::FramesReport>,
 }
 
 /// One edge of the chain as the report's table shows it.
@@ -476,6 +480,7 @@ pub fn report_from_analysis(an: &RigAnalysis, chain: &Chain) -> RigReport {
             .collect(),
         kappa_check: None,
         chain: chain_rows(chain),
+        tree: None,
     }
 }
 
@@ -851,6 +856,7 @@ impl Report for RigReport {
         self.certificate_section(&mut doc);
         self.adapted_section(&mut doc);
         self.families_section(&mut doc);
+        doc.push(Block::Scene(self.scene()));
         doc
     }
 }

@@ -198,6 +198,7 @@ impl SurveyReport {
         doc.push(Block::Plot(Plot {
             size_px: PLOT_SIZE_PX,
             panels: vec![scatter(&self.rigs), bands(&self.rigs)],
+            rows: 1,
         }));
         doc
     }

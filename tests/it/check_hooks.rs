@@ -46,6 +46,7 @@ fn github_workflow_example_is_complete() {
     for part in [
         "cargo install --locked",
         "--format github",
+        "--confine \"$GITHUB_WORKSPACE\"",
         "--format sarif > audit-check.sarif",
         "--format markdown >> \"$GITHUB_STEP_SUMMARY\"",
     ] {

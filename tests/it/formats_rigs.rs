@@ -68,7 +68,8 @@ const CASES: &[Case] = &[
         "imu",
         "lidar",
         "hilti2022-hesai",
-        "fast-lio",
+        // Its camera Rcl/Pcl make it a FAST-LIVO2 file (issue 28).
+        "fast-livo",
         1e-9,
     ),
     c(
@@ -125,11 +126,14 @@ const CASES: &[Case] = &[
         "tf-tree-yaml",
         1e-9,
     ),
+    // rigs.json records the Extrinsic_Tlb numbers as written (it took them for
+    // the LiDAR in the IMU); LIO-Livox's code reads them as the IMU in the
+    // LiDAR (formats::launch), so the numbers are the lidar -> imu pose.
     c(
         "test-data/Livox-SDK__LIO-Livox/launch/mid360.launch",
         None,
-        "imu",
         "lidar",
+        "imu",
         "liolivox-mid360",
         "lio-livox-launch",
         2e-5,

@@ -84,16 +84,65 @@ fn native(c: &Case) -> Parsed {
     load_file(&c.input, &opts).unwrap_or_else(|e| panic!("{}: {e}", c.name))
 }
 
+/// Python xacro's edges (expected/<case>.json, generate.py: parent, child,
+/// origin xyz and rpy of every joint), read back as a URDF of those joints so
+/// that both sides go through the same transform code.
 fn expected(c: &Case) -> Parsed {
     let p = Path::new(DIR)
         .join("expected")
-        .join(format!("{}.urdf", c.name));
-    load_file(&p, &LoadOptions::default()).unwrap_or_else(|e| panic!("{}: {e}", c.name))
+        .join(format!("{}.json", c.name));
+    edge_table(&p, &c.name)
+}
+
+/// An edge table (`{"edges": [{"parent", "child", "xyz", "rpy"}]}`) as the
+/// URDF reader reads those joints.
+pub fn edge_table(p: &Path, name: &str) -> Parsed {
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(p).expect("expected json")).expect("json");
+    let vec3 = |e: &serde_json::Value, k: &str| {
+        let n = crate::common::nums(&e[k]);
+        assert_eq!(n.len(), 3, "{}: {k}", name);
+        format!("{:?} {:?} {:?}", n[0], n[1], n[2])
+    };
+    let joints: String = v["edges"]
+        .as_array()
+        .expect("edges")
+        .iter()
+        .enumerate()
+        .map(|(i, e)| {
+            format!(
+                "<joint name=\"j{i}\" type=\"fixed\"><parent link=\"{}\"/><child link=\"{}\"/><origin xyz=\"{}\" rpy=\"{}\"/></joint>\n",
+                e["parent"].as_str().expect("parent"),
+                e["child"].as_str().expect("child"),
+                vec3(e, "xyz"),
+                vec3(e, "rpy")
+            )
+        })
+        .collect();
+    let links: std::collections::BTreeSet<&str> = v["edges"]
+        .as_array()
+        .expect("edges")
+        .iter()
+        .flat_map(|e| [e["parent"].as_str(), e["child"].as_str()])
+        .flatten()
+        .collect();
+    let links: String = links
+        .iter()
+        .map(|l| format!("<link name=\"{l}\"/>\n"))
+        .collect();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let urdf = dir.path().join(format!("{}.urdf", name));
+    std::fs::write(
+        &urdf,
+        format!("<robot name=\"expected\">\n{links}{joints}</robot>\n"),
+    )
+    .expect("write");
+    load_file(&urdf, &LoadOptions::default()).unwrap_or_else(|e| panic!("{}: {e}", name))
 }
 
 /// Largest entry difference of the 4x4 matrices, per edge keyed by
 /// (parent, child); panics when the edge sets differ.
-fn compare(c: &Case, got: &Parsed, want: &Parsed) -> f64 {
+pub fn compare(name: &str, got: &Parsed, want: &Parsed) -> f64 {
     let key = |l: &Parsed| -> BTreeMap<(String, String), nalgebra::Matrix4<f64>> {
         l.edges
             .iter()
@@ -101,12 +150,12 @@ fn compare(c: &Case, got: &Parsed, want: &Parsed) -> f64 {
             .collect()
     };
     let (g, w) = (key(got), key(want));
-    assert_eq!(g.len(), got.edges.len(), "{}: duplicate edges", c.name);
+    assert_eq!(g.len(), got.edges.len(), "{}: duplicate edges", name);
     assert_eq!(
         g.keys().collect::<Vec<_>>(),
         w.keys().collect::<Vec<_>>(),
         "{}: the edge sets differ",
-        c.name
+        name
     );
     g.iter()
         .map(|(k, m)| (m - w[k]).abs().max())
@@ -124,7 +173,7 @@ fn native_expansion_equals_python_xacro_on_real_packages() {
     for c in &all {
         let got = native(c);
         let want = expected(c);
-        let d = compare(c, &got, &want);
+        let d = compare(&c.name, &got, &want);
         assert!(d <= 1e-12, "{}: transforms differ by {d:e}", c.name);
         assert!(!got.edges.is_empty(), "{}: no edges", c.name);
         total += got.edges.len();

@@ -5,8 +5,8 @@
 use extrinsic_audit::internals::formats::{load_file, load_str};
 use extrinsic_audit::internals::frames::FrameGraph;
 use extrinsic_audit::Transform;
+use extrinsic_audit::{Assume, Edge, Format, LoadOptions};
 use extrinsic_audit::{Code, Location};
-use extrinsic_audit::{Edge, Format, LoadOptions};
 use std::path::Path;
 
 fn edge(p: &str, c: &str, t: Transform, line: usize) -> Edge {
@@ -376,12 +376,15 @@ fn kalibr_and_t_xyz_q_xyzw_keys() {
         o.key = Some("T_cam_front_lidar_t_xyz_q_xyzw".into());
         o
     });
-    // `cam_front` has an underscore: the name is ambiguous unless written A_T_B.
-    let l = match l {
-        Ok(l) => l,
-        Err(e) => panic!("{e}"),
-    };
-    assert_eq!(l.edges[0].parent, "parent");
+    // `cam_front` has an underscore: the name is ambiguous unless written
+    // A_T_B, so it is refused unless --assume says which (e3480dc).
+    let e = l.expect_err("an ambiguous --key is refused");
+    assert!(
+        e.message
+            .contains("says neither the frames nor the direction")
+            && e.message.contains("--assume child-in-parent:PARENT,CHILD"),
+        "{e}"
+    );
     let text = "cam_front_T_lidar_t_xyz_q_xyzw: [0.1, 0.2, 0.3, 0, 0, 0, 1]\n";
     let l = load_str(text, Path::new("sensor.yaml"), &LoadOptions::default()).expect("A_T_B");
     assert_eq!(
@@ -397,6 +400,8 @@ fn keyed_reads_stacked_millimetres_and_json_matrices() {
     let picked = load_file(slict, &{
         let mut o = LoadOptions::default();
         o.key = Some("lidar_extr[0]".into());
+        // The key's name gives no frames (issue 28: --assume gives them).
+        o.assume = Assume::parse("child-in-parent:body,lidar").ok();
         o
     })
     .expect("slict[0]");
@@ -409,6 +414,7 @@ fn keyed_reads_stacked_millimetres_and_json_matrices() {
     let e = load_file(slict, &{
         let mut o = LoadOptions::default();
         o.key = Some("lidar_extr[1]".into());
+        o.assume = Assume::parse("child-in-parent:body,lidar").ok();
         o
     })
     .expect_err("only one");

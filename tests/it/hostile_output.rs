@@ -155,6 +155,34 @@ fn error_messages_on_stderr_are_escaped_under_every_format() {
     }
 }
 
+/// MCAP carries names as JSON strings inside a binary container: exact
+/// (escapes, bidi overrides and a forged workflow command included), never a
+/// line of a terminal or a log.
+#[test]
+fn mcap_keeps_names_exact_inside_its_json() {
+    let d = tempfile::tempdir().unwrap();
+    let f = write(d.path(), "inj.txt", &tf_line(FORGED, ESC_NAME));
+    let out = d.path().join("inj.mcap");
+    let (code, stdout, err) = run_cli(&[
+        f.to_str().unwrap(),
+        "--from",
+        FORGED,
+        "--to",
+        ESC_NAME,
+        "--format",
+        "mcap",
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.is_empty());
+    let r = crate::mcap_export::read(&out);
+    let t = &r.topics["/tf"][0]["transforms"][0];
+    assert_eq!(t["parent_frame_id"].as_str(), Some(FORGED));
+    assert_eq!(t["child_frame_id"].as_str(), Some(ESC_NAME));
+    assert_eq!(r.metadata["to"], ESC_NAME);
+}
+
 /// RFC 4180 rows: quoted fields with doubled quotes, line breaks inside quotes.
 fn csv_rows(text: &str) -> Vec<Vec<String>> {
     let (mut rows, mut row, mut cell) = (Vec::new(), Vec::new(), String::new());

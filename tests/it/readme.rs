@@ -13,15 +13,60 @@ fn readme() -> String {
     std::fs::read_to_string("README.md").expect("README.md")
 }
 
+/// The README's row for one format: its id, linked to its section of
+/// docs/formats.md, and its loader's own description.
+fn format_row(id: &str, desc: &str) -> String {
+    // `<` escaped so that `<origin>` renders as text; `|` so that it stays in its cell.
+    let desc = desc.replace('<', "&lt;").replace(" | ", " \\| ");
+    format!("| [`{id}`](docs/formats.md#{id}) | {desc} |")
+}
+
+const TABLE_HEAD: &str = "| `--input-format` | what the numbers mean |\n|---|---|\n";
+
 #[test]
 fn formats_table_matches_loaders() {
     let r = readme();
-    for (f, desc) in all_formats() {
-        // `<` escaped so that `<origin>` renders as text.
-        let row = format!("| `{}` | {} |", f.name(), desc.replace('<', "&lt;"));
+    let rows: Vec<String> = all_formats()
+        .map(|(f, d)| format_row(f.name(), d))
+        .collect();
+    let start = r
+        .find(TABLE_HEAD)
+        .expect("README.md: the formats table header")
+        + TABLE_HEAD.len();
+    let end = start + r[start..].find("\n\n").unwrap_or(r.len() - start);
+    let table = rows.join("\n");
+    if std::env::var_os("BLESS").is_some() {
+        std::fs::write("README.md", format!("{}{table}{}", &r[..start], &r[end..]))
+            .expect("write README.md");
+        return;
+    }
+    assert_eq!(
+        &r[start..end],
+        table,
+        "README.md formats table: one row per format, in registry order (regenerate with BLESS=1 cargo test --test it readme::formats_table)"
+    );
+}
+
+/// Every format has its section in docs/formats.md (the README links there),
+/// and every section names a format.
+#[test]
+fn docs_formats_has_a_section_per_format() {
+    let doc = std::fs::read_to_string("docs/formats.md").expect("docs/formats.md");
+    let sections: Vec<&str> = doc
+        .lines()
+        .filter_map(|l| l.strip_prefix("## `")?.strip_suffix('`'))
+        .collect();
+    let ids: Vec<&str> = all_formats().map(|(f, _)| f.name()).collect();
+    for id in &ids {
         assert!(
-            r.contains(&row),
-            "README.md formats table lacks or misstates:\n{row}\n(regenerate with BLESS=1 cargo test --test readme)"
+            sections.contains(id),
+            "docs/formats.md: no section ## `{id}`"
+        );
+    }
+    for s in &sections {
+        assert!(
+            ids.contains(s),
+            "docs/formats.md: section ## `{s}` names no format"
         );
     }
 }

@@ -65,9 +65,10 @@ fn header_line(t: &[&str], lineno: usize, h: &mut Fields) -> Result<()> {
         Some("VERSION") | Some("VIEWPOINT") => {}
         Some("FIELDS") => {
             h.fields = t[1..].iter().map(|s| s.to_string()).collect();
-            // A second field of the same name would silently win (issue 12).
+            // A second field of the same name would silently win (issue 12);
+            // `_` is PCL's padding (pcd_io.cpp writes one per gap), never read.
             for (k, f) in h.fields.iter().enumerate() {
-                if h.fields[..k].contains(f) {
+                if f != "_" && h.fields[..k].contains(f) {
                     return Err(Error::parse(format!(
                         "PCD: FIELDS declares {f:?} twice; expected distinct field names"
                     ))

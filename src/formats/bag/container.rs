@@ -1,19 +1,20 @@
-//! Which container a bag is, and the wanted messages read from it: an MCAP
-//! file, a rosbag2 sqlite3 `.db3`, a ROS 1 `.bag` (each read through its own
-//! index: [`super::mcap_file`], [`super::db3`], [`super::ros1`]), or a rosbag2
-//! folder, whose `metadata.yaml` lists its files (MCAP or `.db3`, each
-//! possibly zstd-compressed whole or per message).
+//! Which container a bag is, and the wanted messages streamed from it: an
+//! MCAP file, a rosbag2 sqlite3 `.db3`, a ROS 1 `.bag` (each read through its
+//! own index: [`super::mcap_file`], [`super::db3`], [`super::ros1`]), or a
+//! rosbag2 folder ([`super::folder`]).
 //!
 //! A container is recognised by its magic bytes, else by its extension; a
-//! folder by its `metadata.yaml`.
+//! folder by its `metadata.yaml`. Messages come one at a time, in file order;
+//! the transform reader collects those of its few topics ([`read`]), a run
+//! streams its clouds ([`stream`]).
 
-use super::contents::Contents;
-use super::{db3, mcap_file, ros1};
-use crate::diagnostic::{Error, Result};
-use crate::formats::spec::{Input, HEAD_BYTES};
-use crate::input::ReadError;
-use crate::tolerances::{MAX_BAG_DECOMPRESSED_BYTES, MAX_BAG_METADATA_BYTES, MAX_BAG_RECORD_BYTES};
-use std::io::{Read, Write};
+use super::contents::{Contents, Flow, RawMessage, TopicInfo};
+use super::inflate::{BagLimits, Budget};
+use super::{db3, folder, mcap_file, ros1};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
+use crate::formats::spec::Input;
+use crate::tolerances::MAX_BAG_KEPT_BYTES;
+use std::io::Write;
 use std::path::Path;
 
 /// The first bytes of a ROS 1 bag, whatever its version (`#ROSBAG V2.0`).
@@ -30,7 +31,7 @@ pub(super) enum Container {
     Folder,
 }
 
-fn magic_of(head: &[u8]) -> Option<Container> {
+pub(super) fn magic_of(head: &[u8]) -> Option<Container> {
     if head.starts_with(mcap_file::MAGIC) {
         Some(Container::Mcap)
     } else if head.starts_with(db3::MAGIC) {
@@ -76,255 +77,121 @@ pub(super) fn container_at(path: &Path) -> Option<Container> {
     }
 }
 
-fn head_of(path: &Path) -> Vec<u8> {
-    crate::input::read_head(path, HEAD_BYTES).unwrap_or_default()
+/// How a streamed read went: every topic of the container, and the named
+/// warnings of what it worked around (a ROS 1 bag without an index read
+/// from the start).
+#[derive(Debug, Clone, Default)]
+pub struct Listing {
+    /// Every topic, sorted by name.
+    pub topics: Vec<TopicInfo>,
+    /// What the read worked around.
+    pub warnings: Vec<Warning>,
 }
 
-/// The messages of the topics `wanted` accepts, from the container `input` is.
+/// How a read is asked for.
+#[derive(Clone, Copy)]
+pub struct Ask<'a> {
+    /// Which topics' messages are handed out.
+    pub wanted: &'a dyn Fn(&str) -> bool,
+    /// The decompression caps.
+    pub limits: BagLimits,
+    /// Read a ROS 1 bag without a usable index from the start instead of
+    /// refusing it.
+    pub recover: bool,
+}
+
+/// The messages of the topics `wanted` accepts, from the container `input`
+/// is, collected (at most [`MAX_BAG_KEPT_BYTES`] of them).
 pub(super) fn read(input: &Input, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
-    match container(input) {
-        Some(Container::Mcap) => read_mcap(input, wanted),
-        Some(Container::Db3) => read_db3(input, wanted),
-        Some(Container::Ros1) => {
-            let (stream, len) = input.stream()?;
-            ros1::read(stream, len, input.path(), wanted)
-        }
-        Some(Container::Folder) => read_folder(input.path(), wanted),
-        None => Err(Error::parse(
-            "expected a bag (.mcap, .db3, .bag, or a rosbag2 folder with metadata.yaml), found none of them",
-        )
-        .in_file(input.path())),
-    }
-}
-
-fn read_mcap(input: &Input, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
-    let (stream, len) = input.stream()?;
-    mcap_file::read(stream, len, input.path(), wanted)
-}
-
-/// SQLite reads a database from a file: bytes held in memory are written to
-/// a temporary one first (created exclusively, deleted after).
-fn read_db3(input: &Input, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
-    if let Some(path) = input.file_on_disk() {
-        return db3::read(path, wanted);
-    }
-    let mut tmp = tempfile::Builder::new()
-        .prefix("audit-bag-")
-        .suffix(".db3")
-        .tempfile()
-        .map_err(|e| Error::io(Path::new("temporary file"), &e))?;
-    tmp.write_all(input.bytes()?)
-        .map_err(|e| Error::io(Path::new("temporary file"), &e))?;
-    // Errors and messages name the input, not the temporary file.
-    let mut c = db3::read(tmp.path(), wanted).map_err(|mut e| {
-        e.location.file = Some(input.path().to_path_buf());
-        e
-    })?;
-    for m in &mut c.messages {
-        m.file = input.path().to_path_buf();
-    }
-    Ok(c)
-}
-
-/// A folder's `metadata.yaml`, at most [`MAX_BAG_METADATA_BYTES`].
-fn metadata_text(meta_path: &Path) -> Result<String> {
-    let bytes =
-        crate::input::read_file(meta_path, MAX_BAG_METADATA_BYTES).map_err(|e| match e {
-            ReadError::TooLarge { len, .. } => Error::limit(format!(
-                "metadata.yaml is {} bytes: expected at most {MAX_BAG_METADATA_BYTES}",
-                len.map_or_else(
-                    || format!("more than {MAX_BAG_METADATA_BYTES}"),
-                    |l| l.to_string()
-                )
-            ))
-            .in_file(meta_path),
-            e => e.into_error(meta_path, "rosbag2 metadata"),
-        })?;
-    String::from_utf8(bytes).map_err(|_| {
-        let e = std::io::Error::new(
-            std::io::ErrorKind::InvalidData,
-            "stream did not contain valid UTF-8",
-        );
-        Error::io(meta_path, &e)
-    })
-}
-
-#[derive(serde::Deserialize)]
-struct Metadata {
-    rosbag2_bagfile_information: BagInfo,
-}
-
-#[derive(serde::Deserialize)]
-struct BagInfo {
-    #[serde(default)]
-    relative_file_paths: Vec<String>,
-    #[serde(default)]
-    compression_mode: String,
-    #[serde(default)]
-    compression_format: String,
-}
-
-/// rosbag2's `compression_mode` (rosbag2 writes `FILE`/`MESSAGE`, rosbags
-/// `file`/`message`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Compression {
-    None,
-    File,
-    Message,
-}
-
-impl BagInfo {
-    fn compression(&self, meta_path: &Path) -> Result<Compression> {
-        let mode = match self.compression_mode.to_ascii_lowercase().as_str() {
-            "" | "none" => return Ok(Compression::None),
-            "file" => Compression::File,
-            "message" => Compression::Message,
-            other => {
-                return Err(Error::parse(format!(
-                    "rosbag2 metadata: compression_mode `{other}`: expected none, file or message"
-                ))
-                .in_file(meta_path))
-            }
-        };
-        if !self.compression_format.eq_ignore_ascii_case("zstd") {
-            return Err(Error::parse(format!(
-                "rosbag2 metadata: compression_format `{}`: expected zstd (the only format rosbag2 ships)",
-                self.compression_format
-            ))
-            .in_file(meta_path));
-        }
-        Ok(mode)
-    }
-}
-
-/// A `compression_mode: FILE` split decompressed into a temporary file with
-/// the inner extension (`x.db3.zstd` -> `x.db3`), bounded by
-/// [`MAX_BAG_DECOMPRESSED_BYTES`]. The file is deleted when the guard drops.
-fn decompress_split(f: &Path) -> Result<tempfile::TempPath> {
-    let input = crate::input::open_regular(f)?;
-    let inner = f.file_stem().map(Path::new).and_then(|s| s.extension());
-    let suffix = format!(
-        ".{}",
-        inner.map(|e| e.to_string_lossy()).unwrap_or_default()
-    );
-    let mut tmp = tempfile::Builder::new()
-        .prefix("audit-bag-")
-        .suffix(&suffix)
-        .tempfile()
-        .map_err(|e| Error::io(Path::new("temporary file"), &e))?;
-    let mut dec = zstd::stream::read::Decoder::new(input)
-        .map_err(|e| Error::parse(format!("zstd: {e}")).in_file(f))?;
-    let n = std::io::copy(
-        &mut (&mut dec).take(MAX_BAG_DECOMPRESSED_BYTES + 1),
-        tmp.as_file_mut(),
-    )
-    .map_err(|e| {
-        Error::parse(format!(
-            "expected a zstd-compressed rosbag2 file (compression_mode file): {e}"
-        ))
-        .in_file(f)
-    })?;
-    if n > MAX_BAG_DECOMPRESSED_BYTES {
-        return Err(Error::limit(format!(
-            "decompresses to more than {MAX_BAG_DECOMPRESSED_BYTES} bytes: expected a rosbag2 split of a few GiB"
-        ))
-        .in_file(f));
-    }
-    Ok(tmp.into_temp_path())
-}
-
-/// `compression_mode: MESSAGE`: each message's bytes are one zstd frame.
-fn decompress_messages(c: &mut Contents) -> Result<()> {
-    for m in &mut c.messages {
-        let mut out = Vec::new();
-        zstd::stream::read::Decoder::new(m.data.as_slice())
-            .and_then(|d| {
-                d.take(MAX_BAG_RECORD_BYTES as u64 + 1)
-                    .read_to_end(&mut out)
-            })
-            .map_err(|e| {
-                Error::parse(format!(
-                    "{} message ({}): expected zstd-compressed bytes (compression_mode message): {e}",
-                    m.topic, m.place
-                ))
-                .in_file(&m.file)
-            })?;
-        if out.len() > MAX_BAG_RECORD_BYTES {
+    let mut messages = Vec::new();
+    let mut kept = 0usize;
+    let ask = Ask {
+        wanted,
+        limits: BagLimits::default(),
+        recover: false,
+    };
+    let listing = stream(input, ask, &mut |m: RawMessage| {
+        kept = kept.saturating_add(m.data.len());
+        if kept > MAX_BAG_KEPT_BYTES {
             return Err(Error::limit(format!(
-                "{} message ({}) decompresses to more than {MAX_BAG_RECORD_BYTES} bytes",
+                "the messages of the transform and description topics take more than {MAX_BAG_KEPT_BYTES} bytes (the last: {} at {}): expected a few MiB",
                 m.topic, m.place
             ))
             .in_file(&m.file));
         }
-        m.data = out;
-    }
-    Ok(())
+        messages.push(m);
+        Ok(Flow::Continue)
+    })?;
+    Ok(Contents {
+        topics: listing.topics.into_iter().map(|t| t.name).collect(),
+        messages,
+    })
 }
 
-/// A rosbag2 folder: the files its `metadata.yaml` lists, read in order.
-fn read_folder(dir: &Path, wanted: &dyn Fn(&str) -> bool) -> Result<Contents> {
-    let meta_path = dir.join("metadata.yaml");
-    let text = metadata_text(&meta_path)?;
-    let meta: Metadata = serde_saphyr::from_str(&text).map_err(|e| {
-        Error::parse(format!(
-            "rosbag2 metadata: expected `rosbag2_bagfile_information` with `relative_file_paths`: {e}"
-        ))
-        .in_file(&meta_path)
-    })?;
-    let info = meta.rosbag2_bagfile_information;
-    if info.relative_file_paths.is_empty() {
-        return Err(Error::parse(
-            "rosbag2 metadata: `relative_file_paths` is empty: expected the bag's files",
+/// Hand the wanted messages of the container `input` is to `each`, in file
+/// order (split after split for a folder).
+pub(super) fn stream(
+    input: &Input,
+    ask: Ask,
+    each: &mut dyn FnMut(RawMessage) -> Result<Flow>,
+) -> Result<Listing> {
+    let path = input.path();
+    match container(input) {
+        Some(Container::Mcap) => {
+            let (stream, len) = input.stream()?;
+            let mut budget = Budget::new(path, len, ask.limits);
+            let topics = mcap_file::stream(stream, len, path, ask.wanted, &mut budget, each)?;
+            Ok(Listing {
+                topics,
+                warnings: Vec::new(),
+            })
+        }
+        Some(Container::Db3) => stream_db3(input, ask, each),
+        Some(Container::Ros1) => {
+            let (stream, len) = input.stream()?;
+            let mut budget = Budget::new(path, len, ask.limits);
+            let r = ros1::stream(stream, len, path, (ask.wanted, &mut budget, ask.recover), each)?;
+            let warnings = r
+                .recovered
+                .map(|note| Warning::new(Code::Ignored, note).at(&Location::file(path)))
+                .into_iter()
+                .collect();
+            Ok(Listing {
+                topics: r.topics,
+                warnings,
+            })
+        }
+        Some(Container::Folder) => folder::stream(path, ask, each),
+        None => Err(Error::parse(
+            "expected a bag (.mcap, .db3, .bag, or a rosbag2 folder with metadata.yaml), found none of them",
         )
-        .in_file(&meta_path));
+        .in_file(path)),
     }
-    let compression = info.compression(&meta_path)?;
-    let mut out = Contents::default();
-    for rel in &info.relative_file_paths {
-        let f = dir.join(rel);
-        // FILE mode: a split that is not itself a container is decompressed.
-        let tmp = match compression {
-            Compression::File if f.is_file() && magic_of(&head_of(&f)).is_none() => {
-                Some(decompress_split(&f)?)
-            }
-            _ => None,
-        };
-        let read_from = tmp.as_deref().unwrap_or(&f);
-        let mut c = match container_at(read_from) {
-            Some(Container::Mcap) => read_mcap(&Input::open(read_from, 0)?, wanted)?,
-            Some(Container::Db3) => db3::read(read_from, wanted)?,
-            _ => {
-                return Err(Error::parse(format!(
-                    "rosbag2 file {rel}: expected an .mcap or .db3 file{}, found {}",
-                    if compression == Compression::File {
-                        " (zstd-compressed)"
-                    } else {
-                        ""
-                    },
-                    if f.exists() {
-                        "neither"
-                    } else {
-                        "no such file"
-                    }
-                ))
-                .in_file(&meta_path))
-            }
-        };
-        if tmp.is_some() {
-            for m in &mut c.messages {
-                m.file = f.clone();
-                m.place = format!("{} of the decompressed file", m.place);
-            }
+}
+
+/// A `.db3` file, or bytes held in memory (written to a private temporary
+/// database first: SQLite reads a database from a file).
+fn stream_db3(
+    input: &Input,
+    ask: Ask,
+    each: &mut dyn FnMut(RawMessage) -> Result<Flow>,
+) -> Result<Listing> {
+    let path = input.path();
+    let db = match input.file_on_disk() {
+        Some(p) => db3::open(p)?,
+        None => {
+            let bytes = input.bytes()?;
+            folder::TempDb::write(path, |f| {
+                f.write_all(bytes).map_err(|e| Error::io(path, &e))
+            })?
+            .open(path)?
         }
-        if compression == Compression::Message {
-            decompress_messages(&mut c)?;
-        }
-        for t in c.topics {
-            if !out.topics.contains(&t) {
-                out.topics.push(t);
-            }
-        }
-        out.messages.extend(c.messages);
-    }
-    Ok(out)
+    };
+    let len = crate::input::reported_size(path).unwrap_or(0);
+    let mut budget = Budget::new(path, len, ask.limits);
+    let topics = db3::stream(&db, path, (ask.wanted, &mut budget, false), each)?;
+    Ok(Listing {
+        topics,
+        warnings: Vec::new(),
+    })
 }

@@ -1,5 +1,6 @@
 //! What a container reader yields: every topic the container holds, and the
-//! messages of the wanted topics, still serialised.
+//! messages of the wanted topics, still serialised, one at a time
+//! ([`Flow`] says whether to go on) or collected ([`Contents`]).
 
 use super::decode::Encoding;
 use std::path::PathBuf;
@@ -24,6 +25,27 @@ pub struct RawMessage {
     pub place: String,
 }
 
+/// A topic of a container, from its index (or, without one, from a pass
+/// over the file).
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct TopicInfo {
+    /// Its name as recorded.
+    pub name: String,
+    /// The message type as the container names it (empty when it names none).
+    pub type_name: String,
+    /// Messages on it, when the index counts them.
+    pub count: Option<u64>,
+}
+
+/// What a message callback tells the reader.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Flow {
+    /// Hand out the next message.
+    Continue,
+    /// Stop reading (the rest is not wanted).
+    Stop,
+}
+
 /// What a container yields: every topic it has, and the wanted messages.
 #[derive(Debug, Clone, Default)]
 pub struct Contents {
@@ -32,3 +54,18 @@ pub struct Contents {
     /// The messages of the wanted topics.
     pub messages: Vec<RawMessage>,
 }
+
+/// Add `t` to `topics` unless a topic of that name is there (first seen wins).
+pub(super) fn add_topic(topics: &mut Vec<TopicInfo>, t: TopicInfo) {
+    match topics.iter_mut().find(|o| o.name == t.name) {
+        Some(o) => {
+            if let (Some(a), Some(b)) = (o.count, t.count) {
+                o.count = Some(a + b);
+            }
+        }
+        None => topics.push(t),
+    }
+}
+
+/// Which topics a reader hands out.
+pub(super) type Wanted<'a> = &'a dyn Fn(&str) -> bool;

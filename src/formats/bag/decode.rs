@@ -1,5 +1,7 @@
-//! Message decoders for the two message types a bag is read for:
-//! `tf2_msgs/TFMessage` and `std_msgs/String`, in both wire formats.
+//! Message decoders for the message types a bag is read for:
+//! `tf2_msgs/TFMessage`, `std_msgs/String`, `rcl_interfaces/msg/ParameterEvent`
+//! and the pose of `nav_msgs/Odometry` (`sensor_msgs/PointCloud2`: in
+//! [`super::pointcloud2`], on this module's cursor), in both wire formats.
 //!
 //! - ROS 2 CDR (XCDR1, `PLAIN_CDR`): a 4-byte encapsulation header (`00 01`
 //!   little-endian, `00 00` big-endian, then two option bytes); every primitive is
@@ -50,14 +52,14 @@ use crate::bytes::{Endian, Primitive, Reader};
 const MIN_TRANSFORM_BYTES: usize = 56 + 8 + 4 + 4;
 
 /// A message cursor: the shared byte reader, with CDR's alignment on top.
-struct Cursor<'a> {
+pub(super) struct Cursor<'a> {
     r: Reader<'a>,
     /// Where alignment is counted from (after the CDR header); `None`: no alignment.
     align_origin: Option<usize>,
 }
 
 impl<'a> Cursor<'a> {
-    fn new(data: &'a [u8], enc: Encoding) -> Result<Self, String> {
+    pub(super) fn new(data: &'a [u8], enc: Encoding) -> Result<Self, String> {
         match enc {
             Encoding::Ros1 => Ok(Cursor {
                 r: Reader::new(data, Endian::Little),
@@ -96,11 +98,11 @@ impl<'a> Cursor<'a> {
         }
     }
 
-    fn pos(&self) -> usize {
+    pub(super) fn pos(&self) -> usize {
         self.r.pos()
     }
 
-    fn left(&self) -> usize {
+    pub(super) fn left(&self) -> usize {
         self.r.left()
     }
 
@@ -123,12 +125,12 @@ impl<'a> Cursor<'a> {
     }
 
     /// A primitive of `n` bytes (1, 2, 4 or 8), aligned.
-    fn prim(&mut self, n: usize, what: &str) -> Result<&'a [u8], String> {
+    pub(super) fn prim(&mut self, n: usize, what: &str) -> Result<&'a [u8], String> {
         self.align(n);
         self.take(n, what)
     }
 
-    fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], String> {
+    pub(super) fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], String> {
         let r = self.r.take(n);
         r.map_err(|_| self.short(what, n))
     }
@@ -140,11 +142,11 @@ impl<'a> Cursor<'a> {
         r.map_err(|_| self.short(what, T::SIZE))
     }
 
-    fn u32(&mut self, what: &str) -> Result<u32, String> {
+    pub(super) fn u32(&mut self, what: &str) -> Result<u32, String> {
         self.field(what)
     }
 
-    fn u8(&mut self, what: &str) -> Result<u8, String> {
+    pub(super) fn u8(&mut self, what: &str) -> Result<u8, String> {
         self.field(what)
     }
 
@@ -165,15 +167,15 @@ impl<'a> Cursor<'a> {
         Ok(())
     }
 
-    fn i32(&mut self, what: &str) -> Result<i32, String> {
+    pub(super) fn i32(&mut self, what: &str) -> Result<i32, String> {
         self.field(what)
     }
 
-    fn f64(&mut self, what: &str) -> Result<f64, String> {
+    pub(super) fn f64(&mut self, what: &str) -> Result<f64, String> {
         self.field(what)
     }
 
-    fn string(&mut self, what: &str) -> Result<String, String> {
+    pub(super) fn string(&mut self, what: &str) -> Result<String, String> {
         let at = self.pos();
         let n = self.u32(what)? as usize;
         if n > self.left() {
@@ -199,7 +201,7 @@ impl<'a> Cursor<'a> {
             .map_err(|_| format!("byte {at}: {what}: expected UTF-8 text, found invalid bytes"))
     }
 
-    fn finish(&self) -> Result<(), String> {
+    pub(super) fn finish(&self) -> Result<(), String> {
         // CDR may pad to a multiple of 4 at the end; anything more is a wrong type.
         let slack = if self.align_origin.is_some() { 3 } else { 0 };
         if self.left() > slack {
@@ -214,20 +216,7 @@ impl<'a> Cursor<'a> {
 }
 
 fn transform(c: &mut Cursor, enc: Encoding) -> Result<TfRecord, String> {
-    if enc == Encoding::Ros1 {
-        c.u32("header.seq")?;
-    }
-    let (sec, nsec) = match enc {
-        Encoding::Ros1 => (
-            i64::from(c.u32("header.stamp.sec")?),
-            c.u32("header.stamp.nsec")?,
-        ),
-        Encoding::Cdr => (
-            i64::from(c.i32("header.stamp.sec")?),
-            c.u32("header.stamp.nanosec")?,
-        ),
-    };
-    let parent = c.string("header.frame_id")?;
+    let (stamp_ns, parent) = c.header(enc)?;
     let child = c.string("child_frame_id")?;
     let mut translation = [0.0; 3];
     for (v, n) in translation.iter_mut().zip(["x", "y", "z"]) {
@@ -242,7 +231,74 @@ fn transform(c: &mut Cursor, enc: Encoding) -> Result<TfRecord, String> {
         child,
         translation,
         rotation,
-        stamp_ns: i128::from(sec) * 1_000_000_000 + i128::from(nsec),
+        stamp_ns,
+    })
+}
+
+impl Cursor<'_> {
+    /// A ROS `Header`: the stamp (ns; negative before 1970) and `frame_id`
+    /// (ROS 1 adds `seq` first).
+    pub(super) fn header(&mut self, enc: Encoding) -> Result<(i128, String), String> {
+        let (sec, nsec) = match enc {
+            Encoding::Ros1 => {
+                self.u32("header.seq")?;
+                (
+                    i64::from(self.u32("header.stamp.sec")?),
+                    self.u32("header.stamp.nsec")?,
+                )
+            }
+            Encoding::Cdr => (
+                i64::from(self.i32("header.stamp.sec")?),
+                self.u32("header.stamp.nanosec")?,
+            ),
+        };
+        let frame = self.string("header.frame_id")?;
+        Ok((i128::from(sec) * 1_000_000_000 + i128::from(nsec), frame))
+    }
+}
+
+/// One `nav_msgs/Odometry`'s pose: `pose.pose` is the pose of
+/// `child_frame_id` in `header.frame_id` (the REP 105 `odom -> base_link`
+/// motion), position x y z then orientation x y z w.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OdometryPose {
+    /// `header.stamp` (ns).
+    pub stamp_ns: i128,
+    /// `header.frame_id`.
+    pub parent: String,
+    /// `child_frame_id`.
+    pub child: String,
+    /// Position (m).
+    pub translation: [f64; 3],
+    /// Orientation x, y, z, w.
+    pub rotation: [f64; 4],
+}
+
+/// Decode the pose of a `nav_msgs/Odometry` (the covariances and the twist
+/// after it are not read).
+pub fn odometry(data: &[u8], enc: Encoding) -> Result<OdometryPose, String> {
+    let mut c = Cursor::new(data, enc)?;
+    let (stamp_ns, parent) = c.header(enc)?;
+    let child = c.string("child_frame_id")?;
+    let mut translation = [0.0; 3];
+    for (v, n) in translation.iter_mut().zip(["x", "y", "z"]) {
+        *v = c.f64(&format!("pose.pose.position.{n}"))?;
+    }
+    let mut rotation = [0.0; 4];
+    for (v, n) in rotation.iter_mut().zip(["x", "y", "z", "w"]) {
+        *v = c.f64(&format!("pose.pose.orientation.{n}"))?;
+    }
+    // pose.covariance (36), twist.twist (6), twist.covariance (36) doubles.
+    for k in 0..78 {
+        c.f64(&format!("double {k} after the pose"))?;
+    }
+    c.finish()?;
+    Ok(OdometryPose {
+        stamp_ns,
+        parent,
+        child,
+        translation,
+        rotation,
     })
 }
 

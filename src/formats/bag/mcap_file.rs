@@ -4,17 +4,26 @@
 //!
 //! With a summary section (every finished MCAP writer leaves one): the channels
 //! come from it, and only the chunks whose message index names a wanted channel
-//! are read and decompressed (`IndexedReader` with `include_topics`). Without a
-//! summary (an unfinished recording, a truncated file): the file is streamed
-//! once from the start; a truncation then surfaces as an error at its offset.
+//! are read and decompressed (`IndexedReader` with `include_topics`), one at a
+//! time, in file order (the order the recorder wrote; log-time order would
+//! hold every chunk whose time range overlaps at once). Without a summary (an
+//! unfinished recording, a truncated file): the file is streamed once from the
+//! start; a truncation then surfaces as an error at its offset, after the
+//! messages before it were handed out.
+//!
+//! Every chunk counts against the file's decompression budget
+//! ([`super::inflate::Budget`]) before it is decompressed, and the `mcap`
+//! crate refuses a chunk larger than the block cap (its record length limit).
 
-use super::contents::{Contents, RawMessage};
+use super::contents::{add_topic, Flow, RawMessage, TopicInfo};
 use super::decode::Encoding;
+use super::inflate::Budget;
 use super::progress::Progress;
 use crate::diagnostic::{Error, Result};
-use crate::tolerances::MAX_BAG_RECORD_BYTES;
 use mcap::records::{MessageHeader, Record};
-use mcap::sans_io::indexed_reader::{IndexedReadEvent, IndexedReader, IndexedReaderOptions};
+use mcap::sans_io::indexed_reader::{
+    IndexedReadEvent, IndexedReader, IndexedReaderOptions, ReadOrder,
+};
 use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use mcap::sans_io::summary_reader::{SummaryReadEvent, SummaryReader, SummaryReaderOptions};
 use std::collections::{BTreeSet, HashMap};
@@ -36,14 +45,17 @@ struct ChannelInfo {
     schema: String,
 }
 
-/// Read the messages of the topics `wanted` accepts from `file` (`size`
-/// bytes, at its start), read from `path`.
-pub fn read<R: Read + Seek>(
+/// Hand the messages of the topics `wanted` accepts from `file` (`size`
+/// bytes, at its start), read from `path`, to `each` in file order; every
+/// topic of the file.
+pub fn stream<R: Read + Seek>(
     file: R,
     size: u64,
     path: &Path,
     wanted: &dyn Fn(&str) -> bool,
-) -> Result<Contents> {
+    budget: &mut Budget,
+    each: &mut dyn FnMut(RawMessage) -> Result<Flow>,
+) -> Result<Vec<TopicInfo>> {
     // The summary reader asks for records a few bytes at a time: buffer them.
     let mut file = BufReader::with_capacity(1 << 16, file);
     let mut head = [0u8; 8];
@@ -54,8 +66,10 @@ pub fn read<R: Read + Seek>(
         .in_file(path));
     }
     match summary(&mut file, size) {
-        Ok(Some(s)) if !s.chunk_indexes.is_empty() => indexed(path, &mut file, &s, wanted),
-        _ => linear(path, &mut file, size, wanted),
+        Ok(Some(s)) if !s.chunk_indexes.is_empty() => {
+            indexed(path, &mut file, &s, (wanted, budget), each)
+        }
+        _ => linear(path, &mut file, size, (wanted, budget), each),
     }
 }
 
@@ -122,42 +136,74 @@ fn raw(
     })
 }
 
+/// Every topic of the summary, with its message count when the summary has
+/// statistics.
+fn summary_topics(s: &mcap::Summary, channels: &HashMap<u16, ChannelInfo>) -> Vec<TopicInfo> {
+    let counts = s.stats.as_ref().map(|st| &st.channel_message_counts);
+    let mut topics = Vec::new();
+    let mut ids: Vec<&u16> = channels.keys().collect();
+    ids.sort();
+    for id in ids {
+        let c = &channels[id];
+        add_topic(
+            &mut topics,
+            TopicInfo {
+                name: c.topic.clone(),
+                type_name: c.schema.clone(),
+                count: counts.map(|m| m.get(id).copied().unwrap_or(0)),
+            },
+        );
+    }
+    topics.sort();
+    topics
+}
+
+type Wanted<'a> = (&'a dyn Fn(&str) -> bool, &'a mut Budget);
+
 fn indexed<R: Read + Seek>(
     path: &Path,
     file: &mut BufReader<R>,
     s: &mcap::Summary,
-    wanted: &dyn Fn(&str) -> bool,
-) -> Result<Contents> {
+    (wanted, budget): Wanted,
+    each: &mut dyn FnMut(RawMessage) -> Result<Flow>,
+) -> Result<Vec<TopicInfo>> {
     let channels: HashMap<u16, ChannelInfo> = s
         .channels
         .iter()
         .map(|(id, c)| (*id, channel_info(c)))
         .collect();
-    let topics: BTreeSet<String> = channels.values().map(|c| c.topic.clone()).collect();
-    let want: BTreeSet<String> = topics.iter().filter(|t| wanted(t)).cloned().collect();
-    let mut out = Contents {
-        topics: topics.into_iter().collect(),
-        messages: Vec::new(),
-    };
+    let topics = summary_topics(s, &channels);
+    let want: BTreeSet<String> = topics
+        .iter()
+        .map(|t| t.name.clone())
+        .filter(|t| wanted(t))
+        .collect();
     if want.is_empty() {
-        return Ok(out);
+        return Ok(topics);
     }
-    let mut opts = IndexedReaderOptions::new().include_topics(want.clone());
-    opts.record_length_limit = Some(MAX_BAG_RECORD_BYTES);
+    let mut opts = IndexedReaderOptions::new()
+        .include_topics(want.clone())
+        .with_order(ReadOrder::File);
+    opts.record_length_limit = Some(budget.limits.block_bytes);
     let ids: BTreeSet<u16> = channels
         .iter()
         .filter(|(_, c)| want.contains(&c.topic))
         .map(|(id, _)| *id)
         .collect();
-    let total: u64 = s
+    let todo: Vec<&mcap::records::ChunkIndex> = s
         .chunk_indexes
         .iter()
         .filter(|c| {
             c.message_index_offsets.is_empty()
                 || c.message_index_offsets.keys().any(|k| ids.contains(k))
         })
-        .map(|c| c.compressed_size)
-        .sum();
+        .collect();
+    // Decompressed sizes by where the chunk's data starts (the read request).
+    let sizes: HashMap<u64, u64> = todo
+        .iter()
+        .filter_map(|c| Some((c.compressed_data_offset().ok()?, c.uncompressed_size)))
+        .collect();
+    let total: u64 = todo.iter().map(|c| c.compressed_size).sum();
     let mut progress = Progress::new(path, total);
     let mut done = 0u64;
     let mut r = IndexedReader::new_with_options(s, opts).map_err(|e| mcap_err(path, "index", e))?;
@@ -167,6 +213,10 @@ fn indexed<R: Read + Seek>(
         match ev.map_err(|e| mcap_err(path, &format!("chunk at byte {chunk_at}"), e))? {
             IndexedReadEvent::ReadChunkRequest { offset, length } => {
                 chunk_at = offset;
+                budget.take(
+                    sizes.get(&offset).copied().unwrap_or(length as u64),
+                    &format!("MCAP chunk at byte {offset}"),
+                )?;
                 buf.resize(length, 0);
                 let ok =
                     file.seek(SeekFrom::Start(offset)).is_ok() && file.read_exact(&mut buf).is_ok();
@@ -193,11 +243,13 @@ fn indexed<R: Read + Seek>(
                     ));
                 };
                 let m = raw(path, ch, &header, data, format!("chunk at byte {chunk_at}"))?;
-                out.messages.push(m);
+                if each(m)? == Flow::Stop {
+                    break;
+                }
             }
         }
     }
-    Ok(out)
+    Ok(topics)
 }
 
 /// Stream the whole file: for MCAPs without a summary.
@@ -205,18 +257,32 @@ fn linear<R: Read + Seek>(
     path: &Path,
     file: &mut BufReader<R>,
     size: u64,
-    wanted: &dyn Fn(&str) -> bool,
-) -> Result<Contents> {
+    (wanted, budget): Wanted,
+    each: &mut dyn FnMut(RawMessage) -> Result<Flow>,
+) -> Result<Vec<TopicInfo>> {
     file.seek(SeekFrom::Start(0))
         .map_err(|e| Error::io(path, &e))?;
     let mut r = LinearReader::new_with_options(
-        LinearReaderOptions::default().with_record_length_limit(MAX_BAG_RECORD_BYTES),
+        LinearReaderOptions::default().with_record_length_limit(budget.limits.block_bytes),
     );
     let mut schemas: HashMap<u16, String> = HashMap::new();
     let mut channels: HashMap<u16, ChannelInfo> = HashMap::new();
-    let mut messages = Vec::new();
+    let mut counts: HashMap<u16, u64> = HashMap::new();
     let mut fed = 0u64;
     let mut progress = Progress::new(path, size);
+    let topics = |channels: &HashMap<u16, ChannelInfo>, counts: &HashMap<u16, u64>| {
+        let mut v = Vec::new();
+        for (id, c) in channels {
+            let t = TopicInfo {
+                name: c.topic.clone(),
+                type_name: c.schema.clone(),
+                count: Some(counts.get(id).copied().unwrap_or(0)),
+            };
+            add_topic(&mut v, t);
+        }
+        v.sort();
+        v
+    };
     while let Some(ev) = r.next_event() {
         let at = |e| {
             mcap_err(
@@ -233,6 +299,7 @@ fn linear<R: Read + Seek>(
                 r.notify_read(got);
             }
             LinearReadEvent::Record { data, opcode } => {
+                budget.take(data.len() as u64, "MCAP records")?;
                 let rec = mcap::parse_record(opcode, data).map_err(|e| {
                     mcap_err(path, &format!("record 0x{opcode:02x} before byte {fed}"), e)
                 })?;
@@ -250,9 +317,12 @@ fn linear<R: Read + Seek>(
                     }
                     Record::Message { header, data } => {
                         if let Some(ch) = channels.get(&header.channel_id) {
+                            *counts.entry(header.channel_id).or_default() += 1;
                             if wanted(&ch.topic) {
                                 let place = format!("record before byte {fed}");
-                                messages.push(raw(path, ch, &header, &data, place)?);
+                                if each(raw(path, ch, &header, &data, place)?)? == Flow::Stop {
+                                    return Ok(topics(&channels, &counts));
+                                }
                             }
                         }
                     }
@@ -261,9 +331,5 @@ fn linear<R: Read + Seek>(
             }
         }
     }
-    let topics: BTreeSet<String> = channels.values().map(|c| c.topic.clone()).collect();
-    Ok(Contents {
-        topics: topics.into_iter().collect(),
-        messages,
-    })
+    Ok(topics(&channels, &counts))
 }

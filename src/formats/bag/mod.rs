@@ -42,14 +42,19 @@
 
 mod container;
 mod contents;
-pub mod db3;
+mod db3;
 pub mod decode;
-pub mod mcap_file;
+mod folder;
+mod inflate;
+mod mcap_file;
+pub mod pointcloud2;
 mod progress;
-pub mod ros1;
+mod ros1;
 
 pub use crate::formats::spec::BagOptions;
-pub use contents::{Contents, RawMessage};
+pub use container::Listing;
+pub use contents::{Contents, Flow, RawMessage, TopicInfo};
+pub use inflate::BagLimits;
 pub use progress::Progress;
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
@@ -75,10 +80,28 @@ pub const SPEC: FormatSpec = FormatSpec {
     walk: &[".bag", ".db3", ".mcap"],
     magic: container::MAGIC,
     sniff: |i| i.folder_holds("metadata.yaml").then_some(Confidence::Certain),
-    parse: |i, o| read(i, o, &o.bag),
-    // As before bags were registry formats: tf2's rules instead (see above).
-    checked: false,
+    parse: |i, o| {
+        refuse_invert(i.path(), o)?;
+        read(i, o, &o.bag)
+    },
+    // The common checks (names, translations, --joint) as for every format;
+    // `--invert` is refused above, never applied.
+    checked: true,
 };
+
+/// `--invert` says a file stores the pose of the parent in the child. A
+/// bag's transforms are tf2's, the child's pose in the parent, by
+/// definition: inverting them would be a silent wrong answer, so a bag with
+/// `--invert` is refused by name.
+fn refuse_invert(path: &Path, o: &LoadOptions) -> Result<()> {
+    if o.invert {
+        return Err(Error::usage(
+            "--invert: a bag's transforms are tf2's (the child frame's pose in header.frame_id), never stored inverted; read the bag without --invert (and the files that need it in a separate command)",
+        )
+        .in_file(path));
+    }
+    Ok(())
+}
 
 /// Whether `path` is a bag: a `.mcap`, `.db3` or `.bag` file, a file starting
 /// with one of their magic bytes, or a folder holding `metadata.yaml`.
@@ -95,6 +118,63 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Parsed> {
 /// [`load`] with the topics chosen by `bag`.
 pub fn load_with(path: &Path, opts: &LoadOptions, bag: &BagOptions) -> Result<Parsed> {
     read(&Input::open(path, opts.max_file_size)?, opts, bag)
+}
+
+/// Every topic of the bag at `path` with its type and, where the index
+/// counts them, its message count; nothing else is read from an indexed
+/// bag (one without an index is read through to list its topics). A damaged
+/// bag lists the topics of the messages read before the damage (its read
+/// will stop there too), or fails when none reads.
+pub fn topics(path: &Path) -> Result<Listing> {
+    let limits = BagLimits::default();
+    let e = match stream(path, &|_| false, limits, &mut |_| Ok(Flow::Continue)) {
+        Ok(l) => return Ok(l),
+        Err(e) => e,
+    };
+    let mut seen: Vec<TopicInfo> = Vec::new();
+    let mut note = |m: RawMessage| {
+        if !seen.iter().any(|t| t.name == m.topic) {
+            seen.push(TopicInfo {
+                name: m.topic,
+                type_name: m.type_name,
+                count: None,
+            });
+        }
+        Ok(Flow::Continue)
+    };
+    let warnings = match stream(path, &|_| true, limits, &mut note) {
+        Ok(l) => l.warnings,
+        Err(_) => Vec::new(),
+    };
+    if seen.is_empty() {
+        return Err(e);
+    }
+    seen.sort();
+    Ok(Listing {
+        topics: seen,
+        warnings,
+    })
+}
+
+/// Hand the messages of the topics `wanted` accepts, from the bag at `path`,
+/// to `each` one at a time, in file order (the order the recorder wrote),
+/// through the container's index, every decompression within `limits`. A
+/// ROS 1 bag without an index is read from the start (a named warning in the
+/// listing). On damage (a truncated or corrupt file) the messages before it
+/// have been handed out when the error is returned.
+pub fn stream(
+    path: &Path,
+    wanted: &dyn Fn(&str) -> bool,
+    limits: BagLimits,
+    each: &mut dyn FnMut(RawMessage) -> Result<Flow>,
+) -> Result<Listing> {
+    let input = Input::open(path, 0)?;
+    let ask = container::Ask {
+        wanted,
+        limits,
+        recover: true,
+    };
+    container::stream(&input, ask, each)
 }
 
 /// The bag `input`, its topics chosen by `bag`.

@@ -12,15 +12,20 @@
 //! `u32 len, name=value`. All integers little-endian.
 //!
 //! Only the index section and the chunks whose chunk info counts a message on
-//! a wanted connection are read. A bag without an index (still recording, or
-//! cut short) is refused with the advice to run `rosbag reindex`.
+//! a wanted connection are read, one chunk at a time, in file order; a chunk
+//! is decompressed in pieces, capped ([`super::inflate::Budget`]). A bag
+//! without an index (still recording, or cut short) is refused with the
+//! advice to run `rosbag reindex`, unless the caller asks to recover: then it
+//! is read from the start, chunk after chunk, and the messages of every
+//! complete chunk are handed out before the damage is reported (what
+//! `rosbag reindex` itself recovers).
 
-use super::contents::{Contents, RawMessage};
+use super::contents::{add_topic, Flow, RawMessage, TopicInfo, Wanted};
 use super::decode::Encoding;
+use super::inflate::Budget;
 use super::progress::Progress;
 use crate::bytes::{read_at, Endian, Reader};
 use crate::diagnostic::{Error, Result};
-use crate::tolerances::MAX_BAG_RECORD_BYTES;
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
@@ -33,6 +38,10 @@ const OP_BAG_HEADER: u8 = 0x03;
 const OP_CHUNK: u8 = 0x05;
 const OP_CHUNK_INFO: u8 = 0x06;
 const OP_CONNECTION: u8 = 0x07;
+
+/// Largest record header or data block read whole: a chunk's compressed data
+/// or the index section ([`crate::tolerances::MAX_BAG_MESSAGE_BYTES`]).
+const MAX_BLOCK: usize = crate::tolerances::MAX_BAG_MESSAGE_BYTES;
 
 /// One record: header fields and data, with the offset it starts at.
 struct Record {
@@ -185,7 +194,7 @@ fn block(src: &mut dyn Source, what: &str, within: &str) -> std::result::Result<
         .map_err(|_| format!("byte {at}: expected a 4-byte {what} length, found the end of the {within} ({left} bytes left)"))?;
     let n = u64::from(le32(&n));
     let left = src.len().saturating_sub(at + 4);
-    if n > left || n > MAX_BAG_RECORD_BYTES as u64 {
+    if n > left || n > MAX_BLOCK as u64 {
         return Err(format!(
             "byte {at}: {what} length {n}: expected at most the {left} bytes left in the {within} (truncated or corrupt?)"
         ));
@@ -208,14 +217,24 @@ struct Conn {
     type_name: String,
 }
 
-/// Read the messages of the topics `wanted` accepts from `file` (`len`
-/// bytes), read from `path`.
-pub fn read<R: Read + Seek>(
+/// How a read went: every topic, and what it had to work around.
+pub struct Ros1Read {
+    /// Every topic (from the index, or from the chunks read).
+    pub topics: Vec<TopicInfo>,
+    /// Set when the bag had no usable index and was read from the start.
+    pub recovered: Option<String>,
+}
+
+/// Hand the messages of the topics `wanted` accepts from `file` (`len`
+/// bytes), read from `path`, to `each` in file order. `recover`: a bag
+/// without a usable index is read from the start instead of refused.
+pub fn stream<R: Read + Seek>(
     file: R,
     len: u64,
     path: &Path,
-    wanted: &dyn Fn(&str) -> bool,
-) -> Result<Contents> {
+    (wanted, budget, recover): (Wanted, &mut Budget, bool),
+    each: &mut dyn FnMut(RawMessage) -> Result<Flow>,
+) -> Result<Ros1Read> {
     let mut src = FileSource { file, pos: 0, len };
     let perr = |e: String| Error::parse(format!("ROS 1 bag: {e}")).in_file(path);
     let magic = src.read_exact_at(MAGIC.len()).unwrap_or_default();
@@ -235,6 +254,52 @@ pub fn read<R: Read + Seek>(
     if hdr.op() != Some(OP_BAG_HEADER) {
         return Err(hdr.err(path, "expected the bag header record (op=03)"));
     }
+    let first = src.pos;
+    match index(path, &mut src, &hdr, wanted) {
+        Ok((topics, todo, conns, want)) => {
+            let per_chunk = len / (todo.len().max(1) as u64);
+            let mut progress = Progress::new(path, per_chunk * todo.len() as u64);
+            for (i, chunk_pos) in todo.into_iter().enumerate() {
+                progress.update(per_chunk * i as u64);
+                let mut c = ChunkRead {
+                    path,
+                    conns: Conns::Index(&conns, &want),
+                    budget: &mut *budget,
+                };
+                if read_chunk(&mut src, chunk_pos, &mut c, each)? == Flow::Stop {
+                    break;
+                }
+            }
+            Ok(Ros1Read {
+                topics,
+                recovered: None,
+            })
+        }
+        Err(e) if recover => {
+            let note = format!("{} Read from the start instead.", e.message);
+            let topics = linear(path, &mut src, first, (wanted, budget), each)?;
+            Ok(Ros1Read {
+                topics,
+                recovered: Some(note),
+            })
+        }
+        Err(e) => Err(e),
+    }
+}
+
+type Index = (Vec<TopicInfo>, Vec<u64>, BTreeMap<u32, Conn>, BTreeSet<u32>);
+
+/// The index section: every topic with its count, the positions of the
+/// chunks holding a wanted connection (in file order), the connections and
+/// the wanted ones.
+fn index<R: Read + Seek>(
+    path: &Path,
+    src: &mut FileSource<R>,
+    hdr: &Record,
+    wanted: &dyn Fn(&str) -> bool,
+) -> Result<Index> {
+    let perr = |e: String| Error::parse(format!("ROS 1 bag: {e}")).in_file(path);
+    let len = src.len;
     let index_pos = hdr.u64(path, "index_pos")?;
     let conn_count = hdr.u32(path, "conn_count")?;
     let chunk_count = hdr.u32(path, "chunk_count")?;
@@ -247,8 +312,8 @@ pub fn read<R: Read + Seek>(
     // The index section runs to the end of the file: one read, then parsed in
     // memory (a few dozen bytes per chunk).
     let index_len = len - index_pos;
-    if index_len > MAX_BAG_RECORD_BYTES as u64 {
-        return Err(hdr.err(path, format!("index section of {index_len} bytes at index_pos {index_pos}: expected at most {MAX_BAG_RECORD_BYTES}")));
+    if index_len > MAX_BLOCK as u64 {
+        return Err(hdr.err(path, format!("index section of {index_len} bytes at index_pos {index_pos}: expected at most {MAX_BLOCK}")));
     }
     src.pos = index_pos;
     let index = src
@@ -256,11 +321,11 @@ pub fn read<R: Read + Seek>(
         .map_err(|e| Error::io(path, &e))?;
     let mut isrc = Reader::new(&index, Endian::Little);
     let mut conns: BTreeMap<u32, Conn> = BTreeMap::new();
-    let mut chunks: Vec<(u64, Vec<u32>)> = Vec::new();
+    let mut chunks: Vec<ChunkInfo> = Vec::new();
     while isrc.left() > 0 {
         let mut r = record(&mut isrc, "index section").map_err(|e| {
             perr(format!(
-                "index section at byte {index_pos}: {e} (offsets within the section)"
+                "index section at byte {index_pos}: {e} (offsets within the section; a bag cut short? `rosbag reindex` rebuilds the index)"
             ))
         })?;
         r.at += index_pos;
@@ -285,28 +350,85 @@ pub fn read<R: Read + Seek>(
         .filter(|(_, c)| wanted(&c.topic))
         .map(|(id, _)| *id)
         .collect();
-    let mut out = Contents {
-        topics: conns
-            .values()
-            .map(|c| c.topic.clone())
-            .collect::<BTreeSet<_>>()
-            .into_iter()
-            .collect(),
-        messages: Vec::new(),
-    };
-    let todo: Vec<u64> = chunks
-        .into_iter()
-        .filter(|(_, ids)| ids.iter().any(|c| want.contains(c)))
-        .map(|(pos, _)| pos)
-        .collect();
-    // Chunks are about the same size: count progress in chunks, scaled to bytes.
-    let per_chunk = len / u64::from(chunk_count.max(1));
-    let mut progress = Progress::new(path, per_chunk * todo.len() as u64);
-    for (i, chunk_pos) in todo.into_iter().enumerate() {
-        progress.update(per_chunk * i as u64);
-        read_chunk(path, &mut src, chunk_pos, &conns, &want, &mut out.messages)?;
+    let mut counts: BTreeMap<u32, u64> = BTreeMap::new();
+    for c in &chunks {
+        for (id, n) in &c.counts {
+            *counts.entry(*id).or_default() += u64::from(*n);
+        }
     }
-    Ok(out)
+    let mut topics = Vec::new();
+    for (id, c) in &conns {
+        let t = TopicInfo {
+            name: c.topic.clone(),
+            type_name: c.type_name.clone(),
+            count: Some(counts.get(id).copied().unwrap_or(0)),
+        };
+        add_topic(&mut topics, t);
+    }
+    topics.sort();
+    let mut todo: Vec<u64> = chunks
+        .into_iter()
+        .filter(|c| c.counts.iter().any(|(id, _)| want.contains(id)))
+        .map(|c| c.pos)
+        .collect();
+    todo.sort_unstable();
+    Ok((topics, todo, conns, want))
+}
+
+/// A bag without a usable index, read from `first` (after the bag header)
+/// record by record: connections as they come, the messages of each chunk.
+/// The first record that does not read is the damage: an error, after the
+/// messages before it were handed out.
+fn linear<R: Read + Seek>(
+    path: &Path,
+    src: &mut FileSource<R>,
+    first: u64,
+    (wanted, budget): (&dyn Fn(&str) -> bool, &mut Budget),
+    each: &mut dyn FnMut(RawMessage) -> Result<Flow>,
+) -> Result<Vec<TopicInfo>> {
+    let mut conns: BTreeMap<u32, Conn> = BTreeMap::new();
+    let mut counts: BTreeMap<u32, u64> = BTreeMap::new();
+    src.pos = first;
+    let mut progress = Progress::new(path, src.len);
+    while src.pos < src.len {
+        progress.update(src.pos);
+        let at = src.pos;
+        let r = record(src, "file").map_err(|e| {
+            Error::parse(format!(
+                "ROS 1 bag without an index, read from the start: {e}; the messages before byte {at} were read"
+            ))
+            .in_file(path)
+        })?;
+        match r.op() {
+            Some(OP_CHUNK) => {
+                let mut c = ChunkRead {
+                    path,
+                    conns: Conns::Linear(&mut conns, &mut counts, wanted),
+                    budget: &mut *budget,
+                };
+                if chunk_messages(&r, at, &mut c, each)? == Flow::Stop {
+                    break;
+                }
+            }
+            Some(OP_CONNECTION) => {
+                let id = r.u32(path, "conn")?;
+                let conn = connection(path, &r)?;
+                conns.entry(id).or_insert(conn);
+            }
+            _ => {}
+        }
+    }
+    let mut topics = Vec::new();
+    for (id, c) in &conns {
+        let t = TopicInfo {
+            name: c.topic.clone(),
+            type_name: c.type_name.clone(),
+            count: Some(counts.get(id).copied().unwrap_or(0)),
+        };
+        add_topic(&mut topics, t);
+    }
+    topics.sort();
+    Ok(topics)
 }
 
 fn connection(path: &Path, r: &Record) -> Result<Conn> {
@@ -320,8 +442,14 @@ fn connection(path: &Path, r: &Record) -> Result<Conn> {
     Ok(Conn { topic, type_name })
 }
 
-/// Chunk position and the connections with messages in it.
-fn chunk_info(path: &Path, r: &Record) -> Result<(u64, Vec<u32>)> {
+/// A chunk info record: where the chunk is, and its message count per
+/// connection.
+struct ChunkInfo {
+    pos: u64,
+    counts: Vec<(u32, u32)>,
+}
+
+fn chunk_info(path: &Path, r: &Record) -> Result<ChunkInfo> {
     let pos = r.u64(path, "chunk_pos")?;
     let count = r.u32(path, "count")? as usize;
     if r.data.len() != count.saturating_mul(8) {
@@ -333,33 +461,76 @@ fn chunk_info(path: &Path, r: &Record) -> Result<(u64, Vec<u32>)> {
             ),
         ));
     }
-    let ids = r
+    let counts = r
         .data
         .chunks_exact(8)
-        .filter(|e| le32(&e[4..]) > 0)
-        .map(|e| le32(&e[..4]))
+        .map(|e| (le32(&e[..4]), le32(&e[4..])))
+        .filter(|(_, n)| *n > 0)
         .collect();
-    Ok((pos, ids))
+    Ok(ChunkInfo { pos, counts })
 }
 
-fn decompress(path: &Path, r: &Record) -> Result<Vec<u8>> {
+/// The connections a chunk's messages are matched against.
+enum Conns<'a> {
+    /// From the index, with the wanted ones.
+    Index(&'a BTreeMap<u32, Conn>, &'a BTreeSet<u32>),
+    /// Learnt from the chunks as they come (no index), with the message
+    /// count per connection and the topic filter.
+    Linear(
+        &'a mut BTreeMap<u32, Conn>,
+        &'a mut BTreeMap<u32, u64>,
+        &'a dyn Fn(&str) -> bool,
+    ),
+}
+
+impl Conns<'_> {
+    fn connection(&mut self, id: u32, conn: Conn) {
+        if let Conns::Linear(conns, ..) = self {
+            conns.entry(id).or_insert(conn);
+        }
+    }
+
+    /// The connection of a message when its topic is wanted.
+    fn wanted(&mut self, id: u32) -> Option<&Conn> {
+        match self {
+            Conns::Index(conns, want) => conns.get(&id).filter(|_| want.contains(&id)),
+            Conns::Linear(conns, counts, wanted) => {
+                let c = conns.get(&id)?;
+                *counts.entry(id).or_default() += 1;
+                wanted(&c.topic).then_some(c)
+            }
+        }
+    }
+}
+
+/// What reading a chunk needs.
+struct ChunkRead<'a, 'c> {
+    path: &'a Path,
+    conns: Conns<'c>,
+    budget: &'a mut Budget,
+}
+
+/// A chunk's records, decompressed in pieces within the block cap and the
+/// file's budget; the declared `size` must match.
+fn decompress(path: &Path, r: &Record, budget: &mut Budget) -> Result<Vec<u8>> {
     let comp = r.text(path, "compression")?;
     let size = r.u32(path, "size")? as usize;
-    if size > MAX_BAG_RECORD_BYTES {
-        return Err(r.err(
-            path,
-            format!("chunk of {size} bytes uncompressed: expected at most {MAX_BAG_RECORD_BYTES}"),
-        ));
+    let cap = budget.limits.block_bytes;
+    if size > cap {
+        return Err(Error::limit(format!(
+            "ROS 1 bag record at byte {}: chunk of {size} bytes uncompressed: expected at most {cap}",
+            r.at
+        ))
+        .in_file(path));
     }
-    let mut out = Vec::with_capacity(size);
-    let limit = size as u64 + 1;
-    let res = match comp.as_str() {
+    let what = format!("ROS 1 bag {comp} chunk at byte {}", r.at);
+    let out = match comp.as_str() {
         "none" => return Ok(r.data.clone()),
-        "bz2" => bzip2::read::BzDecoder::new(r.data.as_slice())
-            .take(limit)
-            .read_to_end(&mut out),
+        "bz2" => budget.inflate(bzip2::read::BzDecoder::new(r.data.as_slice()), &what)?,
         "lz4" => {
-            lz4::Decoder::new(r.data.as_slice()).and_then(|d| d.take(limit).read_to_end(&mut out))
+            let d = lz4::Decoder::new(r.data.as_slice())
+                .map_err(|e| r.err(path, format!("lz4 chunk: cannot decompress: {e}")))?;
+            budget.inflate(d, &what)?
         }
         other => {
             return Err(r.err(
@@ -368,7 +539,6 @@ fn decompress(path: &Path, r: &Record) -> Result<Vec<u8>> {
             ))
         }
     };
-    res.map_err(|e| r.err(path, format!("{comp} chunk: cannot decompress: {e}")))?;
     if out.len() != size {
         return Err(r.err(
             path,
@@ -382,13 +552,12 @@ fn decompress(path: &Path, r: &Record) -> Result<Vec<u8>> {
 }
 
 fn read_chunk<R: Read + Seek>(
-    path: &Path,
     src: &mut FileSource<R>,
     chunk_pos: u64,
-    conns: &BTreeMap<u32, Conn>,
-    want: &BTreeSet<u32>,
-    out: &mut Vec<RawMessage>,
-) -> Result<()> {
+    c: &mut ChunkRead,
+    each: &mut dyn FnMut(RawMessage) -> Result<Flow>,
+) -> Result<Flow> {
+    let path = c.path;
     src.pos = chunk_pos;
     let r = record(src, "file").map_err(|e| {
         Error::parse(format!("ROS 1 bag chunk at byte {chunk_pos}: {e}")).in_file(path)
@@ -399,33 +568,52 @@ fn read_chunk<R: Read + Seek>(
             "expected a chunk record (op=05), as the chunk info says",
         ));
     }
-    let data = decompress(path, &r)?;
+    chunk_messages(&r, chunk_pos, c, each)
+}
+
+/// The messages of the chunk record `r` (at `chunk_pos`) on wanted
+/// connections, in order.
+fn chunk_messages(
+    r: &Record,
+    chunk_pos: u64,
+    c: &mut ChunkRead,
+    each: &mut dyn FnMut(RawMessage) -> Result<Flow>,
+) -> Result<Flow> {
+    let path = c.path;
+    let data = decompress(path, r, c.budget)?;
     let mut inner = Reader::new(&data, Endian::Little);
+    let inside = |e: String| r.err(path, format!("inside the chunk: {e}"));
     while inner.left() > 0 {
-        let m = record(&mut inner, "chunk")
-            .map_err(|e| r.err(path, format!("inside the chunk: {e}")))?;
-        if m.op() != Some(OP_MSG_DATA) {
-            continue;
+        let m = record(&mut inner, "chunk").map_err(inside)?;
+        match m.op() {
+            Some(OP_CONNECTION) => {
+                let id = m.u32(path, "conn").map_err(|e| inside(e.message))?;
+                let conn = connection(path, &m).map_err(|e| inside(e.message))?;
+                c.conns.connection(id, conn);
+                continue;
+            }
+            Some(OP_MSG_DATA) => {}
+            _ => continue,
         }
-        let conn = m
-            .u32(path, "conn")
-            .map_err(|e| r.err(path, format!("inside the chunk: {}", e.message)))?;
-        let (Some(c), true) = (conns.get(&conn), want.contains(&conn)) else {
+        let conn = m.u32(path, "conn").map_err(|e| inside(e.message))?;
+        let Some(cn) = c.conns.wanted(conn) else {
             continue;
         };
-        let t = m
-            .u64(path, "time")
-            .map_err(|e| r.err(path, format!("inside the chunk: {}", e.message)))?;
+        let (topic, type_name) = (cn.topic.clone(), cn.type_name.clone());
+        let t = m.u64(path, "time").map_err(|e| inside(e.message))?;
         let (sec, nsec) = (t & 0xffff_ffff, t >> 32);
-        out.push(RawMessage {
-            topic: c.topic.clone(),
-            type_name: c.type_name.clone(),
+        let msg = RawMessage {
+            topic,
+            type_name,
             encoding: Encoding::Ros1,
             time_ns: sec * 1_000_000_000 + nsec,
             data: m.data,
             file: path.to_path_buf(),
             place: format!("chunk at byte {chunk_pos}, record at chunk byte {}", m.at),
-        });
+        };
+        if each(msg)? == Flow::Stop {
+            return Ok(Flow::Stop);
+        }
     }
-    Ok(())
+    Ok(Flow::Continue)
 }

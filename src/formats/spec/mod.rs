@@ -193,6 +193,13 @@ pub struct LoadOptions {
     pub xacro_args: BTreeMap<String, String>,
     /// `--package-path DIR`: where `$(find pkg)` looks first.
     pub package_paths: Vec<std::path::PathBuf>,
+    /// `--confine DIR` (repeatable; empty: off): every file read, the files
+    /// named on the command line and those a file includes (xacro includes,
+    /// `xacro.load_yaml`, `$(find)` packages, rig TOML includes), must lie
+    /// below one of these directories once symlinks are resolved; and xacro
+    /// reads no environment variable (`$(env)` is refused, `$(optenv)` gives
+    /// its default). For a CI gate on files from pull requests.
+    pub confine: Vec<std::path::PathBuf>,
     /// Which topics of a bag are read (`--tf-static-topic`, `--tf-topic`,
     /// `--description-topic`).
     pub bag: BagOptions,
@@ -200,6 +207,11 @@ pub struct LoadOptions {
     /// one graph. Applied after the parser, which never sees them (the
     /// pipeline's `load`); one that matches no frame is an error there.
     pub renames: Vec<Rename>,
+    /// `--assume DIRECTION[:PARENT,CHILD]`: the direction (and, for files that
+    /// name none, the frames) of the transforms whose convention cannot be
+    /// traced to the code that consumes the file; without it they are refused
+    /// (see [`Assume`]).
+    pub assume: Option<Assume>,
 }
 
 /// `--rename [FILE:]OLD=NEW`: a frame renamed as it is loaded.
@@ -226,8 +238,129 @@ impl Default for LoadOptions {
             xacro_external: false,
             xacro_args: BTreeMap::new(),
             package_paths: Vec::new(),
+            confine: Vec::new(),
             bag: BagOptions::default(),
             renames: Vec::new(),
+            assume: None,
+        }
+    }
+}
+
+/// `--assume`: what the user says about a transform whose direction no
+/// upstream code fixes (a plain 4x4 text file, OKVIS `imu_params.T_BS`, GLIM
+/// `T_lidar_camera`, a `--key` whose name names no frames). A reader never
+/// guesses such a direction: without `--assume` it refuses the transform,
+/// naming this flag.
+///
+/// Written `child-in-parent` (the numbers are the pose of the child in the
+/// parent, `p_parent = R p_child + t`) or `parent-in-child` (the inverse),
+/// optionally followed by `:PARENT,CHILD`, the frames, for files that name
+/// none (`--assume child-in-parent:base_link,lidar`). The edge is always
+/// `PARENT -> CHILD`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Assume {
+    /// The numbers are the pose of the child in the parent (else the inverse).
+    pub child_in_parent: bool,
+    /// `(parent, child)` when given.
+    pub frames: Option<(String, String)>,
+}
+
+impl Assume {
+    /// Parse `child-in-parent[:PARENT,CHILD]` / `parent-in-child[:PARENT,CHILD]`.
+    pub fn parse(s: &str) -> std::result::Result<Assume, String> {
+        let (dir, frames) = match s.split_once(':') {
+            Some((d, f)) => (d, Some(f)),
+            None => (s, None),
+        };
+        let child_in_parent = match dir.trim() {
+            "child-in-parent" => true,
+            "parent-in-child" => false,
+            other => {
+                return Err(format!(
+                    "expected child-in-parent or parent-in-child (optionally :PARENT,CHILD), found {:?}",
+                    crate::sanitize::clip(other)
+                ))
+            }
+        };
+        let frames = match frames {
+            None => None,
+            Some(f) => {
+                let names: Vec<&str> = f.split(',').map(str::trim).collect();
+                match names.as_slice() {
+                    [p, c] if !p.is_empty() && !c.is_empty() && p != c => {
+                        Some((p.to_string(), c.to_string()))
+                    }
+                    _ => {
+                        return Err(format!(
+                        "expected two different frame names after ':' (PARENT,CHILD), found {:?}",
+                        crate::sanitize::clip(f)
+                    ))
+                    }
+                }
+            }
+        };
+        Ok(Assume {
+            child_in_parent,
+            frames,
+        })
+    }
+
+    /// How it is written on the command line.
+    pub fn flag(&self) -> String {
+        let dir = if self.child_in_parent {
+            "child-in-parent"
+        } else {
+            "parent-in-child"
+        };
+        match &self.frames {
+            Some((p, c)) => format!("--assume {dir}:{p},{c}"),
+            None => format!("--assume {dir}"),
+        }
+    }
+}
+
+impl LoadOptions {
+    /// Whether reads are confined (`--confine`).
+    pub fn confined(&self) -> bool {
+        !self.confine.is_empty()
+    }
+
+    /// `Err(why)` when `--confine` is given and `path` (symlinks resolved;
+    /// for a path that does not exist yet, its parent) is below none of its
+    /// directories.
+    pub fn check_confined(&self, path: &std::path::Path) -> std::result::Result<(), String> {
+        if self.confine.is_empty() {
+            return Ok(());
+        }
+        let real = std::fs::canonicalize(path).or_else(|e| {
+            let parent = path.parent().filter(|p| !p.as_os_str().is_empty());
+            match (parent, path.file_name()) {
+                (Some(d), Some(n)) => std::fs::canonicalize(d).map(|d| d.join(n)),
+                (None, Some(n)) => std::env::current_dir().map(|d| d.join(n)),
+                _ => Err(e),
+            }
+        });
+        let inside = |real: &std::path::Path| {
+            self.confine
+                .iter()
+                .any(|c| std::fs::canonicalize(c).is_ok_and(|c| real.starts_with(c)))
+        };
+        match real {
+            Ok(r) if inside(&r) => Ok(()),
+            Ok(r) => Err(format!(
+                "{} is outside the --confine directories ({}): not read",
+                if r.as_path() == path {
+                    path.display().to_string()
+                } else {
+                    format!("{} ({})", path.display(), r.display())
+                },
+                self.confine
+                    .iter()
+                    .map(|c| c.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+            Err(e) => Err(format!("{}: {e} (checking --confine)", path.display())),
         }
     }
 }

@@ -34,6 +34,8 @@ pub struct Expander<'o> {
     pub docs: HashMap<PathBuf, Rc<Doc>>,
     pub namespaces: BTreeMap<String, String>,
     pub packages: HashMap<String, PathBuf>,
+    /// The packages on the search path (built at the first `$(find)`).
+    package_index: Option<subst::PackageIndex>,
     pub budget: Budget,
     /// The top-level input, for the package search.
     pub input: PathBuf,
@@ -56,6 +58,7 @@ impl<'o> Expander<'o> {
             docs: HashMap::new(),
             namespaces: BTreeMap::new(),
             packages: HashMap::new(),
+            package_index: None,
             budget: Budget::new(),
             input: input.to_path_buf(),
             macro_stack: Vec::new(),
@@ -93,9 +96,32 @@ impl<'o> Expander<'o> {
         if parts.len() == 1 {
             return Ok(parts.remove(0));
         }
-        let joined: String = parts.iter().map(Value::to_py_str).collect();
-        self.budget.bytes(joined.len(), src, &self.macro_stack)?;
+        let mut joined = String::new();
+        for p in &parts {
+            let t = self.py_str(p, src)?;
+            joined.push_str(&t);
+            self.budget
+                .meter
+                .string(joined.len())
+                .map_err(|m| self.limit(src, m))?;
+        }
         Ok(Value::str(&joined))
+    }
+
+    /// Python's `str()` of a value, within the meter.
+    pub fn py_str(&mut self, v: &Value, src: &Src) -> Result<String> {
+        v.to_py_str(&mut self.budget.meter)
+            .map_err(|m| self.limit(src, m))
+    }
+
+    /// An evaluation error: a limit when the meter tripped, else a parse
+    /// error at `src`.
+    pub fn limit(&self, src: &Src, msg: String) -> Error {
+        let e = self.err(src, msg);
+        if self.budget.meter.tripped().is_some() {
+            return Error::limit(e.message).at(&e.location);
+        }
+        e
     }
 
     /// [`Self::eval_text`] as text (Python's `str()` of it).
@@ -103,7 +129,8 @@ impl<'o> Expander<'o> {
         if !text.contains('$') {
             return Ok(text.to_string());
         }
-        Ok(self.eval_text(text, syms, src)?.to_py_str())
+        let v = self.eval_text(text, syms, src)?;
+        self.py_str(&v, src)
     }
 
     /// One lexer token of xacro's text grammar, evaluated; and its length.
@@ -166,7 +193,9 @@ impl<'o> Expander<'o> {
                 if let Some(e) = env.failure.take() {
                     return Err(e);
                 }
-                Err(self.err(src, format!("cannot evaluate ${{{inner}}}: {msg}")))
+                let shown: String = inner.chars().take(200).collect();
+                let more = if shown.len() < inner.len() { "..." } else { "" };
+                Err(self.limit(src, format!("cannot evaluate ${{{shown}{more}}}: {msg}")))
             }
         }
     }
@@ -184,9 +213,25 @@ impl<'o> Expander<'o> {
                 )
             }),
             Subst::Find(pkg) => self.find(pkg, src).map(|p| p.to_string_lossy().to_string()),
+            Subst::Env(name) if self.opts.confined() => Err(self.err(
+                src,
+                format!("$(env {name}): the environment is not read under --confine (a CI job's environment holds its secrets); give the value with --arg, or drop --confine"),
+            )),
             Subst::Env(name) => std::env::var(name).map_err(|_| {
                 self.err(src, format!("$(env {name}): environment variable {name} is not set"))
             }),
+            Subst::OptEnv(name, default) if self.opts.confined() => {
+                if std::env::var_os(name).is_some() {
+                    self.warnings.push(
+                        Warning::new(
+                            Code::Ignored,
+                            format!("$(optenv {name}): {name} is set, but the environment is not read under --confine: its default {default:?} used"),
+                        )
+                        .at(&src.location()),
+                    );
+                }
+                Ok(default)
+            }
             Subst::OptEnv(name, default) => Ok(std::env::var(name).unwrap_or(default)),
             Subst::Dirname => {
                 let f = self.current_file();
@@ -200,14 +245,45 @@ impl<'o> Expander<'o> {
         }
     }
 
+    /// `$(find pkg)`: the package's directory (the search path indexed at
+    /// the first call); a second copy of the package on the search path is
+    /// a `duplicate-package` warning naming both, once per package.
     pub fn find(&mut self, pkg: &str, src: &Src) -> Result<PathBuf> {
         if let Some(p) = self.packages.get(pkg) {
             return Ok(p.clone());
         }
-        let p = subst::find_package(pkg, &self.opts.package_paths, &self.input)
+        let index = self.package_index.get_or_insert_with(|| {
+            subst::PackageIndex::build(&self.opts.package_paths, &self.input)
+        });
+        let found = index
+            .find(pkg, &self.opts.package_paths)
             .map_err(|m| self.err(src, m))?;
-        self.packages.insert(pkg.to_string(), p.clone());
-        Ok(p)
+        if let Err(why) = self.opts.check_confined(&found.dir) {
+            let e = self.err(src, format!("$(find {pkg}): {why}"));
+            return Err(Error::limit(e.message).at(&e.location));
+        }
+        if !found.others.is_empty() {
+            let others: Vec<String> = found
+                .others
+                .iter()
+                .map(|(d, from)| format!("{} ({from})", d.display()))
+                .collect();
+            self.warnings.push(
+                Warning::new(
+                    Code::DuplicatePackage,
+                    format!(
+                        "$(find {pkg}): {} packages named {pkg} on the search path: used {} ({}); also {}",
+                        others.len() + 1,
+                        found.dir.display(),
+                        found.from,
+                        others.join(", ")
+                    ),
+                )
+                .at(&src.location()),
+            );
+        }
+        self.packages.insert(pkg.to_string(), found.dir.clone());
+        Ok(found.dir)
     }
 
     /// A property's value, evaluating a lazy one (in the table that defines
@@ -223,8 +299,10 @@ impl<'o> Expander<'o> {
                 format!("circular property definition: '{name}' depends on itself"),
             )),
             Slot::Lazy(text, at) => {
+                self.budget.enter_property(name, &at, &self.macro_stack)?;
                 table.set(name, Slot::Busy);
                 let v = self.eval_text(&text, &table, &at);
+                self.budget.leave_property();
                 let v = match v {
                     Ok(v) => eval_literal(v),
                     Err(e) => {
@@ -288,7 +366,6 @@ impl<'o> Expander<'o> {
                     self.budget.bytes(v.len(), &src, &self.macro_stack)?;
                     out.push(Node::Text(v));
                 }
-                Node::Comment => {}
             }
         }
         Ok(())
@@ -311,6 +388,7 @@ impl<'o> Expander<'o> {
         }
     }
 
+    /// One element, one level deeper (`XACRO_MAX_ELEMENT_DEPTH`).
     fn element(
         &mut self,
         e: &Elem,
@@ -320,6 +398,20 @@ impl<'o> Expander<'o> {
         attrs: &mut Vec<(String, String)>,
     ) -> Result<()> {
         self.budget.tick(&e.src, &self.macro_stack)?;
+        self.budget.enter_element(&e.src, &self.macro_stack)?;
+        let r = self.element_here(e, syms, macros, out, attrs);
+        self.budget.leave_element();
+        r
+    }
+
+    fn element_here(
+        &mut self,
+        e: &Elem,
+        syms: &Scope,
+        macros: &MacroScope,
+        out: &mut Vec<Node>,
+        attrs: &mut Vec<(String, String)>,
+    ) -> Result<()> {
         self.here = Some(e.src.clone());
         let Some(tag) = e.name.strip_prefix("xacro:") else {
             return self.plain(e, syms, macros, out);
@@ -542,6 +634,31 @@ impl EvalEnv<'_, '_> {
 }
 
 impl Env for EvalEnv<'_, '_> {
+    fn meter(&mut self) -> &mut super::limits::Meter {
+        &mut self.ex.budget.meter
+    }
+
+    fn abs_filename(&mut self, path: &str) -> std::result::Result<String, String> {
+        let p = Path::new(path);
+        if p.is_absolute() {
+            return Ok(path.to_string());
+        }
+        let cur = self.ex.current_file();
+        let dir = cur.parent().unwrap_or(Path::new(""));
+        Ok(dir.join(p).to_string_lossy().to_string())
+    }
+
+    fn message(&mut self, level: &'static str, text: String) {
+        let cut: String = text.chars().take(500).collect();
+        self.ex.warnings.push(
+            Warning::new(
+                Code::XacroMessage,
+                format!("xacro.{level}() in the file: {cut}"),
+            )
+            .at(&self.src.location()),
+        );
+    }
+
     fn lookup(&mut self, name: &str) -> std::result::Result<Option<Value>, String> {
         let (syms, src) = (self.syms.clone(), self.src.clone());
         let r = self.ex.lookup(&syms, name, &src);

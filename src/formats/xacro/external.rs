@@ -2,22 +2,24 @@
 //! on the search path and read its output as URDF. Line numbers then refer to
 //! xacro's printed output, not to the source files.
 //!
-//! The child is bounded like the built-in expander: it is killed after
-//! [`XACRO_MAX_SECONDS`], or as soon as it prints more than the file-size cap
-//! on stdout; its stderr is kept whole up to [`XACRO_MAX_STDERR_BYTES`] so the
-//! cause of a failure reaches the user (xacro's last line is only "when
-//! processing file: X").
+//! The child is bounded like the built-in expander: it runs in its own
+//! process group, killed with the group after [`XACRO_MAX_SECONDS`], or as
+//! soon as it prints more than the file-size cap on stdout, or when it has
+//! exited (a background process it left holding its output would otherwise
+//! hang the reader); its stderr is kept whole up to
+//! [`XACRO_MAX_STDERR_BYTES`] so the cause of a failure reaches the user
+//! (xacro's last line is only "when processing file: X").
 
 use super::markers::advice;
 use crate::diagnostic::{Error, Result};
 use crate::formats::spec::{LoadOptions, Parsed};
 use crate::formats::urdf;
-use crate::tolerances::{XACRO_MAX_SECONDS, XACRO_MAX_STDERR_BYTES};
+use crate::tolerances::{XACRO_EXTERNAL_DRAIN_SECONDS, XACRO_MAX_SECONDS, XACRO_MAX_STDERR_BYTES};
 use std::io::Read;
 use std::path::Path;
-use std::process::{Command, ExitStatus, Stdio};
+use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
 fn find_on_path(prog: &str, search: Option<&std::ffi::OsStr>) -> Option<std::path::PathBuf> {
@@ -45,6 +47,9 @@ struct Bounded {
 enum Stopped {
     Timeout,
     TooMuchOutput,
+    /// The child exited but its output pipe stayed open (a process outside
+    /// its group holds it).
+    HeldOutput,
 }
 
 /// Reads `r` keeping at most `cap` bytes; returns them and the count beyond.
@@ -69,43 +74,83 @@ fn read_capped(mut r: impl Read, cap: u64, stop_at_cap: bool) -> (Vec<u8>, u64) 
     (kept, cut)
 }
 
-/// Runs `cmd` with stdin closed, killing it after `timeout` or as soon as
-/// stdout passes `out_cap` bytes.
+/// The child's own process group (Unix), so that killing the group also
+/// ends what it started in the background.
+fn own_group(cmd: &mut Command) {
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::CommandExt;
+        cmd.process_group(0);
+    }
+    #[cfg(not(unix))]
+    let _ = cmd;
+}
+
+/// Kill the child and, on Unix, every process of its group (a background
+/// process the child left holding its pipes); then reap the child.
+fn kill_group(child: &mut Child) {
+    #[cfg(unix)]
+    if let Ok(pid) = i32::try_from(child.id()) {
+        // SAFETY: kill(2) with a negative pid signals the process group the
+        // child leads (its own, `own_group`); no memory is involved.
+        unsafe {
+            libc::kill(-pid, libc::SIGKILL);
+        }
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+}
+
+/// Runs `cmd` with stdin closed, in its own process group, killing the group
+/// after `timeout` or as soon as stdout passes `out_cap` bytes. Once the
+/// child has exited its group is killed too, and its output is waited for
+/// at most [`XACRO_EXTERNAL_DRAIN_SECONDS`] (a process outside the group
+/// holding a pipe is given up on): nothing the child starts can hang the
+/// run.
 fn run_bounded(
     mut cmd: Command,
     timeout: Duration,
     out_cap: u64,
     err_cap: u64,
 ) -> std::io::Result<std::result::Result<Bounded, Stopped>> {
+    own_group(&mut cmd);
     let mut child = cmd
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()?;
     let over = Arc::new(AtomicBool::new(false));
-    let out = child.stdout.take().map(|o| {
+    let (tx_out, rx_out) = mpsc::channel();
+    if let Some(o) = child.stdout.take() {
         let over = Arc::clone(&over);
         std::thread::spawn(move || {
             let (kept, cut) = read_capped(o, out_cap, true);
             over.store(cut > 0, Ordering::Release);
-            kept
-        })
-    });
-    let err = child
-        .stderr
-        .take()
-        .map(|e| std::thread::spawn(move || read_capped(e, err_cap, false)));
+            let _ = tx_out.send(kept);
+        });
+    }
+    let (tx_err, rx_err) = mpsc::channel();
+    if let Some(e) = child.stderr.take() {
+        std::thread::spawn(move || {
+            let _ = tx_err.send(read_capped(e, err_cap, false));
+        });
+    }
     let start = Instant::now();
     let stopped = loop {
         if over.load(Ordering::Acquire) {
             break Stopped::TooMuchOutput;
         }
         if let Some(status) = child.try_wait()? {
-            let stdout = out.and_then(|h| h.join().ok()).unwrap_or_default();
+            // Whatever it left running in its group goes with it.
+            kill_group(&mut child);
+            let drain = Duration::from_secs_f64(XACRO_EXTERNAL_DRAIN_SECONDS);
+            let Ok(stdout) = rx_out.recv_timeout(drain) else {
+                break Stopped::HeldOutput;
+            };
             if over.load(Ordering::Acquire) {
                 break Stopped::TooMuchOutput;
             }
-            let (stderr, stderr_cut) = err.and_then(|h| h.join().ok()).unwrap_or_default();
+            let (stderr, stderr_cut) = rx_err.recv_timeout(drain).unwrap_or_default();
             return Ok(Ok(Bounded {
                 status,
                 stdout,
@@ -118,10 +163,9 @@ fn run_bounded(
         }
         std::thread::sleep(Duration::from_millis(5));
     };
-    // Killed: the reader threads see end-of-file once the pipes close; they
-    // are not joined (a grandchild may still hold a pipe open).
-    let _ = child.kill();
-    let _ = child.wait();
+    // The reader threads see end-of-file once the pipes close; they are not
+    // joined (a process outside the group may still hold a pipe open).
+    kill_group(&mut child);
     Ok(Err(stopped))
 }
 
@@ -149,6 +193,12 @@ pub fn parse(path: &Path, opts: &LoadOptions) -> Result<Parsed> {
         Err(Stopped::Timeout) => {
             return Err(Error::limit(format!(
                 "--xacro external: {} was still running after {XACRO_MAX_SECONDS} s: expected an expansion in milliseconds (a macro bomb?); stopped it",
+                xacro.display()
+            )))
+        }
+        Err(Stopped::HeldOutput) => {
+            return Err(Error::limit(format!(
+                "--xacro external: {} exited but its output stayed open (a process it started outside its process group holds it): stopped waiting after {XACRO_EXTERNAL_DRAIN_SECONDS} s",
                 xacro.display()
             )))
         }
@@ -229,6 +279,52 @@ mod tests {
         .expect("spawned")
         .expect("exited");
         assert_eq!((r.stderr.len(), r.stderr_cut), (100, 4900));
+    }
+
+    /// A background process the child leaves holding its stdout does not
+    /// hang the run, and is killed with the child's process group (at the
+    /// child's exit, and at the time limit).
+    #[test]
+    fn a_background_process_holding_the_output_is_killed_with_the_group() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let pidfile = dir.path().join("bg.pid");
+        // Alive: it exists and is not a zombie waiting for its new parent
+        // (Linux's /proc; elsewhere, signal 0).
+        let alive = |pidfile: &Path| {
+            let pid: i32 = std::fs::read_to_string(pidfile)
+                .expect("pid")
+                .trim()
+                .parse()
+                .expect("int");
+            match std::fs::read_to_string(format!("/proc/{pid}/stat")) {
+                Ok(stat) => !stat
+                    .rsplit(')')
+                    .next()
+                    .unwrap_or("")
+                    .trim_start()
+                    .starts_with('Z'),
+                Err(_) if Path::new("/proc/self/stat").exists() => false,
+                // SAFETY: signal 0 only checks that the process exists.
+                Err(_) => unsafe { libc::kill(pid, 0) == 0 },
+            }
+        };
+        let t = Instant::now();
+        let script = format!("sleep 60 & echo $! > {}; printf ok", pidfile.display());
+        let r = run_bounded(sh(&script), Duration::from_secs(20), 1 << 16, 1 << 10)
+            .expect("spawned")
+            .expect("exited");
+        assert_eq!(r.stdout, b"ok");
+        assert!(t.elapsed() < Duration::from_secs(5), "{:?}", t.elapsed());
+        std::thread::sleep(Duration::from_millis(100));
+        assert!(!alive(&pidfile), "the background sleep survived");
+        let script = format!("sleep 60 & echo $! > {}; sleep 60", pidfile.display());
+        let r = run_bounded(sh(&script), Duration::from_millis(300), 1 << 16, 1 << 10);
+        assert_eq!(r.expect("spawned").err(), Some(Stopped::Timeout));
+        std::thread::sleep(Duration::from_millis(100));
+        assert!(
+            !alive(&pidfile),
+            "the background sleep survived the time limit"
+        );
     }
 
     #[test]

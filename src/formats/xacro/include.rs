@@ -3,10 +3,11 @@
 //! `lazy_eval`) and `xacro.load_yaml`.
 
 use super::expand::Expander;
+use super::limits::Meter;
 use super::scope::{MacroEntry, MacroScope, MacroTable};
 use super::tree::{self, Elem, Node, Src};
-use super::value::{eval_literal, Bindings, Scope, Slot, Value};
-use crate::diagnostic::Result;
+use super::value::{eval_literal, Bindings, Res, Scope, Slot, Value};
+use crate::diagnostic::{Error, Result};
 use crate::formats::yaml;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -22,28 +23,36 @@ const YAML_UNIT_TAGS: &[(&str, f64)] = &[
     ("!inches", 0.0254),
 ];
 
-/// No names: the unit tags' expressions see only xacro's globals (`pi`, ...).
-struct NoNames;
+/// No names: the unit tags' expressions see only xacro's globals (`pi`,
+/// ...); the expansion's meter.
+struct NoNames<'m>(&'m mut Meter);
 
-impl super::expr::Env for NoNames {
-    fn lookup(&mut self, _: &str) -> std::result::Result<Option<Value>, String> {
+impl super::expr::Env for NoNames<'_> {
+    fn lookup(&mut self, _: &str) -> Res<Option<Value>> {
         Ok(None)
     }
-    fn lookup_in(&mut self, _: &Scope, _: &str) -> std::result::Result<Option<Value>, String> {
+    fn lookup_in(&mut self, _: &Scope, _: &str) -> Res<Option<Value>> {
         Ok(None)
     }
-    fn load_yaml(&mut self, _: &str) -> std::result::Result<Value, String> {
+    fn load_yaml(&mut self, _: &str) -> Res<Value> {
         Err("load_yaml inside a YAML unit tag".into())
     }
-    fn arg(&mut self, _: &str) -> std::result::Result<Value, String> {
+    fn arg(&mut self, _: &str) -> Res<Value> {
         Err("xacro.arg inside a YAML unit tag".into())
+    }
+    fn abs_filename(&mut self, _: &str) -> Res<String> {
+        Err("xacro.abs_filename inside a YAML unit tag".into())
+    }
+    fn message(&mut self, _: &'static str, _: String) {}
+    fn meter(&mut self) -> &mut Meter {
+        self.0
     }
 }
 
 /// Replace `!degrees EXPR` (and the other unit tags) by the number they
 /// stand for, written out in full precision; the scalar ends at the end of
 /// the line, a comment or a flow separator. Line numbers stay.
-fn convert_unit_tags(text: &str) -> std::result::Result<String, String> {
+fn convert_unit_tags(text: &str, m: &mut Meter) -> Res<String> {
     let mut out = String::with_capacity(text.len());
     let mut rest = text;
     loop {
@@ -61,7 +70,8 @@ fn convert_unit_tags(text: &str) -> std::result::Result<String, String> {
             .find(['\n', '#', ',', ']', '}'])
             .unwrap_or(after.len());
         let expr = after[..end].trim().trim_matches(['"', '\'']);
-        let v = super::expr::eval(expr, &mut NoNames).map_err(|m| format!("{tag} {expr}: {m}"))?;
+        let v =
+            super::expr::eval(expr, &mut NoNames(m)).map_err(|e| format!("{tag} {expr}: {e}"))?;
         let x = v
             .as_f64()
             .ok_or_else(|| format!("{tag} {expr}: expected a number, found a {}", v.type_name()))?;
@@ -92,6 +102,10 @@ impl Expander<'_> {
     fn read_text(&self, path: &Path, src: &Src, what: &str) -> Result<String> {
         use crate::input::ReadError;
         let fail = |e: String| self.err(src, format!("{what} {}: {e}", path.display()));
+        if let Err(why) = self.opts.check_confined(path) {
+            let e = self.err(src, format!("{what} {why}"));
+            return Err(Error::limit(e.message).at(&e.location));
+        }
         let cap = self.opts.max_file_size;
         let bytes = crate::input::read_file(path, cap).map_err(|e| {
             fail(match e {
@@ -261,18 +275,22 @@ impl Expander<'_> {
     pub fn load_yaml(&mut self, spec: &str, src: &Src) -> Result<Value> {
         let path = self.resolve_path(spec);
         let text = self.read_text(&path, src, "load_yaml: cannot read")?;
-        let text = convert_unit_tags(&text)
-            .map_err(|m| self.err(src, format!("load_yaml {}: {m}", path.display())))?;
+        let text = convert_unit_tags(&text, &mut self.budget.meter)
+            .map_err(|m| self.limit(src, format!("load_yaml {}: {m}", path.display())))?;
         let docs = yaml::parse_documents(&text).map_err(|e| e.in_file(&path))?;
-        Ok(match docs.into_iter().next() {
-            Some(n) => yaml_value(&n.value),
-            None => Value::None,
-        })
+        let Some(n) = docs.into_iter().next() else {
+            return Ok(Value::None);
+        };
+        yaml_value(&n.value, &mut self.budget.meter)
+            .map_err(|m| self.limit(src, format!("load_yaml {}: {m}", path.display())))
     }
 }
 
-fn yaml_value(v: &yaml::Value) -> Value {
-    match v {
+/// A YAML value as an expression value, each string and list charged to the
+/// meter.
+fn yaml_value(v: &yaml::Value, m: &mut Meter) -> Res<Value> {
+    m.step()?;
+    Ok(match v {
         yaml::Value::Null => Value::None,
         yaml::Value::Bool(b) => Value::Bool(*b),
         yaml::Value::Num(f) => {
@@ -282,17 +300,27 @@ fn yaml_value(v: &yaml::Value) -> Value {
                 Value::Float(*f)
             }
         }
-        yaml::Value::Str(s) => Value::str(s),
-        yaml::Value::Seq(items) => Value::List(Rc::new(
-            items.iter().map(|n| yaml_value(&n.value)).collect(),
-        )),
-        yaml::Value::Map(entries) => Value::Dict(Rc::new(
-            entries
+        yaml::Value::Str(s) => {
+            m.string(s.len())?;
+            Value::str(s)
+        }
+        yaml::Value::Seq(items) => {
+            m.list(items.len())?;
+            let v = items
                 .iter()
-                .map(|(k, v)| (yaml_value(&k.value), yaml_value(&v.value)))
-                .collect(),
-        )),
-    }
+                .map(|n| yaml_value(&n.value, m))
+                .collect::<Res<_>>()?;
+            Value::list(v)
+        }
+        yaml::Value::Map(entries) => {
+            m.list(entries.len())?;
+            let mut pairs = Vec::with_capacity(entries.len());
+            for (k, v) in entries {
+                pairs.push((yaml_value(&k.value, m)?, yaml_value(&v.value, m)?));
+            }
+            Value::dict(pairs)
+        }
+    })
 }
 
 /// `a/b/../c` as `a/c` (lexically, for the paths messages print).

@@ -31,13 +31,16 @@
 //! scalar ending at a line end, comment or flow separator.
 
 mod builtins;
+mod eval;
 mod expand;
-pub mod expr;
+mod expr;
 pub mod external;
+mod format;
 mod include;
 mod limits;
 mod macros;
 pub(crate) mod markers;
+mod methods;
 mod ops;
 mod scope;
 pub mod subst;
@@ -109,6 +112,80 @@ pub fn expand(text: &str, path: &Path, opts: &LoadOptions) -> Result<Expanded> {
     })
 }
 
+/// Why an xacro file is an include, not a robot of its own.
+#[derive(Debug, Clone, PartialEq)]
+pub enum IncludeOnly {
+    /// It only defines macros (their names): its root (and any
+    /// `xacro:if`/`unless` at the top) holds `xacro:macro`,
+    /// `xacro:property`, `xacro:arg` and `xacro:include` only, at least one
+    /// macro, no element of its own and no macro call (TurtleBot4's sensor
+    /// files).
+    Macros(Vec<String>),
+    /// Its `<robot>` has no name: ROS refuses a robot without one, so the
+    /// file is only ever included (a Clearpath platform package's every
+    /// file: materials, gazebo plugins, forwarding includes).
+    Nameless,
+}
+
+impl IncludeOnly {
+    /// Why, for messages.
+    pub fn reason(&self) -> String {
+        match self {
+            IncludeOnly::Macros(m) => {
+                let shown: Vec<&str> = m.iter().take(4).map(String::as_str).collect();
+                let more = match m.len() {
+                    n if n > 4 => format!(", and {} more", n - 4),
+                    _ => String::new(),
+                };
+                format!("defines only macros ({}{more})", shown.join(", "))
+            }
+            IncludeOnly::Nameless => {
+                "has a <robot> without a name (ROS refuses one: the file is only included)".into()
+            }
+        }
+    }
+}
+
+/// Whether the xacro file `path` is an include ([`IncludeOnly`]): it has no
+/// robot to read until another file includes it. `None`: a robot file, or
+/// not an xacro file (not `.xacro`, unreadable, outside `--confine`, not
+/// XML).
+pub fn include_only(path: &Path, opts: &LoadOptions) -> Option<IncludeOnly> {
+    if !path.to_string_lossy().ends_with(".xacro") || opts.check_confined(path).is_err() {
+        return None;
+    }
+    let bytes = crate::input::read_file(path, opts.max_file_size).ok()?;
+    let text = crate::input::decode(bytes).ok()?;
+    include_kind(&text, path)
+}
+
+/// [`include_only`] on text read from `path`.
+fn include_kind(text: &str, path: &Path) -> Option<IncludeOnly> {
+    let doc = tree::parse(text, tree::file_ref(path)).ok()?;
+    let mut macros = Vec::new();
+    if library_body(&doc.root, &mut macros) && !macros.is_empty() {
+        return Some(IncludeOnly::Macros(macros));
+    }
+    (doc.root.name == "robot" && doc.root.attr("name").is_none()).then_some(IncludeOnly::Nameless)
+}
+
+/// Whether `e`'s children only define things (see [`macro_only`]), the
+/// macro names collected.
+fn library_body(e: &tree::Elem, macros: &mut Vec<String>) -> bool {
+    e.children.iter().all(|n| match n {
+        tree::Node::Text(t) => t.trim().is_empty(),
+        tree::Node::Elem(c) => match c.name.as_str() {
+            "xacro:macro" => {
+                macros.push(c.attr("name").unwrap_or("?").to_string());
+                true
+            }
+            "xacro:property" | "xacro:arg" | "xacro:include" => true,
+            "xacro:if" | "xacro:unless" => library_body(c, macros),
+            _ => false,
+        },
+    })
+}
+
 /// Move a location in the expanded text to the source element it came from.
 fn relocate(loc: &mut Location, x: &Expanded, path: &Path) {
     let ours = loc.file.as_deref().is_none_or(|f| f == path);
@@ -124,6 +201,12 @@ fn relocate(loc: &mut Location, x: &Expanded, path: &Path) {
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     if opts.xacro_external {
         return external::parse(path, opts);
+    }
+    if let Some(kind) = include_kind(text, path) {
+        return Err(Error::parse(format!(
+            "this xacro file {}: it is an include, with no robot of its own; read the file that includes it (`audit check` notes such files and checks them where they are included)",
+            kind.reason()
+        )));
     }
     let x = expand(text, path, opts)?;
     let mut loaded = urdf::parse(&x.text, path, opts).map_err(|mut e: Error| {

@@ -1,43 +1,26 @@
 //! Operators of `${...}` expressions with Python's semantics: int/float
 //! arithmetic (floor division and modulo follow the divisor's sign, int
-//! overflow is an error), string and list concatenation and repetition (capped
-//! at the output size), comparisons, `in`, `is`, indexing.
+//! overflow is an error, a float result out of range is Python's
+//! `OverflowError`), bitwise operators on ints, string, list and tuple
+//! concatenation and repetition (each result within the meter's caps),
+//! `str % args`, comparisons (exact between ints and floats, lexicographic
+//! between sequences), `in`, `is`, subscripts and slices.
 
-use super::value::Value;
-use crate::tolerances::XACRO_MAX_OUTPUT_BYTES;
-use std::rc::Rc;
+use super::format::percent;
+use super::limits::Meter;
+use super::value::{range_len, too_deep, Res, Value};
+use crate::tolerances::XACRO_MAX_VALUE_DEPTH;
+use std::cmp::Ordering;
 
 pub(super) fn overflow() -> String {
     "integer result beyond 64 bits: not supported".into()
 }
 
-pub(super) fn index(b: &Value, i: &Value) -> Result<Value, String> {
-    match b {
-        Value::List(l) => {
-            let k = seq_index(i, l.len())?;
-            Ok(l[k].clone())
-        }
-        Value::Str(s) => {
-            let chars: Vec<char> = s.chars().collect();
-            let k = seq_index(i, chars.len())?;
-            Ok(Value::str(&chars[k].to_string()))
-        }
-        Value::Dict(d) => d
-            .iter()
-            .find(|(k, _)| k.py_eq(i))
-            .map(|(_, v)| v.clone())
-            .ok_or_else(|| format!("the yaml dictionary has no key {}", i.repr())),
-        other => Err(format!(
-            "a {} value is not subscriptable",
-            other.type_name()
-        )),
-    }
-}
-
-pub(super) fn seq_index(i: &Value, len: usize) -> Result<usize, String> {
+/// A sequence index (negative from the end), checked against `len`.
+pub(super) fn seq_index(i: &Value, len: usize) -> Res<usize> {
     let k = i
         .as_int()
-        .ok_or_else(|| format!("indices must be integers, not {}", i.type_name()))?;
+        .ok_or_else(|| format!("indices must be integers or slices, not {}", i.type_name()))?;
     let len_i = len as i64;
     let k2 = if k < 0 { k + len_i } else { k };
     if k2 < 0 || k2 >= len_i {
@@ -46,7 +29,131 @@ pub(super) fn seq_index(i: &Value, len: usize) -> Result<usize, String> {
     Ok(k2 as usize)
 }
 
-pub(super) fn float_pow(x: f64, y: f64) -> Result<Value, String> {
+/// `b[i]`.
+pub(super) fn index(b: &Value, i: &Value, m: &mut Meter) -> Res<Value> {
+    m.step()?;
+    match b {
+        Value::List(l) => {
+            let l = l.items();
+            Ok(l[seq_index(i, l.len())?].clone())
+        }
+        Value::Tuple(t) => Ok(t.items()[seq_index(i, t.items().len())?].clone()),
+        Value::Str(s) => {
+            m.scan(s.len())?;
+            let n = s.chars().count();
+            let k = seq_index(i, n)?;
+            let c = s.chars().nth(k).unwrap_or(' ');
+            Ok(Value::str(c.encode_utf8(&mut [0; 4])))
+        }
+        Value::Range(r) => {
+            let n = usize::try_from(range_len(r)).unwrap_or(usize::MAX);
+            let k = seq_index(i, n)? as i64;
+            Ok(Value::Int(r[0] + k * r[2]))
+        }
+        Value::Dict(d) => {
+            dict_get(d, i, m)?.ok_or_else(|| format!("key {} not found in the dict", i.show()))
+        }
+        other => Err(format!(
+            "'{}' object is not subscriptable",
+            other.type_name()
+        )),
+    }
+}
+
+/// The value of key `k` in `d`.
+pub(super) fn dict_get(d: &super::value::Dict, k: &Value, m: &mut Meter) -> Res<Option<Value>> {
+    if !k.hashable() {
+        return Err(format!("unhashable type: '{}'", k.type_name()));
+    }
+    for (key, v) in d.items().iter() {
+        if key.py_eq(k, m)? {
+            return Ok(Some(v.clone()));
+        }
+    }
+    Ok(None)
+}
+
+/// Python's `slice.indices(len)`: (start, stop, step) of `[a:b:c]`.
+pub(super) fn slice_indices(
+    len: i64,
+    a: Option<i64>,
+    b: Option<i64>,
+    c: Option<i64>,
+) -> Res<(i64, i64, i64)> {
+    let step = c.unwrap_or(1);
+    if step == 0 {
+        return Err("slice step cannot be zero".into());
+    }
+    let (lower, upper) = if step < 0 { (-1, len - 1) } else { (0, len) };
+    let adjust = |x: Option<i64>, default: i64| match x {
+        None => default,
+        Some(x) if x < 0 => (x + len).max(lower),
+        Some(x) => x.min(upper),
+    };
+    let start = adjust(a, if step < 0 { upper } else { lower });
+    let stop = adjust(b, if step < 0 { lower } else { upper });
+    Ok((start, stop, step))
+}
+
+/// The positions a slice selects.
+fn positions(start: i64, stop: i64, step: i64) -> impl Iterator<Item = usize> {
+    let mut i = start;
+    std::iter::from_fn(move || {
+        let more = if step > 0 { i < stop } else { i > stop };
+        more.then(|| {
+            let k = i as usize;
+            i += step;
+            k
+        })
+    })
+}
+
+fn bound(v: &Value) -> Res<Option<i64>> {
+    match v {
+        Value::None => Ok(None),
+        other => other
+            .as_int()
+            .map(Some)
+            .ok_or_else(|| "slice indices must be integers or None".to_string()),
+    }
+}
+
+/// `b[lo:hi:step]` (each part `None` when left out).
+pub(super) fn slice(b: &Value, parts: [&Value; 3], m: &mut Meter) -> Res<Value> {
+    let [a, z, c] = [bound(parts[0])?, bound(parts[1])?, bound(parts[2])?];
+    let pick = |items: &[Value], m: &mut Meter| -> Res<Vec<Value>> {
+        let (s, e, st) = slice_indices(items.len() as i64, a, z, c)?;
+        let v: Vec<Value> = positions(s, e, st).map(|k| items[k].clone()).collect();
+        m.list(v.len())?;
+        Ok(v)
+    };
+    match b {
+        Value::List(l) => Ok(Value::list(pick(&l.items(), m)?)),
+        Value::Tuple(t) => Ok(Value::tuple(pick(t.items(), m)?)),
+        Value::Str(s) => {
+            m.scan(s.len())?;
+            let chars: Vec<char> = s.chars().collect();
+            let (st, e, step) = slice_indices(chars.len() as i64, a, z, c)?;
+            let out: String = positions(st, e, step).map(|k| chars[k]).collect();
+            m.string(out.len())?;
+            Ok(Value::str(&out))
+        }
+        Value::Range(r) => {
+            let (st, e, step) = slice_indices(range_len(r), a, z, c)?;
+            let at = |k: i64| r[0].checked_add(k.checked_mul(r[2])?);
+            let (Some(s2), Some(e2), Some(step2)) = (at(st), at(e), r[2].checked_mul(step)) else {
+                return Err(overflow());
+            };
+            Ok(Value::Range(std::rc::Rc::new([s2, e2, step2])))
+        }
+        other => Err(format!(
+            "'{}' object is not subscriptable",
+            other.type_name()
+        )),
+    }
+}
+
+pub(super) fn float_pow(x: f64, y: f64) -> Res<Value> {
     if x == 0.0 && y < 0.0 {
         return Err("0.0 cannot be raised to a negative power".into());
     }
@@ -56,11 +163,15 @@ pub(super) fn float_pow(x: f64, y: f64) -> Result<Value, String> {
                 .into(),
         );
     }
-    Ok(Value::Float(x.powf(y)))
+    let r = x.powf(y);
+    if r.is_infinite() && x.is_finite() && y.is_finite() {
+        return Err("(34, 'Numerical result out of range')".into());
+    }
+    Ok(Value::Float(r))
 }
 
 /// Python's float floor division and modulo (signs follow the divisor).
-pub(super) fn float_divmod(x: f64, y: f64) -> Result<(f64, f64), String> {
+pub(super) fn float_divmod(x: f64, y: f64) -> Res<(f64, f64)> {
     if y == 0.0 {
         return Err("float division by zero".into());
     }
@@ -86,18 +197,10 @@ pub(super) fn float_divmod(x: f64, y: f64) -> Result<(f64, f64), String> {
     Ok((fl, m))
 }
 
-pub(super) fn check_len(n: usize) -> Result<(), String> {
-    if n > XACRO_MAX_OUTPUT_BYTES {
-        return Err(format!(
-            "a value of {n} items or bytes: above the {XACRO_MAX_OUTPUT_BYTES}-byte output cap"
-        ));
-    }
-    Ok(())
-}
-
-pub(super) fn repeat<T: Clone>(items: &[T], n: i64) -> Result<Vec<T>, String> {
+/// `items * n`, within the list cap.
+fn repeat(items: &[Value], n: i64, m: &mut Meter) -> Res<Vec<Value>> {
     let n = n.max(0) as usize;
-    check_len(items.len().saturating_mul(n))?;
+    m.list(items.len().saturating_mul(n))?;
     Ok(items
         .iter()
         .cloned()
@@ -106,31 +209,66 @@ pub(super) fn repeat<T: Clone>(items: &[T], n: i64) -> Result<Vec<T>, String> {
         .collect())
 }
 
-pub(super) fn binary(op: &str, l: &Value, r: &Value) -> Result<Value, String> {
+/// A sequence operand of `+` and `*`: a copy of its items.
+fn items_of(v: &Value) -> Option<Vec<Value>> {
+    match v {
+        Value::List(l) => Some(l.items().clone()),
+        Value::Tuple(t) => Some(t.items().to_vec()),
+        _ => None,
+    }
+}
+
+fn same_kind(items: Vec<Value>, like: &Value) -> Value {
+    if matches!(like, Value::Tuple(_)) {
+        Value::tuple(items)
+    } else {
+        Value::list(items)
+    }
+}
+
+pub(super) fn binary(op: &str, l: &Value, r: &Value, m: &mut Meter) -> Res<Value> {
+    m.step()?;
     match (op, l, r) {
         ("+", Value::Str(a), Value::Str(b)) => {
-            check_len(a.len() + b.len())?;
+            m.string(a.len() + b.len())?;
             Ok(Value::str(&format!("{a}{b}")))
         }
-        ("+", Value::List(a), Value::List(b)) => {
-            let mut v = a.to_vec();
-            v.extend(b.iter().cloned());
-            Ok(Value::List(Rc::new(v)))
+        ("+", Value::List(_), Value::List(_)) | ("+", Value::Tuple(_), Value::Tuple(_)) => {
+            let (mut a, b) = (
+                items_of(l).unwrap_or_default(),
+                items_of(r).unwrap_or_default(),
+            );
+            m.list(a.len() + b.len())?;
+            a.extend(b);
+            Ok(same_kind(a, l))
         }
         ("*", Value::Str(s), n) | ("*", n, Value::Str(s)) if n.as_int().is_some() => {
-            let chars: Vec<char> = s.chars().collect();
-            let v = repeat(&chars, n.as_int().unwrap_or(0))?;
-            Ok(Value::str(&v.into_iter().collect::<String>()))
+            let k = n.as_int().unwrap_or(0).max(0) as usize;
+            m.string(s.len().saturating_mul(k))?;
+            Ok(Value::str(&s.repeat(k)))
         }
-        ("*", Value::List(l), n) | ("*", n, Value::List(l)) if n.as_int().is_some() => {
-            Ok(Value::List(Rc::new(repeat(l, n.as_int().unwrap_or(0))?)))
+        ("*", seq @ (Value::List(_) | Value::Tuple(_)), n)
+        | ("*", n, seq @ (Value::List(_) | Value::Tuple(_)))
+            if n.as_int().is_some() =>
+        {
+            let items = items_of(seq).unwrap_or_default();
+            let v = repeat(&items, n.as_int().unwrap_or(0), m)?;
+            Ok(same_kind(v, seq))
         }
+        ("%", Value::Str(f), args) => percent(f, args, m).map(|s| Value::str(&s)),
+        ("&" | "|" | "^", Value::Bool(a), Value::Bool(b)) => Ok(Value::Bool(match op {
+            "&" => a & b,
+            "|" => a | b,
+            _ => a ^ b,
+        })),
         _ => match (l.as_int(), r.as_int()) {
             (Some(a), Some(b)) => int_binary(op, a, b),
             _ => match (l.as_f64(), r.as_f64()) {
-                (Some(a), Some(b)) => float_binary(op, a, b),
+                (Some(a), Some(b)) if !matches!(op, "&" | "|" | "^" | "<<" | ">>") => {
+                    float_binary(op, a, b)
+                }
                 _ => Err(format!(
-                    "unsupported operand types for {op}: '{}' and '{}'",
+                    "unsupported operand type(s) for {op}: '{}' and '{}'",
                     l.type_name(),
                     r.type_name()
                 )),
@@ -139,7 +277,7 @@ pub(super) fn binary(op: &str, l: &Value, r: &Value) -> Result<Value, String> {
     }
 }
 
-pub(super) fn int_binary(op: &str, a: i64, b: i64) -> Result<Value, String> {
+pub(super) fn int_binary(op: &str, a: i64, b: i64) -> Res<Value> {
     let r = match op {
         "+" => a.checked_add(b),
         "-" => a.checked_sub(b),
@@ -171,12 +309,38 @@ pub(super) fn int_binary(op: &str, a: i64, b: i64) -> Result<Value, String> {
             }
             u32::try_from(b).ok().and_then(|e| a.checked_pow(e))
         }
+        "&" => Some(a & b),
+        "|" => Some(a | b),
+        "^" => Some(a ^ b),
+        "<<" | ">>" => {
+            if b < 0 {
+                return Err("negative shift count".into());
+            }
+            if op == ">>" {
+                Some(if b >= 64 {
+                    if a < 0 {
+                        -1
+                    } else {
+                        0
+                    }
+                } else {
+                    a >> b
+                })
+            } else if a == 0 {
+                Some(0)
+            } else {
+                u32::try_from(b)
+                    .ok()
+                    .filter(|&s| s < 63)
+                    .and_then(|s| a.checked_mul(1i64 << s))
+            }
+        }
         _ => return Err(format!("operator {op} is not supported")),
     };
     r.map(Value::Int).ok_or_else(overflow)
 }
 
-pub(super) fn float_binary(op: &str, a: f64, b: f64) -> Result<Value, String> {
+pub(super) fn float_binary(op: &str, a: f64, b: f64) -> Res<Value> {
     match op {
         "+" => Ok(Value::Float(a + b)),
         "-" => Ok(Value::Float(a - b)),
@@ -195,50 +359,118 @@ pub(super) fn float_binary(op: &str, a: f64, b: f64) -> Result<Value, String> {
     }
 }
 
-pub(super) fn compare(op: &str, l: &Value, r: &Value) -> Result<bool, String> {
-    match op {
-        "==" => Ok(l.py_eq(r)),
-        "!=" => Ok(!l.py_eq(r)),
-        "is" => Ok(same(l, r)),
-        "is not" => Ok(!same(l, r)),
-        "in" | "not in" => {
-            let found = match r {
-                Value::Str(s) => match l {
-                    Value::Str(x) => s.contains(&**x),
-                    _ => {
-                        return Err(format!(
-                            "'in <string>' requires a string, not {}",
-                            l.type_name()
-                        ))
-                    }
-                },
-                Value::List(v) => v.iter().any(|x| x.py_eq(l)),
-                Value::Dict(d) => d.iter().any(|(k, _)| k.py_eq(l)),
-                other => {
-                    return Err(format!(
-                        "'in' a {} value is not supported",
-                        other.type_name()
-                    ))
-                }
-            };
-            Ok(found == (op == "in"))
+/// `int <=> float` exactly (`None`: the float is NaN).
+fn cmp_int_float(i: i64, f: f64) -> Option<Ordering> {
+    if f.is_nan() {
+        return None;
+    }
+    if f >= 9.3e18 {
+        return Some(Ordering::Less);
+    }
+    if f <= -9.3e18 {
+        return Some(Ordering::Greater);
+    }
+    let fl = f.floor();
+    let k = fl as i64;
+    Some(match i.cmp(&k) {
+        Ordering::Equal if f > fl => Ordering::Less,
+        o => o,
+    })
+}
+
+/// The order of two values (`None`: unordered, a NaN), or Python's
+/// `TypeError` for types that have no order between them.
+pub(super) fn order(l: &Value, r: &Value, m: &mut Meter, depth: usize) -> Res<Option<Ordering>> {
+    m.step()?;
+    if depth > XACRO_MAX_VALUE_DEPTH {
+        return Err(too_deep());
+    }
+    let seq = |a: &[Value], b: &[Value], m: &mut Meter| -> Res<Option<Ordering>> {
+        for (x, y) in a.iter().zip(b) {
+            if !x.py_eq(y, m)? {
+                return order(x, y, m, depth + 1);
+            }
         }
+        Ok(Some(a.len().cmp(&b.len())))
+    };
+    Ok(match (l, r) {
+        (Value::Str(a), Value::Str(b)) => {
+            m.scan(a.len().min(b.len()))?;
+            Some(a.cmp(b))
+        }
+        (Value::List(a), Value::List(b)) => seq(&a.items(), &b.items(), m)?,
+        (Value::Tuple(a), Value::Tuple(b)) => seq(a.items(), b.items(), m)?,
+        _ => match (l.as_int(), r.as_int(), l.as_f64(), r.as_f64()) {
+            (Some(a), Some(b), _, _) => Some(a.cmp(&b)),
+            (Some(a), None, _, Some(b)) => cmp_int_float(a, b),
+            (None, Some(b), Some(a), _) => cmp_int_float(b, a).map(Ordering::reverse),
+            (_, _, Some(a), Some(b)) => a.partial_cmp(&b),
+            _ => {
+                return Err(format!(
+                    "'<' not supported between instances of '{}' and '{}'",
+                    l.type_name(),
+                    r.type_name()
+                ))
+            }
+        },
+    })
+}
+
+/// `needle in hay`.
+pub(super) fn contains(hay: &Value, needle: &Value, m: &mut Meter) -> Res<bool> {
+    m.step()?;
+    let any = |items: &[Value], m: &mut Meter| -> Res<bool> {
+        for x in items {
+            if x.py_eq(needle, m)? {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    };
+    match hay {
+        Value::Str(s) => match needle {
+            Value::Str(x) => {
+                m.scan(s.len())?;
+                Ok(s.contains(&**x))
+            }
+            _ => Err(format!(
+                "'in <string>' requires string as left operand, not {}",
+                needle.type_name()
+            )),
+        },
+        Value::List(v) => any(&v.items(), m),
+        Value::Tuple(v) => any(v.items(), m),
+        Value::Dict(d) => Ok(dict_get(d, needle, m)?.is_some()),
+        Value::Range(r) => Ok(match needle.as_int() {
+            Some(k) => {
+                let n = range_len(r);
+                let off = (k as i128 - r[0] as i128) / r[2] as i128;
+                (k as i128 - r[0] as i128) % r[2] as i128 == 0 && (0..n as i128).contains(&off)
+            }
+            None => match needle.as_f64() {
+                Some(f) if f.fract() == 0.0 && f.abs() < 9.2e18 => {
+                    contains(hay, &Value::Int(f as i64), m)?
+                }
+                _ => false,
+            },
+        }),
+        other => Err(format!(
+            "argument of type '{}' is not iterable",
+            other.type_name()
+        )),
+    }
+}
+
+pub(super) fn compare(op: &str, l: &Value, r: &Value, m: &mut Meter) -> Res<bool> {
+    match op {
+        "==" => l.py_eq(r, m),
+        "!=" => l.py_eq(r, m).map(|e| !e),
+        "is" | "is not" => same(l, r).map(|s| s == (op == "is")),
+        "in" => contains(r, l, m),
+        "not in" => contains(r, l, m).map(|c| !c),
         _ => {
-            let ord = match (l, r) {
-                (Value::Str(a), Value::Str(b)) => a.cmp(b),
-                _ => match (l.as_f64(), r.as_f64()) {
-                    (Some(a), Some(b)) => match a.partial_cmp(&b) {
-                        Some(o) => o,
-                        None => return Ok(false),
-                    },
-                    _ => {
-                        return Err(format!(
-                            "'{op}' between '{}' and '{}' is not supported",
-                            l.type_name(),
-                            r.type_name()
-                        ))
-                    }
-                },
+            let Some(ord) = order(l, r, m, 0)? else {
+                return Ok(false);
             };
             Ok(match op {
                 "<" => ord.is_lt(),
@@ -250,11 +482,25 @@ pub(super) fn compare(op: &str, l: &Value, r: &Value) -> Result<bool, String> {
     }
 }
 
-/// `is`: identity for the singletons (None, True, False).
-pub(super) fn same(l: &Value, r: &Value) -> bool {
-    match (l, r) {
+/// `is`: identity of the singletons (None, True, False) and of containers;
+/// for numbers and strings Python's answer depends on object caching, so it
+/// is refused rather than guessed.
+pub(super) fn same(l: &Value, r: &Value) -> Res<bool> {
+    use std::rc::Rc;
+    Ok(match (l, r) {
         (Value::None, Value::None) => true,
         (Value::Bool(a), Value::Bool(b)) => a == b,
-        _ => false,
-    }
+        (Value::List(a), Value::List(b)) => Rc::ptr_eq(a, b),
+        (Value::Tuple(a), Value::Tuple(b)) => Rc::ptr_eq(a, b),
+        (Value::Dict(a), Value::Dict(b)) => Rc::ptr_eq(a, b),
+        (Value::Builtin(a), Value::Builtin(b)) => a == b,
+        (Value::None | Value::Bool(_), _) | (_, Value::None | Value::Bool(_)) => false,
+        (a, b) if std::mem::discriminant(a) != std::mem::discriminant(b) => false,
+        (a, _) => {
+            return Err(format!(
+                "'is' between two {} values: Python's answer depends on object identity; use ==",
+                a.type_name()
+            ))
+        }
+    })
 }

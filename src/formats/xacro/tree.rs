@@ -10,6 +10,7 @@
 use crate::diagnostic::{Error, Location, Result};
 use crate::formats::source::LineIndex;
 use crate::formats::xml;
+use crate::tolerances::XACRO_MAX_ELEMENT_DEPTH;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -35,7 +36,6 @@ impl Src {
 pub enum Node {
     Elem(Elem),
     Text(String),
-    Comment,
 }
 
 #[derive(Debug, Clone)]
@@ -105,7 +105,8 @@ pub fn parse(text: &str, file: Rc<PathBuf>) -> Result<Doc> {
     };
     let idx = LineIndex::new(src_text);
     let mut namespaces = BTreeMap::new();
-    let root = convert(doc.root_element(), &idx, &file, &mut namespaces);
+    let root = convert(doc.root_element(), &idx, &file, &mut namespaces, 1)
+        .map_err(|e| e.in_file(&*file))?;
     Ok(Doc { root, namespaces })
 }
 
@@ -148,12 +149,23 @@ fn qualified(
     }
 }
 
+/// One element and its children, at most `XACRO_MAX_ELEMENT_DEPTH` levels
+/// (the tree is recursive: deeper would overflow the stack here and when
+/// it is dropped).
 fn convert(
     n: roxmltree::Node,
     idx: &LineIndex,
     file: &Rc<PathBuf>,
     namespaces: &mut BTreeMap<String, String>,
-) -> Elem {
+    depth: usize,
+) -> Result<Elem> {
+    if depth > XACRO_MAX_ELEMENT_DEPTH {
+        let (line, col) = idx.pos(n.range().start);
+        return Err(Error::limit(format!(
+            "elements nested deeper than {XACRO_MAX_ELEMENT_DEPTH} levels: a URDF nests about five"
+        ))
+        .at(&Location::at(file.as_path(), line, Some(col))));
+    }
     let tag = n.tag_name();
     let name = qualified(n, tag.namespace(), tag.name(), namespaces);
     let attrs = n
@@ -168,16 +180,14 @@ fn convert(
     let mut children = Vec::new();
     for c in n.children() {
         if c.is_element() {
-            children.push(Node::Elem(convert(c, idx, file, namespaces)));
+            children.push(Node::Elem(convert(c, idx, file, namespaces, depth + 1)?));
         } else if c.is_text() {
             children.push(Node::Text(c.text().unwrap_or("").to_string()));
-        } else if c.is_comment() {
-            children.push(Node::Comment);
         }
     }
     let (line, col) = idx.pos(n.range().start);
     let (end_line, _) = idx.pos(n.range().end);
-    Elem {
+    Ok(Elem {
         name,
         attrs,
         children,
@@ -187,7 +197,7 @@ fn convert(
             col,
             end_line,
         },
-    }
+    })
 }
 
 /// Output text and, for each output line that starts an element, where that
@@ -255,7 +265,6 @@ impl Writer {
             .filter(|n| match n {
                 Node::Elem(_) => true,
                 Node::Text(t) => !t.trim().is_empty(),
-                Node::Comment => false,
             })
             .collect();
         if kids.is_empty() {
@@ -273,7 +282,6 @@ impl Writer {
             match k {
                 Node::Elem(c) => self.elem(c, depth + 1),
                 Node::Text(t) => self.push(&escape(t, false)),
-                Node::Comment => {}
             }
         }
         let indent = if only_text {

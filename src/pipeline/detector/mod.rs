@@ -11,11 +11,12 @@ mod values;
 
 pub use options::{DetectorOptions, NormalOptions};
 pub use points::{Coords, Points};
-pub use scan::{read_scan, InitialGuess, ScanOptions, ScanPair};
+pub use scan::{read_scan, InitialGuess, KeptCloud, ScanOptions, ScanPair};
 pub use values::{parse_frame, parse_initial_guess, parse_scene, parse_triple, parse_update};
 
 use crate::analysis::metric::adapted_metric_matrix;
 use crate::analysis::Family;
+use crate::degeneracy::information_shares;
 use crate::degeneracy::points::PointData;
 use crate::degeneracy::points::{accumulate_records, collect_records};
 use crate::degeneracy::scene::{synthesize, tunnel_exact, Preprocess, SceneKind};
@@ -31,9 +32,10 @@ use crate::geometry::Transform;
 use crate::progress::ProgressFactory;
 use crate::report::detector::{
     CorrectionJson, DegeneracyReport, FamilyComparison, FamilyEigen, FromTo, HmJson, MatricesJson,
-    PairJson, PoseJson, RigDecisionJson, SimulateReport, SubspaceJson, SweepFamilyJson,
-    SweepReport, ThresholdReport, TunnelFrameJson, TunnelReport,
+    PairJson, PoseJson, RigDecisionJson, ScanSceneData, SceneCloud, SimulateReport, SubspaceJson,
+    SweepFamilyJson, SweepReport, ThresholdReport, TunnelFrameJson, TunnelReport,
 };
+use crate::tolerances::MAX_SCENE_CLOUD_POINTS;
 use crate::tolerances::{
     DEFAULT_PITCH_TOL, MAX_CALIBRATION_SEEDS, MAX_CALIBRATION_THREADS, MAX_SIM_NOISE_M,
     SIM_VOXEL_RANGE_M,
@@ -151,6 +153,17 @@ pub fn degeneracy_of(
         normals: None,
         pair: None,
         warnings: DegeneracyReport::warning_lines(warnings),
+        scene: ScanSceneData {
+            centroid_m: asm.center,
+            rms_radius_m: asm.rms_radius(),
+            frame_xyzw: frame.quaternion_xyzw(),
+            guess: None,
+            weakest: (
+                std::array::from_fn(|i| pd.eig.vectors[(i, 0)]),
+                pd.eig.values[0],
+            ),
+            cloud: None,
+        },
     })
 }
 
@@ -184,6 +197,13 @@ pub fn degeneracy_scan(
     .map_err(|e| e.in_file(&opts.scan.points))?;
     report.normals = scan.normals;
     report.pair = scan.pair.as_ref().map(pair_json);
+    report.scene.guess = scan.pair.as_ref().map(|p| {
+        let d = p.initial_guess.translation();
+        ([d.x, d.y, d.z], p.initial_guess.quaternion_xyzw())
+    });
+    if let Some(kept) = &scan.cloud {
+        report.scene.cloud = Some(scene_cloud(kept, &report.scene, &opts.scan.frame));
+    }
     if opts.show_matrices {
         report.matrices = Some(MatricesJson::new(&scan.assembly));
     }
@@ -240,6 +260,31 @@ pub fn degeneracy_points(
         report.matrices = Some(MatricesJson::new(&asm));
     }
     Ok(report)
+}
+
+/// The points of a scan's scene: every k-th (k the smallest that keeps at
+/// most [`MAX_SCENE_CLOUD_POINTS`]) with its share of the weakest direction
+/// (moved from the report's frame into the points' by `Ad(frame)`).
+fn scene_cloud(kept: &KeptCloud, scene: &ScanSceneData, frame: &Transform) -> SceneCloud {
+    let c = &kept.cloud;
+    let v = frame.adjoint() * Vector6::from(scene.weakest.0);
+    let center = frame.apply(&scene.centroid_m.into());
+    let shares = information_shares(
+        &c.points,
+        &c.normals,
+        kept.weights.as_deref(),
+        &v,
+        center.into(),
+    );
+    let stride = c.points.len().div_ceil(MAX_SCENE_CLOUD_POINTS).max(1);
+    let every = |v: &[[f64; 3]]| v.iter().step_by(stride).copied().collect::<Vec<_>>();
+    SceneCloud {
+        points_m: every(&c.points),
+        shares: shares.map(|s| s.into_iter().step_by(stride).collect()),
+        total: c.points.len(),
+        stride,
+        target_m: kept.target.as_deref().map(every),
+    }
 }
 
 /// The tunnel's parameters.
@@ -468,6 +513,8 @@ pub struct SimulateRig {
     pub to: Option<String>,
     /// Without files: the pose of frame B in frame A (`--shift`, `--rotate-rpy`).
     pub pose: Option<Transform>,
+    /// How the files are read (`--arg`, `--package-path`, `--confine`, ...).
+    pub load: crate::formats::LoadOptions,
 }
 
 /// The pose of frame B in frame A: composed from the files, or given.
@@ -478,9 +525,12 @@ pub fn simulate_transform(rig: &SimulateRig) -> Result<Transform> {
         )),
         (Some(t), true) => Ok(*t),
         (Some(_), false) => Err(Error::usage("--shift/--rotate-rpy apply only without FILE")),
-        (None, false) => {
-            super::load::transform_between(&rig.files, rig.from.as_deref(), rig.to.as_deref())
-        }
+        (None, false) => super::load::transform_between(
+            &rig.files,
+            rig.from.as_deref(),
+            rig.to.as_deref(),
+            &rig.load,
+        ),
     }
 }
 

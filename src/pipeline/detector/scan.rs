@@ -51,6 +51,10 @@ pub struct ScanOptions {
     pub gate: f64,
     /// A pair's initial guess: the pose of the source frame in the target frame.
     pub initial_guess: InitialGuess,
+    /// Keep the points `H` and `M` were assembled from ([`Scan::cloud`], for
+    /// the 3D scene); a file with normals is then read a second time, whole
+    /// (the streamed sums stay the report's).
+    pub keep_points: bool,
 }
 
 impl ScanOptions {
@@ -66,6 +70,7 @@ impl ScanOptions {
             target: None,
             gate: PAIR_GATE_M,
             initial_guess: InitialGuess::Identity,
+            keep_points: false,
         }
     }
 }
@@ -93,6 +98,21 @@ pub struct Scan {
     pub normals: Option<NormalsJson>,
     /// The pair's correspondences, for a scan pair.
     pub pair: Option<ScanPair>,
+    /// The points assembled, with `keep_points`.
+    pub cloud: Option<KeptCloud>,
+}
+
+/// The points a scan's `H` and `M` were assembled from, in the input frame
+/// (a pair's: the matched source points with the target normals rotated into
+/// the source frame), and a pair's target points in the target frame.
+#[derive(Debug, Clone, Default)]
+pub struct KeptCloud {
+    /// Points and normals.
+    pub cloud: Cloud,
+    /// Their weights (none: 1 each).
+    pub weights: Option<Vec<f64>>,
+    /// A pair's target points.
+    pub target: Option<Vec<[f64; 3]>>,
 }
 
 /// How a scan pair was matched.
@@ -135,11 +155,26 @@ pub fn read_scan(opts: &ScanOptions, bars: &dyn ProgressFactory) -> Result<Scan>
     let progress = file_progress(bars, &opts.points);
     let acc =
         accumulate_file_with(&opts.points, Some(&opts.frame), &*progress).map_err(raw_scan_hint)?;
+    let cloud = match opts.keep_points {
+        true => {
+            let d = read_points_with(&opts.points, &NoProgress)?;
+            Some(KeptCloud {
+                cloud: Cloud {
+                    points: d.points,
+                    normals: d.normals,
+                },
+                weights: d.weights,
+                target: None,
+            })
+        }
+        false => None,
+    };
     Ok(Scan {
         assembly: acc.assembly,
         warnings: acc.warnings,
         normals: None,
         pair: None,
+        cloud,
     })
 }
 
@@ -237,6 +272,11 @@ fn raw_scan(opts: &ScanOptions, bars: &dyn ProgressFactory) -> Result<Scan> {
         warnings: data.warnings,
         normals: Some(normals),
         pair: None,
+        cloud: opts.keep_points.then_some(KeptCloud {
+            cloud,
+            weights,
+            target: None,
+        }),
     })
 }
 
@@ -280,6 +320,16 @@ fn pair_scan(opts: &ScanOptions, target: &Path, bars: &dyn ProgressFactory) -> R
         opts.gate,
     )
     .map_err(|e| e.in_file(&opts.points))?;
+    let kept = match opts.keep_points {
+        true => Some(pairs::matched_weighted(
+            &source,
+            source_weights.as_deref(),
+            &cloud,
+            &guess,
+            opts.gate,
+        )?),
+        false => None,
+    };
     let pair = ScanPair {
         target: target.to_path_buf(),
         gate: opts.gate,
@@ -291,6 +341,11 @@ fn pair_scan(opts: &ScanOptions, target: &Path, bars: &dyn ProgressFactory) -> R
         warnings,
         normals,
         pair: Some(pair),
+        cloud: kept.map(|(matched, weights)| KeptCloud {
+            cloud: matched,
+            weights,
+            target: Some(cloud.points),
+        }),
     })
 }
 

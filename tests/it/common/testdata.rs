@@ -283,6 +283,11 @@ fn verify(path: &Path, e: &Entry) {
 /// The tests that read real data (`true`) or skipped for want of it (`false`).
 static TESTS: Mutex<BTreeMap<String, bool>> = Mutex::new(BTreeMap::new());
 
+/// The tests skipped for another reason than a file missing from the
+/// test-data folder, with the reason (the summary names them: "test data not
+/// found" would be a false explanation of their skip).
+static OTHER_SKIPS: Mutex<BTreeMap<String, String>> = Mutex::new(BTreeMap::new());
+
 fn test_name() -> String {
     std::thread::current().name().unwrap_or("main").to_string()
 }
@@ -295,7 +300,7 @@ pub fn used() {
 }
 
 fn skip(e: &Entry) {
-    skip_because(&format!(
+    skipped(&format!(
         "needs {} from the test-data folder {} (not there): {} at commit {}, path {} \
          (the manifest: MANIFEST.tsv in that folder, or {DOC}; override: {ENV})",
         e.path,
@@ -309,6 +314,15 @@ fn skip(e: &Entry) {
 /// Skip the calling test (it returns next) for want of real data: say why,
 /// and count it in the summary line.
 pub fn skip_because(why: &str) {
+    OTHER_SKIPS
+        .lock()
+        .unwrap()
+        .insert(test_name(), why.to_string());
+    skipped(why);
+}
+
+/// Count the calling test as skipped, saying why on standard error.
+fn skipped(why: &str) {
     eprintln!("skipped: {}: {why}", test_name());
     TESTS.lock().unwrap().insert(test_name(), false);
     at_exit();
@@ -321,6 +335,18 @@ fn summary_line() -> Option<String> {
         return None;
     }
     let skipped = t.values().filter(|ran| !**ran).count();
+    let others = OTHER_SKIPS.lock().ok()?;
+    let missing = skipped - others.len().min(skipped);
+    let mut why: Vec<String> = others.iter().map(|(n, r)| format!("{n}: {r}")).collect();
+    if missing > 0 {
+        why.insert(
+            0,
+            format!(
+                "{missing} for test data not found in {}; see {DOC} to get it, or set {ENV}",
+                root().display()
+            ),
+        );
+    }
     Some(if skipped == 0 {
         format!(
             "real-data tests: {} ran on the test data in {}",
@@ -329,10 +355,9 @@ fn summary_line() -> Option<String> {
         )
     } else {
         format!(
-            "real-data tests: {skipped} skipped, {} ran (test data not found in {}; \
-             see {DOC} to get it, or set {ENV})",
+            "real-data tests: {skipped} skipped, {} ran ({})",
             t.len() - skipped,
-            root().display()
+            why.join("; ")
         )
     })
 }

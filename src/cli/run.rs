@@ -1,0 +1,395 @@
+//! `audit run`: degeneracy over a recorded run. Arguments here, made into
+//! `extrinsic_audit::pipeline::run::RunOptions`; the per-scan records go to
+//! their files (or standard output) as the scans finish, then the summary is
+//! emitted.
+
+use super::args::{parse_positive, BagArgs, EllArgs, OutputArgs, TauArgs, XacroArgs};
+use super::display::TermBars;
+use super::{emit_warned, print_warnings};
+use extrinsic_audit::internals::degeneracy::normals::NormalParams;
+use extrinsic_audit::internals::degeneracy::MetricRule;
+use extrinsic_audit::internals::formats::bag::BagLimits;
+use extrinsic_audit::internals::pipeline::detector::parse_triple;
+use extrinsic_audit::internals::pipeline::files::AtomicFile;
+use extrinsic_audit::internals::pipeline::run::{self as pr, RunOptions};
+use extrinsic_audit::internals::pipeline::{check_output_target, write_atomic};
+use extrinsic_audit::internals::render;
+use extrinsic_audit::internals::report::run::{RunHeader, RunSink};
+use extrinsic_audit::internals::run::poses::PoseFormat;
+use extrinsic_audit::internals::run::scan::{Outcome, Settings};
+use extrinsic_audit::internals::run::source::{Bound, Window};
+use extrinsic_audit::internals::tolerances::{
+    MAX_SCAN_CELLS, PAIR_GATE_M, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
+    RUN_VOXEL_M,
+};
+use extrinsic_audit::{Code, Error, LoadOptions, OutputFormat, Result};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args, Debug, Clone)]
+#[command(
+    about = "Degeneracy over a recorded run: every scan of a bag, a KITTI sequence or a folder of point files, every family, in the robot's frames",
+    long_about = "Reads every sensor_msgs/PointCloud2 of a topic of a bag (MCAP, rosbag2 .db3 or folder, ROS 1 \
+.bag; through the container's index, streamed), every scan of a KITTI sequence (velodyne/*.bin, times.txt) \
+or every point file of a folder (PCD, PLY, CSV, LAS, LAZ; name order), and runs the detector on each: \
+the scan's normal fields as stored, or else a voxel grid (--voxel, default 0.1 m) and PCA normals; H and M; \
+every family's eigenvalues, count and footprint, in the scan frame (header.frame_id) and in the body \
+frames the run's transforms name (/tf_static, /robot_description, --extrinsics files: --frame NAME, \
+--all-frames; default the root of the scan frame's tree) or that rig files give (--rig-frames).\n\n\
+With --pairs, each scan is paired with the one --pair-step before it at their relative pose \
+(the source scan's points, the target's normals, as `audit degeneracy --target`); poses from the \
+bag (/tf, which wins, or its only nav_msgs/Odometry topic; --poses-topic) or a file (--poses, \
+--poses-format tum | kitti (camera poses, with --calib) | kitti-lidar | named | relative).\n\n\
+Output: the summary (scans read and skipped with reasons, degenerate intervals per family, where a \
+body frame changes a label, the point-displacement eigenvalues' largest change between frames) as \
+text, markdown or JSON; one record per scan or pair as CSV (--csv FILE, or --format csv on \
+standard output) and JSON lines (--jsonl FILE); the timeline as SVG (--timeline FILE, or --format \
+svg). Skipped scans are named warnings; the scans before damage (a truncated bag) are reported.\n\n\
+Examples:\n  audit run run.mcap\n  audit run run.bag --topic /points --frame base_link --csv scans.csv --timeline run.svg\n  \
+audit run run_db3/ --pairs --all-frames --format json\n  \
+audit run sequences/00 --poses poses/00.txt --poses-format kitti --calib sequences/00/calib.txt --pairs\n  \
+audit run 'scans/*.pcd' --every 10 --rig-frames calibrations/ --lidar-frame lidar"
+)]
+pub struct RunArgs {
+    /// The run: a bag (or the parts of one recording), a KITTI sequence folder, a folder of point files, point files or a quoted pattern (`'scans/*.pcd'`).
+    #[arg(required = true, num_args = 1..)]
+    pub run: Vec<PathBuf>,
+    /// The PointCloud2 topic (default: the bag's only one).
+    #[arg(long, value_name = "TOPIC")]
+    pub topic: Option<String>,
+    /// The first scan kept: an index (`120`) or seconds after the first scan (`12.5s`).
+    #[arg(long, value_name = "N|Ts")]
+    pub start: Option<String>,
+    /// The first scan no longer kept: an index or seconds (`60s`).
+    #[arg(long, value_name = "N|Ts")]
+    pub end: Option<String>,
+    /// Keep every N-th scan.
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    pub every: usize,
+    /// Scan pairs at the known relative pose instead of single scans.
+    #[arg(long)]
+    pub pairs: bool,
+    /// With --pairs: pair each scan with the K-th before it.
+    #[arg(long, default_value_t = 1, value_name = "K")]
+    pub pair_step: usize,
+    /// A poses file (one pose per scan or per time; see --poses-format).
+    #[arg(long, value_name = "FILE")]
+    pub poses: Option<PathBuf>,
+    /// What --poses holds: tum, kitti (camera poses, needs --calib), kitti-lidar, named (a name, then 12 numbers) or relative (4x4, scan k+1 in scan k).
+    #[arg(long, value_name = "FORMAT", value_parser = parse_pose_format)]
+    pub poses_format: Option<PoseFormat>,
+    /// KITTI calib.txt (its `Tr`) for --poses-format kitti.
+    #[arg(long, value_name = "FILE")]
+    pub calib: Option<PathBuf>,
+    /// A bag topic with the poses (/tf or a nav_msgs/Odometry topic).
+    #[arg(long, value_name = "TOPIC")]
+    pub poses_topic: Option<String>,
+    /// The frame the poses are of (default: the scan frame; for /tf the root of the scan frame's tree).
+    #[arg(long, value_name = "NAME")]
+    pub poses_frame: Option<String>,
+    /// The scan frame of files that name none (KITTI, point files).
+    #[arg(long, value_name = "NAME")]
+    pub lidar_frame: Option<String>,
+    /// A body frame of the run's transforms to report in; repeatable.
+    #[arg(long = "frame", value_name = "NAME")]
+    pub frames: Vec<String>,
+    /// Every frame of the run's transforms.
+    #[arg(long)]
+    pub all_frames: bool,
+    /// Calibration files (URDF, TF, LIO YAML, ...) whose transforms join the run's.
+    #[arg(long, num_args = 1.., value_name = "FILE")]
+    pub extrinsics: Vec<PathBuf>,
+    /// Rig files (or folders): each gives its body frame (the scan taken as its LiDAR's) and its lever arm alone.
+    #[arg(long, num_args = 1.., value_name = "PATH")]
+    pub rig_frames: Vec<PathBuf>,
+    /// Estimate normals even where the scans have normal fields.
+    #[arg(long)]
+    pub estimate_normals: bool,
+    /// Voxel grid edge (m) before normals are estimated; 0: none.
+    #[arg(long, default_value_t = RUN_VOXEL_M, value_parser = parse_run_voxel, value_name = "M")]
+    pub voxel: f64,
+    /// Neighbourhood radius (m) of the normal estimation.
+    #[arg(long, default_value_t = RAW_NORMAL_RADIUS_M, value_parser = parse_positive, value_name = "M")]
+    pub normal_radius: f64,
+    /// Fewest neighbours (the point counted) for a normal.
+    #[arg(long, default_value_t = RAW_MIN_NEIGHBOURS, value_name = "N")]
+    pub min_neighbours: usize,
+    /// At most the K nearest neighbours within the radius.
+    #[arg(long, value_name = "K")]
+    pub knn: Option<usize>,
+    /// Normals point toward this point `x,y,z` (m, scan frame; default the sensor origin).
+    #[arg(long, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub viewpoint: Option<String>,
+    /// With --pairs: correspondence gate (m).
+    #[arg(long, default_value_t = PAIR_GATE_M, value_parser = parse_positive, value_name = "M")]
+    pub gate: f64,
+    #[command(flatten)]
+    pub tau: TauArgs,
+    #[command(flatten)]
+    pub ell: EllArgs,
+    /// Worker threads (0: AUDIT_JOBS when set, else one per core, as check and survey)
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub threads: usize,
+    /// Write one CSV row per scan (or pair) to FILE (.csv).
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Write one JSON line per scan (or pair) to FILE (.jsonl).
+    #[arg(long, value_name = "FILE")]
+    pub jsonl: Option<PathBuf>,
+    /// Draw the timeline to FILE (.svg).
+    #[arg(long, value_name = "FILE")]
+    pub timeline: Option<PathBuf>,
+    #[command(flatten)]
+    pub bag: BagArgs,
+    #[command(flatten)]
+    pub xacro: XacroArgs,
+    #[command(flatten)]
+    pub output: OutputArgs,
+}
+
+fn parse_pose_format(s: &str) -> std::result::Result<PoseFormat, String> {
+    PoseFormat::parse(s).ok_or_else(|| {
+        let all: Vec<&str> = PoseFormat::ALL.iter().map(|f| f.name()).collect();
+        format!("expected one of {}, found `{s}`", all.join(", "))
+    })
+}
+
+/// `--voxel`: 0 (none) or within [`RAW_VOXEL_RANGE_M`].
+fn parse_run_voxel(s: &str) -> std::result::Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("expected a number of metres, found `{s}`"))?;
+    let (lo, hi) = RAW_VOXEL_RANGE_M;
+    if v == 0.0 || (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("expected 0 (none) or {lo} to {hi} m, found `{s}`"))
+    }
+}
+
+impl RunArgs {
+    fn options(&self) -> Result<RunOptions> {
+        if self.every == 0 {
+            return Err(Error::usage("--every: expected at least 1"));
+        }
+        if !self.pairs && (self.poses.is_some() || self.poses_topic.is_some()) {
+            return Err(Error::usage("--poses and --poses-topic apply with --pairs"));
+        }
+        let window = Window {
+            start: self
+                .start
+                .as_deref()
+                .map(|s| Bound::parse(s, "--start"))
+                .transpose()?,
+            end: self
+                .end
+                .as_deref()
+                .map(|s| Bound::parse(s, "--end"))
+                .transpose()?,
+            every: self.every,
+        };
+        let viewpoint = match &self.viewpoint {
+            Some(s) => parse_triple(s, "--viewpoint")?,
+            None => [0.0; 3],
+        };
+        let settings = Settings {
+            rules: MetricRule::default_set(&self.ell.ell, None),
+            tau: self.tau.tau,
+            voxel: (self.voxel > 0.0).then_some(self.voxel),
+            normals: NormalParams {
+                radius: self.normal_radius,
+                knn: self.knn,
+                min_neighbours: self.min_neighbours,
+                min_planarity: None,
+                viewpoint,
+            },
+            estimate: self.estimate_normals,
+            gate: self.gate,
+            max_cells: MAX_SCAN_CELLS,
+        };
+        let mut load = LoadOptions::default();
+        load.bag = self.bag.bag_options();
+        self.xacro.apply(&mut load);
+        Ok(RunOptions {
+            inputs: self.run.clone(),
+            topic: self.topic.clone(),
+            window,
+            pairs: self.pairs.then_some(self.pair_step),
+            poses: self.poses.clone().map(|p| (p, self.poses_format)),
+            calib: self.calib.clone(),
+            poses_topic: self.poses_topic.clone(),
+            poses_frame: self.poses_frame.clone(),
+            lidar_frame: self.lidar_frame.clone(),
+            frames: self.frames.clone(),
+            all_frames: self.all_frames,
+            extrinsics: self.extrinsics.clone(),
+            rig_frames: self.rig_frames.clone(),
+            settings,
+            threads: self.threads,
+            load,
+            limits: BagLimits::default(),
+        })
+    }
+}
+
+/// `--csv`, `--jsonl`, `--timeline`: a file name with its extension that
+/// the run may write (`check_output_target`: none of its inputs, nor inside
+/// an input folder; not a symlink or a file of several names).
+fn check_target(flag: &str, target: &Path, ext: &str, inputs: &[PathBuf]) -> Result<()> {
+    if !target
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+    {
+        return Err(Error::usage(format!(
+            "{flag} {}: expected a file name ending in .{ext}",
+            target.display()
+        )));
+    }
+    // A run reads every point file of an input folder (a CSV among them),
+    // so nothing is written inside one.
+    let dir = target.parent().filter(|d| !d.as_os_str().is_empty());
+    let real_dir = dir.unwrap_or(Path::new(".")).canonicalize();
+    if let Ok(d) = &real_dir {
+        if let Some(p) = inputs
+            .iter()
+            .find(|p| p.is_dir() && p.canonicalize().is_ok_and(|c| d.starts_with(c)))
+        {
+            return Err(Error::usage(format!(
+                "{flag} {}: refusing to write into an input folder of the run ({})",
+                target.display(),
+                p.display()
+            )));
+        }
+    }
+    check_output_target(flag, "run", target, inputs)
+}
+
+/// A file written as the scans finish, put in place when the run ends well
+/// (the atomic writer's temporary; removed otherwise).
+struct Streamed(AtomicFile);
+
+impl Streamed {
+    fn create(target: &Path) -> Result<Self> {
+        AtomicFile::create(target).map(Streamed)
+    }
+
+    fn line(&mut self, s: &str) -> Result<()> {
+        writeln!(self.0, "{s}").map_err(|e| self.0.error(e))
+    }
+
+    fn finish(self) -> Result<()> {
+        self.0.commit()
+    }
+}
+
+/// Where the records go: the CSV and JSON lines files, and standard output
+/// for `--format csv`.
+struct Sinks<'a> {
+    csv: Option<Streamed>,
+    jsonl: Option<Streamed>,
+    stdout_csv: Option<&'a mut dyn Write>,
+}
+
+impl RunSink for Sinks<'_> {
+    fn begin(&mut self, h: &RunHeader) -> Result<()> {
+        let head = render::csv_line(&h.csv_header());
+        if let Some(c) = self.csv.as_mut() {
+            c.line(&head)?;
+        }
+        if let Some(out) = self.stdout_csv.as_mut() {
+            stdout_line(*out, &head)?;
+        }
+        Ok(())
+    }
+
+    fn outcome(&mut self, h: &RunHeader, o: &Outcome) -> Result<()> {
+        if self.csv.is_some() || self.stdout_csv.is_some() {
+            let row = render::csv_line(&h.csv_row(o));
+            if let Some(c) = self.csv.as_mut() {
+                c.line(&row)?;
+            }
+            if let Some(out) = self.stdout_csv.as_mut() {
+                stdout_line(*out, &row)?;
+            }
+        }
+        if let Some(j) = self.jsonl.as_mut() {
+            let v = serde_json::to_string(&h.json_line(o))
+                .map_err(|e| Error::new(Code::Io, format!("cannot write the JSON line: {e}")))?;
+            j.line(&v)?;
+        }
+        Ok(())
+    }
+}
+
+fn stdout_line(out: &mut dyn Write, s: &str) -> Result<()> {
+    match writeln!(out, "{s}") {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(e) => Err(Error::new(Code::Io, format!("cannot write output: {e}"))),
+    }
+}
+
+/// `audit run`.
+pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
+    let format = args.output.format;
+    if !matches!(
+        format,
+        OutputFormat::Table
+            | OutputFormat::Markdown
+            | OutputFormat::Json
+            | OutputFormat::Csv
+            | OutputFormat::Svg
+    ) {
+        return Err(Error::usage(format!(
+            "--format {}: audit run writes text, markdown, json (the summary), csv (one row per scan) or svg (the timeline)",
+            format.name()
+        )));
+    }
+    let opts = args.options()?;
+    if args.output.output.is_some() && format == OutputFormat::Csv {
+        // The per-scan rows stream as they come; their file is --csv's.
+        return Err(Error::usage(
+            "--output with --format csv: the per-scan rows are streamed; give --csv FILE",
+        ));
+    }
+    super::check_output(&args.output, &args.run)?;
+    for (flag, t, ext) in [
+        ("--csv", &args.csv, "csv"),
+        ("--jsonl", &args.jsonl, "jsonl"),
+        ("--timeline", &args.timeline, "svg"),
+    ] {
+        if let Some(t) = t {
+            check_target(flag, t, ext, &args.run)?;
+        }
+    }
+    let mut sinks = Sinks {
+        csv: args.csv.as_deref().map(Streamed::create).transpose()?,
+        jsonl: args.jsonl.as_deref().map(Streamed::create).transpose()?,
+        stdout_csv: (format == OutputFormat::Csv).then_some(&mut *out),
+    };
+    let (report, warnings) = pr::run(&opts, &mut sinks, &TermBars)?;
+    let Sinks { csv, jsonl, .. } = sinks;
+    for s in [csv, jsonl].into_iter().flatten() {
+        s.finish()?;
+    }
+    print_warnings(&warnings);
+    let svg = || {
+        render::draw(
+            &report.timeline_plot(),
+            OutputFormat::Svg,
+            render::Style::plain(),
+            &render::Layout::default(),
+        )
+    };
+    if let Some(t) = &args.timeline {
+        write_atomic(t, svg()?.as_bytes())?;
+    }
+    match (format, &args.output.output) {
+        (OutputFormat::Csv, _) => {}
+        (OutputFormat::Svg, Some(t)) => write_atomic(t, svg()?.as_bytes())?,
+        (OutputFormat::Svg, None) => stdout_line(out, svg()?.trim_end())?,
+        _ => emit_warned(&report, &warnings, &args.output, &args.run, out)?,
+    }
+    Ok(0)
+}

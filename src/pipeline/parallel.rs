@@ -1,0 +1,199 @@
+//! Work on every core, results in order: the engine of `check` and `survey`
+//! over many files.
+//!
+//! A shared work queue (an atomic index into the items: each worker takes the
+//! next item when it is free, so a core slowed by other work simply takes
+//! fewer items, and the run is never slower than one thread) feeds a reorder
+//! buffer on the calling thread, which hands each result to the sink in item
+//! order as soon as every earlier one is done. The buffer is bounded: a worker
+//! does not start an item more than [`WINDOW`] places ahead of the next result
+//! due, so one slow item holds at most `WINDOW` results in memory, never the
+//! run's. The sink runs on the calling thread (it needs no `Send`), while the
+//! workers go on.
+//!
+//! Why not rayon or crossbeam: this is the whole of it (an index, a channel, a
+//! condition variable), and an ordered, bounded, streaming map is not what
+//! rayon's `par_iter` gives without collecting.
+
+use std::collections::VecDeque;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{mpsc, Condvar, Mutex};
+
+/// How far (in items) a worker may run ahead of the next result due.
+pub const WINDOW: usize = 256;
+
+/// The worker threads to use: `AUDIT_JOBS` when set to a positive number,
+/// else the cores the process may run on.
+pub fn threads() -> usize {
+    std::env::var("AUDIT_JOBS")
+        .ok()
+        .and_then(|s| s.trim().parse::<usize>().ok())
+        .filter(|&n| n > 0)
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+}
+
+/// Run `work` on each item on [`threads`] workers; `sink` receives every
+/// result with its item's index, in item order. `sink` returning `false`
+/// stops the run: no further item is started and no further result handed on.
+pub fn ordered<I, R, W, S>(items: &[I], work: W, sink: S)
+where
+    I: Sync,
+    R: Send,
+    W: Fn(usize, &I) -> R + Sync,
+    S: FnMut(usize, R) -> bool,
+{
+    ordered_on(threads(), items, work, sink)
+}
+
+/// [`ordered`] on `threads` workers (at least one).
+pub fn ordered_on<I, R, W, S>(threads: usize, items: &[I], work: W, mut sink: S)
+where
+    I: Sync,
+    R: Send,
+    W: Fn(usize, &I) -> R + Sync,
+    S: FnMut(usize, R) -> bool,
+{
+    let threads = threads.clamp(1, items.len().max(1));
+    if threads == 1 {
+        // No thread to start: the same order, the same early stop.
+        for (i, item) in items.iter().enumerate() {
+            if !sink(i, work(i, item)) {
+                return;
+            }
+        }
+        return;
+    }
+    let next = AtomicUsize::new(0);
+    // The index of the next result due (every earlier one handed on), and
+    // whether the run was stopped; workers wait on it when too far ahead.
+    let due = (Mutex::new((0usize, false)), Condvar::new());
+    let (tx, rx) = mpsc::channel::<(usize, R)>();
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            let tx = tx.clone();
+            let (next, due, work) = (&next, &due, &work);
+            s.spawn(move || loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                if i >= items.len() {
+                    return;
+                }
+                {
+                    let mut g = due.0.lock().unwrap_or_else(|e| e.into_inner());
+                    while !g.1 && i >= g.0 + WINDOW {
+                        g = due.1.wait(g).unwrap_or_else(|e| e.into_inner());
+                    }
+                    if g.1 {
+                        return;
+                    }
+                }
+                if tx.send((i, work(i, &items[i]))).is_err() {
+                    return;
+                }
+            });
+        }
+        drop(tx);
+        let mut buffer: VecDeque<Option<R>> = VecDeque::new();
+        let mut first = 0usize;
+        let mut stopped = false;
+        for (i, r) in rx.iter() {
+            if stopped {
+                continue;
+            }
+            let at = i - first;
+            if buffer.len() <= at {
+                buffer.resize_with(at + 1, || None);
+            }
+            buffer[at] = Some(r);
+            let before = first;
+            while let Some(Some(_)) = buffer.front() {
+                let r = buffer.pop_front().flatten().expect("checked above");
+                if !sink(first, r) {
+                    stopped = true;
+                    break;
+                }
+                first += 1;
+            }
+            if first != before || stopped {
+                let mut g = due.0.lock().unwrap_or_else(|e| e.into_inner());
+                *g = (first, stopped);
+                due.1.notify_all();
+            }
+        }
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn results_arrive_in_order_whatever_the_timing() {
+        let items: Vec<u64> = (0..2000).collect();
+        for threads in [1, 2, 3, 8] {
+            let mut seen = Vec::new();
+            ordered_on(
+                threads,
+                &items,
+                |i, x| {
+                    // Uneven work: some items take far longer than others.
+                    if i % 97 == 0 {
+                        std::thread::sleep(std::time::Duration::from_millis(2));
+                    }
+                    x * x
+                },
+                |i, r| {
+                    seen.push((i, r));
+                    true
+                },
+            );
+            let want: Vec<(usize, u64)> = items.iter().map(|&x| (x as usize, x * x)).collect();
+            assert_eq!(seen, want, "{threads} threads");
+        }
+    }
+
+    #[test]
+    fn a_stopped_run_hands_on_nothing_more_and_returns() {
+        let items: Vec<usize> = (0..10_000).collect();
+        let started = AtomicUsize::new(0);
+        let mut got = Vec::new();
+        ordered_on(
+            4,
+            &items,
+            |_, &x| {
+                started.fetch_add(1, Ordering::Relaxed);
+                x
+            },
+            |i, r| {
+                got.push(r);
+                i < 9
+            },
+        );
+        assert_eq!(got, (0..10).collect::<Vec<_>>());
+        // Workers stop within the window past the stop.
+        assert!(started.load(Ordering::Relaxed) <= 10 + WINDOW + 4);
+    }
+
+    #[test]
+    fn workers_never_run_more_than_the_window_ahead() {
+        // The first item is slow: the others may not pile up beyond WINDOW.
+        let items: Vec<usize> = (0..5 * WINDOW).collect();
+        let done = AtomicUsize::new(0);
+        let mut max_ahead = 0;
+        ordered_on(
+            3,
+            &items,
+            |i, _| {
+                if i == 0 {
+                    std::thread::sleep(std::time::Duration::from_millis(50));
+                }
+                done.fetch_add(1, Ordering::SeqCst)
+            },
+            |i, _| {
+                let ahead = done.load(Ordering::SeqCst) - i;
+                max_ahead = max_ahead.max(ahead);
+                true
+            },
+        );
+        assert!(max_ahead <= WINDOW + 3, "ran {max_ahead} items ahead");
+    }
+}

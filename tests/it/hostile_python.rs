@@ -1,0 +1,133 @@
+//! The Python reader (launch.py files, roslaunch `$(eval ...)`) cannot be
+//! made to exhaust memory: each input here, generated, would have grown
+//! without bound before the limits of `tolerances.rs` (`MAX_PY_STR_BYTES`,
+//! `MAX_PY_ITEMS`, `MAX_PY_WORK_BYTES`) and must be refused naming its line.
+//! Run under `ulimit -v 4000000` while changing the reader, so a regression
+//! fails instead of swapping the machine.
+
+use extrinsic_audit::internals::formats::load_str;
+use extrinsic_audit::{Code, Error};
+use extrinsic_audit::{Format, LoadOptions};
+use std::path::Path;
+
+fn read_as(format: &str, text: &str) -> Result<usize, Error> {
+    let mut o = LoadOptions::default();
+    o.format = Some(Format::from_name(format).unwrap());
+    load_str(text, Path::new("hostile.launch.py"), &o).map(|l| l.edges.len())
+}
+
+/// `text` read as launch.py is refused at `line` with `want` in the message.
+fn refused(text: &str, line: usize, want: &str) -> Error {
+    let e = read_as("launch-py", text).expect_err("a hostile file is refused");
+    assert!(e.message.contains(want), "{}", e.message);
+    assert_eq!(e.location.line, Some(line), "{}", e.message);
+    assert_eq!(
+        e.location.file.as_deref(),
+        Some(Path::new("hostile.launch.py"))
+    );
+    e
+}
+
+#[test]
+fn indented_text_read_as_launch_py_is_refused_not_looped() {
+    // The cause of the 22 GB test run: a tf_static YAML dump read as
+    // launch.py. Its indented lines open no block; the statement loop stood
+    // still on the indent and pushed statements until memory ran out.
+    let yaml = "transforms:\n- header:\n    stamp:\n      sec: 1\n".repeat(3);
+    let e = refused(&yaml, 3, "unexpected indent");
+    assert_eq!(e.code, Code::Parse);
+    // Inside a block, an indent that opens nothing.
+    refused("if a:\n    b = 1\n        c = 2\n", 3, "unexpected indent");
+}
+
+#[test]
+fn string_doubling_in_a_loop_is_refused() {
+    // A rebound name is unknown to the reader; a list's last item is not.
+    let py = "l = ['ab']\nfor i in range(64):\n    l.append(l[-1] + l[-1])\n";
+    let e = refused(py, 3, "more than 1048576");
+    assert_eq!(e.code, Code::Limit);
+}
+
+#[test]
+fn appending_a_big_string_in_a_loop_is_refused_by_the_work_budget() {
+    // Each string is under the cap; 100000 copies of it (100 GB) are not.
+    let py = "s = 'x' * 1000000\nl = []\nfor i in range(100000):\n    l.append(s)\n";
+    let e = refused(py, 4, "exceed 268435456 bytes in all");
+    assert_eq!(e.code, Code::Limit);
+}
+
+#[test]
+fn nested_comprehensions_are_refused_by_the_work_budget() {
+    // 10^10 ints, each list under the item cap.
+    let py = "x = [[i for i in range(100000)] for j in range(100000)]\n";
+    refused(py, 1, "exceed 268435456 bytes in all");
+}
+
+#[test]
+fn padding_and_replacing_past_the_string_cap_are_refused() {
+    for (py, what) in [
+        (
+            "x = '1'.zfill(10 ** 12)\n",
+            "str.zfill() would make a string of 1000000000000 bytes",
+        ),
+        (
+            "x = '{:999999999999}'.format(1)\n",
+            "format spec \"999999999999\"",
+        ),
+        ("x = f'{1.0:.999999999f}'\n", "999999999 bytes"),
+        (
+            "x = ('x' * 1000000).replace('x', 'yy')\n",
+            "str.replace() would make a string of 2000000 bytes",
+        ),
+        ("x = ('x' * 1000000).replace('', 'y')\n", "str.replace()"),
+        (
+            "x = '-'.join(['x' * 600000, 'y' * 600000])\n",
+            "str.join() would make a string of 1200001 bytes",
+        ),
+        (
+            "x = list(range(100001))\n",
+            "range() would make 100001 items",
+        ),
+        (
+            "x = sum([list(range(90000)), list(range(90000))], [])\n",
+            "sum() would make 180000 items",
+        ),
+    ] {
+        let e = refused(py, 1, what);
+        assert_eq!(e.code, Code::Limit, "{py}");
+    }
+}
+
+#[test]
+fn a_list_holding_itself_is_printed_and_compared_without_recursing() {
+    // Before: str(l) and l == l recursed until the stack overflowed.
+    let py = "l = []\nl.append(l)\ns = str(l)\nt = l == l\nx = 'ab' * 10 ** 7\n";
+    refused(
+        py,
+        5,
+        "string repetition would make a string of 20000000 bytes",
+    );
+}
+
+#[test]
+fn range_counts_as_python() {
+    // CPython: len(range(0, 10, 3)) == 4, len(range(10, 0, -3)) == 4; the
+    // reader counted 3 (floor instead of ceiling) before.
+    let py = "n = [i for i in range(0, 10, 3)] + [i for i in range(10, 0, -3)]\n\
+              x = 'a' * (len(n) * 600000)\n";
+    refused(
+        py,
+        2,
+        "string repetition would make a string of 4800000 bytes",
+    );
+}
+
+#[test]
+fn roslaunch_eval_concatenation_past_the_cap_is_refused() {
+    let xml = "<launch>\n<node if=\"$(eval len('ab' * 500000 + 'cd' * 500000) > 0)\" \
+               pkg=\"tf2_ros\" type=\"static_transform_publisher\" name=\"n\" \
+               args=\"0 0 0 0 0 0 a b\"/>\n</launch>\n";
+    let e = read_as("launch-xml", xml).expect_err("refused");
+    assert!(e.message.contains("more than 1048576"), "{}", e.message);
+    assert_eq!(e.location.line, Some(2), "{}", e.message);
+}
