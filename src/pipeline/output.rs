@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 /// Whether `flag TARGET` may be written by a command (`whose`: `survey`,
 /// `command`) that reads `inputs` (paths as given, `PATH:FROM:TO` included,
-/// and the files they included); then [`unsafe_target`]'s refusals (a
+/// and the files they included); then `unsafe_target`'s refusals (a
 /// symlink, a file of several names, a symlinked directory here).
 pub fn check_output_target(
     flag: &str,

@@ -51,7 +51,7 @@ pub struct ScanOptions {
     pub gate: f64,
     /// A pair's initial guess: the pose of the source frame in the target frame.
     pub initial_guess: InitialGuess,
-    /// Keep the points `H` and `M` were assembled from ([`Scan::cloud`], for
+    /// Keep the points `H` and `M` were assembled from (`Scan::cloud`, for
     /// the 3D scene); a file with normals is then read a second time, whole
     /// (the streamed sums stay the report's).
     pub keep_points: bool,
