@@ -102,7 +102,11 @@ impl LoadArgs {
         o.package_paths = self.package_paths.clone();
         o.key = self.key.clone();
         o.invert = self.invert;
-        o.format = self.input_format.as_deref().map(Format::from_name).transpose()?;
+        o.format = self
+            .input_format
+            .as_deref()
+            .map(Format::from_name)
+            .transpose()?;
         Ok(o)
     }
 }

@@ -4,8 +4,8 @@
 
 use crate::diag::{json, pitch_tol, tuples, DiagTuple, IntoPy, LoadArgs};
 use clap::ValueEnum;
+use extrinsic_audit::SurveyOptions;
 use extrinsic_audit::{CheckOptions, Code, DiffOptions, DriftTolerances, Error, SortColumn};
-use extrinsic_audit::{SurveyOptions};
 use pyo3::prelude::*;
 use std::collections::BTreeMap;
 use std::path::PathBuf;

@@ -88,7 +88,12 @@ impl PyRobot {
         let robot = &self.robot;
         py.detach(|| {
             let (report, chain_warnings) = robot.report(frm, to, &opts)?;
-            let all: Vec<_> = robot.warnings().iter().chain(&chain_warnings).cloned().collect();
+            let all: Vec<_> = robot
+                .warnings()
+                .iter()
+                .chain(&chain_warnings)
+                .cloned()
+                .collect();
             Ok((json(&report, &all)?, tuples(&chain_warnings)))
         })
         .py()
@@ -102,6 +107,10 @@ impl PyRobot {
             (Some(a), Some(b)) => Some(self.robot.chain(a, b).py()?),
             _ => None,
         };
-        json(&self.robot.frame_tree(chain.as_ref()), self.robot.warnings()).py()
+        json(
+            &self.robot.frame_tree(chain.as_ref()),
+            self.robot.warnings(),
+        )
+        .py()
     }
 }
