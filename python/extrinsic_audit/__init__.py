@@ -41,6 +41,7 @@ from ._reports import (
     DegeneracyReport,
     DiffReport,
     FamilyResult,
+    PairReport,
     Report,
     RigReport,
     Screw,
@@ -48,6 +49,12 @@ from ._reports import (
 )
 
 __version__ = _native.__version__
+
+# Errors, warnings and reports print as the package's own names.
+for _cls in (AuditError, InputError, FrameError, UsageError, AuditWarning, ConventionWarning,
+             NumericWarning, JointWarning, GraphWarning):
+    _cls.__module__ = __name__
+del _cls
 
 PathLike = Union[str, "os.PathLike[str]"]
 Renames = Union[Mapping[str, str], Iterable[Union[str, Tuple[str, str], Tuple[Optional[str], str, str]]]]
@@ -66,6 +73,7 @@ __all__ = [
     "InputError",
     "JointWarning",
     "NumericWarning",
+    "PairReport",
     "Report",
     "RigReport",
     "Robot",

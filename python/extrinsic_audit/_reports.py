@@ -63,8 +63,8 @@ class Screw:
         return f"Screw(kind={self.kind!r}, h={self.translation_along_axis_m!r}, verdict={self.pitch_verdict!r})"
 
 
-class RigReport(Report):
-    """The rig report of a frame pair (``audit FILES --from A --to B``)."""
+class PairReport(Report):
+    """A report on one frame pair."""
 
     @property
     def frm(self) -> str:
@@ -75,6 +75,10 @@ class RigReport(Report):
     def to(self) -> str:
         """The child frame: the report is on the pose of ``to`` in ``frm``."""
         return self._data["to"]
+
+
+class RigReport(PairReport):
+    """The rig report of a frame pair (``audit FILES --from A --to B``)."""
 
     @property
     def matrix(self) -> np.ndarray:
@@ -162,20 +166,13 @@ class CheckReport(Report):
         return f"{self.files_checked} files, {self.problems} problems"
 
 
-class DiffReport(Report):
-    """``audit diff OLD NEW``: what changed on the chain, edge by edge."""
+class DiffReport(PairReport):
+    """``audit diff OLD NEW``: what changed on the chain, edge by edge;
+    ``exceeded``: a change beyond the tolerance (the CLI's exit code 1)."""
 
     def __init__(self, data: Dict[str, Any], exceeded: bool):
         super().__init__(data)
         self.exceeded: bool = exceeded
-
-    @property
-    def frm(self) -> str:
-        return self._data["from"]
-
-    @property
-    def to(self) -> str:
-        return self._data["to"]
 
     def _summary(self) -> str:
         return f"{self.frm} -> {self.to}, {'beyond' if self.exceeded else 'within'} tolerance"
