@@ -33,7 +33,9 @@
 //!   same on a point file, or a scan pair ([`ScanFile`], [`PairOptions`]).
 //! - [`render`]: any report as text, markdown, JSON (its schema in
 //!   `docs/schemas`), CSV, SARIF or a picture ([`OutputFormat`],
-//!   [`RenderOptions`]); [`Robot::frame_tree`] is the frame tree as a report.
+//!   [`RenderOptions`]); [`render_bytes`] and [`render_to`] the same as
+//!   bytes or to a writer, MCAP (the 3D scene for Foxglove) included;
+//!   [`Robot::frame_tree`] is the frame tree as a report.
 //!
 //! Every failure is an [`Error`] (a [`Diagnostic`]: a typed [`Code`], the
 //! file and line where known, a message saying what was expected and what was
@@ -99,8 +101,11 @@
 //! parsers, its colours and the wrapping and escaping of what it prints on
 //! standard error (`render::Style`, `render::layout`, `sanitize`), the help
 //! text that lists the metric families, the survey plot (`--plot`), `check`'s
-//! `--pair` syntax, and the commands that reproduce the paper's experiments
-//! (`tunnel`, `simulate`, `calibrate-threshold`).
+//! `--pair` syntax, the commands that reproduce the paper's experiments
+//! (`tunnel`, `simulate`, `calibrate-threshold`), and `audit run` (the
+//! detector on a recorded run: its options, record sinks and streamed
+//! outputs are not on the face yet, so the run reader is reached through
+//! `internals::pipeline::run` until it is).
 
 #![deny(missing_docs)]
 

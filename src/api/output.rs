@@ -53,7 +53,8 @@ pub struct RenderOptions {
 /// assert!(render(&report, OutputFormat::Markdown, &opts)?.contains("0.391"));
 /// // A rig report has no picture: SVG refuses it, naming what can draw it.
 /// let e = render(&report, OutputFormat::Svg, &opts).unwrap_err();
-/// assert!(e.message.ends_with("this report takes text, markdown, json, github or csv"));
+/// // (MCAP draws its 3D scene: the frame tree, the chain marked.)
+/// assert!(e.message.ends_with("this report takes text, markdown, json, github, csv or mcap"));
 /// # Ok(())
 /// # }
 /// ```

@@ -140,7 +140,9 @@ impl Robot {
 
     /// The rig report of the `from` -> `to` chain (lever arm, screw, adjoint,
     /// certificate bands, adapted metric, every detector family's verdict),
-    /// with the chain's warnings (the robot's own: [`Robot::warnings`]).
+    /// with the chain's warnings (the robot's own: [`Robot::warnings`]). Its
+    /// 3D scene (MCAP) draws the one transform; set `report.tree` to
+    /// [`Robot::frame_tree`] of the chain for the whole tree.
     ///
     /// ```
     /// use extrinsic_audit::{LoadOptions, RigOptions, Robot};
@@ -167,10 +169,7 @@ impl Robot {
         opts: &RigOptions,
     ) -> Result<(RigReport, Vec<Warning>)> {
         let chain = self.chain(from, to)?;
-        let mut report = pipeline::report(&chain, opts)?;
-        // The 3D scene (MCAP) draws the whole tree, the chain marked.
-        report.tree = Some(self.frame_tree(Some(&chain)));
-        Ok((report, chain.warnings))
+        Ok((pipeline::report(&chain, opts)?, chain.warnings))
     }
 
     /// The frame tree as a report (text, JSON, DOT, Mermaid, SVG), the

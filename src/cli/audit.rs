@@ -6,7 +6,7 @@ use super::args::{
 };
 use super::{deny_warnings, emit_warned, print_notes, print_warnings};
 use clap::Args;
-use extrinsic_audit::{Format, LoadOptions, Result, RigOptions, Robot, UrdfVersion};
+use extrinsic_audit::{Format, LoadOptions, OutputFormat, Result, RigOptions, Robot, UrdfVersion};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -121,6 +121,12 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
         .chain(&chain_warnings)
         .cloned()
         .collect();
+    let mut report = report;
+    // The 3D scene draws the whole tree, the chain marked (built only for
+    // it: a large tree's document costs seconds).
+    if args.output.format == OutputFormat::Mcap {
+        report.tree = Some(robot.frame_tree(Some(&chain)));
+    }
     emit_warned(&report, &warnings, &args.output, &inputs, out)?;
     Ok(0)
 }

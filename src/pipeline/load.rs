@@ -106,6 +106,21 @@ fn abbreviate(v: &[String], n: usize) -> String {
 }
 
 impl Loaded {
+    /// The files named (`named`) and every file an edge of the graph came
+    /// from (includes among them), each once: what an output must not
+    /// replace.
+    pub fn files_read(&self, named: &[PathBuf]) -> Vec<PathBuf> {
+        let mut v: Vec<PathBuf> = named.to_vec();
+        for e in self.graph.edges() {
+            if let Some(f) = &e.provenance.location.file {
+                if !v.contains(f) {
+                    v.push(f.clone());
+                }
+            }
+        }
+        v
+    }
+
     /// The frame pair to report: given, declared by a rig file, or the only
     /// edge there is.
     pub fn frame_pair(&self, from: Option<&str>, to: Option<&str>) -> Result<(String, String)> {

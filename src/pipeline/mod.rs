@@ -21,6 +21,6 @@ pub use check::{check, check_with, CheckOptions};
 pub use diff::{diff, DiffOptions, SideRead};
 pub use files::write_atomic;
 pub use load::{load, Loaded};
-pub use output::check_output_target;
+pub use output::{check_output_target, check_plot_target, write_survey_plot};
 pub use rig::{report, RigOptions};
-pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};
+pub use survey::{survey, SortColumn, SurveyOptions};

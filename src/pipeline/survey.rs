@@ -10,7 +10,7 @@
 //! `ignored` warning (a folder holds other robots too); a file named on the
 //! command line is an error.
 
-use super::files::{expand_paths, write_atomic};
+use super::files::expand_paths;
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::{self, LoadOptions, RigMeta};
 use crate::frames::FrameGraph;
@@ -316,33 +316,4 @@ pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
     let counted: Vec<bool> = rows.iter().map(|r| r.2).collect();
     let report = SurveyReport::new(rows.into_iter().map(|(j, m, _)| (j, m)).collect(), &counted);
     Ok((report, warnings))
-}
-
-/// Whether the survey plot may be written to `target`: an `.svg` file name in
-/// an existing directory that is none of the survey's inputs (checked before
-/// the survey runs, so that nothing is read or written in vain).
-pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
-    if !target
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
-    {
-        return Err(Error::usage(format!(
-            "--plot {}: expected a file name ending in .svg",
-            target.display()
-        )));
-    }
-    super::output::check_output_target("--plot", "survey", target, inputs)
-}
-
-/// Draw the survey plot to `target` after [`check_plot_target`] (again: the
-/// inputs must still not include it).
-pub fn write_survey_plot(target: &Path, inputs: &[PathBuf], report: &SurveyReport) -> Result<()> {
-    check_plot_target(target, inputs)?;
-    let svg = crate::render::draw(
-        &report.plot(),
-        crate::render::OutputFormat::Svg,
-        crate::render::Style::plain(),
-        &crate::render::Layout::default(),
-    )?;
-    write_atomic(target, svg.as_bytes())
 }
