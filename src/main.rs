@@ -92,12 +92,23 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    ExitCode::from(main_with(std::env::args_os()))
+}
+
+/// The command line `args` (the program's name first) run to its exit code.
+/// The Python package's `audit` console script calls this too: it compiles
+/// this file into its extension (python/src/cli.rs) with `sys.argv`.
+pub(crate) fn main_with<I, T>(args: I) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
         Ok(c) => c,
         Err(e) => {
             let _ = e.print();
             // clap: 0 for --help / --version, 2 for usage errors.
-            return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
+            return e.exit_code().clamp(0, 255) as u8;
         }
     };
     display::set(cli.display.clone());
@@ -112,7 +123,7 @@ fn main() -> ExitCode {
         }
     };
     let _ = out.flush();
-    ExitCode::from(code.clamp(0, 255) as u8)
+    code.clamp(0, 255) as u8
 }
 
 /// Run a parsed command line, writing the report to `out`; returns the exit code.
