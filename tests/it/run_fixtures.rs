@@ -20,8 +20,9 @@ fn expected() -> &'static Value {
     })
 }
 
-/// `audit run ARGS --jsonl F`: the exit code, stderr and the records of F.
-pub fn run_records(args: &[&str]) -> (i32, String, Vec<Value>) {
+/// `audit run ARGS --jsonl F` in the fixtures' folder: the output and the
+/// records of F.
+pub fn run_with_records(args: &[&str]) -> (std::process::Output, Vec<Value>) {
     let dir = tempfile::tempdir().unwrap();
     let jl = dir.path().join("r.jsonl");
     let out = audit()
@@ -37,6 +38,12 @@ pub fn run_records(args: &[&str]) -> (i32, String, Vec<Value>) {
         .lines()
         .map(|l| serde_json::from_str(l).expect("a JSON line"))
         .collect();
+    (out, recs)
+}
+
+/// `audit run ARGS --jsonl F`: the exit code, stderr and the records of F.
+pub fn run_records(args: &[&str]) -> (i32, String, Vec<Value>) {
+    let (out, recs) = run_with_records(args);
     let err = String::from_utf8_lossy(&out.stderr).into_owned();
     (out.status.code().unwrap_or(-1), err, recs)
 }

@@ -7,6 +7,7 @@
 
 use crate::common::audit;
 use crate::json_schemas::schema;
+use crate::run_fixtures::run_with_records;
 use serde_json::Value;
 use std::path::Path;
 
@@ -15,26 +16,10 @@ const DIR: &str = "tests/fixtures/run";
 /// `audit run ARGS --format json --jsonl F` in the fixtures' folder: exit
 /// code, summary, records, stderr.
 fn run_json(args: &[&str]) -> (i32, Value, Vec<Value>, String) {
-    let dir = tempfile::tempdir().unwrap();
-    let jl = dir.path().join("r.jsonl");
-    let out = audit()
-        .current_dir(DIR)
-        .arg("run")
-        .args(args)
-        .args(["--format", "json", "--jsonl"])
-        .arg(&jl)
-        .output()
-        .unwrap();
+    let (out, recs) = run_with_records(&[args, &["--format", "json"]].concat());
     let err = String::from_utf8_lossy(&out.stderr).into_owned();
     let summary = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{e}: {err}"));
-    let recs = std::fs::read_to_string(&jl).unwrap_or_default();
-    let recs = recs.lines().map(|l| serde_json::from_str(l).unwrap());
-    (
-        out.status.code().unwrap_or(-1),
-        summary,
-        recs.collect(),
-        err,
-    )
+    (out.status.code().unwrap_or(-1), summary, recs, err)
 }
 
 fn assert_valid(v: &jsonschema::Validator, x: &Value, what: &str) {

@@ -154,23 +154,18 @@ fn the_real_pairs_reproduce_the_reference_label_changes() {
         "--gate",
         "1.0",
     ];
-    let poses = pj.join("top_center_lidar-pose.txt");
-    let mut args = vec![
-        "--poses",
-        poses.to_str().unwrap(),
-        "--poses-format",
-        "named",
-    ];
-    args.extend(detector);
+    let with_poses = |file: &Path, format: &'static str| -> Vec<String> {
+        let mut a = vec!["--poses".into(), file.to_string_lossy().into_owned()];
+        a.extend(["--poses-format", format].map(String::from));
+        a.extend(detector.map(String::from));
+        a
+    };
+    let args = with_poses(&pj.join("top_center_lidar-pose.txt"), "named");
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let (pj_summary, pj_recs) = run_pairs(&[pj.join("top_center_lidar")], &args);
     assert_eq!(pj_recs.len(), 4);
-    let mut args = vec![
-        "--poses",
-        rel.to_str().unwrap(),
-        "--poses-format",
-        "relative",
-    ];
-    args.extend(detector);
+    let args = with_poses(&rel, "relative");
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let (fg_summary, fg_recs) = run_pairs(&[a, b], &args);
     assert_eq!(fg_recs.len(), 1);
     for (rec, w) in pj_recs.iter().chain(&fg_recs).zip(pairs) {

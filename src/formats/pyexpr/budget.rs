@@ -134,8 +134,8 @@ fn nesting(v: &Value, level: usize, open: &mut Vec<*const ()>, read: &mut usize)
 
 /// [`nesting`] of a container at `level` with these items: one more than
 /// its deepest item (stopping once past the cap).
-fn deepest<'a>(
-    items: &mut dyn Iterator<Item = &'a Value>,
+fn deepest(
+    items: &mut dyn Iterator<Item = &Value>,
     level: usize,
     open: &mut Vec<*const ()>,
     read: &mut usize,
