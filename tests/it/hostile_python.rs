@@ -181,3 +181,25 @@ fn values_nested_past_the_depth_cap_are_refused_by_name() {
     );
     assert_eq!(read_as("launch-py", &cyc).expect("a cyclic list"), 1);
 }
+
+#[test]
+fn a_character_that_is_no_letter_is_refused_not_looped_on() {
+    // The xacro lexer's fault (found by fuzzing), here too: `€` stopped the
+    // name lexer without moving it (900 MB in 10 s).
+    for py in [
+        "x = €\n",
+        "x = [1, \u{fffd}]\n",
+        "def f():\n    return 1 + ¤\n",
+    ] {
+        let e = read_as("launch-py", py).expect_err("refused");
+        assert!(
+            e.message.contains("invalid character"),
+            "{py:?}: {}",
+            e.message
+        );
+    }
+    assert_eq!(
+        read_as("launch-py", &format!("é = 'lidar'\n{}", stp_node("é"))).unwrap(),
+        1
+    );
+}
