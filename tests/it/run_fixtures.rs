@@ -118,6 +118,16 @@ fn assert_label_changes(rec: &Value, frame: &str, want: &Value, what: &str) {
     }
 }
 
+/// The KITTI sequence's pairs with three poses for five scans.
+pub const SHORT_POSES: [&str; 6] = [
+    "kitti_seq",
+    "--pairs",
+    "--poses",
+    "kitti_seq/poses_short.txt",
+    "--poses-format",
+    "kitti-lidar",
+];
+
 const BODY: [&str; 4] = ["base_link", "imu_link", "rear_axle", "trailer_axle"];
 
 #[test]
@@ -381,14 +391,7 @@ fn kitti_pairs_agree_across_the_three_pose_files() {
     }
     // Three poses for five scans: the pairs without a pose are skipped by
     // name (never paired with a guessed pose), the others reported.
-    let (code, err, recs) = run_records(&[
-        "kitti_seq",
-        "--pairs",
-        "--poses",
-        "kitti_seq/poses_short.txt",
-        "--poses-format",
-        "kitti-lidar",
-    ]);
+    let (code, err, recs) = run_records(&SHORT_POSES);
     assert_eq!(code, 0, "{err}");
     let ok: Vec<_> = recs
         .iter()

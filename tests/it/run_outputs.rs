@@ -7,7 +7,7 @@
 
 use crate::common::audit;
 use crate::json_schemas::schema;
-use crate::run_fixtures::run_with_records;
+use crate::run_fixtures::{run_with_records, SHORT_POSES};
 use serde_json::Value;
 use std::path::Path;
 
@@ -55,14 +55,7 @@ fn summaries_and_records_match_the_run_schemas() {
             "--rig-frames",
             "../../../calibrations/kitti-velo64-oxts.toml",
         ],
-        &[
-            "kitti_seq",
-            "--pairs",
-            "--poses",
-            "kitti_seq/poses_short.txt",
-            "--poses-format",
-            "kitti-lidar",
-        ],
+        &SHORT_POSES,
         &["pcd_seq", "--every", "2", "--start", "1"],
         &[&cut],
     ];
