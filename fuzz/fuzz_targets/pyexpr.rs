@@ -2,7 +2,7 @@
 //! pyexpr, the Python-expression reader: the text as a whole launch.py file
 //! (even selectors), or (odd) as one `$(eval ...)` expression in a ROS 1
 //! launch arg that a static_transform_publisher's args use.
-use extrinsic_audit::formats::Format;
+use extrinsic_audit::Format;
 use fuzz_common::{load_and_check, split};
 use libfuzzer_sys::fuzz_target;
 
