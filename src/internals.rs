@@ -141,7 +141,7 @@ pub mod render {
 
 pub mod report {
     pub mod run {
-        pub use crate::report::run::{RunHeader, RunSink};
+        pub use crate::report::run::{RunHeader, RunReport, RunSink};
     }
 }
 

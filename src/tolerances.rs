@@ -173,6 +173,14 @@ pub const MAX_PY_ITEMS: usize = 100_000;
 /// 256 MiB. Evaluating a real launch file charges a few KiB.
 pub const MAX_PY_WORK_BYTES: usize = 256 << 20;
 
+/// Deepest nesting of lists, tuples and dicts in one another that the Python
+/// reader creates (`[[...]]` built in a loop): printing, comparing, copying
+/// and dropping a value recurse once per level. Launch files nest 2-3
+/// levels (a list of parameter dicts); a value deeper than this is refused
+/// when it is evaluated, before anything walks it (the xacro evaluator's
+/// `XACRO_MAX_VALUE_DEPTH` is the same number, for the same reason).
+pub const MAX_PY_VALUE_DEPTH: usize = 100;
+
 /// Calls of a launch.py file's own functions nested deeper than this are
 /// refused (a function that calls itself).
 pub const MAX_PY_CALL_DEPTH: usize = 32;

@@ -14,7 +14,7 @@ use extrinsic_audit::internals::pipeline::files::AtomicFile;
 use extrinsic_audit::internals::pipeline::run::{self as pr, RunOptions};
 use extrinsic_audit::internals::pipeline::{check_output_target, write_atomic};
 use extrinsic_audit::internals::render;
-use extrinsic_audit::internals::report::run::{RunHeader, RunSink};
+use extrinsic_audit::internals::report::run::{RunHeader, RunReport, RunSink};
 use extrinsic_audit::internals::run::poses::PoseFormat;
 use extrinsic_audit::internals::run::scan::{Outcome, Settings};
 use extrinsic_audit::internals::run::source::{Bound, Window};
@@ -45,6 +45,9 @@ body frame changes a label, the point-displacement eigenvalues' largest change b
 text, markdown or JSON; one record per scan or pair as CSV (--csv FILE, or --format csv on \
 standard output) and JSON lines (--jsonl FILE); the timeline as SVG (--timeline FILE, or --format \
 svg). Skipped scans are named warnings; the scans before damage (a truncated bag) are reported.\n\n\
+Exit codes: 0 the run was read (skipped scans and damage are warnings); 1 with --strict when a scan or \
+pair was skipped or damage stopped the read (every output still written); 2 usage error, unreadable \
+run or refused output.\n\n\
 Examples:\n  audit run run.mcap\n  audit run run.bag --topic /points --frame base_link --csv scans.csv --timeline run.svg\n  \
 audit run run_db3/ --pairs --all-frames --format json\n  \
 audit run sequences/00 --poses poses/00.txt --poses-format kitti --calib sequences/00/calib.txt --pairs\n  \
@@ -139,6 +142,9 @@ pub struct RunArgs {
     /// Draw the timeline to FILE (.svg).
     #[arg(long, value_name = "FILE")]
     pub timeline: Option<PathBuf>,
+    /// Exit 1 when data was lost: a scan or pair skipped (scan-skipped) or the read stopped at damage (run-damaged); the outputs are written all the same
+    #[arg(long)]
+    pub strict: bool,
     #[command(flatten)]
     pub bag: BagArgs,
     #[command(flatten)]
@@ -391,5 +397,25 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
         (OutputFormat::Svg, None) => stdout_line(out, svg()?.trim_end())?,
         _ => emit_warned(&report, &warnings, &args.output, &args.run, out)?,
     }
-    Ok(0)
+    Ok(strict_exit(args.strict, &report))
+}
+
+/// `--strict`: 1 when the run lost data (scans or pairs skipped, or a read
+/// stopped at damage), said on standard error; else 0. Only this class:
+/// the other warnings (`ignored`, `frame-missing`...) leave every scan
+/// reported, as `check`'s exit 1 is for problems, not notes.
+fn strict_exit(strict: bool, report: &RunReport) -> i32 {
+    let skipped: usize = report.skipped.iter().map(|s| s.count).sum();
+    if !strict || (skipped == 0 && report.damage.is_none()) {
+        return 0;
+    }
+    let mut lost = Vec::new();
+    if skipped > 0 {
+        lost.push(format!("{skipped} {} skipped", report.unit.name()));
+    }
+    if let Some(d) = &report.damage {
+        lost.push(format!("the read stopped at damage ({d})"));
+    }
+    eprintln!("audit run --strict: {}: exit 1", lost.join("; "));
+    1
 }

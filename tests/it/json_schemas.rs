@@ -4,7 +4,7 @@
 use crate::common::run_cli;
 use serde_json::Value;
 
-fn schema(name: &str) -> jsonschema::Validator {
+pub fn schema(name: &str) -> jsonschema::Validator {
     let path = format!(
         "{}/docs/schemas/{name}.schema.json",
         env!("CARGO_MANIFEST_DIR")

@@ -59,6 +59,8 @@ mod readme;
 mod rig_toml;
 mod run_bags;
 mod run_fixtures;
+mod run_outputs;
+mod run_real;
 mod scene_simulate;
 mod scene_tunnel;
 mod snapshots;
