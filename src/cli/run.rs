@@ -8,14 +8,18 @@ use super::display::TermBars;
 use super::{emit_warned, print_warnings};
 use extrinsic_audit::degeneracy::normals::NormalParams;
 use extrinsic_audit::degeneracy::MetricRule;
-use extrinsic_audit::diagnostic::{Code, Error, Result};
+use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
 use extrinsic_audit::formats::bag::BagLimits;
 use extrinsic_audit::formats::LoadOptions;
+use extrinsic_audit::frames::FrameGraph;
 use extrinsic_audit::pipeline::detector::parse_triple;
 use extrinsic_audit::pipeline::files::AtomicFile;
 use extrinsic_audit::pipeline::run::{self as pr, RunOptions};
+use extrinsic_audit::render::mcap::{RunMcap, RUN_TOPIC};
 use extrinsic_audit::render::{self, OutputFormat};
-use extrinsic_audit::report::run::{RunHeader, RunSink};
+use extrinsic_audit::report::run::{RunHeader, RunReport, RunSink};
+use extrinsic_audit::report::run_scene::RunTransforms;
+use extrinsic_audit::run::frames::RunFrame;
 use extrinsic_audit::run::poses::PoseFormat;
 use extrinsic_audit::run::scan::{Outcome, Settings};
 use extrinsic_audit::run::source::{Bound, Window};
@@ -285,15 +289,25 @@ impl Streamed {
     }
 }
 
-/// Where the records go: the CSV and JSON lines files, and standard output
-/// for `--format csv`.
+/// Where the records go: the CSV and JSON lines files, standard output
+/// for `--format csv`, the MCAP file for `--format mcap`.
 struct Sinks<'a> {
     csv: Option<Streamed>,
     jsonl: Option<Streamed>,
     stdout_csv: Option<&'a mut dyn Write>,
+    mcap: Option<RunMcap<AtomicFile>>,
+    /// The run's transforms until the first scan names the scan frame.
+    tf: Option<RunTransforms>,
 }
 
 impl RunSink for Sinks<'_> {
+    fn frames(&mut self, frames: &[RunFrame], graph: Option<&FrameGraph>) -> Result<()> {
+        if self.mcap.is_some() {
+            self.tf = Some(RunTransforms::new(frames, graph));
+        }
+        Ok(())
+    }
+
     fn begin(&mut self, h: &RunHeader) -> Result<()> {
         let head = render::csv_line(&h.csv_header());
         if let Some(c) = self.csv.as_mut() {
@@ -315,13 +329,47 @@ impl RunSink for Sinks<'_> {
                 stdout_line(*out, &row)?;
             }
         }
+        if self.jsonl.is_none() && self.mcap.is_none() {
+            return Ok(());
+        }
+        let line = h.json_line(o);
         if let Some(j) = self.jsonl.as_mut() {
-            let v = serde_json::to_string(&h.json_line(o))
+            let v = serde_json::to_string(&line)
                 .map_err(|e| Error::new(Code::Io, format!("cannot write the JSON line: {e}")))?;
             j.line(&v)?;
         }
+        if let Some(m) = self.mcap.as_mut() {
+            if let Some(tf) = self.tf.take() {
+                m.transforms(tf.resolve(o.scan.frame_id.as_deref()));
+            }
+            m.record(&line)?;
+        }
         Ok(())
     }
+}
+
+/// The MCAP file's metadata: what the run is, and its summary as
+/// `--format json` gives it.
+fn mcap_facts(report: &RunReport, warnings: &[Warning]) -> Result<Vec<(String, String)>> {
+    let summary = render::render(
+        report,
+        warnings,
+        OutputFormat::Json,
+        render::Style::plain(),
+        &render::Layout::default(),
+    )?;
+    // `scans` or `pairs`, as the records name it.
+    let unit = serde_json::to_value(report.unit)
+        .map_err(|e| Error::new(Code::Io, format!("cannot encode the run's unit: {e}")))?
+        .as_str()
+        .unwrap_or_default()
+        .to_string();
+    Ok(vec![
+        ("report".into(), "run".into()),
+        ("unit".into(), unit),
+        ("timeline_topic".into(), RUN_TOPIC.into()),
+        ("summary".into(), summary),
+    ])
 }
 
 fn stdout_line(out: &mut dyn Write, s: &str) -> Result<()> {
@@ -342,9 +390,10 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
             | OutputFormat::Json
             | OutputFormat::Csv
             | OutputFormat::Svg
+            | OutputFormat::Mcap
     ) {
         return Err(Error::usage(format!(
-            "--format {}: audit run writes text, markdown, json (the summary), csv (one row per scan) or svg (the timeline)",
+            "--format {}: audit run writes text, markdown, json (the summary), csv (one row per scan), svg (the timeline) or mcap (the timeline for Foxglove)",
             format.name()
         )));
     }
@@ -355,6 +404,16 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
             "--output with --format csv: the per-scan rows are streamed; give --csv FILE",
         ));
     }
+    let mcap_target = match (format, &args.output.output) {
+        (OutputFormat::Mcap, Some(t)) => Some(t),
+        (OutputFormat::Mcap, None) => {
+            // Written as the scans finish, going back over its chunks.
+            return Err(Error::usage(
+                "--format mcap: audit run streams the MCAP file; give --output FILE.mcap",
+            ));
+        }
+        _ => None,
+    };
     super::check_output(&args.output, &args.run)?;
     for (flag, t, ext) in [
         ("--csv", &args.csv, "csv"),
@@ -369,11 +428,20 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
         csv: args.csv.as_deref().map(Streamed::create).transpose()?,
         jsonl: args.jsonl.as_deref().map(Streamed::create).transpose()?,
         stdout_csv: (format == OutputFormat::Csv).then_some(&mut *out),
+        mcap: mcap_target
+            .map(|t| AtomicFile::create(t).and_then(RunMcap::new))
+            .transpose()?,
+        tf: None,
     };
     let (report, warnings) = pr::run(&opts, &mut sinks, &TermBars)?;
-    let Sinks { csv, jsonl, .. } = sinks;
+    let Sinks {
+        csv, jsonl, mcap, ..
+    } = sinks;
     for s in [csv, jsonl].into_iter().flatten() {
         s.finish()?;
+    }
+    if let Some(m) = mcap {
+        m.finish(mcap_facts(&report, &warnings)?)?.commit()?;
     }
     print_warnings(&warnings);
     let svg = || {
@@ -388,7 +456,7 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
         extrinsic_audit::pipeline::write_atomic(t, svg()?.as_bytes())?;
     }
     match (format, &args.output.output) {
-        (OutputFormat::Csv, _) => {}
+        (OutputFormat::Csv | OutputFormat::Mcap, _) => {}
         (OutputFormat::Svg, Some(t)) => {
             extrinsic_audit::pipeline::write_atomic(t, svg()?.as_bytes())?
         }
