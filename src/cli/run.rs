@@ -48,7 +48,8 @@ Output: the summary (scans read and skipped with reasons, degenerate intervals p
 body frame changes a label, the point-displacement eigenvalues' largest change between frames) as \
 text, markdown or JSON; one record per scan or pair as CSV (--csv FILE, or --format csv on \
 standard output) and JSON lines (--jsonl FILE); the timeline as SVG (--timeline FILE, or --format \
-svg). Skipped scans are named warnings; the scans before damage (a truncated bag) are reported.\n\n\
+svg) or as an MCAP file for Foxglove (--format mcap --output FILE.mcap: one message per scan, the \
+run's transforms; docs/foxglove.md). Skipped scans are named warnings; the scans before damage (a truncated bag) are reported.\n\n\
 Examples:\n  audit run run.mcap\n  audit run run.bag --topic /points --frame base_link --csv scans.csv --timeline run.svg\n  \
 audit run run_db3/ --pairs --all-frames --format json\n  \
 audit run sequences/00 --poses poses/00.txt --poses-format kitti --calib sequences/00/calib.txt --pairs\n  \
