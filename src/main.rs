@@ -1,7 +1,9 @@
-//! `audit`: the command-line front end of extrinsic-audit. This file holds
-//! the command tree and the dispatch; `cli` holds each command's arguments
-//! (parsed, handed to `extrinsic_audit::pipeline`, the report rendered) and
-//! the output. Everything else is the library's.
+//! `audit`: the command-line front end of extrinsic-audit, a client of the
+//! library's face like any other (and of `extrinsic_audit::internals` only
+//! where the crate docs say). This file holds the command tree and the
+//! dispatch; `cli` holds each command's arguments (parsed, handed to the
+//! library, the report rendered) and the output. Everything else is the
+//! library's.
 //!
 //! Exit codes for every command: 0 ok, 1 the check found problems, 2 usage or
 //! input error (clap's own usage errors also exit 2).
@@ -10,7 +12,7 @@ mod cli;
 
 use clap::{Parser, Subcommand};
 use cli::{audit, check, detector, diff, display, run, survey};
-use extrinsic_audit::diagnostic::Result;
+use extrinsic_audit::Result;
 use std::io::Write;
 use std::process::ExitCode;
 

@@ -384,8 +384,8 @@ pub const SIGNED_PERMUTATION_TOL: f64 = 1e-9;
 
 /// Absolute zero-pitch tolerance on `|h|` (m) where no uncertainty is at hand
 /// (the detector's adapted metric, library callers of `analyze`). The reports
-/// default to `--pitch-tol auto` ([`PITCH_K`]); this is also their floor
-/// ([`PITCH_FLOAT_FLOOR_M`]).
+/// default to `--pitch-tol auto` (`PITCH_K`); this is also their floor
+/// (`PITCH_FLOAT_FLOOR_M`).
 pub const DEFAULT_PITCH_TOL: f64 = 1e-9;
 
 /// Rotation angle (degrees) below which a rig's screw axis is set by calibration
@@ -482,11 +482,6 @@ pub const DEFAULT_TAU: f64 = 1e-2;
 /// millimetres. For exactly collinear points the ratio is rounding (`~1e-16`).
 pub const CHOLESKY_REL_TOL: f64 = 1e-10;
 
-/// A projector diagonal entry above this flags the axis in the footprint (no
-/// longer used by the footprints, which flag at [`FOOTPRINT_SCORE_TOL`]; kept
-/// for callers of the library).
-pub const FOOTPRINT_TOL: f64 = 1e-6;
-
 /// In the canonical basis of a degenerate subspace, a direction whose rotational
 /// part has singular value at or below this (for a unit coordinate vector) is a
 /// pure translation.
@@ -530,7 +525,8 @@ pub const MAX_LIST_VALUES: usize = 16;
 /// axis is flagged when its score, the diagonal entry of the Euclidean
 /// projector onto the subspace (in `[0, 1]`, summing to the dimension), is at
 /// least this. On a ground plane the in-plane axes score about 0.996 and the
-/// others below 0.01 (issue 16), where [`FOOTPRINT_TOL`] flagged all six.
+/// others below 0.01 (issue 16), where the absolute 1e-6 used before flagged
+/// all six.
 pub const FOOTPRINT_SCORE_TOL: f64 = 0.1;
 
 /// A degenerate direction is a translation when its rotation fraction

@@ -4,5 +4,5 @@
 pub mod family;
 pub mod metric;
 
-pub use family::{Family, FamilySpec, FAMILIES};
+pub use family::Family;
 pub use metric::{analyze, RigAnalysis};

@@ -6,27 +6,27 @@
 use super::args::{parse_positive, BagArgs, EllArgs, OutputArgs, TauArgs, XacroArgs};
 use super::display::TermBars;
 use super::{emit_warned, print_warnings};
-use extrinsic_audit::degeneracy::normals::NormalParams;
-use extrinsic_audit::degeneracy::MetricRule;
-use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
-use extrinsic_audit::formats::bag::BagLimits;
-use extrinsic_audit::formats::LoadOptions;
-use extrinsic_audit::frames::FrameGraph;
-use extrinsic_audit::pipeline::detector::parse_triple;
-use extrinsic_audit::pipeline::files::AtomicFile;
-use extrinsic_audit::pipeline::run::{self as pr, RunOptions};
-use extrinsic_audit::render::mcap::{RunMcap, RUN_TOPIC};
-use extrinsic_audit::render::{self, OutputFormat};
-use extrinsic_audit::report::run::{RunHeader, RunReport, RunSink};
-use extrinsic_audit::report::run_scene::RunTransforms;
-use extrinsic_audit::run::frames::RunFrame;
-use extrinsic_audit::run::poses::PoseFormat;
-use extrinsic_audit::run::scan::{Outcome, Settings};
-use extrinsic_audit::run::source::{Bound, Window};
-use extrinsic_audit::tolerances::{
+use extrinsic_audit::internals::degeneracy::normals::NormalParams;
+use extrinsic_audit::internals::degeneracy::MetricRule;
+use extrinsic_audit::internals::formats::bag::BagLimits;
+use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::internals::pipeline::detector::parse_triple;
+use extrinsic_audit::internals::pipeline::files::AtomicFile;
+use extrinsic_audit::internals::pipeline::run::{self as pr, RunOptions};
+use extrinsic_audit::internals::pipeline::{check_output_target, write_atomic};
+use extrinsic_audit::internals::render;
+use extrinsic_audit::internals::render::mcap::{RunMcap, RUN_TOPIC};
+use extrinsic_audit::internals::report::run::{RunHeader, RunReport, RunSink};
+use extrinsic_audit::internals::report::run_scene::RunTransforms;
+use extrinsic_audit::internals::run::frames::RunFrame;
+use extrinsic_audit::internals::run::poses::PoseFormat;
+use extrinsic_audit::internals::run::scan::{Outcome, Settings};
+use extrinsic_audit::internals::run::source::{Bound, Window};
+use extrinsic_audit::internals::tolerances::{
     MAX_SCAN_CELLS, PAIR_GATE_M, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
     RUN_VOXEL_M,
 };
+use extrinsic_audit::{Code, Error, LoadOptions, OutputFormat, Result, Warning};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -213,10 +213,8 @@ impl RunArgs {
             gate: self.gate,
             max_cells: MAX_SCAN_CELLS,
         };
-        let mut load = LoadOptions {
-            bag: self.bag.bag_options(),
-            ..LoadOptions::default()
-        };
+        let mut load = LoadOptions::default();
+        load.bag = self.bag.bag_options();
         self.xacro.apply(&mut load);
         Ok(RunOptions {
             inputs: self.run.clone(),
@@ -269,7 +267,7 @@ fn check_target(flag: &str, target: &Path, ext: &str, inputs: &[PathBuf]) -> Res
             )));
         }
     }
-    extrinsic_audit::pipeline::check_output_target(flag, "run", target, inputs)
+    check_output_target(flag, "run", target, inputs)
 }
 
 /// A file written as the scans finish, put in place when the run ends well
@@ -454,13 +452,11 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
         )
     };
     if let Some(t) = &args.timeline {
-        extrinsic_audit::pipeline::write_atomic(t, svg()?.as_bytes())?;
+        write_atomic(t, svg()?.as_bytes())?;
     }
     match (format, &args.output.output) {
         (OutputFormat::Csv | OutputFormat::Mcap, _) => {}
-        (OutputFormat::Svg, Some(t)) => {
-            extrinsic_audit::pipeline::write_atomic(t, svg()?.as_bytes())?
-        }
+        (OutputFormat::Svg, Some(t)) => write_atomic(t, svg()?.as_bytes())?,
         (OutputFormat::Svg, None) => stdout_line(out, svg()?.trim_end())?,
         _ => emit_warned(&report, &warnings, &args.output, &args.run, out)?,
     }

@@ -519,7 +519,7 @@ pub struct Outputs {
     pub h: f64,
 }
 
-/// [`Outputs`] of `t` against the nominal axis `e0`.
+/// `Outputs` of `t` against the nominal axis `e0`.
 pub fn outputs(t: &Transform, e0: Option<&Vector3<f64>>) -> Outputs {
     let (mut phi, axis) = t.rotation_angle_axis();
     let h = match (axis, e0) {
@@ -735,10 +735,12 @@ impl PitchVerdict {
     }
 }
 
-/// `--pitch-tol`: `auto` (the three-way verdict) or a length in metres.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// `--pitch-tol`: `auto` (the three-way verdict, the default) or a length in
+/// metres.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum PitchTol {
     /// Decided from `h` and its standard uncertainty.
+    #[default]
     Auto,
     /// `|h| <= tol` (m): two-way.
     Fixed(f64),

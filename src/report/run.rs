@@ -341,18 +341,6 @@ pub trait RunSink {
     }
 }
 
-/// A sink that keeps nothing.
-pub struct NoSink;
-
-impl RunSink for NoSink {
-    fn begin(&mut self, _: &RunHeader) -> crate::diagnostic::Result<()> {
-        Ok(())
-    }
-    fn outcome(&mut self, _: &RunHeader, _: &Outcome) -> crate::diagnostic::Result<()> {
-        Ok(())
-    }
-}
-
 /// One JSON line: a scan or a pair.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct ScanRecord {

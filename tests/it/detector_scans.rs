@@ -2,9 +2,9 @@
 //! assembly anywhere (centroid reference), relative footprint and screw
 //! classification, raw scans with estimated normals.
 
-use extrinsic_audit::degeneracy::scene::{synthesize, Preprocess, SceneKind};
-use extrinsic_audit::degeneracy::*;
-use extrinsic_audit::tolerances::DEFAULT_TAU;
+use extrinsic_audit::internals::degeneracy::scene::{synthesize, Preprocess, SceneKind};
+use extrinsic_audit::internals::degeneracy::*;
+use extrinsic_audit::internals::tolerances::DEFAULT_TAU;
 
 /// A noisy corridor with PCA normals (a real-looking cloud of a few thousand
 /// points), offset by `shift`.
@@ -120,8 +120,8 @@ fn units_do_not_change_the_point_displacement_eigenvalues() {
 
 #[test]
 fn a_synthetic_pair_with_known_overlap_assembles_the_overlap() {
-    use extrinsic_audit::degeneracy::pairs::pair_assembly;
-    use extrinsic_audit::geometry::Transform;
+    use extrinsic_audit::internals::degeneracy::pairs::pair_assembly;
+    use extrinsic_audit::Transform;
     use nalgebra::Vector3;
     // Target: the L corner with exact normals. Source: the target's points
     // with x < 0 (the overlap) seen from the source frame T (pose in the
@@ -195,7 +195,7 @@ fn kernels_and_threads_agree_with_reference_points() {
 mod real {
     use crate::common::run_cli;
     use crate::common::testdata::{self, CAR6, GICP_RELATIVE, GICP_SCAN, GICP_SCAN_2};
-    use extrinsic_audit::degeneracy::points::read_xyz;
+    use extrinsic_audit::internals::degeneracy::points::read_xyz;
     use serde_json::Value;
     use std::path::PathBuf;
 
@@ -442,7 +442,7 @@ mod real {
             .collect();
         assert!(rel(&sum, &nums(&e["car6_sum"])) < 1e-12);
         // Without normals it is refused for the normal-reading path, naming them.
-        let err = extrinsic_audit::degeneracy::points::read_points(&car6).unwrap_err();
+        let err = extrinsic_audit::internals::degeneracy::points::read_points(&car6).unwrap_err();
         assert!(
             err.message.contains("missing normal_x normal_y normal_z"),
             "{err}"
@@ -539,7 +539,7 @@ mod real {
 
     #[test]
     fn wilson_interval_matches_the_closed_form() {
-        use extrinsic_audit::pipeline::detector::wilson95;
+        use extrinsic_audit::internals::pipeline::detector::wilson95;
         let [lo, hi] = wilson95(50, 100);
         assert!(
             (lo - 0.403_8).abs() < 1e-4 && (hi - 0.596_2).abs() < 1e-4,
@@ -595,7 +595,7 @@ mod real {
 
 #[test]
 fn corrupt_compressed_pcd_is_an_error_never_a_panic() {
-    use extrinsic_audit::degeneracy::points::read_xyz;
+    use extrinsic_audit::internals::degeneracy::points::read_xyz;
     let Some(good) = crate::common::testdata::read(crate::common::testdata::CAR6) else {
         return;
     };
@@ -633,7 +633,7 @@ fn corrupt_compressed_pcd_is_an_error_never_a_panic() {
 
 #[test]
 fn normals_do_not_depend_on_threads_and_knn_covers_the_radius() {
-    use extrinsic_audit::degeneracy::normals::{estimate_normals_with, NormalParams};
+    use extrinsic_audit::internals::degeneracy::normals::{estimate_normals_with, NormalParams};
     let c = synthesize(SceneKind::Tunnel, &Preprocess::exact(0.15, 0.01, 5)).unwrap();
     let prm = NormalParams {
         radius: 0.3,

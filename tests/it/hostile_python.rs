@@ -5,15 +5,14 @@
 //! Run under `ulimit -v 4000000` while changing the reader, so a regression
 //! fails instead of swapping the machine.
 
-use extrinsic_audit::formats::{load_str, Format, LoadOptions};
+use extrinsic_audit::internals::formats::load_str;
 use extrinsic_audit::{Code, Error};
+use extrinsic_audit::{Format, LoadOptions};
 use std::path::Path;
 
 fn read_as(format: &str, text: &str) -> Result<usize, Error> {
-    let o = LoadOptions {
-        format: Some(Format::from_name(format).unwrap()),
-        ..Default::default()
-    };
+    let mut o = LoadOptions::default();
+    o.format = Some(Format::from_name(format).unwrap());
     load_str(text, Path::new("hostile.launch.py"), &o).map(|l| l.edges.len())
 }
 

@@ -3,6 +3,7 @@
 //! graph, `cli_*` the binary, `hostile_*` hostile input, `detector_*`,
 //! `points_*` and `scene_*` the degeneracy wing), helpers in `common`.
 
+mod architecture;
 mod calibrations;
 mod check_fleet;
 mod check_gate;

@@ -4,7 +4,7 @@
 //! tests/fixtures/detector/scans/make_reference_las.py (laspy, lazrs, numpy).
 
 use crate::common::{audit, nums, rel, run_cli};
-use extrinsic_audit::degeneracy::points::{parse_points, read_xyz, PointFormat};
+use extrinsic_audit::internals::degeneracy::points::{parse_points, read_xyz, PointFormat};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -322,8 +322,8 @@ fn every_byte_of_a_las_or_laz_header_damaged_is_an_answer_not_a_panic() {
 
 #[test]
 fn class_keeps_the_ground_points_like_laspy() {
-    use extrinsic_audit::degeneracy::points::read_xyz_classes;
-    use extrinsic_audit::progress::NoProgress;
+    use extrinsic_audit::internals::degeneracy::points::read_xyz_classes;
+    use extrinsic_audit::NoProgress;
     let e = expected();
     // Both decoders (las for LAS, laz for LAZ) read the classification.
     for (file, key) in [("autzen.las", "autzen_las"), ("autzen.laz", "autzen_laz")] {

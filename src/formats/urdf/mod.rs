@@ -69,11 +69,9 @@ mod joints;
 mod read;
 mod stream;
 
-pub use crate::formats::spec::UrdfVersion;
-
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::source::LineIndex;
-use crate::formats::spec::{Confidence, FormatSpec, LoadOptions, Loaded};
+use crate::formats::spec::{Confidence, FormatSpec, LoadOptions, Parsed};
 use crate::formats::xacro::markers as xacro;
 use crate::formats::xml;
 use crate::frames::{Edge, FrameDecl};
@@ -82,7 +80,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 /// Parse URDF text.
-pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let mut warnings = Vec::new();
     let outline = stream::outline(text, path)?;
     let idx = LineIndex::new(text);
@@ -104,11 +102,11 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let (frames, roots) = link_frames(&idx, &outline.links, &edges, path);
     drop(outline);
     root_links(&roots, path, &mut warnings);
-    Ok(Loaded {
+    Ok(Parsed {
         edges,
         frames,
         warnings,
-        ..Loaded::default()
+        ..Parsed::default()
     })
 }
 
