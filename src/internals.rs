@@ -132,7 +132,11 @@ pub mod pipeline {
 }
 
 pub mod render {
-    pub use crate::render::{csv_line, draw, ColorChoice, Layout, Style};
+    pub use crate::render::{csv_line, draw, render, ColorChoice, Layout, Style};
+
+    pub mod mcap {
+        pub use crate::render::mcap::{RunMcap, RUN_TOPIC};
+    }
 
     pub mod layout {
         pub use crate::render::layout::{wrap, MIN_TERMINAL_WIDTH};
@@ -143,9 +147,17 @@ pub mod report {
     pub mod run {
         pub use crate::report::run::{RunHeader, RunReport, RunSink};
     }
+
+    pub mod run_scene {
+        pub use crate::report::run_scene::RunTransforms;
+    }
 }
 
 pub mod run {
+    pub mod frames {
+        pub use crate::run::frames::RunFrame;
+    }
+
     pub mod poses {
         pub use crate::run::poses::PoseFormat;
     }

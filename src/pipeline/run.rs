@@ -607,6 +607,7 @@ pub fn run(
         families: opts.settings.rules.len(),
         point_displacement: header.point_displacement(),
     });
+    sink.frames(&frames.list, frames.graph())?;
     sink.begin(&header)?;
     let threads = match opts.threads {
         // AUDIT_JOBS or the cores, as check and survey choose.

@@ -13,6 +13,7 @@ pub mod frames;
 pub mod rig;
 mod rig_scene;
 pub mod run;
+pub mod run_scene;
 mod run_timeline;
 pub mod scan_scene;
 pub mod survey;

@@ -330,6 +330,15 @@ pub trait RunSink {
     fn begin(&mut self, header: &RunHeader) -> crate::diagnostic::Result<()>;
     /// One record, in run order.
     fn outcome(&mut self, header: &RunHeader, o: &Outcome) -> crate::diagnostic::Result<()>;
+    /// The run's frames and transforms, before [`begin`](RunSink::begin)
+    /// (`--format mcap` draws them).
+    fn frames(
+        &mut self,
+        _frames: &[crate::run::frames::RunFrame],
+        _graph: Option<&crate::frames::FrameGraph>,
+    ) -> crate::diagnostic::Result<()> {
+        Ok(())
+    }
 }
 
 /// One JSON line: a scan or a pair.

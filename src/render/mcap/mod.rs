@@ -34,6 +34,9 @@
 //! frame's origin keep millimetres.
 
 mod foxglove;
+mod run;
+
+pub use run::{RunMcap, RUN_TOPIC};
 
 use crate::diagnostic::{Code, Error, Result};
 use crate::document::scene::{Entity, Paint, PointCloud, Scene, SceneTransform, Shape};
@@ -45,7 +48,7 @@ use foxglove::{
 use mcap::records::{MessageHeader, Metadata};
 use serde::Serialize;
 use std::collections::BTreeMap;
-use std::io::Cursor;
+use std::io::{Cursor, Seek, Write};
 
 /// The topic of the transforms.
 pub const TF_TOPIC: &str = "/tf";
@@ -81,16 +84,10 @@ pub fn write(scene: &Scene) -> Result<Vec<u8>> {
             "--format mcap: {what} holds a non-finite number, which JSON cannot carry"
         )));
     }
-    let fail = |e: mcap::McapError| Error::new(Code::Io, format!("cannot write MCAP: {e}"));
-    let opts = mcap::WriteOptions::new()
-        .profile("")
-        .library(concat!("extrinsic-audit ", env!("CARGO_PKG_VERSION")));
-    let mut w = opts.create(Cursor::new(Vec::new())).map_err(fail)?;
+    let mut w = writer(Cursor::new(Vec::new()))?;
     let mut out = Out { w: &mut w };
     if !scene.transforms.is_empty() {
-        let msg = FrameTransforms {
-            transforms: scene.transforms.iter().map(frame_transform).collect(),
-        };
+        let msg = transforms(&scene.transforms, Time::default());
         out.one(TF_TOPIC, "foxglove.FrameTransforms", FRAME_TRANSFORMS, &msg)?;
     }
     if !scene.entities.is_empty() {
@@ -104,7 +101,62 @@ pub fn write(scene: &Scene) -> Result<Vec<u8>> {
         let topic = format!("{CLOUD_TOPIC_PREFIX}{}", c.name);
         out.one(&topic, "foxglove.PointCloud", POINT_CLOUD, &point_cloud(c))?;
     }
-    let mut facts: BTreeMap<String, String> = scene.metadata.iter().cloned().collect();
+    Ok(finish(w, scene.metadata.iter().cloned())?.into_inner())
+}
+
+fn fail(e: mcap::McapError) -> Error {
+    Error::new(Code::Io, format!("cannot write MCAP: {e}"))
+}
+
+/// A writer with this tool's header: empty profile (not a ROS encoding),
+/// the library named, the crate's default zstd chunks and indexes.
+fn writer<W: Write + Seek>(w: W) -> Result<mcap::Writer<W>> {
+    mcap::WriteOptions::new()
+        .profile("")
+        .library(concat!("extrinsic-audit ", env!("CARGO_PKG_VERSION")))
+        .create(w)
+        .map_err(fail)
+}
+
+/// A new `json` channel on `topic` whose `jsonschema` schema is `schema`
+/// (named `name`, its title).
+fn channel<W: Write + Seek>(
+    w: &mut mcap::Writer<W>,
+    topic: &str,
+    name: &str,
+    schema: &[u8],
+) -> Result<u16> {
+    let sid = w.add_schema(name, "jsonschema", schema).map_err(fail)?;
+    w.add_channel(sid, topic, "json", &BTreeMap::new())
+        .map_err(fail)
+}
+
+/// `msg` as JSON on channel `ch` at `log_time` (ns; also its publish time).
+fn message<W: Write + Seek, T: Serialize>(
+    w: &mut mcap::Writer<W>,
+    ch: u16,
+    sequence: u32,
+    log_time: u64,
+    msg: &T,
+) -> Result<()> {
+    let data = serde_json::to_vec(msg)
+        .map_err(|e| Error::new(Code::Io, format!("cannot encode an MCAP message: {e}")))?;
+    let header = MessageHeader {
+        channel_id: ch,
+        sequence,
+        log_time,
+        publish_time: log_time,
+    };
+    w.write_to_known_channel(&header, &data).map_err(fail)
+}
+
+/// The metadata record (`facts` and the tool), then the summary and the
+/// indexes; the writer's sink back.
+fn finish<W: Write + Seek>(
+    mut w: mcap::Writer<W>,
+    facts: impl IntoIterator<Item = (String, String)>,
+) -> Result<W> {
+    let mut facts: BTreeMap<String, String> = facts.into_iter().collect();
     facts.insert(
         "tool".into(),
         format!("audit {}", env!("CARGO_PKG_VERSION")),
@@ -115,42 +167,31 @@ pub fn write(scene: &Scene) -> Result<Vec<u8>> {
     })
     .map_err(fail)?;
     w.finish().map_err(fail)?;
-    Ok(w.into_inner().into_inner())
+    Ok(w.into_inner())
 }
 
-/// The writer, adding one channel per topic.
+/// The writer of a scene, one message per topic at time 0.
 struct Out<'a> {
     w: &'a mut mcap::Writer<Cursor<Vec<u8>>>,
 }
 
 impl Out<'_> {
-    /// One message at time 0 on a new `json` channel `topic` whose
-    /// `jsonschema` schema is `schema` (named `name`, its title).
     fn one<T: Serialize>(&mut self, topic: &str, name: &str, schema: &[u8], msg: &T) -> Result<()> {
-        let fail = |e: mcap::McapError| Error::new(Code::Io, format!("cannot write MCAP: {e}"));
-        let sid = self
-            .w
-            .add_schema(name, "jsonschema", schema)
-            .map_err(fail)?;
-        let ch = self
-            .w
-            .add_channel(sid, topic, "json", &BTreeMap::new())
-            .map_err(fail)?;
-        let data = serde_json::to_vec(msg)
-            .map_err(|e| Error::new(Code::Io, format!("cannot encode {topic}: {e}")))?;
-        let header = MessageHeader {
-            channel_id: ch,
-            sequence: 0,
-            log_time: 0,
-            publish_time: 0,
-        };
-        self.w.write_to_known_channel(&header, &data).map_err(fail)
+        let ch = channel(self.w, topic, name, schema)?;
+        message(self.w, ch, 0, 0, msg)
     }
 }
 
-fn frame_transform(t: &SceneTransform) -> FrameTransform {
+/// One `FrameTransforms` of `list`, every transform stamped `at`.
+fn transforms(list: &[SceneTransform], at: Time) -> FrameTransforms {
+    FrameTransforms {
+        transforms: list.iter().map(|t| frame_transform(t, at)).collect(),
+    }
+}
+
+fn frame_transform(t: &SceneTransform, at: Time) -> FrameTransform {
     FrameTransform {
-        timestamp: Time::default(),
+        timestamp: at,
         parent_frame_id: t.parent.clone(),
         child_frame_id: t.child.clone(),
         translation: t.translation_m.into(),
