@@ -10,8 +10,10 @@
 //! comes before it), the items it makes irrelevant are no longer read.
 
 use super::joints::Builder;
-use super::read::{self, Context, JointRaw, Links, PendingLink, Version};
+use super::read::{self, Context, JointRaw, Links, PendingLink};
+use super::stream::err_at;
 use super::stream::{El, Item, JointEl, XacroAt};
+use super::version::{self, Version};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::source::LineIndex;
 use crate::formats::spec::{LoadOptions, Parsed};
@@ -88,7 +90,7 @@ impl<'c, 'a> Document<'c, 'a> {
         match item {
             Item::Root(el) => match check_root(self.idx, &el) {
                 Err(e) => self.root_error = Some(e),
-                Ok(()) => self.version = Some(read::version(self.idx, &el, self.opts)),
+                Ok(()) => self.version = Some(version::version(self.idx, &el, self.opts)),
             },
             Item::Xacro(x) => self.xacro = Some(x),
             Item::Link(name, start) if !self.settled() => self.link(name, start),
@@ -133,7 +135,7 @@ impl<'c, 'a> Document<'c, 'a> {
                 name.as_deref().unwrap_or(""),
                 prev
             );
-            self.joint_error = Some((k, read::err_at(self.idx, &j.el, msg)));
+            self.joint_error = Some((k, err_at(self.idx, &j.el, msg)));
             return;
         }
         // Joints are read only once the root gave the version.

@@ -74,6 +74,7 @@ mod origin;
 mod read;
 mod stream;
 mod values;
+mod version;
 
 use crate::diagnostic::Result;
 use crate::formats::source::LineIndex;

@@ -4,8 +4,8 @@
 //! or a warning is raised: a message names its attribute through [`What`],
 //! formatted only then.
 
-use super::read::{err_at, Version};
-use super::stream::El;
+use super::stream::{err_at, El};
+use super::version::Version;
 use crate::diagnostic::{Code, Location, Result, Warning};
 use crate::formats::source::LineIndex;
 use crate::formats::spec::{locate_warnings, UrdfVersion};

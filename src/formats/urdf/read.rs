@@ -5,10 +5,11 @@
 //! [`super::origin`].
 
 use super::origin::{self, numbers_attr, What};
-use super::stream::{El, JointEl};
+use super::stream::{err_at, fail_at, El, JointEl};
+use super::version::Version;
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::source::LineIndex;
-use crate::formats::spec::{LoadOptions, UrdfVersion};
+use crate::formats::spec::UrdfVersion;
 use crate::frames::JointType;
 use crate::geometry::{EdgePrecision, Precision, Transform};
 use std::borrow::Cow;
@@ -47,39 +48,6 @@ pub(super) struct Limit {
     pub line: usize,
 }
 
-/// The version a file is read as: declared (`None` when absent) and used.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Version {
-    pub declared: Option<UrdfVersion>,
-    pub used: UrdfVersion,
-}
-
-impl Version {
-    pub(super) fn declared_text(&self) -> String {
-        match self.declared {
-            Some(v) => format!("declares version {v}"),
-            None => "declares no version (1.0)".to_string(),
-        }
-    }
-}
-
-/// `<robot version>` read as urdfdom reads it (refused at the `<robot>` line
-/// when malformed or unsupported), then `--urdf-version` if given.
-pub(super) fn version(idx: &LineIndex, root: &El, opts: &LoadOptions) -> Result<Version> {
-    let declared = match root.attr("version") {
-        None => None,
-        Some(s) => Some(UrdfVersion::parse(s).map_err(|m| {
-            err_at(
-                idx,
-                root,
-                format!("<robot version>: {m}; ROS (urdfdom) refuses this file"),
-            )
-        })?),
-    };
-    let used = opts.urdf_version.or(declared).unwrap_or(UrdfVersion::V1_0);
-    Ok(Version { declared, used })
-}
-
 /// A joint as written, before any value is applied.
 pub(super) struct JointRaw {
     pub name: String,
@@ -94,15 +62,6 @@ pub(super) struct JointRaw {
     pub limit: Option<Limit>,
     pub mimic: Option<Mimic>,
     pub loc: Location,
-}
-
-pub(super) fn err_at(idx: &LineIndex, n: &El, msg: String) -> Error {
-    fail_at(idx, n.start, msg)
-}
-
-fn fail_at(idx: &LineIndex, start: usize, msg: String) -> Error {
-    let (l, c) = idx.pos(start);
-    Error::parse(msg).at_line(l, Some(c))
 }
 
 /// What a joint is read against: the links declared so far and the version.

@@ -782,3 +782,14 @@ mod tests {
         assert!(!decl_ok("<?xml version=\"1.0\" foo=\"1\"?>"));
     }
 }
+
+/// A parse error at element `n`'s line and column.
+pub(super) fn err_at(idx: &LineIndex, n: &El, msg: String) -> Error {
+    fail_at(idx, n.start, msg)
+}
+
+/// A parse error at byte `start`'s line and column.
+pub(super) fn fail_at(idx: &LineIndex, start: usize, msg: String) -> Error {
+    let (l, c) = idx.pos(start);
+    Error::parse(msg).at_line(l, Some(c))
+}
