@@ -193,8 +193,8 @@ fn kernels_and_threads_agree_with_reference_points() {
 // ---------------------------------------------------------------------------
 
 mod real {
-    use crate::common::run_cli;
     use crate::common::testdata::{self, CAR6, GICP_RELATIVE, GICP_SCAN, GICP_SCAN_2};
+    use crate::common::{derived, run_cli};
     use extrinsic_audit::internals::degeneracy::points::read_xyz;
     use serde_json::Value;
     use std::path::PathBuf;
@@ -204,14 +204,27 @@ mod real {
     }
 
     /// A scan by the name expected.json gives it: a real one from the
-    /// test-data folder (`None` where absent), else the crop in dir().
+    /// test-data folder, or the ground crop made from one at run time
+    /// (`None` where absent).
     fn scan(file: &str) -> Option<PathBuf> {
         match file {
             "251370668.pcd" => testdata::file(GICP_SCAN),
             "251371071.pcd" => testdata::file(GICP_SCAN_2),
             "car6_pcl_compressed.pcd" => testdata::file(CAR6),
-            _ => Some(dir().join(file)),
+            "ground_crop.pcd" => derived::ground_crop().map(|c| c.pcd.clone()),
+            "ground_crop_weighted.csv" => derived::ground_crop().map(|c| c.weighted_csv.clone()),
+            other => panic!("no scan named {other}"),
         }
+    }
+
+    /// [`scan`], the test returning (skipped) where it is absent.
+    macro_rules! need {
+        ($file:expr) => {
+            match scan($file) {
+                Some(p) => p,
+                None => return,
+            }
+        };
     }
 
     fn expected() -> Value {
@@ -337,6 +350,7 @@ mod real {
 
     #[test]
     fn ground_plane_crop_has_rotation_about_the_vertical_and_two_translations() {
+        need!("ground_crop.pcd");
         let r = run(
             "ground_crop.pcd",
             &["--normal-radius", "0.5", "--min-planarity", "0.2"],
@@ -389,6 +403,7 @@ mod real {
         // The ground crop with a `w` column (make_reference.py): each voxel's
         // weight is the mean of its points' weights, then H = sum w a a^T and
         // M = sum w J^T J over the points that got a normal.
+        need!("ground_crop_weighted.csv");
         let r = run(
             "ground_crop_weighted.csv",
             &["--normal-radius", "0.5", "--min-planarity", "0.2"],
@@ -497,7 +512,7 @@ mod real {
 
     #[test]
     fn sweep_on_the_ground_crop_keeps_point_displacement_and_flips_others() {
-        let path = dir().join("ground_crop.pcd");
+        let path = need!("ground_crop.pcd");
         let (code, out, err) = run_cli(&[
             "sweep",
             path.to_str().unwrap(),
@@ -552,7 +567,7 @@ mod real {
 
     #[test]
     fn raw_options_are_checked() {
-        let path = dir().join("ground_crop.pcd");
+        let path = need!("ground_crop.pcd");
         let p = path.to_str().unwrap();
         for bad in [
             vec!["degeneracy", p, "--voxel", "0.1"],
