@@ -35,33 +35,27 @@
 
 mod foxglove;
 mod run;
+mod write;
 
 pub use run::{RunMcap, RUN_TOPIC};
+use write::{channel, finish, message, transforms, writer, FRAME_TRANSFORMS, TF_TOPIC};
 
-use crate::diagnostic::{Code, Error, Result};
-use crate::document::scene::{Entity, Paint, PointCloud, Scene, SceneTransform, Shape};
+use crate::diagnostic::{Error, Result};
+use crate::document::scene::{Entity, Paint, PointCloud, Scene, Shape};
 use base64::Engine as _;
 use foxglove::{
-    ArrowPrimitive, Color, FrameTransform, FrameTransforms, KeyValuePair, LinePrimitive,
-    PackedElementField, Pose, SceneEntity, SceneUpdate, TextPrimitive, Time, FLOAT32, LINE_STRIP,
+    ArrowPrimitive, Color, KeyValuePair, LinePrimitive, PackedElementField, Pose, SceneEntity,
+    SceneUpdate, TextPrimitive, Time, FLOAT32, LINE_STRIP,
 };
-use mcap::records::{MessageHeader, Metadata};
 use serde::Serialize;
-use std::collections::BTreeMap;
-use std::io::{Cursor, Seek, Write};
+use std::io::Cursor;
 
-/// The topic of the transforms.
-pub const TF_TOPIC: &str = "/tf";
 /// The topic of the entities.
 pub const SCENE_TOPIC: &str = "/audit/scene";
 /// Point clouds are on `CLOUD_TOPIC_PREFIX` + their name.
 pub const CLOUD_TOPIC_PREFIX: &str = "/audit/";
-/// The name of the metadata record.
-pub const METADATA_NAME: &str = "extrinsic-audit";
 
 /// Foxglove's schemas (`@foxglove/schemas` 2.1.0), as their files have them.
-const FRAME_TRANSFORMS: &[u8] =
-    include_bytes!("../../../docs/schemas/external/foxglove/FrameTransforms.json");
 const SCENE_UPDATE: &[u8] =
     include_bytes!("../../../docs/schemas/external/foxglove/SceneUpdate.json");
 const POINT_CLOUD: &[u8] =
@@ -104,72 +98,6 @@ pub fn write(scene: &Scene) -> Result<Vec<u8>> {
     Ok(finish(w, scene.metadata.iter().cloned())?.into_inner())
 }
 
-fn fail(e: mcap::McapError) -> Error {
-    Error::new(Code::Io, format!("cannot write MCAP: {e}"))
-}
-
-/// A writer with this tool's header: empty profile (not a ROS encoding),
-/// the library named, the crate's default zstd chunks and indexes.
-fn writer<W: Write + Seek>(w: W) -> Result<mcap::Writer<W>> {
-    mcap::WriteOptions::new()
-        .profile("")
-        .library(concat!("extrinsic-audit ", env!("CARGO_PKG_VERSION")))
-        .create(w)
-        .map_err(fail)
-}
-
-/// A new `json` channel on `topic` whose `jsonschema` schema is `schema`
-/// (named `name`, its title).
-fn channel<W: Write + Seek>(
-    w: &mut mcap::Writer<W>,
-    topic: &str,
-    name: &str,
-    schema: &[u8],
-) -> Result<u16> {
-    let sid = w.add_schema(name, "jsonschema", schema).map_err(fail)?;
-    w.add_channel(sid, topic, "json", &BTreeMap::new())
-        .map_err(fail)
-}
-
-/// `msg` as JSON on channel `ch` at `log_time` (ns; also its publish time).
-fn message<W: Write + Seek, T: Serialize>(
-    w: &mut mcap::Writer<W>,
-    ch: u16,
-    sequence: u32,
-    log_time: u64,
-    msg: &T,
-) -> Result<()> {
-    let data = serde_json::to_vec(msg)
-        .map_err(|e| Error::new(Code::Io, format!("cannot encode an MCAP message: {e}")))?;
-    let header = MessageHeader {
-        channel_id: ch,
-        sequence,
-        log_time,
-        publish_time: log_time,
-    };
-    w.write_to_known_channel(&header, &data).map_err(fail)
-}
-
-/// The metadata record (`facts` and the tool), then the summary and the
-/// indexes; the writer's sink back.
-fn finish<W: Write + Seek>(
-    mut w: mcap::Writer<W>,
-    facts: impl IntoIterator<Item = (String, String)>,
-) -> Result<W> {
-    let mut facts: BTreeMap<String, String> = facts.into_iter().collect();
-    facts.insert(
-        "tool".into(),
-        format!("audit {}", env!("CARGO_PKG_VERSION")),
-    );
-    w.write_metadata(&Metadata {
-        name: METADATA_NAME.into(),
-        metadata: facts,
-    })
-    .map_err(fail)?;
-    w.finish().map_err(fail)?;
-    Ok(w.into_inner())
-}
-
 /// The writer of a scene, one message per topic at time 0.
 struct Out<'a> {
     w: &'a mut mcap::Writer<Cursor<Vec<u8>>>,
@@ -179,23 +107,6 @@ impl Out<'_> {
     fn one<T: Serialize>(&mut self, topic: &str, name: &str, schema: &[u8], msg: &T) -> Result<()> {
         let ch = channel(self.w, topic, name, schema)?;
         message(self.w, ch, 0, 0, msg)
-    }
-}
-
-/// One `FrameTransforms` of `list`, every transform stamped `at`.
-fn transforms(list: &[SceneTransform], at: Time) -> FrameTransforms {
-    FrameTransforms {
-        transforms: list.iter().map(|t| frame_transform(t, at)).collect(),
-    }
-}
-
-fn frame_transform(t: &SceneTransform, at: Time) -> FrameTransform {
-    FrameTransform {
-        timestamp: at,
-        parent_frame_id: t.parent.clone(),
-        child_frame_id: t.child.clone(),
-        translation: t.translation_m.into(),
-        rotation: t.rotation_xyzw.into(),
     }
 }
 
@@ -334,6 +245,7 @@ fn point_cloud(c: &PointCloud) -> foxglove::PointCloud {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::document::scene::SceneTransform;
 
     /// `q` applied to `v`.
     fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {

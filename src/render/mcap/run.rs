@@ -20,7 +20,7 @@
 //! `log_time` names the rule each message followed as the first did.
 
 use super::foxglove::Time;
-use super::{channel, finish, message, transforms, writer, FRAME_TRANSFORMS, TF_TOPIC};
+use super::write::{channel, finish, message, transforms, writer, FRAME_TRANSFORMS, TF_TOPIC};
 use crate::diagnostic::{Code, Error, Result};
 use crate::document::scene::SceneTransform;
 use crate::report::run::ScanRecord;
