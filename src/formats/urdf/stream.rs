@@ -619,6 +619,17 @@ fn decl_ok(raw: &str) -> bool {
     )
 }
 
+/// A parse error at element `n`'s line and column.
+pub(super) fn err_at(idx: &LineIndex, n: &El, msg: String) -> Error {
+    fail_at(idx, n.start, msg)
+}
+
+/// A parse error at byte `start`'s line and column.
+pub(super) fn fail_at(idx: &LineIndex, start: usize, msg: String) -> Error {
+    let (l, c) = idx.pos(start);
+    Error::parse(msg).at_line(l, Some(c))
+}
+
 #[cfg(test)]
 mod tests {
     use super::{decl_ok, qname_ok, read, Item};
@@ -781,15 +792,4 @@ mod tests {
         assert!(!decl_ok("<?xml encoding=\"UTF-8\"?>"));
         assert!(!decl_ok("<?xml version=\"1.0\" foo=\"1\"?>"));
     }
-}
-
-/// A parse error at element `n`'s line and column.
-pub(super) fn err_at(idx: &LineIndex, n: &El, msg: String) -> Error {
-    fail_at(idx, n.start, msg)
-}
-
-/// A parse error at byte `start`'s line and column.
-pub(super) fn fail_at(idx: &LineIndex, start: usize, msg: String) -> Error {
-    let (l, c) = idx.pos(start);
-    Error::parse(msg).at_line(l, Some(c))
 }
