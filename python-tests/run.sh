@@ -33,6 +33,9 @@ if [ "${PYTHON_PACKAGE:-1}" != 0 ]; then
     "$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps --force-reinstall \
         "$wheels"/extrinsic_audit-*.whl
     built=$((SECONDS - start))
-    (cd python && "../$venv/bin/python" -m pytest -q -p no:cacheprovider tests)
+    # From python/tests, not python/: there the source folder
+    # python/extrinsic_audit (no native module in a clean checkout) would
+    # shadow the installed wheel, which is what is under test.
+    (cd python/tests && "../../$venv/bin/python" -m pytest -q -p no:cacheprovider --rootdir=. .)
     echo "python package: wheel built and installed in ${built} s, step $((SECONDS - start)) s"
 fi
