@@ -10,9 +10,9 @@ use extrinsic_audit::internals::degeneracy::points::parse_points;
 use extrinsic_audit::internals::formats::{load_file, load_str};
 use extrinsic_audit::internals::frames::FrameGraph;
 use extrinsic_audit::LoadOptions;
-use hostile::{assert_quick, run_audit, write_tmp};
+use hostile::{assert_quick, cpu_now, run_audit, write_tmp};
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 // ---------------------------------------------------------------- file size
 
@@ -86,7 +86,7 @@ fn yaml_bomb() -> String {
 #[test]
 fn yaml_alias_bomb_is_refused_quickly() {
     let text = yaml_bomb();
-    let t = Instant::now();
+    let t = cpu_now();
     let e = load_str(&text, Path::new("bomb.yaml"), &LoadOptions::default())
         .unwrap_err()
         .to_string();
@@ -136,7 +136,7 @@ fn yaml_nested_10000_deep_is_refused() {
             ),
         ),
     ] {
-        let t = Instant::now();
+        let t = cpu_now();
         let e = load_str(&text, Path::new(name), &LoadOptions::default())
             .unwrap_err()
             .to_string();
@@ -192,9 +192,7 @@ fn launch_yaml_and_toml_nesting_is_refused() {
         ),
     ] {
         let p = write_tmp(&dir, name, &text);
-        let t = Instant::now();
         let out = run_audit(&[p.to_str().unwrap(), "--frames"], 20);
-        assert_quick(t, 20, name);
         assert_eq!(out.code, Some(2), "{name}: {out:?}");
         assert!(out.stderr.contains(name), "{name}: {out:?}");
     }
@@ -217,9 +215,7 @@ fn xml_nested_deep_does_not_overflow() {
                 "</a>".repeat(depth)
             );
             let p = write_tmp(&dir, name, &text);
-            let t = Instant::now();
             let out = run_audit(&[p.to_str().unwrap(), "--frames"], 30);
-            assert_quick(t, 30, name);
             assert_eq!(out.code, Some(2), "{name} {depth}: {out:?}");
             assert!(out.stderr.contains(name), "{name}: {out:?}");
             assert!(
@@ -251,7 +247,7 @@ fn xml_entity_expansion_is_refused() {
                 "<launch><arg name=\"x\" default=\"&lol9;\"/></launch>",
             )
         };
-        let t = Instant::now();
+        let t = cpu_now();
         let e = load_str(&text, Path::new(name), &LoadOptions::default())
             .unwrap_err()
             .to_string();
@@ -296,7 +292,7 @@ fn star_urdf(n: usize) -> String {
 fn urdf_with_100000_links_in_a_chain() {
     let text = chain_urdf(100_000);
     assert!(text.len() < extrinsic_audit::internals::tolerances::DEFAULT_MAX_FILE_SIZE as usize);
-    let t = Instant::now();
+    let t = cpu_now();
     let loaded = load_str(&text, Path::new("chain.urdf"), &LoadOptions::default()).unwrap();
     assert_eq!(loaded.edges.len(), 100_000);
     let mut g = FrameGraph::new();
@@ -332,7 +328,7 @@ fn urdf_with_100000_links_in_a_chain() {
 #[test]
 fn urdf_with_100000_links_in_a_star() {
     let text = star_urdf(100_000);
-    let t = Instant::now();
+    let t = cpu_now();
     let loaded = load_str(&text, Path::new("star.urdf"), &LoadOptions::default()).unwrap();
     let mut g = FrameGraph::new();
     g.add(loaded).unwrap();
@@ -340,7 +336,7 @@ fn urdf_with_100000_links_in_a_star() {
     assert!((c.transform.translation().x - 99_999.0).abs() < 1e-6);
     assert_quick(t, 60, "100k star (debug build)");
     // The typo suggestion over 100k frames stays quick.
-    let t = Instant::now();
+    let t = cpu_now();
     let e = g.transform("l1", "l100001x").unwrap_err().to_string();
     assert!(e.contains("unknown frame"), "{e}");
     assert_quick(t, 30, "closest frames over 100k names");
@@ -354,7 +350,7 @@ fn cycle_in_a_long_chain_is_refused_with_a_bounded_message() {
         "<link name=\"l0\"/>",
         "<link name=\"l0\"/><joint name=\"close\" type=\"fixed\"><parent link=\"l100000\"/><child link=\"l0\"/></joint>",
     );
-    let t = Instant::now();
+    let t = cpu_now();
     let r = load_str(&text, Path::new("cycle.urdf"), &LoadOptions::default()).and_then(|l| {
         let mut g = FrameGraph::new();
         g.add(l)
@@ -390,7 +386,7 @@ fn point_files_claiming_1e12_points_are_refused_without_allocating() {
     ] {
         let mut bytes = text.into_bytes();
         bytes.extend_from_slice(&[0u8; 24 * 3]);
-        let t = Instant::now();
+        let t = cpu_now();
         let e = parse_points(&bytes).unwrap_err().to_string();
         assert_quick(t, 2, name);
         assert!(
@@ -408,7 +404,7 @@ fn point_files_claiming_1e12_points_are_refused_without_allocating() {
 #[test]
 fn timeouts_are_real() {
     // The helper kills a child that runs past its time (guards the guards).
-    let t = Instant::now();
+    let t = std::time::Instant::now();
     let mut c = std::process::Command::new("sleep")
         .arg("30")
         .spawn()
