@@ -177,7 +177,9 @@ pub const MAX_PY_WORK_BYTES: usize = 256 << 20;
 /// reader creates (`[[...]]` built in a loop): printing, comparing, copying
 /// and dropping a value recurse once per level. Launch files nest 2-3
 /// levels (a list of parameter dicts); a value deeper than this is refused
-/// when it is evaluated, before anything walks it (the xacro evaluator's
+/// where `list.append` would make it, and any value when it is evaluated,
+/// before anything walks it (a list deepened through another list that
+/// holds it); lists are dropped without recursion (the xacro evaluator's
 /// `XACRO_MAX_VALUE_DEPTH` is the same number, for the same reason).
 pub const MAX_PY_VALUE_DEPTH: usize = 100;
 
@@ -359,7 +361,9 @@ pub const XACRO_MAX_STDERR_BYTES: u64 = 16 * 1024;
 pub const XACRO_MAX_EXPR_DEPTH: usize = 100;
 
 /// Deepest nesting of list, tuple and dict values that printing, comparing
-/// and searching walk (`[[[...]]]` built through properties).
+/// and searching walk (`[[[...]]]` built through properties); `append`,
+/// `insert`, `extend`, `setdefault` and `update` refuse a value that would
+/// pass it where they make it.
 pub const XACRO_MAX_VALUE_DEPTH: usize = 100;
 
 /// `$(find pkg)`: directory levels searched below each package-path entry

@@ -164,7 +164,8 @@ fn values_nested_past_the_depth_cap_are_refused_by_name() {
     let deep = format!("x = {}{}\n", "[".repeat(100_000), "]".repeat(100_000));
     refused(&deep, 1, "nested more than 32 deep");
     // The boundary: `l` is 100 deep after 98 steps (accepted, the Node
-    // read), 101 after 99 (refused).
+    // read), 101 after 99: refused where the append makes it, line 3, naming
+    // the call (it was refused only where `l` was next evaluated, line 4).
     let at = |n: usize| {
         format!(
             "l = [[]]\nfor i in range({n}):\n    l.append([l[-1]])\nx = l\n{}",
@@ -172,13 +173,30 @@ fn values_nested_past_the_depth_cap_are_refused_by_name() {
         )
     };
     assert_eq!(read_as("launch-py", &at(98)).expect("100 levels"), 1);
-    refused(&at(99), 4, want);
+    let e = refused(&at(99), 3, want);
+    assert!(e.message.contains("list.append()"), "{}", e.message);
     // A list holding itself is cyclic, not deep: read as CPython does.
     let cyc = format!(
         "a = []\na.append(a)\nc = 'lidar' if str(a) == '[[...]]' else 'x'\n{}",
         stp_node("c")
     );
     assert_eq!(read_as("launch-py", &cyc).expect("a cyclic list"), 1);
+}
+
+/// A list made deep by appending into a list another list already holds:
+/// `a.append(b)` over the pairs of 99,000 fresh lists chains them 99,000
+/// deep while every value evaluated is one level deep. The chain's root,
+/// evaluated, is refused by name (the measure stops past the cap) and the
+/// file's values are dropped without recursion (a value.rs unit test drops
+/// a million levels on a small stack).
+#[test]
+fn a_list_deepened_through_its_holder_is_refused_where_it_is_evaluated() {
+    let chain = "cs = [[] for i in range(99000)]\nfor a, b in zip(cs, cs[1:]):\n    a.append(b)\n";
+    let text = format!("{chain}{}", stp_node("'lidar'"));
+    assert_eq!(read_as("launch-py", &text).expect("never evaluated"), 1);
+    let text = format!("{chain}x = str(cs[0])\n{}", stp_node("x"));
+    let e = refused(&text, 4, "a value nested more than 100 levels deep");
+    assert_eq!(e.code, Code::Limit);
 }
 
 #[test]

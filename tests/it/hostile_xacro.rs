@@ -86,9 +86,32 @@ fn shared_nested_lists_stop_within_the_work_budget() {
             i - 1
         );
     }
-    let t = std::time::Instant::now();
+    let t = crate::common::hostile::cpu_now();
     refused(&robot(&body, "${len(str(l4))}"), "cap");
     crate::common::hostile::assert_quick(t, 12, "shared nested lists");
+}
+
+/// Depth is capped where a list is made: `append`, `insert` and `extend` put
+/// a value one level down, and a list that would then nest deeper than
+/// `XACRO_MAX_VALUE_DEPTH` (100) is refused by name. It used to be made, and
+/// refused only if something printed or compared it later.
+#[test]
+fn a_list_made_too_deep_by_a_mutation_is_refused_where_it_is_made() {
+    // l0 = [0] holds its 0 one level down; l99 holds it 100 levels down.
+    let mut body = String::from("<xacro:property name=\"l0\" value=\"${[0]}\"/>\n");
+    for i in 1..100 {
+        body += &format!(
+            "<xacro:property name=\"l{i}\" value=\"${{[l{}]}}\"/>\n",
+            i - 1
+        );
+    }
+    let cap = "a value nested deeper than 100 levels";
+    for call in ["[].append(l99)", "[1].insert(0, l99)", "[].extend([l99])"] {
+        refused(&robot(&body, &format!("${{len([{call}])}}")), cap);
+    }
+    // One level less is within the cap: x = 1.
+    let (out, _d) = run(&robot(&body, "${len([[].append(l98)])}"), &[]);
+    assert_eq!(out.code, Some(0), "{}", out.stderr);
 }
 
 #[test]

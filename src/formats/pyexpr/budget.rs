@@ -50,6 +50,35 @@ impl Budget {
         let read = read.saturating_mul(std::mem::size_of::<Value>());
         let used = self.used.get().saturating_add(cost(v)).saturating_add(read);
         self.used.set(used);
+        self.check_used(used, at)
+    }
+
+    /// `list.append(x)` (`what`) puts `x` one level down: refused when the
+    /// list would then nest deeper than [`MAX_PY_VALUE_DEPTH`], where it is
+    /// made, naming the call. (A list deepened through another list that
+    /// holds it is refused where that one is next evaluated; either way
+    /// nothing walks past the cap, and a list is dropped without recursion.)
+    pub fn fits_in_list(&self, x: &Value, what: &str, at: &Expr) -> Result<()> {
+        let mut read = 0usize;
+        if 1 + nesting(x, 1, &mut Vec::new(), &mut read) > MAX_PY_VALUE_DEPTH {
+            return Err(limit(
+                at,
+                format!(
+                    "{what} would make a value nested more than {MAX_PY_VALUE_DEPTH} levels deep (lists, tuples or dicts in one another): not evaluated"
+                ),
+            ));
+        }
+        self.charge_read(read, at)
+    }
+
+    fn charge_read(&self, read: usize, at: &Expr) -> Result<()> {
+        let read = read.saturating_mul(std::mem::size_of::<Value>());
+        let used = self.used.get().saturating_add(read);
+        self.used.set(used);
+        self.check_used(used, at)
+    }
+
+    fn check_used(&self, used: usize, at: &Expr) -> Result<()> {
         if used > MAX_PY_WORK_BYTES {
             return Err(limit(
                 at,

@@ -394,6 +394,9 @@ impl<'h> Eval<'h> {
                 if let Some(u) = args.iter().find(|v| matches!(v, Value::Unknown(_))) {
                     return Ok(u.clone());
                 }
+                if let (Value::List(_), "append", [x]) = (&*recv, name.as_str(), &args[..]) {
+                    self.budget.fits_in_list(x, "list.append()", e)?;
+                }
                 super::methods::call(&recv, &name, &args, &kw, e)
             }
             Value::Func(ref h @ (Func::User(_) | Func::Host(_))) => self.host.call(h, args, kw, e),

@@ -102,7 +102,7 @@ pub fn call(
 }
 
 fn list_method(
-    l: &std::rc::Rc<std::cell::RefCell<Vec<Value>>>,
+    l: &std::rc::Rc<super::value::ListCell>,
     name: &str,
     args: &[Value],
     at: &Expr,

@@ -20,7 +20,7 @@ pub enum Value {
     Int(i64),
     Float(f64),
     Str(String),
-    List(Rc<RefCell<Vec<Value>>>),
+    List(Rc<ListCell>),
     Tuple(Vec<Value>),
     Dict(Vec<(Value, Value)>),
     /// A builtin function, a module attribute function or a method bound to
@@ -33,6 +33,48 @@ pub enum Value {
     Record(Rc<Record>),
     /// A value the reader cannot know, with why (and where it came from).
     Unknown(Rc<String>),
+}
+
+/// A list's items, shared and mutable. Dropped without recursion: a list
+/// can be made deep by appending into a list other lists already hold (a
+/// loop `t.append(c); t = c` makes a chain 10^5 deep while every value it
+/// evaluates is one level deep), and the recursive drop of such a chain
+/// overflowed the stack.
+#[derive(Debug, Default)]
+pub struct ListCell(RefCell<Vec<Value>>);
+
+impl std::ops::Deref for ListCell {
+    type Target = RefCell<Vec<Value>>;
+    fn deref(&self) -> &Self::Target {
+        &self.0
+    }
+}
+
+impl Drop for ListCell {
+    fn drop(&mut self) {
+        // The containers dropped with this list (their last reference) give
+        // their items to `stack` instead of dropping them inside their own
+        // drop: the depth of a value never reaches the call stack.
+        let mut stack = std::mem::take(self.0.get_mut());
+        while let Some(v) = stack.pop() {
+            match v {
+                Value::List(rc) => {
+                    if let Ok(mut l) = Rc::try_unwrap(rc) {
+                        stack.append(l.0.get_mut());
+                    }
+                }
+                Value::Tuple(mut t) => stack.append(&mut t),
+                Value::Dict(d) => {
+                    for (k, v) in d {
+                        stack.push(k);
+                        stack.push(v);
+                    }
+                }
+                Value::Func(Func::Method(recv, _)) => stack.push(*recv),
+                _ => {}
+            }
+        }
+    }
 }
 
 /// A callable.
@@ -74,7 +116,7 @@ impl Record {
 
 impl Value {
     pub fn list(v: Vec<Value>) -> Value {
-        Value::List(Rc::new(RefCell::new(v)))
+        Value::List(Rc::new(ListCell(RefCell::new(v))))
     }
 
     pub fn unknown(why: impl Into<String>) -> Value {
@@ -185,7 +227,7 @@ impl Value {
     /// Append `repr(v)` to `out`, stopping once it passes the string cap; a
     /// list inside itself is `[...]`, as CPython prints it (`open`: the lists
     /// being printed).
-    fn repr_into(&self, out: &mut String, open: &mut Vec<*const RefCell<Vec<Value>>>) {
+    fn repr_into(&self, out: &mut String, open: &mut Vec<*const ListCell>) {
         if out.len() > MAX_PY_STR_BYTES {
             return;
         }
@@ -351,6 +393,29 @@ mod tests {
         assert_eq!(str_repr("a'b"), "\"a'b\"");
         assert_eq!(str_repr("a\"b'c"), "'a\"b\\'c'");
         assert_eq!(Value::Tuple(vec![Value::Int(1)]).repr(), "(1,)");
+    }
+
+    /// A list nested a million levels deep (lists, tuples and dicts in
+    /// turn), dropped on a thread with a 256 KiB stack: the recursive drop
+    /// overflowed it; the list's drop now walks without recursion.
+    #[test]
+    fn a_deep_value_drops_without_recursion() {
+        std::thread::Builder::new()
+            .stack_size(256 << 10)
+            .spawn(|| {
+                let mut v = Value::list(Vec::new());
+                for i in 0..1_000_000 {
+                    v = match i % 3 {
+                        0 => Value::list(vec![v]),
+                        1 => Value::Tuple(vec![Value::list(vec![v])]),
+                        _ => Value::Dict(vec![(Value::Int(1), Value::list(vec![v]))]),
+                    };
+                }
+                drop(v);
+            })
+            .unwrap()
+            .join()
+            .unwrap();
     }
 
     #[test]

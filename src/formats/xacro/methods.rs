@@ -859,7 +859,8 @@ fn translate(s: &str, table: &Value, m: &mut Meter) -> Res<String> {
 }
 
 /// Whether `v` holds the container at `target` (a mutation that put it
-/// there would make a cycle).
+/// there would make a cycle); `depth`: the level of `v`, refused past the
+/// value-depth cap.
 fn reaches(v: &Value, target: *const (), m: &mut Meter, depth: usize) -> Res<bool> {
     m.step()?;
     if depth > XACRO_MAX_VALUE_DEPTH {
@@ -892,9 +893,13 @@ fn reaches(v: &Value, target: *const (), m: &mut Meter, depth: usize) -> Res<boo
     }
 }
 
+/// Refuse putting `added` into `container` where it would make a cycle or a
+/// value nested deeper than `XACRO_MAX_VALUE_DEPTH`: each item is walked at
+/// level 1, the level it takes inside the container, so the depth is capped
+/// where a list is made, not only where it is next printed.
 fn no_cycle(container: *const (), added: &[Value], m: &mut Meter) -> Res<()> {
     for x in added {
-        if reaches(x, container, m, 0)? {
+        if reaches(x, container, m, 1)? {
             return Err("a list or dict that would contain itself is not supported".into());
         }
     }
