@@ -408,7 +408,8 @@ fn external_xacro_failures_keep_the_cause_and_are_bounded() {
     let t = std::time::Instant::now();
     let e = run("exec yes '<robot>'");
     assert!(e.contains("printed more than 65536 bytes"), "{e}");
-    assert!(t.elapsed() < std::time::Duration::from_secs(5));
+    // Stopped at the output cap (the message), not at the time limit.
+    assert!(t.elapsed() < std::time::Duration::from_secs(15));
 }
 
 /// Bad input never panics or hangs: deterministic mutations (a character
