@@ -3,6 +3,7 @@
 
 pub mod family;
 pub mod metric;
+pub mod spread;
 
 pub use family::{Family, FamilySpec, FAMILIES};
 pub use metric::{analyze, RigAnalysis};

@@ -12,6 +12,7 @@ pub mod manifest;
 mod output;
 mod parallel;
 pub mod run;
+mod spread;
 mod survey;
 pub mod walk;
 
@@ -19,6 +20,7 @@ pub use check::{check, check_with, CheckOptions, Robot};
 pub use diff::{diff, DiffOptions, SideRead};
 pub use files::{expand_paths, same_file, write_atomic};
 pub use output::check_output_target;
+pub use spread::{spread, SpreadOptions};
 pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};
 
 use crate::diagnostic::{Code, Error, Result, Warning};

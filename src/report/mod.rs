@@ -15,6 +15,7 @@ mod rig_scene;
 pub mod run;
 mod run_timeline;
 pub mod scan_scene;
+pub mod spread;
 pub mod survey;
 mod survey_plot;
 

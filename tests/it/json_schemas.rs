@@ -46,6 +46,13 @@ fn json_outputs_match_the_committed_schemas() {
         &["survey", "calibrations/", "--all", "--format", "json"],
     );
     assert_valid("check", &["check", "calibrations/", "--format", "json"]);
+    for set in ["kitti-repeat", "pure-translation"] {
+        let dir = format!("tests/fixtures/spread/{set}");
+        assert_valid(
+            "spread",
+            &["spread", &dir, "--tolerance", "5,0.5", "--format", "json"],
+        );
+    }
     assert_valid(
         "degeneracy",
         &[

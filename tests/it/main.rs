@@ -61,6 +61,7 @@ mod run_fixtures;
 mod scene_simulate;
 mod scene_tunnel;
 mod snapshots;
+mod spread;
 mod survey_any;
 mod test_data;
 mod uncertainty;

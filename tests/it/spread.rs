@@ -1,0 +1,309 @@
+//! `audit spread` against the numpy/scipy reference
+//! (tests/fixtures/spread/make_spread_reference.py -> spread_reference.json:
+//! scipy's `Rotation.mean`, numpy's `std(ddof=1)`, the outlier rule computed
+//! there; the rig files written from its inputs by make_spread_fixtures.py).
+
+use super::common::{nums, run_cli};
+use serde_json::Value;
+
+fn fixtures() -> String {
+    format!("{}/tests/fixtures/spread", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn reference(label: &str) -> Value {
+    let path = format!("{}/spread_reference.json", fixtures());
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    v["sets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["label"] == label)
+        .unwrap()
+        .clone()
+}
+
+fn spread_json(args: &[&str]) -> Value {
+    let (code, out, err) = run_cli(args);
+    assert_eq!(code, 0, "{err}");
+    serde_json::from_str(&out).unwrap_or_else(|e| panic!("{e}: {out}"))
+}
+
+fn set_json(label: &str) -> Value {
+    let dir = format!("{}/{label}", fixtures());
+    spread_json(&["spread", &dir, "--ell", "1", "--format", "json"])
+}
+
+/// `|a - b| <= tol` entrywise.
+fn close(a: &Value, b: &Value, tol: f64, what: &str) {
+    let (a, b) = (nums(a), nums(b));
+    assert_eq!(a.len(), b.len(), "{what}");
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x - y).abs() <= tol, "{what}: {a:?} against {b:?}");
+    }
+}
+
+/// The quaternions agree up to sign.
+fn same_rotation(a: &Value, b: &Value, tol: f64) {
+    let (a, b) = (nums(a), nums(b));
+    let dot: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
+    assert!(1.0 - dot.abs() <= tol, "{a:?} against {b:?}");
+}
+
+fn check_spread(got: &Value, want: &Value, names: &[String], label: &str) {
+    for key in [
+        "rotation_from_deg",
+        "rotation_to_deg",
+        "translation_from_mm",
+        "translation_to_mm",
+    ] {
+        let (g, w) = (&got[key], &want[key]);
+        let what = format!("{label} {key}");
+        if w["std"][0].is_null() {
+            assert!(g["std"].is_null(), "{what}");
+        } else {
+            close(&g["std"], &w["std"], 1e-9, &what);
+        }
+        close(&g["max_abs"], &w["max_abs"], 1e-9, &what);
+        close(&g["norm_max"], &w["norm_max"], 1e-9, &what);
+        // The calibration of each largest deviation (a zero spread has none
+        // to choose: numpy's argmax takes the first, as the tool does).
+        for k in 0..3 {
+            let wn = w["max_abs_calibration"][k].as_str().unwrap();
+            assert!(names.iter().any(|n| n == wn), "{wn}");
+            assert_eq!(
+                g["max_abs_calibration"][k].as_str(),
+                Some(wn),
+                "{what} axis {k}"
+            );
+        }
+    }
+}
+
+fn check_set(label: &str) {
+    let want = reference(label);
+    let got = set_json(label);
+    assert_eq!(got["count"], want["inputs"].as_array().unwrap().len());
+    let names: Vec<String> = want["per_calibration"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap().to_string())
+        .collect();
+    // The mean: scipy Rotation.mean and the arithmetic translation mean.
+    same_rotation(
+        &got["mean"]["quaternion_xyzw"],
+        &want["mean"]["quaternion_xyzw"],
+        1e-14,
+    );
+    close(
+        &got["mean"]["rotation_matrix"],
+        &want["mean"]["rotation_matrix"],
+        1e-12,
+        "R_mean",
+    );
+    close(
+        &got["mean"]["translation_m"],
+        &want["mean"]["translation_m"],
+        1e-12,
+        "t_mean",
+    );
+    close(
+        &got["mean"]["lever_arm_m"],
+        &want["mean"]["lever_arm_m"],
+        1e-12,
+        "lever arm",
+    );
+    // Each calibration's deviation, in both frames' axes.
+    for (g, w) in got["calibrations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(want["per_calibration"].as_array().unwrap())
+    {
+        assert_eq!(g["name"], w["name"]);
+        let d = &g["deviation"];
+        for key in [
+            "rotation_from_deg",
+            "rotation_to_deg",
+            "translation_from_mm",
+            "translation_to_mm",
+            "angle_deg",
+            "distance_mm",
+        ] {
+            close(&d[key], &w[key], 1e-9, &format!("{} {key}", w["name"]));
+        }
+        close(&g["lever_arm_m"], &w["lever_arm_m"], 1e-12, "lever arm");
+        close(&g["bands"][0], &w["band_ell_1m"], 1e-12, "band at l = 1");
+        // h: scipy's axis sign is its own; |h| is the invariant.
+        match w["screw"]["abs_h_m"].as_f64() {
+            Some(h) => assert!((g["h_m"].as_f64().unwrap().abs() - h).abs() < 1e-9),
+            None => assert!(g["h_m"].is_null()),
+        }
+    }
+    check_spread(&got["spread"], &want["spread"], &names, label);
+    close(
+        &got["bands"][0]["low"],
+        &want["band_range_ell_1m"][0],
+        1e-12,
+        "band range",
+    );
+    close(
+        &got["bands"][0]["high"],
+        &want["band_range_ell_1m"][1],
+        1e-12,
+        "band range",
+    );
+    // The outlier rule: centres, robust sigmas, distances, limits, names.
+    let (go, wo) = (&got["outliers"], &want["outliers"]);
+    assert_eq!(go["tested"], wo["tested"]);
+    assert_eq!(go["names"], wo["outliers"], "{label}");
+    for (key, dist) in [
+        ("rotation", "rotation_distance"),
+        ("translation", "translation_distance"),
+    ] {
+        let (g, w) = (&go[key], &wo[key]);
+        close(&g["centre"], &w["centre_from"], 1e-9, key);
+        close(&g["robust_sigma"], &w["robust_sigma_from"], 1e-9, key);
+        close(
+            &g["median_distance"],
+            &w["median_standardized_distance"],
+            1e-9,
+            key,
+        );
+        close(&g["limit"], &w["limit"], 1e-9, key);
+        let gd: Vec<Value> = got["calibrations"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c[dist].clone())
+            .collect();
+        close(&Value::from(gd), &w["standardized_distance"], 1e-6, dist);
+    }
+    match want.get("without_outliers") {
+        Some(w) => {
+            let g = &got["without_outliers"];
+            assert_eq!(g["calibrations"], w["calibrations"]);
+            same_rotation(
+                &g["mean"]["quaternion_xyzw"],
+                &w["mean"]["quaternion_xyzw"],
+                1e-14,
+            );
+            close(
+                &g["mean"]["translation_m"],
+                &w["mean"]["translation_m"],
+                1e-12,
+                "inliers",
+            );
+            check_spread(&g["spread"], &w["spread"], &names, label);
+        }
+        None => assert!(got["without_outliers"].is_null()),
+    }
+}
+
+#[test]
+fn spread_of_a_repeat_set_with_an_outlier_matches_scipy() {
+    check_set("kitti-repeat");
+}
+
+#[test]
+fn spread_of_a_half_turn_set_matches_scipy() {
+    // The copies straddle 180 deg: a rotation-vector average gives 59.9 deg.
+    check_set("halfturn");
+    let got = set_json("halfturn");
+    let naive = reference("halfturn")["naive_rotvec_average"]["angle_deg"]
+        .as_f64()
+        .unwrap();
+    let angle = got["mean"]["angle_deg"].as_f64().unwrap();
+    assert!((angle - 179.939094).abs() < 1e-5 && (angle - naive).abs() > 100.0);
+}
+
+#[test]
+fn spread_of_pure_translations_matches_numpy() {
+    check_set("pure-translation");
+    let got = set_json("pure-translation");
+    assert_eq!(got["mean"]["angle_deg"], 0.0);
+    assert!(got["pitch"]["h_m"].is_null() && got["pitch"]["verdict"].is_null());
+    assert!(got["outliers"]["names"].as_array().unwrap().is_empty());
+}
+
+#[test]
+fn spread_says_few_calibrations_and_names_the_outlier_in_text() {
+    let dir = format!("{}/kitti-repeat", fixtures());
+    let (code, out, _) = run_cli(&["spread", &dir]);
+    assert_eq!(code, 0);
+    assert!(
+        out.lines()
+            .next()
+            .unwrap()
+            .ends_with("outlier: kitti-repeat-outlier"),
+        "{out}"
+    );
+    assert!(out.contains("Few calibrations (6 < 10)"), "{out}");
+    assert!(out.contains("not Euler angles"), "{out}");
+}
+
+#[test]
+fn spread_csv_is_one_row_per_calibration() {
+    let dir = format!("{}/kitti-repeat", fixtures());
+    let (code, out, _) = run_cli(&["spread", &dir, "--format", "csv"]);
+    assert_eq!(code, 0);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 7, "{out}");
+    let header: Vec<&str> = lines[0].split(',').collect();
+    assert_eq!(header[0], "calibration");
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let row: Vec<&str> = lines[6].split(',').collect();
+    assert_eq!(row.len(), header.len());
+    assert_eq!(row[0], "kitti-repeat-outlier");
+    assert_eq!(row[col("outlier")], "true");
+    let want = &reference("kitti-repeat")["per_calibration"][5];
+    let x: f64 = row[col("translation_from_x_mm")].parse().unwrap();
+    assert!((x - want["translation_from_mm"][0].as_f64().unwrap()).abs() < 1e-9);
+}
+
+#[test]
+fn spread_set_pitch_takes_the_spread_as_the_uncertainty() {
+    // KITTI: |h| = 0.80 m against a spread of h of 0.03 m: nonzero. One
+    // calibration alone is judged by the rounding of its own numbers.
+    let got = set_json("kitti-repeat");
+    let p = &got["pitch"];
+    let h = p["h_m"].as_f64().unwrap();
+    let s = p["h_spread_m"].as_f64().unwrap();
+    assert!(h.abs() > 3.0 * s && s > 0.01, "{p}");
+    assert_eq!(p["verdict"], "nonzero");
+    let one = format!("{}/kitti-repeat/kitti-repeat-1.toml", fixtures());
+    let got = spread_json(&["spread", &one, "--format", "json"]);
+    assert!(got["pitch"]["h_spread_m"].is_null());
+    assert!(got["spread"]["rotation_to_deg"]["std"].is_null());
+    assert_eq!(got["outliers"]["tested"], false);
+}
+
+#[test]
+fn spread_tolerance_gates_each_calibration() {
+    // The outlier is 20.9 mm and 1.25 deg from the mean, the others within
+    // 7.8 mm and 0.31 deg.
+    let dir = format!("{}/kitti-repeat", fixtures());
+    let (code, out, _) = run_cli(&["spread", &dir, "--tolerance", "10,0.5", "--format", "json"]);
+    assert_eq!(code, 1);
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["exceeded"], serde_json::json!(["kitti-repeat-outlier"]));
+    let (code, _, _) = run_cli(&["spread", &dir, "--tolerance", "25,1.5"]);
+    assert_eq!(code, 0);
+    let (code, _, err) = run_cli(&["spread", &dir, "--tolerance", "25"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("expected MM,DEG"), "{err}");
+}
+
+#[test]
+fn spread_refuses_files_of_different_frame_pairs() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = format!("{}/kitti-repeat/kitti-repeat-1.toml", fixtures());
+    let text = std::fs::read_to_string(&a)
+        .unwrap()
+        .replace("\"lidar\"", "\"velo\"");
+    let b = dir.path().join("other.toml");
+    std::fs::write(&b, text).unwrap();
+    let (code, _, err) = run_cli(&["spread", &a, b.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("expected one frame pair"), "{err}");
+}
