@@ -3,6 +3,7 @@
 
 pub mod family;
 pub mod metric;
+pub mod mistakes;
 pub mod spread;
 
 pub use family::{Family, FamilySpec, FAMILIES};

@@ -9,6 +9,7 @@ pub mod detector;
 mod diff;
 pub mod files;
 pub mod manifest;
+mod mistakes;
 mod output;
 mod parallel;
 pub mod run;

@@ -10,6 +10,7 @@ pub mod check;
 pub mod detector;
 pub mod diff;
 pub mod frames;
+pub mod mistakes;
 pub mod rig;
 mod rig_scene;
 pub mod run;
