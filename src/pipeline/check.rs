@@ -15,6 +15,7 @@ use super::files::{dir_of, same_file, unsafe_target};
 use super::manifest;
 use super::walk::{file_id, walk, FileId, Found};
 use super::{apply_renames, files::write_atomic_with, Rename};
+use crate::analysis::mistakes::MistakeTol;
 use crate::baseline::{
     self, BaselineFile, BaselinePair, BaselineTransform, CheckedFile, Locations, Store, Tolerances,
     WriteLock,
@@ -256,7 +257,19 @@ impl Checker<'_> {
         // Edge by edge: a conflict (the same edge with other values in another
         // file, a cycle, two parents) is a finding naming both places; the
         // file's other edges still load.
+        let tol = MistakeTol {
+            translation_mm: self.opts.drift.translation_m * 1e3,
+            rotation_deg: self.opts.drift.rotation_deg,
+        };
         for e in loaded.edges {
+            match super::mistakes::second_source(&acc.graph, &e, &tol) {
+                Some(Some(finding)) => {
+                    self.findings.push(finding);
+                    continue;
+                }
+                Some(None) => continue,
+                None => {}
+            }
             if let Err(err) = acc.graph.add_edge(e) {
                 self.error(&f.path, &err);
             }

@@ -1,9 +1,13 @@
 //! Where two sources of one edge meet, the convention mistake that
 //! reconciles them ([`crate::analysis::mistakes`]): the two files of a diff
-//! (the chain and each changed edge).
+//! (the chain and each changed edge), and a second source of an edge in one
+//! robot of `audit check` (an `audit.toml` group, or a file whose edges
+//! close a loop): a disagreement with both values, not "two parents".
 
 use crate::analysis::mistakes::{explain, MistakeTol};
-use crate::frames::{Chain, FrameGraph};
+use crate::diagnostic::{Code, Diagnostic, Severity};
+use crate::frames::{Chain, Edge, FrameGraph};
+use crate::geometry::Transform;
 use crate::report::diff::{DiffToleranceJson, EdgeDiffJson, EdgeStatus};
 use crate::report::mistakes::{entries, MistakeJson};
 
@@ -57,4 +61,74 @@ pub(super) fn in_diff(
         }
     }
     out
+}
+
+/// The frames a chain passes, `a -> b <- c` (arrows from parent to child).
+fn path_text(chain: &Chain) -> String {
+    let mut out = chain.from.clone();
+    for s in &chain.steps {
+        if s.inverted {
+            out.push_str(&format!(" <- {}", s.edge.parent));
+        } else {
+            out.push_str(&format!(" -> {}", s.edge.child));
+        }
+    }
+    out
+}
+
+fn values(t: &Transform) -> String {
+    let d = t.translation();
+    let q = t.quaternion_xyzw();
+    format!(
+        "t = [{:.6}, {:.6}, {:.6}] m, q = [{:.6}, {:.6}, {:.6}, {:.6}]",
+        d.x, d.y, d.z, q[0], q[1], q[2], q[3]
+    )
+}
+
+/// A second source of an edge already in `graph` (its two frames joined by
+/// the files read before): `None` when they are not joined yet, or when the
+/// two agree within `tol` and the edge is the same pair (the graph's own
+/// duplicate rule then warns); otherwise `Some(None)` when they agree (a
+/// redundant edge: not added) or `Some(Some(finding))`, an error naming
+/// both values, how far apart they are and the mistake that reconciles them.
+pub(super) fn second_source(
+    graph: &FrameGraph,
+    edge: &Edge,
+    tol: &MistakeTol,
+) -> Option<Option<Diagnostic>> {
+    if !(graph.contains(&edge.parent) && graph.contains(&edge.child)) {
+        return None;
+    }
+    let tree = graph.transform(&edge.parent, &edge.child).ok()?;
+    let e = explain(&tree.transform, &edge.transform, tol);
+    let direct = tree.steps.len() == 1;
+    if e.agree {
+        return if direct { None } else { Some(None) };
+    }
+    let first = tree
+        .steps
+        .first()
+        .map(|s| s.edge.provenance.location.to_string())
+        .unwrap_or_default();
+    let mut message = format!(
+        "edge {} -> {} has two sources that disagree by {:.3} mm, {:.4} deg{}: this file ({}) gives {}; the tree {} ({first}) gives {}",
+        edge.parent,
+        edge.child,
+        e.translation_mm,
+        e.rotation_deg,
+        if direct { "" } else { " (the edge closes a cycle)" },
+        edge.provenance.location,
+        values(&edge.transform),
+        path_text(&tree),
+        values(&tree.transform),
+    );
+    match e.sentence("the tree", "this file") {
+        Some(s) => message.push_str(&format!("; {s}")),
+        None => message.push_str("; no usual convention mistake reconciles them"),
+    }
+    Some(Some(
+        Diagnostic::new(Code::RedundantEdgeDisagrees, message)
+            .with_severity(Severity::Error)
+            .at(&edge.provenance.location),
+    ))
 }

@@ -7,6 +7,7 @@ mod calibrations;
 mod check_fleet;
 mod check_gate;
 mod check_hooks;
+mod check_mistakes;
 mod cli_audit;
 mod cli_detector;
 mod cli_pipes;
