@@ -74,6 +74,11 @@ pub struct CheckArgs {
     /// Every warning is a problem (exit 1)
     #[arg(long)]
     pub deny_warnings: bool,
+    /// One calibration per vehicle: a finding (exit 1) for each checked pair
+    /// further than this from the mean of the same pair over the checked
+    /// files: translation (mm), rotation (deg); `audit spread` shows the fleet
+    #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_nonneg, value_name = "MM,DEG")]
+    pub fleet_tolerance: Option<Vec<f64>>,
     #[command(flatten)]
     pub size: FileSizeArgs,
     #[command(flatten)]
@@ -136,6 +141,16 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
             allow: args.allow.clone(),
             deny: args.deny.clone(),
             deny_warnings: args.deny_warnings,
+            fleet: match &args.fleet_tolerance {
+                Some(v) => {
+                    let t = super::spread::tolerance("--fleet-tolerance", v)?;
+                    Some(Tolerances {
+                        translation_m: t.translation_mm * 1e-3,
+                        rotation_deg: t.rotation_deg,
+                    })
+                }
+                None => None,
+            },
         },
         &progress,
     )?;

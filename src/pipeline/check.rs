@@ -64,6 +64,9 @@ pub struct CheckOptions {
     pub deny: Vec<Code>,
     /// Every warning is a problem (`--deny-warnings`).
     pub deny_warnings: bool,
+    /// `--fleet-tolerance`: a finding for each checked pair further than
+    /// this from the mean of the same pair over all checked files.
+    pub fleet: Option<Tolerances>,
 }
 
 impl CheckOptions {
@@ -639,6 +642,8 @@ struct Gathered<'a> {
     compared: Vec<(String, Diagnostic)>,
     /// The checked files' records for `--write-baseline`.
     written: Store,
+    /// With `--fleet-tolerance`: every checked pair, in the walk's order.
+    fleet: Vec<super::fleet::Member>,
 }
 
 impl Gathered<'_> {
@@ -649,6 +654,15 @@ impl Gathered<'_> {
             *f |= now;
         }
         for st in out.states {
+            if self.opts.fleet.is_some() {
+                for p in &st.record.pairs {
+                    let at = st
+                        .locations
+                        .get(&(p.transform.parent.clone(), p.transform.child.clone()));
+                    self.fleet
+                        .extend(super::fleet::member(&st.found.path, at, p));
+                }
+            }
             if let (Some((base, seen)), Some(key)) = (&mut self.base, &st.base_key) {
                 let now = CheckedFile {
                     path: &st.found.path,
@@ -825,6 +839,7 @@ pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckR
         base: base.as_ref().map(|b| (b, vec![false; b.len()])),
         compared: Vec::new(),
         written: Store::new(),
+        fleet: Vec::new(),
     };
     let total: usize = jobs
         .iter()
@@ -895,6 +910,9 @@ fn finish(
     if let Some(path) = &opts.baseline {
         let found = all.baseline_findings(&dir_of(path));
         all.findings.extend(found);
+    }
+    if let Some(tol) = &opts.fleet {
+        all.findings.extend(super::fleet::findings(&all.fleet, tol));
     }
     let mut changes = None;
     if let Some(path) = &opts.write_baseline {

@@ -8,6 +8,7 @@ mod cleanup;
 pub mod detector;
 mod diff;
 pub mod files;
+mod fleet;
 pub mod manifest;
 mod mistakes;
 mod output;

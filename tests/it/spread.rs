@@ -307,3 +307,88 @@ fn spread_refuses_files_of_different_frame_pairs() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("expected one frame pair"), "{err}");
 }
+
+/// A fleet of `n` vehicles, `vehicles/vNNN/sensors_calibration.yaml`
+/// (Autoware's `PARENT: {CHILD: {x, y, z, roll, pitch, yaw}}`), each
+/// `base_link -> velodyne_top` a few tenths of a millimetre from the
+/// nominal, vehicle `bad` moved by 8 mm in x.
+pub fn fleet(dir: &std::path::Path, n: usize, bad: usize) -> std::path::PathBuf {
+    let root = dir.join("vehicles");
+    for i in 1..=n {
+        let v = root.join(format!("v{i:03}"));
+        std::fs::create_dir_all(&v).unwrap();
+        // A deterministic scatter of +-0.3 mm and +-0.005 rad.
+        let e = ((i * 7919) % 13) as f64 / 12.0 - 0.5;
+        let x = 0.9 + 0.0006 * e + if i == bad { 0.008 } else { 0.0 };
+        std::fs::write(
+            v.join("sensors_calibration.yaml"),
+            format!(
+                "base_link:\n  velodyne_top:\n    x: {x:.7}\n    y: {:.7}\n    z: 2.0\n    roll: {:.7}\n    pitch: 0.015\n    yaw: -0.0002\n",
+                0.0004 * e,
+                0.0002 * e
+            ),
+        )
+        .unwrap();
+    }
+    root
+}
+
+/// The fleet: each vehicle named by its folder, the moved one flagged by
+/// the rule and by `--tolerance`; `audit check --fleet-tolerance` fails on it
+/// with a finding naming its file, and passes without it.
+#[test]
+fn a_fleet_names_the_vehicle_that_deviates() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = fleet(dir.path(), 12, 7);
+    let r = root.to_str().unwrap();
+    let (code, out, err) = run_cli(&[
+        "spread",
+        r,
+        "--from",
+        "base_link",
+        "--to",
+        "velodyne_top",
+        "--tolerance",
+        "5,0.5",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["count"], 12);
+    assert_eq!(v["calibrations"][0]["name"], "v001");
+    assert_eq!(v["outliers"]["names"], serde_json::json!(["v007"]));
+    assert_eq!(v["outliers"]["few"], false);
+    assert_eq!(v["exceeded"], serde_json::json!(["v007"]));
+    // 8 mm in 12: the moved vehicle is about 8 * 11/12 = 7.33 mm from the
+    // mean in x (its own scatter of +-0.3 mm aside).
+    let d = v["calibrations"][6]["deviation"]["translation_from_mm"][0]
+        .as_f64()
+        .unwrap();
+    assert!((d - 8.0 * 11.0 / 12.0).abs() < 0.35, "{d}");
+    let pair = ["--pair", "base_link:velodyne_top"];
+    let (code, out, err) =
+        run_cli(&[&["check", r, "--fleet-tolerance", "5,0.5"][..], &pair].concat());
+    assert_eq!(code, 1, "{out}{err}");
+    let finding: Vec<&str> = out
+        .lines()
+        .filter(|l| l.contains("fleet-deviation"))
+        .collect();
+    assert_eq!(finding.len(), 1, "{out}");
+    assert!(
+        finding[0].contains("v007/sensors_calibration.yaml"),
+        "{out}"
+    );
+    // The same deviation as `audit spread` gives.
+    let mm = v["calibrations"][6]["deviation"]["distance_mm"]
+        .as_f64()
+        .unwrap();
+    let says = format!("deviates from the fleet mean of 12 calibrations by {mm:.3} mm");
+    assert!(finding[0].contains(&says), "{says}: {out}");
+    let (code, out, _) =
+        run_cli(&[&["check", r, "--fleet-tolerance", "10,0.5"][..], &pair].concat());
+    assert_eq!(code, 0, "{out}");
+    let (code, _, err) = run_cli(&["check", r, "--fleet-tolerance", "5"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--fleet-tolerance: expected MM,DEG"), "{err}");
+}
