@@ -231,6 +231,9 @@ pub struct SpreadReport {
 /// other rows are in the CSV and the JSON.
 const MAX_SHOWN: usize = 40;
 
+/// Outliers named in the text at most (all are in the table, CSV and JSON).
+const MAX_NAMED: usize = 10;
+
 fn mm(x: f64) -> String {
     fixed(x, 2)
 }
@@ -442,9 +445,10 @@ impl SpreadReport {
         let mut s = if o.names.is_empty() {
             "Outliers: none by the rule.".to_string()
         } else {
-            let named: Vec<String> = o
+            let mut named: Vec<String> = o
                 .names
                 .iter()
+                .take(MAX_NAMED)
                 .map(|n| {
                     let c = &self.calibrations[self.index_of(n)];
                     let d = |x: Option<f64>| x.map_or("-".into(), |v| fixed(v, 1));
@@ -455,6 +459,9 @@ impl SpreadReport {
                     )
                 })
                 .collect();
+            if o.names.len() > MAX_NAMED {
+                named.push(format!("and {} more", o.names.len() - MAX_NAMED));
+            }
             format!("Outliers: {}.", named.join(", "))
         };
         if let (Some(r), Some(t)) = (&o.rotation, &o.translation) {
