@@ -6,6 +6,7 @@ use super::args::{
 };
 use super::{emit_warned, print_notes, print_warnings};
 use clap::Args;
+use extrinsic_audit::analysis::detectors::{self, Detector};
 use extrinsic_audit::diagnostic::Result;
 use extrinsic_audit::formats::{Format, LoadOptions};
 use extrinsic_audit::pipeline::{self, RigOptions};
@@ -68,6 +69,18 @@ pub struct AuditArgs {
     pub strict: bool,
     #[command(flatten)]
     pub bag: BagArgs,
+    /// Your odometry's detector: what it does on this rig (lio-sam,
+    /// lego-loam, loam, dcreg, x-icp, fast-lio, point-lio, dlio); a LIO-SAM,
+    /// FAST-LIO or DLIO config among the files says it without the flag
+    #[arg(long, value_name = "NAME", value_parser = parse_detector)]
+    pub detector: Option<&'static Detector>,
+}
+
+fn parse_detector(s: &str) -> std::result::Result<&'static Detector, String> {
+    detectors::find(s).ok_or_else(|| {
+        let names: Vec<&str> = detectors::DETECTORS.iter().map(|d| d.name).collect();
+        format!("expected one of {}, found `{s}`", names.join(", "))
+    })
 }
 
 impl AuditArgs {
@@ -129,6 +142,15 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
         .cloned()
         .collect();
     let mut report = pipeline::report(&chain, &opts)?;
+    let revealed = || {
+        report
+            .sources
+            .iter()
+            .find_map(|s| detectors::revealed_by(&s.format))
+    };
+    if let Some(d) = args.detector.or_else(revealed) {
+        report.detector = Some(detectors::advise(d, &chain.transform, &from, &to));
+    }
     // The 3D scene draws the whole tree, the chain marked.
     if args.output.format == OutputFormat::Mcap {
         report.tree = Some(frames_report(&loaded.graph, Some(&chain)));

@@ -41,6 +41,12 @@ fn json_outputs_match_the_committed_schemas() {
     assert_valid("rig-report", &ANYMAL_JSON);
     let kappa = [&ANYMAL_JSON[..], &["--kappa", "0.01", "--lambda", "0.004"]].concat();
     assert_valid("rig-report", &kappa);
+    for d in ["lio-sam", "dcreg", "fast-lio"] {
+        assert_valid(
+            "rig-report",
+            &[&ANYMAL_JSON[..], &["--detector", d]].concat(),
+        );
+    }
     assert_valid(
         "survey",
         &["survey", "calibrations/", "--all", "--format", "json"],

@@ -17,6 +17,7 @@ mod core_alloc;
 mod core_edges;
 mod core_fixtures;
 mod core_props;
+mod detector_advice;
 mod detector_core;
 mod detector_scans;
 mod detector_threshold;
