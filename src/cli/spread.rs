@@ -45,6 +45,10 @@ pub struct SpreadArgs {
     /// (deg); a calibration beyond it exits 1
     #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_nonneg, value_name = "MM,DEG")]
     pub tolerance: Option<Vec<f64>>,
+    /// Also draw the spread plot (each calibration's deviation per axis, the
+    /// outliers named) to this SVG file
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
     #[command(flatten)]
     pub ell: EllArgs,
     #[command(flatten)]
@@ -79,6 +83,9 @@ pub fn run(args: &SpreadArgs, out: &mut dyn Write) -> Result<i32> {
         None => None,
     };
     super::check_output(&args.output, &args.paths)?;
+    if let Some(plot) = &args.plot {
+        pipeline::check_spread_plot_target(plot, &args.paths)?;
+    }
     let mut load = LoadOptions {
         joints: args.joints.positions(),
         ..LoadOptions::default()
@@ -99,6 +106,9 @@ pub fn run(args: &SpreadArgs, out: &mut dyn Write) -> Result<i32> {
         tolerance,
     })?;
     print_warnings(&warnings);
+    if let Some(plot) = &args.plot {
+        pipeline::write_spread_plot(plot, &args.paths, &report)?;
+    }
     emit_warned(&report, &warnings, &args.output, &args.paths, out)?;
     Ok(if report.exceeded.is_empty() { 0 } else { 1 })
 }

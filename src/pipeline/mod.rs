@@ -22,7 +22,7 @@ pub use check::{check, check_with, CheckOptions, Robot};
 pub use diff::{diff, DiffOptions, SideRead};
 pub use files::{expand_paths, same_file, write_atomic};
 pub use output::check_output_target;
-pub use spread::{spread, SpreadOptions};
+pub use spread::{check_spread_plot_target, spread, write_spread_plot, SpreadOptions};
 pub use survey::{check_plot_target, survey, write_survey_plot, SortColumn, SurveyOptions};
 
 use crate::diagnostic::{Code, Error, Result, Warning};

@@ -354,3 +354,14 @@ pub fn spread(opts: &SpreadOptions) -> Result<(SpreadReport, Vec<Warning>)> {
     };
     Ok((report, warnings))
 }
+
+/// Whether the spread plot may be written to `target` (an `.svg` name, none
+/// of the inputs), checked before anything is read.
+pub fn check_spread_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
+    super::survey::plot_target("spread", target, inputs)
+}
+
+/// Draw the spread plot (a strip plot per axis, outliers named) to `target`.
+pub fn write_spread_plot(target: &Path, inputs: &[PathBuf], report: &SpreadReport) -> Result<()> {
+    super::survey::write_plot("spread", target, inputs, &report.plot())
+}

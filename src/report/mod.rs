@@ -17,6 +17,7 @@ pub mod run;
 mod run_timeline;
 pub mod scan_scene;
 pub mod spread;
+mod spread_plot;
 pub mod survey;
 mod survey_plot;
 

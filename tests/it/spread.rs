@@ -392,3 +392,31 @@ fn a_fleet_names_the_vehicle_that_deviates() {
     assert_eq!(code, 2);
     assert!(err.contains("--fleet-tolerance: expected MM,DEG"), "{err}");
 }
+
+/// `--plot`: six strip plots as SVG, the outlier named; a target that is
+/// not `.svg` is refused before anything is read.
+#[test]
+fn spread_plot_names_the_outlier() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("spread.svg");
+    let set = format!("{}/kitti-repeat", fixtures());
+    let (code, _, err) = run_cli(&["spread", &set, "--plot", svg.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg"), "{}", &text[..80]);
+    assert_eq!(
+        text.matches("kitti-repeat-outlier").count(),
+        6,
+        "one label per panel"
+    );
+    for caption in [
+        "rotation about x (imu axes)",
+        "translation along z (imu axes)",
+    ] {
+        assert!(text.contains(caption), "{caption}");
+    }
+    let png = dir.path().join("spread.png");
+    let (code, _, err) = run_cli(&["spread", &set, "--plot", png.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("expected a file name ending in .svg"), "{err}");
+}
