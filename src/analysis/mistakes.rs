@@ -510,7 +510,7 @@ mod tests {
 
     #[test]
     fn the_sentence_names_the_mistake_with_its_residual() {
-        let t = Transform::from_rpy([0.12, -0.35, 1.1], [0.215, -0.043, 0.318]).unwrap();
+        let t = Transform::from_rpy([0.12, -0.35, 1.1], [0.215, -0.043, 0.3185]).unwrap();
         let tol = MistakeTol {
             translation_mm: 1.0,
             rotation_deg: 0.05,

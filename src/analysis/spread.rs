@@ -166,7 +166,8 @@ pub fn chordal_mean(transforms: &[Transform]) -> Result<(Matrix3<f64>, f64)> {
     order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
     let (top, second) = (eig.eigenvalues[order[3]], eig.eigenvalues[order[2]]);
     let gap = (top - second) / top;
-    if !(gap >= SPREAD_MEAN_MIN_GAP) {
+    // A NaN gap (a NaN quaternion cannot reach here, but) is refused too.
+    if gap.is_nan() || gap < SPREAD_MEAN_MIN_GAP {
         return Err(Error::invalid(format!(
             "the rotations have no unique mean: expected the top eigenvalue of sum q q^T to be \
              simple, found a relative gap of {gap:.1e} (rotations spread over a great circle)"

@@ -10,7 +10,7 @@ use crate::analysis::spread;
 use crate::baseline::{BaselinePair, Tolerances};
 use crate::diagnostic::{Code, Diagnostic, Location};
 use crate::geometry::{QuatOrder, Transform};
-use std::path::PathBuf;
+use std::path::Path;
 
 /// One vehicle's calibration of one pair.
 pub(super) struct Member {
@@ -21,7 +21,7 @@ pub(super) struct Member {
 }
 
 /// The member a checked pair gives, when its stored transform reads back.
-pub(super) fn member(file: &PathBuf, at: Option<&Location>, p: &BaselinePair) -> Option<Member> {
+pub(super) fn member(file: &Path, at: Option<&Location>, p: &BaselinePair) -> Option<Member> {
     let t = &p.transform;
     let transform = Transform::from_quaternion(
         t.quaternion_xyzw,
@@ -33,7 +33,7 @@ pub(super) fn member(file: &PathBuf, at: Option<&Location>, p: &BaselinePair) ->
     // The pair's line (its last edge) is kept without the file: add it.
     let mut at = at.cloned().unwrap_or_default();
     if at.file.is_none() {
-        at.file = Some(file.clone());
+        at.file = Some(file.to_path_buf());
     }
     Some(Member {
         from: t.parent.clone(),

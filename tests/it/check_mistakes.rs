@@ -42,6 +42,7 @@ fn robot(b_body: &str) -> (tempfile::TempDir, i32, String) {
 }
 
 #[test]
+#[allow(clippy::approx_constant)] // 0.318 m is a lever arm, not 1/pi
 fn check_names_the_mistake_between_two_sources_of_one_edge() {
     let edge =
         |extra: &str| transform("imu", [0.215, -0.043, 0.318], extra).replace("CHILD", "lidar");
