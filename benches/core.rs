@@ -2,9 +2,9 @@
 //! 2 microseconds, no heap). Run: `cargo bench --bench core`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use extrinsic_audit::analysis::metric::analyze;
-use extrinsic_audit::geometry::se3::Transform;
-use extrinsic_audit::tolerances::DEFAULT_PITCH_TOL;
+use extrinsic_audit::analyze;
+use extrinsic_audit::internals::tolerances::DEFAULT_PITCH_TOL;
+use extrinsic_audit::Transform;
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {

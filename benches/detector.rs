@@ -14,9 +14,11 @@
 //! Run: `cargo bench --bench detector`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use extrinsic_audit::degeneracy::scene::{random_cloud, synthesize, Preprocess, SceneKind};
-use extrinsic_audit::degeneracy::threshold::default_threshold;
-use extrinsic_audit::degeneracy::{
+use extrinsic_audit::internals::degeneracy::scene::{
+    random_cloud, synthesize, Preprocess, SceneKind,
+};
+use extrinsic_audit::internals::degeneracy::threshold::default_threshold;
+use extrinsic_audit::internals::degeneracy::{
     frame_sweep, generalized_eigen_raw, paper_frame_changes, Accumulator, Assembly, MetricRule,
 };
 use std::hint::black_box;

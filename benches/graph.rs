@@ -3,8 +3,9 @@
 //! Run: `cargo bench --bench graph`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use extrinsic_audit::formats::{load_str, LoadOptions};
-use extrinsic_audit::frames::FrameGraph;
+use extrinsic_audit::internals::formats::load_str;
+use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::LoadOptions;
 use std::hint::black_box;
 use std::path::Path;
 

@@ -7,8 +7,8 @@
 //! from memory. The floor sums the same doubles (8 vectorised lanes, one
 //! thread). Prints min / median / max in ms and the median ratio.
 
-use extrinsic_audit::degeneracy::scene::random_cloud;
-use extrinsic_audit::degeneracy::{Accumulator, Kernel};
+use extrinsic_audit::internals::degeneracy::scene::random_cloud;
+use extrinsic_audit::internals::degeneracy::{Accumulator, Kernel};
 use std::hint::black_box;
 use std::time::Instant;
 

@@ -7,8 +7,8 @@
 //! of `benches/detector.rs`); OUT_DIR/rust.json: H, M, the generalized
 //! eigenvalues and the times (min, median, max).
 
-use extrinsic_audit::degeneracy::scene::random_cloud;
-use extrinsic_audit::degeneracy::{generalized_eigen_raw, Assembly};
+use extrinsic_audit::internals::degeneracy::scene::random_cloud;
+use extrinsic_audit::internals::degeneracy::{generalized_eigen_raw, Assembly};
 use std::io::Write;
 use std::time::Instant;
 

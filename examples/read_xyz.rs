@@ -4,7 +4,7 @@
 //! (`bench/las_read.sh`, paired with laspy).
 //! `cargo run --release --example read_xyz -- FILE`
 
-use extrinsic_audit::degeneracy::points::read_xyz;
+use extrinsic_audit::internals::degeneracy::points::read_xyz;
 
 fn main() {
     let Some(path) = std::env::args().nth(1) else {

@@ -9,8 +9,10 @@
 //! reader's tree until issue 12). Bytes are those asked of the allocator
 //! (its own overhead and the program are in the benchmark's peak RSS).
 
-use extrinsic_audit::formats::{load_str, LoadOptions};
-use extrinsic_audit::frames::{Edge, FrameDecl, FrameGraph};
+use extrinsic_audit::internals::formats::load_str;
+use extrinsic_audit::internals::frames::{FrameDecl, FrameGraph};
+use extrinsic_audit::Edge;
+use extrinsic_audit::LoadOptions;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};

@@ -6,7 +6,7 @@
 //! `f64` writes the raw N x 6 little-endian doubles `bench/compare_numpy.py`
 //! reads.
 
-use extrinsic_audit::degeneracy::scene::SceneRng;
+use extrinsic_audit::internals::degeneracy::scene::SceneRng;
 use std::io::{BufWriter, Write};
 
 fn header(kind: &str, n: usize) -> String {

@@ -56,7 +56,7 @@ for f in "${files[@]}"; do
     n=$((n + 1))
     case "$lower" in
         *.urdf|*.xacro) put urdf 0 "$f" ;;
-        *.launch.py|*.py) put launch 3 "$f" ;;
+        *.launch.py|*.py) put launch 3 "$f"; put pyexpr 0 "$f" ;;
         *.launch.yaml|*.launch.yml) put launch 2 "$f" ;;
         *.launch|*.launch.xml) put launch 0 "$f" ;;
         *.xml) if grep -q '<robot' <<<"$head"; then put urdf 1 "$f"; else put launch 7 "$f"; fi ;;

@@ -12,7 +12,7 @@ set -uo pipefail
 cd "$(dirname "$0")"
 secs=${1:-600}; shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(urdf launch yaml tf_static json rig_toml points graph xacro)
+[ ${#targets[@]} -eq 0 ] && targets=(urdf launch yaml tf_static json rig_toml points graph xacro pyexpr)
 jobs=${JOBS:-2}
 sanitizer=${SANITIZER:-address}
 export RUSTC_BOOTSTRAP=1

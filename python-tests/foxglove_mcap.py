@@ -14,6 +14,14 @@ For every channel whose schema is `foxglove.*`:
     is `point_stride` times its points and every field fits in the stride,
     `nsec` below 1e9, quaternions of unit length.
 
+For every channel whose schema is `extrinsic_audit.*` (this tool's own,
+docs/schemas/mcap/): the schema in the file is the committed one, it is
+one that Foxglove's and Lichtblick's JSON-schema reader takes (`viewer_
+readable`: one `type` per field, no `null`, typed array items, objects
+all the way down: what that reader, parseJsonSchema in their mcap-support
+package, accepts; a `null` type or a list of types there stops the file
+from opening), and every message is valid under it and holds no null.
+
 `read(path)` returns the messages decoded, by topic, with the channels'
 encodings and the file's metadata records.
 """
@@ -30,6 +38,8 @@ from mcap.reader import make_reader
 
 ROOT = Path(__file__).resolve().parent.parent
 SCHEMAS = ROOT / "docs" / "schemas" / "external" / "foxglove"
+OWN_SCHEMAS = ROOT / "docs" / "schemas" / "mcap"
+VIEWER_TYPES = {"boolean", "string", "number", "integer", "object", "array"}
 
 # foxglove.NumericType: byte size and struct code.
 NUMERIC = {1: (1, "B"), 2: (1, "b"), 3: (2, "H"), 4: (2, "h"), 5: (4, "I"),
@@ -75,6 +85,42 @@ def _walk(o, path, name):
             _walk(v, f"{path}[{i}]", name)
 
 
+def viewer_readable(schema, path="$"):
+    """Raise Invalid where Foxglove's JSON-schema reader would refuse
+    `schema` (an object schema): every property one type of VIEWER_TYPES,
+    array items one non-array type, nested objects likewise."""
+    if schema.get("type") != "object":
+        raise Invalid(f"{path}: expected type object, found {schema.get('type')!r}")
+    for name, field in schema.get("properties", {}).items():
+        where = f"{path}.{name}"
+        t = field.get("type")
+        if not isinstance(t, str) or t not in VIEWER_TYPES:
+            raise Invalid(f"{where}: the viewer takes one type of {sorted(VIEWER_TYPES)}, found {t!r}")
+        if t == "object":
+            viewer_readable(field, where)
+        if t == "array":
+            item = field.get("items", {})
+            it = item.get("type")
+            if not isinstance(it, str) or it not in VIEWER_TYPES - {"array"}:
+                raise Invalid(f"{where}[]: the viewer takes one non-array item type, found {it!r}")
+            if it == "object":
+                viewer_readable(item, where + "[]")
+
+
+def _validator(schema, topic):
+    """The validator of a channel's schema: Foxglove's own file, or this
+    tool's (checked readable by the viewer)."""
+    foxglove = schema.name.startswith("foxglove.")
+    folder, name = (SCHEMAS, schema.name.split(".", 1)[1]) if foxglove else (OWN_SCHEMAS, schema.name.split(".", 1)[1])
+    ref = json.loads((folder / (name + ".json")).read_text())
+    if json.loads(schema.data) != ref:
+        raise Invalid(f"{topic}: the schema in the file is not the committed {schema.name}")
+    Draft202012Validator.check_schema(ref)
+    if not foxglove:
+        viewer_readable(ref)
+    return Draft202012Validator(ref)
+
+
 def decode_cloud(msg):
     """A PointCloud's points as a list of dicts, field name -> value."""
     raw = base64.b64decode(msg["data"], validate=True)
@@ -106,16 +152,12 @@ def read(path):
             msg = json.loads(message.data.decode("utf-8"))
             t["messages"].append(msg)
             t["log_times"].append(message.log_time)
-            if schema is None or not schema.name.startswith("foxglove."):
+            if schema is None or not schema.name.startswith(("foxglove.", "extrinsic_audit.")):
                 continue
             if (schema.encoding, channel.message_encoding) != ("jsonschema", "json"):
                 raise Invalid(f"{channel.topic}: {schema.encoding}/{channel.message_encoding}")
             if schema.name not in validators:
-                ref = json.loads((SCHEMAS / (schema.name.split(".", 1)[1] + ".json")).read_text())
-                if json.loads(schema.data) != ref:
-                    raise Invalid(f"{channel.topic}: the schema in the file is not Foxglove's {schema.name}")
-                Draft202012Validator.check_schema(ref)
-                validators[schema.name] = Draft202012Validator(ref)
+                validators[schema.name] = _validator(schema, channel.topic)
             errors = sorted(validators[schema.name].iter_errors(msg), key=str)
             if errors:
                 e = errors[0]

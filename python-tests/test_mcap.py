@@ -375,7 +375,7 @@ class Validator(unittest.TestCase):
                                       "color": {"r": 1, "g": 1, "b": 1, "a": 1}, "text": "t"}])
         cases = [(schema, no_models, "'models' is a required property"),
                  (schema, nan_text, "None is not of type 'number'"),
-                 (schema.replace(b'"Text"', b'"Txt"'), good, "not Foxglove's")]
+                 (schema.replace(b'"Text"', b'"Txt"'), good, "not the committed foxglove.SceneUpdate")]
         with tempfile.TemporaryDirectory() as tmp:
             for i, (data, entity, why) in enumerate(cases):
                 path = Path(tmp) / f"bad{i}.mcap"

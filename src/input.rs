@@ -315,11 +315,6 @@ pub fn strip_bom(text: &str) -> &str {
     text.strip_prefix('\u{feff}').unwrap_or(text)
 }
 
-/// `bytes` without a leading UTF-8 byte-order mark.
-pub fn strip_bom_bytes(bytes: &[u8]) -> &[u8] {
-    bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes)
-}
-
 /// The size the file system reports for `path` (symlinks followed), `None`
 /// when it cannot say. For decisions that may be wrong without harm (whether
 /// a read is long enough to show progress), never to bound a read: a device

@@ -1,62 +1,92 @@
 //! extrinsic-audit: what a robot's LiDAR extrinsic does to degeneracy detection.
 //!
-//! Data flow, one module per stage:
-//! files ([`formats`]) -> frame graph ([`frames`]) -> one transform
-//! ([`geometry`]) -> analysis ([`analysis`]; [`degeneracy`] for point data) ->
-//! typed report ([`report`]) -> its [`document`] -> text, markdown, JSON,
-//! pictures ([`render`]).
-//! [`pipeline`] runs these stages for each command of the `audit` binary.
-//! Conventions (frames, twists, adjoint, quaternion order, rpy) are stated once,
-//! in [`geometry::se3`]; docs/ARCHITECTURE.md draws the layers.
+//! Under a change of body frame the point-to-plane information matrix `H`
+//! transforms by congruence, `H' = Ad(T)^T H Ad(T)`, so a detector's per-axis
+//! flags, its eigenvalues and a thresholded decision depend on where the body
+//! frame sits relative to the LiDAR; only an equivariant metric (the
+//! point-displacement metric `M = sum J_i^T J_i`) gives frame-invariant
+//! eigenvalues. This crate answers what that means for a user's own robot and
+//! data. The `audit` command, the Python package (`python/`) and Rust programs
+//! are all built on the face below: nothing else of the crate is public.
+//!
+//! # The face
+//!
+//! - [`Robot::load`]: a robot's calibration files (URDF, xacro, launch files,
+//!   TF dumps, bags, LIO/Kalibr YAML, rig TOML, ...) into one frame tree, read
+//!   as [`LoadOptions`] says (renames, joint values, xacro arguments and
+//!   package paths, keys, inversion, the input format).
+//! - [`Robot::transform`] and [`Robot::chain`]: compose the pose of one frame
+//!   in another along the tree; [`Transform`] composes, inverts and converts
+//!   (matrix, quaternion, rpy, axis-angle, adjoint, screw).
+//! - [`Robot::report`]: the rig report of a frame pair ([`RigReport`]: lever
+//!   arm, screw pitch, adjoint bands, adapted metric, every detector family's
+//!   verdict); [`analyze`] the same analysis of a bare [`Transform`].
+//! - [`check`] (and [`check_with`], with progress): the CI gate on
+//!   calibration files, against a baseline ([`CheckOptions`], [`CheckReport`]).
+//! - [`diff`]: what changed between two calibrations ([`DiffOptions`],
+//!   [`DiffReport`]).
+//! - [`survey`]: one row per rig over many files ([`SurveyOptions`],
+//!   [`SurveyReport`]).
+//! - [`spread`]: many calibrations of one frame pair (repeated runs, a
+//!   fleet): the mean on SE(3), each one's deviation, the spread per axis,
+//!   the outliers, the pitch verdict of the set ([`SpreadOptions`],
+//!   [`SpreadReport`]; a tolerance as [`DiffToleranceJson`]).
+//! - [`OdometryDetector`]: the user's own odometry's detector (LIO-SAM,
+//!   LeGO-LOAM, DCReg, X-ICP, FAST-LIO, ...) on a rig, cited from its source:
+//!   [`OdometryDetector::advise`] is the [`DetectorAdvice`] a rig report
+//!   carries in [`RigReport::detector`].
+//! - [`Detector::points`]: every detector family on points held in memory
+//!   ([`Points`] of `f64` or `f32` rows, normals estimated when absent).
+//! - [`Detector::scan`] (and [`Detector::sweep`], the paper's frame sweep): the
+//!   same on a point file, or a scan pair ([`ScanFile`], [`PairOptions`]).
+//! - [`render`]: any report as text, markdown, JSON (its schema in
+//!   `docs/schemas`), CSV, SARIF or a picture ([`OutputFormat`],
+//!   [`RenderOptions`]); [`render_bytes`] and [`render_to`] the same as
+//!   bytes or to a writer, MCAP (the 3D scene for Foxglove) included;
+//!   [`Robot::frame_tree`] is the frame tree as a report.
+//!
+//! Every failure is an [`Error`] (a [`Diagnostic`]: a typed [`Code`], the
+//! file and line where known, a message saying what was expected and what was
+//! found); warnings are the same type ([`Warning`]), returned beside the
+//! result. Options structs have `Default` and are `#[non_exhaustive]`: set
+//! the fields you need on `Default::default()`, so that a field added later
+//! breaks nobody.
+//!
+//! Conventions (frames, twists, the adjoint, quaternion order, rpy) are those
+//! of [`Transform`]; `docs/ARCHITECTURE.md` draws the layers.
 //!
 //! # Example
 //!
 //! Load ANYbotics ANYmal C's URDF, compose the pose of its LiDAR in its base
-//! frame and analyse it (the README's rig report shows the same numbers):
+//! frame and report on it (the README's rig report shows the same numbers):
 //!
 //! ```
-//! use extrinsic_audit::analysis::{analyze, Family};
-//! use extrinsic_audit::formats::LoadOptions;
-//! use extrinsic_audit::geometry::{PitchTol, ScrewKind};
-//! use extrinsic_audit::pipeline::{self, RigOptions};
-//! use extrinsic_audit::tolerances::{DEFAULT_ELLS, DEFAULT_PITCH_TOL};
-//! use std::path::PathBuf;
+//! use extrinsic_audit::{Family, LoadOptions, RigOptions, Robot, ScrewKind};
 //!
-//! # fn main() -> extrinsic_audit::diagnostic::Result<()> {
-//! let urdf = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/urdf/anymal_c_lidar.urdf");
-//! // Files -> one frame graph (no renames; movable joints at 0 unless
-//! // `LoadOptions::joints` gives a value).
-//! let loaded = pipeline::load(&[urdf], &LoadOptions::default(), &[])?;
+//! # fn main() -> extrinsic_audit::Result<()> {
+//! let urdf = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/urdf/anymal_c_lidar.urdf");
+//! // Movable joints at 0 unless `LoadOptions::joints` gives a value.
+//! let robot = Robot::load(&[urdf], &LoadOptions::default())?;
 //!
-//! // Compose base -> lidar: the pose of `lidar` in `base`, p_base = R p_lidar + d,
-//! // along base -> lidar_cage -> lidar.
-//! let chain = loaded.graph.transform("base", "lidar")?;
+//! // The pose of `lidar` in `base`, p_base = R p_lidar + d, along
+//! // base -> lidar_cage -> lidar.
+//! let chain = robot.chain("base", "lidar")?;
 //! assert_eq!(chain.steps.len(), 2);
 //! let d = chain.transform.translation();
 //! assert!((d.x + 0.364).abs() < 1e-12 && d.y.abs() < 1e-12 && (d.z - 0.1422).abs() < 1e-12);
 //!
-//! // Analyse: lever arm, screw, adjoint, certificate bands, detector verdicts.
-//! let rig = analyze(&chain.transform, &DEFAULT_ELLS, DEFAULT_PITCH_TOL)?;
-//! assert_eq!(format!("{:.6}", rig.lever_arm_m), "0.390790");
-//! assert_eq!(rig.screw.kind, ScrewKind::General); // h = e . d != 0
-//! let h = rig.screw.translation_along_axis;
-//! assert!(matches!(h, Some(h) if (h + 0.1422).abs() < 1e-9));
-//! let invariant: Vec<Family> = rig
+//! // The rig report: lever arm, screw, verdicts.
+//! let (report, warnings) = robot.report("base", "lidar", &RigOptions::default())?;
+//! assert!(warnings.is_empty());
+//! assert_eq!(format!("{:.6}", report.lever_arm_m), "0.390790");
+//! assert_eq!(report.screw.kind, ScrewKind::General); // h = e . d != 0
+//! let invariant: Vec<Family> = report
 //!     .detectors
 //!     .iter()
 //!     .filter(|v| v.invariant_on_rig)
 //!     .map(|v| v.family)
 //!     .collect();
 //! assert_eq!(invariant, [Family::PointDisplacement]);
-//!
-//! // The same analysis as the typed report `audit` prints (and serialises).
-//! let opts = RigOptions {
-//!     ells: DEFAULT_ELLS.to_vec(),
-//!     pitch_tol: PitchTol::Auto, // three-way, from the rounding of the digits
-//!     sigma: None,               // no --sigma-t / --sigma-r
-//!     kappa_lambda: None,
-//! };
-//! let report = pipeline::report(&chain, &opts)?;
 //! assert_eq!(
 //!     report.verdict_line(),
 //!     "lever arm 0.391 m, h = -0.1422 +- 4.082e-5 m (rounding), pitch nonzero: \
@@ -67,33 +97,80 @@
 //! # Ok(())
 //! # }
 //! ```
+//!
+//! # `internals`: unstable
+//!
+//! The hidden module `internals` re-exports the crate's inner parts for the
+//! crate's own tests, benchmarks, fuzz targets and examples. It is not part
+//! of the face: no stability, no documentation promise; anything in it may
+//! change or go in any release. The `audit` binary is a client of the face
+//! and takes from `internals` only what is the command line's own business:
+//! the defaults and ranges of its flags (`tolerances`) for clap's value
+//! parsers, its colours and the wrapping and escaping of what it prints on
+//! standard error (`render::Style`, `render::layout`, `sanitize`), the help
+//! text that lists the metric families, the survey and spread plots (`--plot`), `check`'s
+//! `--pair` syntax, the commands that reproduce the paper's experiments
+//! (`tunnel`, `simulate`, `calibrate-threshold`), and `audit run` (the
+//! detector on a recorded run: its options, record sinks and streamed
+//! outputs are not on the face yet, so the run reader is reached through
+//! `internals::pipeline::run` until it is).
 
-#![warn(missing_docs)]
+#![deny(missing_docs)]
 
-pub mod analysis;
-pub mod baseline;
-pub(crate) mod bytes;
-pub mod degeneracy;
-pub mod diagnostic;
-pub mod document;
-pub mod formats;
-pub mod frames;
-pub mod geometry;
-pub mod input;
-pub mod pipeline;
-pub mod progress;
-pub mod render;
-pub mod report;
-pub mod run;
-pub mod sanitize;
-pub mod tolerances;
+mod analysis;
+mod api;
+mod baseline;
+mod bytes;
+mod degeneracy;
+mod diagnostic;
+mod document;
+mod formats;
+mod frames;
+mod geometry;
+mod input;
+mod pipeline;
+mod progress;
+mod render;
+mod report;
+mod run;
+mod sanitize;
+mod tolerances;
 
-// The types most callers need, at the crate root.
+// Robots: load, compose, report.
 pub use analysis::{analyze, Family, RigAnalysis};
-pub use diagnostic::{Code, Diagnostic, Error, Location, Result, Severity};
+pub use api::Robot;
+pub use formats::{Assume, BagOptions, Format, LoadOptions, Rename, UrdfVersion};
+pub use frames::{Chain, ChainStep, Edge, JointState, JointType, Provenance};
+pub use geometry::{PitchTol, QuatOrder, Screw, ScrewKind, Transform, UserSigma};
+pub use pipeline::RigOptions;
+
+// The user's own odometry's detector on a rig (`RigReport::detector`).
+pub use analysis::detectors::{Dependence, DetectorAdvice, OdometryDetector};
+
+// Calibration files: the CI check, the diff, the survey.
+pub use baseline::DriftTolerances;
+pub use pipeline::{check, check_with, diff, survey, CheckOptions, DiffOptions, SideRead};
+pub use pipeline::{spread, SpreadOptions};
+pub use pipeline::{SortColumn, SurveyOptions};
+pub use report::diff::DiffToleranceJson;
+
+// The detector.
+pub use api::{Detector, PairOptions, ScanFile};
+pub use pipeline::detector::{Coords, DetectorOptions, InitialGuess, NormalOptions, Points};
+pub use progress::{NoProgress, Progress, ProgressFactory};
+
+// Reports and their output.
+pub use api::{render, render_bytes, render_to, RenderOptions};
 pub use document::Report;
-pub use formats::{load_file, Format, LoadOptions};
-pub use frames::{Chain, Edge, FrameGraph};
-pub use geometry::{Screw, ScrewKind, Transform};
 pub use render::OutputFormat;
+pub use report::detector::{DegeneracyReport, SweepReport};
+pub use report::diff::DiffReport;
+pub use report::frames::FramesReport;
+pub use report::spread::SpreadReport;
 pub use report::{CheckReport, RigReport, SurveyReport};
+
+// Diagnostics.
+pub use diagnostic::{Code, Diagnostic, Error, Location, Result, Severity, Warning};
+
+#[doc(hidden)]
+pub mod internals;

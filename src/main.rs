@@ -1,7 +1,9 @@
-//! `audit`: the command-line front end of extrinsic-audit. This file holds
-//! the command tree and the dispatch; `cli` holds each command's arguments
-//! (parsed, handed to `extrinsic_audit::pipeline`, the report rendered) and
-//! the output. Everything else is the library's.
+//! `audit`: the command-line front end of extrinsic-audit, a client of the
+//! library's face like any other (and of `extrinsic_audit::internals` only
+//! where the crate docs say). This file holds the command tree and the
+//! dispatch; `cli` holds each command's arguments (parsed, handed to the
+//! library, the report rendered) and the output. Everything else is the
+//! library's.
 //!
 //! Exit codes for every command: 0 ok, 1 the check found problems, 2 usage or
 //! input error (clap's own usage errors also exit 2).
@@ -10,7 +12,7 @@ mod cli;
 
 use clap::{Parser, Subcommand};
 use cli::{audit, check, detector, diff, display, run, spread, survey};
-use extrinsic_audit::diagnostic::Result;
+use extrinsic_audit::Result;
 use std::io::Write;
 use std::process::ExitCode;
 
@@ -92,12 +94,23 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    ExitCode::from(main_with(std::env::args_os()))
+}
+
+/// The command line `args` (the program's name first) run to its exit code.
+/// The Python package's `audit` console script calls this too: it compiles
+/// this file into its extension (python/src/cli.rs) with `sys.argv`.
+pub(crate) fn main_with<I, T>(args: I) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
         Ok(c) => c,
         Err(e) => {
             let _ = e.print();
             // clap: 0 for --help / --version, 2 for usage errors.
-            return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
+            return e.exit_code().clamp(0, 255) as u8;
         }
     };
     display::set(cli.display.clone());
@@ -112,7 +125,7 @@ fn main() -> ExitCode {
         }
     };
     let _ = out.flush();
-    ExitCode::from(code.clamp(0, 255) as u8)
+    code.clamp(0, 255) as u8
 }
 
 /// Run a parsed command line, writing the report to `out`; returns the exit code.

@@ -91,8 +91,8 @@ pub fn block(text: &str) -> String {
     guard_lines(&visible(text, true)).into_owned()
 }
 
-/// One line for a terminal or a log: [`visible`] (a line break in it shown as
-/// `\n`), then [`guard_line_start`].
+/// One line for a terminal or a log: `visible` (a line break in it shown as
+/// `\n`), then `guard_line_start`.
 pub fn line(text: &str) -> String {
     guard_line_start(&visible(text, false)).into_owned()
 }

@@ -173,6 +173,14 @@ pub const MAX_PY_ITEMS: usize = 100_000;
 /// 256 MiB. Evaluating a real launch file charges a few KiB.
 pub const MAX_PY_WORK_BYTES: usize = 256 << 20;
 
+/// Deepest nesting of lists, tuples and dicts in one another that the Python
+/// reader creates (`[[...]]` built in a loop): printing, comparing, copying
+/// and dropping a value recurse once per level. Launch files nest 2-3
+/// levels (a list of parameter dicts); a value deeper than this is refused
+/// when it is evaluated, before anything walks it (the xacro evaluator's
+/// `XACRO_MAX_VALUE_DEPTH` is the same number, for the same reason).
+pub const MAX_PY_VALUE_DEPTH: usize = 100;
+
 /// Calls of a launch.py file's own functions nested deeper than this are
 /// refused (a function that calls itself).
 pub const MAX_PY_CALL_DEPTH: usize = 32;
@@ -384,8 +392,8 @@ pub const SIGNED_PERMUTATION_TOL: f64 = 1e-9;
 
 /// Absolute zero-pitch tolerance on `|h|` (m) where no uncertainty is at hand
 /// (the detector's adapted metric, library callers of `analyze`). The reports
-/// default to `--pitch-tol auto` ([`PITCH_K`]); this is also their floor
-/// ([`PITCH_FLOAT_FLOOR_M`]).
+/// default to `--pitch-tol auto` (`PITCH_K`); this is also their floor
+/// (`PITCH_FLOAT_FLOOR_M`).
 pub const DEFAULT_PITCH_TOL: f64 = 1e-9;
 
 /// Rotation angle (degrees) below which a rig's screw axis is set by calibration
@@ -524,11 +532,6 @@ pub const DEFAULT_TAU: f64 = 1e-2;
 /// millimetres. For exactly collinear points the ratio is rounding (`~1e-16`).
 pub const CHOLESKY_REL_TOL: f64 = 1e-10;
 
-/// A projector diagonal entry above this flags the axis in the footprint (no
-/// longer used by the footprints, which flag at [`FOOTPRINT_SCORE_TOL`]; kept
-/// for callers of the library).
-pub const FOOTPRINT_TOL: f64 = 1e-6;
-
 /// In the canonical basis of a degenerate subspace, a direction whose rotational
 /// part has singular value at or below this (for a unit coordinate vector) is a
 /// pure translation.
@@ -572,7 +575,8 @@ pub const MAX_LIST_VALUES: usize = 16;
 /// axis is flagged when its score, the diagonal entry of the Euclidean
 /// projector onto the subspace (in `[0, 1]`, summing to the dimension), is at
 /// least this. On a ground plane the in-plane axes score about 0.996 and the
-/// others below 0.01 (issue 16), where [`FOOTPRINT_TOL`] flagged all six.
+/// others below 0.01 (issue 16), where the absolute 1e-6 used before flagged
+/// all six.
 pub const FOOTPRINT_SCORE_TOL: f64 = 0.1;
 
 /// A degenerate direction is a translation when its rotation fraction

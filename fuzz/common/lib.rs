@@ -2,9 +2,10 @@
 //! path chosen by the target (and a selector byte), assert that success never
 //! carries a wrong number, and feed the edges to a `FrameGraph`.
 
-use extrinsic_audit::formats::{load_bytes, load_str, Format, LoadOptions, Loaded};
-use extrinsic_audit::frames::FrameGraph;
-use extrinsic_audit::geometry::se3::Transform;
+use extrinsic_audit::internals::formats::{load_bytes, load_str, Parsed};
+use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::Transform;
+use extrinsic_audit::{Format, LoadOptions};
 use std::path::Path;
 
 /// Orthonormality tolerance asserted on every edge of a successful load.
@@ -19,7 +20,10 @@ pub fn assert_sane(t: &Transform, what: &str) {
         "{what}: non-finite transform returned with Ok: {t:?}"
     );
     let e = (r.transpose() * r - nalgebra::Matrix3::identity()).norm();
-    assert!(e <= ORTHO_TOL, "{what}: rotation off orthonormal by {e:e}: {t:?}");
+    assert!(
+        e <= ORTHO_TOL,
+        "{what}: rotation off orthonormal by {e:e}: {t:?}"
+    );
     let det = r.determinant();
     assert!((det - 1.0).abs() <= 1e-8, "{what}: det {det}: {t:?}");
 }
@@ -49,11 +53,9 @@ pub fn load_bytes_and_check(bytes: &[u8], path: &str, format: Option<Format>, se
 
 /// The options a selector byte sets: `--invert`, `--key`, `--joint`.
 fn options(format: Option<Format>, sel: u8) -> LoadOptions {
-    let mut opts = LoadOptions {
-        format,
-        invert: sel & 0x40 != 0,
-        ..Default::default()
-    };
+    let mut opts = LoadOptions::default();
+    opts.format = format;
+    opts.invert = sel & 0x40 != 0;
     if sel & 0x80 != 0 {
         opts.key = Some("T_imu_lidar".into());
     }
@@ -65,7 +67,7 @@ fn options(format: Option<Format>, sel: u8) -> LoadOptions {
 
 /// Every edge finite and orthonormal; the graph built from them answers every
 /// query with a finite transform or an error.
-pub fn check_loaded(loaded: Loaded) {
+pub fn check_loaded(loaded: Parsed) {
     assert!(!loaded.edges.is_empty(), "Ok with no edges");
     for e in &loaded.edges {
         assert_sane(&e.transform, &format!("edge {} -> {}", e.parent, e.child));

@@ -3,24 +3,59 @@
 //! two parents, self loops, hostile numbers) and queries. Invariants: no panic;
 //! an edge refused leaves the graph unchanged; a composed transform is finite
 //! and orthonormal when Ok; T(a,b) * T(b,a) ~ identity.
-use extrinsic_audit::diagnostic::Location;
-use extrinsic_audit::formats::{Format, Loaded};
-use extrinsic_audit::frames::{Edge, FrameGraph};
-use extrinsic_audit::tolerances::MAX_TRANSLATION_M;
+use extrinsic_audit::internals::formats::Parsed;
+use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::internals::tolerances::MAX_TRANSLATION_M;
+use extrinsic_audit::Edge;
+use extrinsic_audit::Format;
+use extrinsic_audit::Location;
 
-use extrinsic_audit::geometry::se3::{QuatOrder, Transform};
+use extrinsic_audit::{QuatOrder, Transform};
 use fuzz_common::assert_sane;
 use libfuzzer_sys::fuzz_target;
 
 const NAMES: &[&str] = &[
-    "base_link", "imu", "lidar", "os_sensor", "camera", "a", "b", "c", "d", "e", "", " ",
-    "base_link ", "\u{00e9}", "x/y", "very_long_frame_name_with_many_characters",
+    "base_link",
+    "imu",
+    "lidar",
+    "os_sensor",
+    "camera",
+    "a",
+    "b",
+    "c",
+    "d",
+    "e",
+    "",
+    " ",
+    "base_link ",
+    "\u{00e9}",
+    "x/y",
+    "very_long_frame_name_with_many_characters",
 ];
 
 const SPECIAL: &[f64] = &[
-    0.0, -0.0, 1.0, -1.0, 0.5, 1e-7, 1e-4, 0.1, 1e12, -1e12, 1e6, 1e300, -1e300, 1e-300,
-    f64::NAN, f64::INFINITY, f64::NEG_INFINITY, f64::MIN_POSITIVE, f64::EPSILON,
-    std::f64::consts::PI, std::f64::consts::FRAC_PI_2, 3.0e8,
+    0.0,
+    -0.0,
+    1.0,
+    -1.0,
+    0.5,
+    1e-7,
+    1e-4,
+    0.1,
+    1e12,
+    -1e12,
+    1e6,
+    1e300,
+    -1e300,
+    1e-300,
+    f64::NAN,
+    f64::INFINITY,
+    f64::NEG_INFINITY,
+    f64::MIN_POSITIVE,
+    f64::EPSILON,
+    std::f64::consts::PI,
+    std::f64::consts::FRAC_PI_2,
+    3.0e8,
 ];
 
 struct Bytes<'a>(&'a [u8]);
@@ -119,7 +154,10 @@ fuzz_target!(|data: &[u8]| {
                         assert_eq!(g.edges().len(), before, "refused edge changed the graph");
                     }
                 } else {
-                    let loaded = Loaded { edges: vec![e.clone(), e], ..Default::default() };
+                    let loaded = Parsed {
+                        edges: vec![e.clone(), e],
+                        ..Default::default()
+                    };
                     if g.add(loaded).is_err() {
                         assert_eq!(g.edges().len(), before, "refused file changed the graph");
                     }
@@ -128,10 +166,17 @@ fuzz_target!(|data: &[u8]| {
             2 => {
                 let Some(x) = b.u8() else { break };
                 let Some(y) = b.u8() else { break };
-                let (x, y) = (NAMES[x as usize % NAMES.len()], NAMES[y as usize % NAMES.len()]);
+                let (x, y) = (
+                    NAMES[x as usize % NAMES.len()],
+                    NAMES[y as usize % NAMES.len()],
+                );
                 let ab = g.transform(x, y);
                 let ba = g.transform(y, x);
-                assert_eq!(ab.is_ok(), ba.is_ok(), "T({x},{y}) and T({y},{x}) disagree on success");
+                assert_eq!(
+                    ab.is_ok(),
+                    ba.is_ok(),
+                    "T({x},{y}) and T({y},{x}) disagree on success"
+                );
                 if let (Ok(ab), Ok(ba)) = (ab, ba) {
                     assert_sane(&ab.transform, "composed");
                     let id = ab.transform.compose(&ba.transform);

@@ -4,6 +4,8 @@ use fuzz_common::{load_and_check, split};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let Some((sel, text)) = split(data) else { return };
+    let Some((sel, text)) = split(data) else {
+        return;
+    };
     load_and_check(&text, "rig.toml", None, sel);
 });

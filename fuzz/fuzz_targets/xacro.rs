@@ -2,12 +2,14 @@
 //! xacro: the built-in expander on whole documents, and (odd selectors) the
 //! `${...}` evaluator on one expression placed in a joint origin. Includes and
 //! `$(find)` resolve against a path that does not exist.
-use extrinsic_audit::formats::Format;
+use extrinsic_audit::Format;
 use fuzz_common::{load_and_check, split};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let Some((sel, text)) = split(data) else { return };
+    let Some((sel, text)) = split(data) else {
+        return;
+    };
     let doc = if sel & 1 == 1 {
         format!(
             "<robot name=\"r\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\">\
@@ -19,5 +21,10 @@ fuzz_target!(|data: &[u8]| {
     } else {
         text
     };
-    load_and_check(&doc, "/nonexistent/robot.urdf.xacro", Some(Format::from_name("xacro").unwrap()), sel & !1);
+    load_and_check(
+        &doc,
+        "/nonexistent/robot.urdf.xacro",
+        Some(Format::from_name("xacro").unwrap()),
+        sel & !1,
+    );
 });

@@ -1,7 +1,7 @@
 #![no_main]
 //! YAML dialects: sniffed from content, and each dialect forced; also the text
 //! formats (KITTI raw and object, M2DGR) that share the `.txt` / `.yaml` detection path.
-use extrinsic_audit::formats::Format;
+use extrinsic_audit::Format;
 use fuzz_common::{load_and_check, split};
 use libfuzzer_sys::fuzz_target;
 
@@ -24,7 +24,9 @@ const FORCED: &[&str] = &[
 ];
 
 fuzz_target!(|data: &[u8]| {
-    let Some((sel, text)) = split(data) else { return };
+    let Some((sel, text)) = split(data) else {
+        return;
+    };
     let k = (sel & 0x1f) as usize;
     let (path, fmt) = match k {
         0..=3 => ("calib.yaml", None),
@@ -32,7 +34,10 @@ fuzz_target!(|data: &[u8]| {
         5 => ("calib.txt", None),
         _ => {
             let name = FORCED[(k - 6) % FORCED.len()];
-            ("calib.yaml", Some(Format::from_name(name).expect("a registered format")))
+            (
+                "calib.yaml",
+                Some(Format::from_name(name).expect("a registered format")),
+            )
         }
     };
     load_and_check(&text, path, fmt, sel);

@@ -51,7 +51,7 @@ pub enum Dependence {
 
 /// One detector as its source has it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Detector {
+pub struct OdometryDetector {
     /// `--detector` name.
     pub name: &'static str,
     /// Its name for people.
@@ -74,8 +74,8 @@ pub struct Detector {
 
 /// The detectors the tool knows, cited from their sources (the research
 /// behind each row: docs/detectors.md).
-pub const DETECTORS: [Detector; 8] = [
-    Detector {
+pub const DETECTORS: [OdometryDetector; 8] = [
+    OdometryDetector {
         name: "lio-sam",
         label: "LIO-SAM",
         source: "TixiaoShan/LIO-SAM @ 0be1fbe6275fb8366d5b800af4fc8c76a885c869, src/mapOptmization.cpp, LMOptimization (lines 1158-1280, the check at 1229-1251)",
@@ -86,7 +86,7 @@ pub const DETECTORS: [Detector; 8] = [
         dependence: Dependence::Band,
         euler: true,
     },
-    Detector {
+    OdometryDetector {
         name: "lego-loam",
         label: "LeGO-LOAM",
         source: "RobustFieldAutonomyLab/LeGO-LOAM @ 896a7a95a8bc510b76819d4cc48707e344bad621, LeGO-LOAM/src/featureAssociation.cpp calculateTransformationSurf and calculateTransformationCorner (odometry, 3x3 blocks, threshold 10); src/mapOptmization.cpp LMOptimization (mapping, 6x6, threshold 100)",
@@ -97,7 +97,7 @@ pub const DETECTORS: [Detector; 8] = [
         dependence: Dependence::Unbounded,
         euler: true,
     },
-    Detector {
+    OdometryDetector {
         name: "loam",
         label: "LOAM",
         source: "laboshinl/loam_velodyne @ 0030b6a6b579fe2169ec36ffa939c7dd92f4275c, src/laserOdometry.cpp (eignThre 10) and src/laserMapping.cpp (eignThre 100)",
@@ -108,7 +108,7 @@ pub const DETECTORS: [Detector; 8] = [
         dependence: Dependence::Band,
         euler: true,
     },
-    Detector {
+    OdometryDetector {
         name: "dcreg",
         label: "DCReg",
         source: "JokerJohn/DCReg @ 7df35ed98aa033fa90ba04542eaedb7379eb9116, DCReg/include/dcreg.hpp DetectDegeneracy and CharacterizeDegeneracy",
@@ -119,7 +119,7 @@ pub const DETECTORS: [Detector; 8] = [
         dependence: Dependence::Unbounded,
         euler: false,
     },
-    Detector {
+    OdometryDetector {
         name: "x-icp",
         label: "X-ICP",
         source: "leggedrobotics/perfectlyconstrained @ 3bd12e4ab9073960f0cb70797fa047b9f540fbad, libpointmatcher/pointmatcher/ICP.cpp detectLocalizability and decideLocalizabilityLevel",
@@ -130,7 +130,7 @@ pub const DETECTORS: [Detector; 8] = [
         dependence: Dependence::Invariant,
         euler: false,
     },
-    Detector {
+    OdometryDetector {
         name: "fast-lio",
         label: "FAST-LIO",
         source: "hku-mars/FAST_LIO @ 7cc4175de6f8ba2edf34bab02a42195b141027e9, src/laserMapping.cpp h_share_model (lines 638-754)",
@@ -141,7 +141,7 @@ pub const DETECTORS: [Detector; 8] = [
         dependence: Dependence::NoDetector,
         euler: false,
     },
-    Detector {
+    OdometryDetector {
         name: "point-lio",
         label: "Point-LIO",
         source: "hku-mars/Point-LIO @ ef965976719a1ff5fc956631c54eebf3e8023907, src/Estimator.cpp h_model_input and h_model_output",
@@ -152,7 +152,7 @@ pub const DETECTORS: [Detector; 8] = [
         dependence: Dependence::NoDetector,
         euler: false,
     },
-    Detector {
+    OdometryDetector {
         name: "dlio",
         label: "DLIO",
         source: "vectr-ucla/direct_lidar_inertial_odometry @ fc8d183f18cdcfb9bb4fc754c6d373cedc4cbd04, src/dlio/odom.cc (GICP in base_link, lines 238-243)",
@@ -174,7 +174,7 @@ pub const REVEALED_BY: [(&str, &str); 3] = [
 ];
 
 /// The detector an input of format `format` reveals.
-pub fn revealed_by(format: &str) -> Option<&'static Detector> {
+pub fn revealed_by(format: &str) -> Option<&'static OdometryDetector> {
     REVEALED_BY
         .iter()
         .find(|(f, _)| *f == format)
@@ -182,16 +182,65 @@ pub fn revealed_by(format: &str) -> Option<&'static Detector> {
 }
 
 /// The detector named `name` (`lio-sam`, `LIO_SAM`, `liosam` alike).
-pub fn find(name: &str) -> Option<&'static Detector> {
+pub fn find(name: &str) -> Option<&'static OdometryDetector> {
     let key = |s: &str| s.to_ascii_lowercase().replace(['-', '_'], "");
     DETECTORS.iter().find(|d| key(d.name) == key(name))
 }
 
+impl OdometryDetector {
+    /// Every detector the tool knows (`--detector` names), cited from its
+    /// source.
+    pub fn all() -> &'static [OdometryDetector] {
+        &DETECTORS
+    }
+
+    /// The detector named `name` (`lio-sam`, `LIO_SAM`, `liosam` alike).
+    pub fn find(name: &str) -> Option<&'static OdometryDetector> {
+        find(name)
+    }
+
+    /// The detector an input of format `format` reveals (a LIO-SAM, FAST-LIO
+    /// or DLIO config: the format id a rig report's `sources[].format` names).
+    pub fn revealed_by(format: &str) -> Option<&'static OdometryDetector> {
+        revealed_by(format)
+    }
+
+    /// What this detector does on the rig `t`, the pose of its frame `to`
+    /// (the LiDAR) in `from` (the frame the user reads): its threshold
+    /// carried into `from` by the certificate band at `l = 1 m`, widened by
+    /// the Euler-rate factor for LIO-SAM and LOAM, or why no band bounds it.
+    ///
+    /// ```
+    /// use extrinsic_audit::{OdometryDetector, Transform};
+    ///
+    /// # fn main() -> extrinsic_audit::Result<()> {
+    /// // A LiDAR 1 m above base_link, level: the band at |d| / l = 1 is
+    /// // [1 / phi^2, phi^2] (phi the golden ratio), LIO-SAM's threshold 100
+    /// // acts in base_link between 38.20 and 261.80.
+    /// let t = Transform::from_translation([0.0, 0.0, 1.0])?;
+    /// let lio_sam = OdometryDetector::find("LIO_SAM").unwrap();
+    /// let advice = lio_sam.advise(&t, "base_link", "lidar");
+    /// let phi2 = ((1.0 + 5f64.sqrt()) / 2.0).powi(2);
+    /// let [lo, hi] = advice.threshold_in_from.unwrap();
+    /// assert!((lo - 100.0 / phi2).abs() < 1e-9 && (hi - 100.0 * phi2).abs() < 1e-9);
+    /// assert!(advice.frame_dependent);
+    /// assert!(advice.statement.contains("between 38.20 and 261.80"));
+    /// // X-ICP evaluates in a frame-free way.
+    /// let xicp = OdometryDetector::find("x-icp").unwrap().advise(&t, "base_link", "lidar");
+    /// assert!(!xicp.frame_dependent && xicp.threshold_in_from.is_none());
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn advise(&self, t: &Transform, from: &str, to: &str) -> DetectorAdvice {
+        advise(self, t, from, to)
+    }
+}
+
 /// What a detector does on one rig.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Advice {
+pub struct DetectorAdvice {
     /// The detector.
-    pub detector: Detector,
+    pub detector: OdometryDetector,
     /// `|d|` of the chain `--from` -> `--to` (m), the band's lever arm at
     /// `l = 1 m`.
     pub lever_arm_m: f64,
@@ -218,7 +267,7 @@ pub fn threshold_band(tau: f64, lever_arm_m: f64, pitch_rad: Option<f64>) -> [f6
 }
 
 /// What `d` does on the rig `t` (the pose of its frame `to` in `from`).
-pub fn advise(d: &'static Detector, t: &Transform, from: &str, to: &str) -> Advice {
+pub fn advise(d: &OdometryDetector, t: &Transform, from: &str, to: &str) -> DetectorAdvice {
     let lever = t.lever_arm();
     let pitch = d
         .euler
@@ -279,7 +328,7 @@ pub fn advise(d: &'static Detector, t: &Transform, from: &str, to: &str) -> Advi
             ),
         ),
     };
-    Advice {
+    DetectorAdvice {
         detector: *d,
         lever_arm_m: lever,
         pitch_deg: pitch.map(f64::to_degrees),

@@ -143,7 +143,7 @@ impl Family {
         Family::PointDisplacement,
     ];
 
-    /// Its row of [`FAMILIES`].
+    /// Its row of `FAMILIES`.
     pub fn spec(self) -> &'static FamilySpec {
         // FAMILIES lists the variants in declaration order.
         &FAMILIES[self as usize]

@@ -325,7 +325,7 @@ pub struct FamilyVerdict {
 /// screw `s` (from `t.screw(pitch_tol)`).
 ///
 /// `d = 0` means `||d|| <= LENGTH_ZERO_TOL`; a signed permutation is tested with
-/// [`SIGNED_PERMUTATION_TOL`].
+/// `SIGNED_PERMUTATION_TOL`.
 pub fn family_verdicts(t: &Transform, s: &Screw) -> [FamilyVerdict; Family::ALL.len()] {
     let no_lever = t.lever_arm() <= LENGTH_ZERO_TOL;
     Family::ALL.map(|family| {
@@ -404,6 +404,30 @@ pub struct RigAnalysis {
 /// Allocation-free on success. Errors (which build a message): a non-finite
 /// transform, more than `MAX_ELLS` lengths or one that is not finite and `> 0`,
 /// a `pitch_tol` that is not finite and `>= 0`.
+///
+/// ```
+/// use extrinsic_audit::{analyze, Family, ScrewKind, Transform};
+///
+/// # fn main() -> extrinsic_audit::Result<()> {
+/// // A quarter turn about z, the origin moved 0.1 m along x: h = e . d = 0.
+/// let t = Transform::from_rpy([0.0, 0.0, std::f64::consts::FRAC_PI_2], [0.1, 0.0, 0.0])?;
+/// let rig = analyze(&t, &[1.0], 1e-9)?;
+/// assert_eq!(rig.screw.kind, ScrewKind::ZeroPitch);
+/// assert!((rig.lever_arm_m - 0.1).abs() < 1e-15);
+/// // The axis point c solves (I - R) c = d in the plane: c = (0.05, 0.05, 0).
+/// let c = rig.screw.axis_point.unwrap();
+/// assert!((c - nalgebra::Vector3::new(0.05, 0.05, 0.0)).norm() < 1e-12);
+/// // The band at l = 1: s = (sqrt(delta^2 + 4) -+ delta) / 2, delta = |d| / l.
+/// let (dl, band) = (0.1f64, rig.certificate.as_slice()[0].band);
+/// let s = |sign: f64| ((dl * dl + 4.0).sqrt() + sign * dl) / 2.0;
+/// assert!((band[0] - s(-1.0).powi(2)).abs() < 1e-12 && (band[1] - s(1.0).powi(2)).abs() < 1e-12);
+/// // Zero pitch: an adapted constant metric exists.
+/// assert!(rig.adapted_metric.exists);
+/// let pd = rig.detectors.iter().find(|v| v.family == Family::PointDisplacement).unwrap();
+/// assert!(pd.invariant_on_rig);
+/// # Ok(())
+/// # }
+/// ```
 pub fn analyze(t: &Transform, ells: &[f64], pitch_tol: f64) -> Result<RigAnalysis> {
     if !(pitch_tol.is_finite() && pitch_tol >= 0.0) {
         return Err(Error::usage(format!(

@@ -7,5 +7,5 @@ pub mod metric;
 pub mod mistakes;
 pub mod spread;
 
-pub use family::{Family, FamilySpec, FAMILIES};
+pub use family::Family;
 pub use metric::{analyze, RigAnalysis};

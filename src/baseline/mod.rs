@@ -15,6 +15,7 @@
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result};
 use crate::frames::Edge;
 use crate::geometry::Transform;
+use crate::tolerances::{DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
@@ -28,9 +29,10 @@ pub use store::Store;
 
 /// A baseline: per file (key: [`encode_key`] of its normalised path relative
 /// to the baseline's directory), its record.
+#[cfg(test)]
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Default)]
 pub struct Baseline {
-    /// Version of this JSON layout; [`read`] accepts only 1.
+    /// Version of this JSON layout; [`read_store`] accepts only 1.
     pub schema_version: u32,
     /// One record per calibration file that loaded, keyed by its normalised
     /// path relative to the baseline's directory (see the module doc), sorted.
@@ -83,13 +85,24 @@ pub struct BaselinePair {
     pub declared: bool,
 }
 
-/// Drift tolerances.
-#[derive(Debug, Clone, Copy)]
-pub struct Tolerances {
+/// How far a transform may drift from its baseline before `check` reports
+/// it. `Default`: [`DEFAULT_MAX_TRANSLATION_DRIFT`] and
+/// [`DEFAULT_MAX_ROTATION_DRIFT_DEG`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DriftTolerances {
     /// On translations (m).
     pub translation_m: f64,
     /// On rotations (deg).
     pub rotation_deg: f64,
+}
+
+impl Default for DriftTolerances {
+    fn default() -> Self {
+        DriftTolerances {
+            translation_m: DEFAULT_MAX_TRANSLATION_DRIFT,
+            rotation_deg: DEFAULT_MAX_ROTATION_DRIFT_DEG,
+        }
+    }
 }
 
 impl BaselineTransform {
@@ -235,18 +248,11 @@ fn absolute(p: &Path) -> Result<PathBuf> {
     std::path::absolute(p).map_err(|e| Error::io(p, &e))
 }
 
-/// The key of `file` in a baseline kept in directory `dir`. `root` is the
-/// checked path `file` was found under: symlinks are resolved when the file
-/// they lead to stays inside it; otherwise the file keeps its place in the
-/// tree (a link out of the checked root is keyed where it is found).
-pub fn key_for(file: &Path, root: &Path, dir: &Path) -> Result<String> {
-    let dir = dir.canonicalize().map_err(|e| Error::io(dir, &e))?;
-    let canon_root = root.canonicalize().map_err(|e| Error::io(root, &e))?;
-    key_in(file, root, &canon_root, &dir)
-}
-
-/// [`key_for`] with the real paths of `root` and `dir` already found
-/// (`canon_root`, `canon_dir`): one real path per file, not three.
+/// The key of `file` in a baseline kept in the directory whose real path is
+/// `canon_dir`. `root` is the checked path `file` was found under
+/// (`canon_root` its real path): symlinks are resolved when the file they
+/// lead to stays inside it; otherwise the file keeps its place in the tree
+/// (a link out of the checked root is keyed where it is found).
 pub fn key_in(file: &Path, root: &Path, canon_root: &Path, canon_dir: &Path) -> Result<String> {
     let (canon_root, dir) = (canon_root.to_path_buf(), canon_dir);
     let canon = file.canonicalize().map_err(|e| Error::io(file, &e))?;
@@ -264,29 +270,12 @@ pub fn key_in(file: &Path, root: &Path, canon_root: &Path, canon_dir: &Path) -> 
     Ok(encode_key(&relative_to(&place, dir)))
 }
 
-/// Read a baseline written by `audit check --write-baseline`. Refused (an
-/// error naming the entry, exit 2): not JSON, a `schema_version` other than 1,
-/// an entry with a missing or mistyped field, a non-finite number, or a
-/// quaternion that is not unit (a zero quaternion would switch the rotation
-/// drift check off).
-pub fn read(path: &Path) -> Result<Baseline> {
-    let mut files = BTreeMap::new();
-    let mut twice = None;
-    stream::read_each(path, |key, rec| {
-        if files.contains_key(&key) {
-            twice.get_or_insert_with(|| key.clone());
-        }
-        files.insert(key, rec);
-    })?;
-    refuse_twice(path, twice)?;
-    Ok(Baseline {
-        schema_version: 1,
-        files,
-    })
-}
-
-/// Read the baseline at `path` into a compact [`Store`] (a fleet's baseline
-/// held at about 200 bytes per file). Refused as [`read`] says.
+/// Read a baseline written by `audit check --write-baseline` into a compact
+/// [`Store`] (a fleet's baseline held at about 200 bytes per file). Refused
+/// (an error naming the entry, exit 2): not JSON, a `schema_version` other
+/// than 1, an entry with a missing or mistyped field, a non-finite number,
+/// or a quaternion that is not unit (a zero quaternion would switch the
+/// rotation drift check off).
 pub fn read_store(path: &Path) -> Result<Store> {
     let mut store = Store::new();
     stream::read_each(path, |key, rec| store.insert(&key, &rec))?;
@@ -393,7 +382,7 @@ fn drift(
     what: String,
     now: &BaselineTransform,
     base: &BaselineTransform,
-    tol: Tolerances,
+    tol: DriftTolerances,
     at: Location,
 ) -> Option<Diagnostic> {
     let dt = (0..3)
@@ -457,7 +446,7 @@ fn finding(code: Code, at: Location, message: String) -> Diagnostic {
 fn compare_edges(
     now: &CheckedFile,
     base: &BaselineFile,
-    tol: Tolerances,
+    tol: DriftTolerances,
     out: &mut Vec<Diagnostic>,
 ) {
     for b in &base.edges {
@@ -527,7 +516,11 @@ fn pair_gone(now: &CheckedFile, base: &BaselineFile, b: &BaselinePair) -> Diagno
 }
 
 /// Compare one file's record with the baseline's.
-pub fn compare_file(now: &CheckedFile, base: &BaselineFile, tol: Tolerances) -> Vec<Diagnostic> {
+pub fn compare_file(
+    now: &CheckedFile,
+    base: &BaselineFile,
+    tol: DriftTolerances,
+) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     compare_edges(now, base, tol, &mut out);
     for b in &base.pairs {
@@ -588,26 +581,4 @@ pub fn removed_file(key: &str, dir: &Path) -> Option<Diagnostic> {
             "file {key:?} is in the baseline but no longer exists (accept with --write-baseline --prune)"
         ),
     ))
-}
-
-/// Compare the checked files (by key) with a baseline kept in `dir`: per file,
-/// `new-file`, and `removed-file` for a baseline entry whose file is gone.
-/// Entries of files that exist but were not checked (a subset) are skipped.
-pub fn compare(
-    now: &BTreeMap<String, CheckedFile>,
-    base: &Baseline,
-    dir: &Path,
-    tol: Tolerances,
-) -> Vec<Diagnostic> {
-    let mut out = Vec::new();
-    for (key, file) in now {
-        match base.files.get(key) {
-            Some(b) => out.extend(compare_file(file, b, tol)),
-            None => out.push(new_file(file.path)),
-        }
-    }
-    for key in base.files.keys().filter(|k| !now.contains_key(*k)) {
-        out.extend(removed_file(key, dir));
-    }
-    out
 }

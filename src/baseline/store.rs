@@ -141,11 +141,6 @@ impl Store {
         self.entries.len()
     }
 
-    /// No file.
-    pub fn is_empty(&self) -> bool {
-        self.entries.is_empty()
-    }
-
     /// The index of `key` (after [`Store::finish`]).
     pub fn find(&self, key: &str) -> Option<usize> {
         debug_assert!(self.sorted);

@@ -2,12 +2,14 @@
 //! 1 KB of JSON per file, 100 MB for 100,000 files) is never held as text or
 //! as a JSON tree. Reading hands each entry, checked, to the caller as it is
 //! parsed; writing serialises entries one at a time, byte for byte what
-//! `serde_json::to_string_pretty` of the whole [`Baseline`] writes.
+//! `serde_json::to_string_pretty` of the whole `Baseline` writes.
 //!
 //! Both sides keep to `MAX_BASELINE_FILE_SIZE`: what the tool writes, it
 //! reads (a write that would pass the cap is an error, nothing written).
 
-use super::{decode_key, validate_file, Baseline, BaselineFile};
+#[cfg(test)]
+use super::Baseline;
+use super::{decode_key, validate_file, BaselineFile};
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::MAX_BASELINE_FILE_SIZE;
 use serde::de::{self, DeserializeSeed, IgnoredAny, MapAccess, Visitor};
@@ -21,7 +23,7 @@ use std::path::Path;
 const CAP_NAME: &str = "the baseline size cap, MAX_BASELINE_FILE_SIZE";
 
 /// What went wrong inside the parse, kept apart from serde's error (which
-/// carries only text): the entry errors name the entry as [`super::read`]
+/// carries only text): the entry errors name the entry as [`super::read_store`]
 /// always has.
 enum Failure {
     Entry(String),
@@ -150,7 +152,7 @@ fn not_a_baseline(path: &Path, e: &serde_json::Error) -> Error {
 }
 
 /// Read the baseline at `path`, each entry handed to `each` (key, record) as
-/// it is parsed and checked. Refused as [`super::read`] says; the entries
+/// it is parsed and checked. Refused as [`super::read_store`] says; the entries
 /// already handed on are then to be dropped by the caller.
 pub fn read_each(path: &Path, mut each: impl FnMut(String, BaselineFile)) -> Result<()> {
     let failure = RefCell::new(None);
@@ -268,7 +270,7 @@ impl Write for Counted<'_> {
 }
 
 /// Write a baseline of `files` (sorted by key, each key once) to `w`: the
-/// text of `serde_json::to_string_pretty` of the [`Baseline`], and a newline.
+/// text of `serde_json::to_string_pretty` of the `Baseline`, and a newline.
 pub fn write_to<'a>(
     w: &mut dyn Write,
     files: impl Iterator<Item = (&'a str, BaselineFile)>,
@@ -282,7 +284,9 @@ pub fn write_to<'a>(
     c.write_all(b"\n")
 }
 
-/// The whole of a [`Baseline`] written as [`write_to`] writes it.
+/// The whole of a `Baseline` written as [`write_to`] writes it (what the
+/// tests compare the streamed text with).
+#[cfg(test)]
 pub fn write_baseline_to(w: &mut dyn Write, b: &Baseline) -> std::io::Result<()> {
     write_to(w, b.files.iter().map(|(k, v)| (k.as_str(), v.clone())))
 }

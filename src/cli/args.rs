@@ -6,15 +6,11 @@
 //! context (`x,y,z`, lists, flag combinations) are parsed by the library.
 
 use clap::{Args, ValueEnum};
-use extrinsic_audit::formats::bag::BagOptions;
-use extrinsic_audit::formats::{Assume, LoadOptions};
-use extrinsic_audit::geometry::{PitchTol, UserSigma};
-use extrinsic_audit::pipeline::Rename;
-use extrinsic_audit::render::OutputFormat;
-use extrinsic_audit::tolerances::{
+use extrinsic_audit::internals::tolerances::{
     DEFAULT_ELLS, DEFAULT_MAX_FILE_SIZE, DEFAULT_TAU, ELL_RANGE_M, KAPPA_RANGE, MAX_JOINT_VALUE,
     MAX_SIGMA_R_DEG, MAX_SIGMA_T_M, MAX_SIM_NOISE_M, SIM_VOXEL_RANGE_M,
 };
+use extrinsic_audit::{Assume, BagOptions, LoadOptions, OutputFormat, PitchTol, Rename, UserSigma};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 

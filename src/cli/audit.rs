@@ -4,14 +4,11 @@ use super::args::{
     parse_kappa, parse_lambda, BagArgs, EllArgs, FileSizeArgs, JointArgs, OutputArgs, PitchTolArgs,
     ReadArgs, RenameArgs, SigmaArgs, XacroArgs,
 };
-use super::{emit_warned, print_notes, print_warnings};
+use super::{deny_warnings, emit_warned, print_notes, print_warnings};
 use clap::Args;
-use extrinsic_audit::analysis::detectors::{self, Detector};
-use extrinsic_audit::diagnostic::Result;
-use extrinsic_audit::formats::{Format, LoadOptions};
-use extrinsic_audit::pipeline::{self, RigOptions};
-use extrinsic_audit::render::OutputFormat;
-use extrinsic_audit::report::frames::frames_report;
+use extrinsic_audit::{
+    Format, LoadOptions, OdometryDetector, OutputFormat, Result, RigOptions, Robot, UrdfVersion,
+};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -52,10 +49,10 @@ pub struct AuditArgs {
     /// Skip format detection (see the README's formats table)
     #[arg(long, value_name = "NAME")]
     pub input_format: Option<String>,
-    /// Read every URDF as this version (1.0, 1.1 or 1.2) whatever its <robot version>
+    /// Read every URDF as this version (1.0, 1.1 or 1.2) whatever its `<robot version>`
     /// says: 1.1 applies quat_xyzw, which ROS ignores in a 1.0 file
     #[arg(long, value_name = "X.Y")]
-    pub urdf_version: Option<extrinsic_audit::formats::urdf::UrdfVersion>,
+    pub urdf_version: Option<UrdfVersion>,
     #[command(flatten)]
     pub size: FileSizeArgs,
     #[command(flatten)]
@@ -73,12 +70,12 @@ pub struct AuditArgs {
     /// lego-loam, loam, dcreg, x-icp, fast-lio, point-lio, dlio); a LIO-SAM,
     /// FAST-LIO or DLIO config among the files says it without the flag
     #[arg(long, value_name = "NAME", value_parser = parse_detector)]
-    pub detector: Option<&'static Detector>,
+    pub detector: Option<&'static OdometryDetector>,
 }
 
-fn parse_detector(s: &str) -> std::result::Result<&'static Detector, String> {
-    detectors::find(s).ok_or_else(|| {
-        let names: Vec<&str> = detectors::DETECTORS.iter().map(|d| d.name).collect();
+fn parse_detector(s: &str) -> std::result::Result<&'static OdometryDetector, String> {
+    OdometryDetector::find(s).ok_or_else(|| {
+        let names: Vec<&str> = OdometryDetector::all().iter().map(|d| d.name).collect();
         format!("expected one of {}, found `{s}`", names.join(", "))
     })
 }
@@ -90,14 +87,13 @@ impl AuditArgs {
             None => None,
             Some(name) => Some(Format::from_name(name)?),
         };
-        let mut load = LoadOptions {
-            joints: self.joints.positions(),
-            format,
-            max_file_size: self.size.max_file_size,
-            urdf_version: self.urdf_version,
-            bag: self.bag.bag_options(),
-            ..LoadOptions::default()
-        };
+        let mut load = LoadOptions::default();
+        load.joints = self.joints.positions();
+        load.format = format;
+        load.max_file_size = self.size.max_file_size;
+        load.urdf_version = self.urdf_version;
+        load.bag = self.bag.bag_options();
+        load.renames = self.renames.renames.clone();
         self.read.apply(&mut load);
         self.xacro.apply(&mut load);
         Ok(load)
@@ -106,16 +102,15 @@ impl AuditArgs {
 
 pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     super::check_output(&args.output, &args.files)?;
-    let loaded = pipeline::load(&args.files, &args.load_options()?, &args.renames.renames)?;
+    let robot = Robot::load(&args.files, &args.load_options()?)?;
     // The files named and those they included.
-    let inputs = loaded.files_read(&args.files);
-    print_warnings(loaded.graph.warnings());
-    print_notes(loaded.graph.notes());
-    pipeline::deny_warnings(args.strict, loaded.graph.warnings())?;
-    loaded.check_joint_names(args.joints.joints.iter().map(|(n, _)| n.as_str()))?;
+    let inputs = robot.files();
+    print_warnings(robot.warnings());
+    print_notes(robot.notes());
+    deny_warnings(args.strict, robot.warnings())?;
     if args.frames {
         return super::frames::run(
-            &loaded,
+            &robot,
             args.from.as_deref(),
             args.to.as_deref(),
             &args.output,
@@ -123,37 +118,37 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
             out,
         );
     }
-    let (from, to) = loaded.frame_pair(args.from.as_deref(), args.to.as_deref())?;
-    let chain = loaded.graph.transform(&from, &to)?;
+    let (from, to) = robot.frame_pair(args.from.as_deref(), args.to.as_deref())?;
+    let chain = robot.chain(&from, &to)?;
     print_warnings(&chain.warnings);
     print_notes(&chain.notes);
-    pipeline::deny_warnings(args.strict, &chain.warnings)?;
-    let opts = RigOptions {
-        ells: args.ell.ell.clone(),
-        pitch_tol: args.pitch.pitch_tol,
-        sigma: args.sigma.user_sigma(),
-        kappa_lambda: args.kappa.zip(args.lambda),
-    };
-    let warnings: Vec<_> = loaded
-        .graph
+    deny_warnings(args.strict, &chain.warnings)?;
+    let mut opts = RigOptions::default();
+    opts.ells = args.ell.ell.clone();
+    opts.pitch_tol = args.pitch.pitch_tol;
+    opts.sigma = args.sigma.user_sigma();
+    opts.kappa_lambda = args.kappa.zip(args.lambda);
+    let (report, chain_warnings) = robot.report(&from, &to, &opts)?;
+    let warnings: Vec<_> = robot
         .warnings()
         .iter()
-        .chain(&chain.warnings)
+        .chain(&chain_warnings)
         .cloned()
         .collect();
-    let mut report = pipeline::report(&chain, &opts)?;
+    let mut report = report;
     let revealed = || {
         report
             .sources
             .iter()
-            .find_map(|s| detectors::revealed_by(&s.format))
+            .find_map(|s| OdometryDetector::revealed_by(&s.format))
     };
     if let Some(d) = args.detector.or_else(revealed) {
-        report.detector = Some(detectors::advise(d, &chain.transform, &from, &to));
+        report.detector = Some(d.advise(&chain.transform, &from, &to));
     }
-    // The 3D scene draws the whole tree, the chain marked.
+    // The 3D scene draws the whole tree, the chain marked (built only for
+    // it: a large tree's document costs seconds).
     if args.output.format == OutputFormat::Mcap {
-        report.tree = Some(frames_report(&loaded.graph, Some(&chain)));
+        report.tree = Some(robot.frame_tree(Some(&chain)));
     }
     emit_warned(&report, &warnings, &args.output, &inputs, out)?;
     Ok(0)

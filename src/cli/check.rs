@@ -5,11 +5,11 @@ use super::args::{
 };
 use super::emit;
 use clap::Args;
-use extrinsic_audit::baseline::Tolerances;
-use extrinsic_audit::diagnostic::{Code, Result};
-use extrinsic_audit::formats::LoadOptions;
-use extrinsic_audit::pipeline::{self, CheckOptions};
-use extrinsic_audit::tolerances::{DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT};
+use extrinsic_audit::internals::pipeline::manifest;
+use extrinsic_audit::internals::tolerances::{
+    DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT,
+};
+use extrinsic_audit::{check_with, CheckOptions, Code, DriftTolerances, Result};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -101,7 +101,7 @@ fn parse_code(s: &str) -> std::result::Result<Code, String> {
 }
 
 fn parse_pair(s: &str) -> std::result::Result<(String, String), String> {
-    pipeline::manifest::parse_pair(s).ok_or_else(|| format!("expected FROM:TO, found `{s}`"))
+    manifest::parse_pair(s).ok_or_else(|| format!("expected FROM:TO, found `{s}`"))
 }
 
 pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
@@ -114,46 +114,34 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
         .collect();
     super::check_output(&args.output, &inputs)?;
     let progress = super::display::TermProgress::new();
-    let report = pipeline::check_with(
-        &CheckOptions {
-            paths: args.paths.clone(),
-            baseline: args.baseline.clone(),
-            write_baseline: args.write_baseline.clone(),
-            prune: args.prune,
-            exclude: args.exclude.clone(),
-            pairs: args.pairs.clone(),
-            max_lever_arm: args.max_lever_arm,
-            require_zero_pitch: args.require_zero_pitch,
-            drift: Tolerances {
-                translation_m: args.max_translation_drift,
-                rotation_deg: args.max_rotation_drift,
-            },
-            pitch_tol: args.pitch.pitch_tol,
-            load: {
-                let mut load = LoadOptions {
-                    joints: args.joints.positions(),
-                    max_file_size: args.size.max_file_size,
-                    ..LoadOptions::default()
-                };
-                args.xacro.apply(&mut load);
-                load
-            },
-            allow: args.allow.clone(),
-            deny: args.deny.clone(),
-            deny_warnings: args.deny_warnings,
-            fleet: match &args.fleet_tolerance {
-                Some(v) => {
-                    let t = super::spread::tolerance("--fleet-tolerance", v)?;
-                    Some(Tolerances {
-                        translation_m: t.translation_mm * 1e-3,
-                        rotation_deg: t.rotation_deg,
-                    })
-                }
-                None => None,
-            },
-        },
-        &progress,
-    )?;
+    let mut opts = CheckOptions::default();
+    opts.paths = args.paths.clone();
+    opts.baseline = args.baseline.clone();
+    opts.write_baseline = args.write_baseline.clone();
+    opts.prune = args.prune;
+    opts.exclude = args.exclude.clone();
+    opts.pairs = args.pairs.clone();
+    opts.max_lever_arm = args.max_lever_arm;
+    opts.require_zero_pitch = args.require_zero_pitch;
+    opts.drift = DriftTolerances {
+        translation_m: args.max_translation_drift,
+        rotation_deg: args.max_rotation_drift,
+    };
+    opts.pitch_tol = args.pitch.pitch_tol;
+    opts.load.joints = args.joints.positions();
+    opts.load.max_file_size = args.size.max_file_size;
+    args.xacro.apply(&mut opts.load);
+    opts.allow = args.allow.clone();
+    opts.deny = args.deny.clone();
+    opts.deny_warnings = args.deny_warnings;
+    if let Some(v) = &args.fleet_tolerance {
+        let t = super::spread::tolerance("--fleet-tolerance", v)?;
+        opts.fleet = Some(DriftTolerances {
+            translation_m: t.translation_mm * 1e-3,
+            rotation_deg: t.rotation_deg,
+        });
+    }
+    let report = check_with(&opts, &progress)?;
     emit(&report, &args.output, &inputs, out)?;
     Ok(report.exit_code())
 }

@@ -1,24 +1,25 @@
-//! The detector commands: `degeneracy`, `sweep`, `tunnel`, `simulate`,
-//! `calibrate-threshold`. Arguments here, made into the options of
-//! `extrinsic_audit::pipeline::detector`, which reads the scans and computes.
+//! The detector commands: `degeneracy` and `sweep` (the library's
+//! `Detector` on a scan file), and the paper's experiments `tunnel`,
+//! `simulate`, `calibrate-threshold` (from `internals`). Arguments here, made
+//! into the library's options; the library reads the scans and computes.
 
 use super::args::{
     parse_noise, parse_positive, parse_voxel, EllArgs, OutputArgs, TauArgs, XacroArgs,
 };
 use super::display::TermBars;
 use super::emit;
-use extrinsic_audit::analysis::Family;
-use extrinsic_audit::degeneracy::scene::TUNNEL_RADIUS;
-use extrinsic_audit::degeneracy::threshold::SEEDS;
-use extrinsic_audit::degeneracy::MetricRule;
-use extrinsic_audit::diagnostic::{Error, Result};
-use extrinsic_audit::pipeline::detector::{
-    self as det, CalibrateOptions, DegeneracyOptions, InitialGuess, ScanOptions, SimulateParams,
-    SimulateRig, SweepOptions, TunnelParams,
+use extrinsic_audit::internals::degeneracy::scene::TUNNEL_RADIUS;
+use extrinsic_audit::internals::degeneracy::threshold::SEEDS;
+use extrinsic_audit::internals::degeneracy::MetricRule;
+use extrinsic_audit::internals::pipeline::detector::{
+    self as det, CalibrateOptions, SimulateParams, SimulateRig, TunnelParams,
 };
-use extrinsic_audit::render::OutputFormat;
-use extrinsic_audit::tolerances::{
+use extrinsic_audit::internals::tolerances::{
     DEFAULT_ELLS, PAIR_GATE_M, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
+};
+use extrinsic_audit::{
+    Detector, DetectorOptions, Error, Family, InitialGuess, LoadOptions, OutputFormat, PairOptions,
+    Result, Robot, ScanFile,
 };
 use std::io::Write;
 use std::path::PathBuf;
@@ -354,9 +355,27 @@ impl DegeneracyArgs {
             .collect()
     }
 
-    /// How the scan is read.
-    pub fn scan_options(&self) -> Result<ScanOptions> {
-        let frame = det::parse_frame(self.shift.as_deref(), self.rotate_rpy.as_deref())?;
+    /// The detector these options ask for.
+    pub fn detector(&self) -> Result<Detector> {
+        let mut o = DetectorOptions::default();
+        o.tau = self.tau.tau;
+        o.ells = self.ell.ell.clone();
+        o.frame = det::parse_frame(self.shift.as_deref(), self.rotate_rpy.as_deref())?;
+        o.show_matrices = self.show_matrices;
+        o.normals.voxel = self.voxel;
+        o.normals.radius = self.normal_radius;
+        o.normals.knn = self.knn;
+        o.normals.min_neighbours = self.min_neighbours;
+        o.normals.min_planarity = self.min_planarity;
+        o.normals.viewpoint = match &self.viewpoint {
+            Some(s) => Some(det::parse_triple(s, "--viewpoint")?),
+            None => None,
+        };
+        Detector::new(o)
+    }
+
+    /// The scan file (a pair's source with `--target`).
+    pub fn scan_file(&self) -> Result<ScanFile> {
         let initial_guess = match (&self.initial_guess, &self.initial_guess_file) {
             (Some(_), Some(_)) => {
                 return Err(Error::usage(
@@ -367,26 +386,24 @@ impl DegeneracyArgs {
             (None, Some(f)) => InitialGuess::File(f.clone()),
             (None, None) => InitialGuess::Identity,
         };
-        let viewpoint = match &self.viewpoint {
-            Some(s) => Some(det::parse_triple(s, "--viewpoint")?),
-            None => None,
-        };
-        Ok(ScanOptions {
-            points: self.points.clone(),
-            frame,
-            estimate_normals: self.estimate_normals,
-            voxel: self.voxel,
-            normal_radius: self.normal_radius,
-            knn: self.knn,
-            min_neighbours: self.min_neighbours,
-            min_planarity: self.min_planarity,
-            viewpoint,
-            classes: self.class.clone(),
-            target: self.target.clone(),
-            gate: self.gate,
-            initial_guess,
-            keep_points: false,
-        })
+        let mut scan = ScanFile::new(&self.points);
+        scan.estimate_normals = self.estimate_normals;
+        scan.classes = self.class.clone();
+        match &self.target {
+            Some(t) => {
+                let mut pair = PairOptions::new(t);
+                pair.gate = self.gate;
+                pair.initial_guess = initial_guess;
+                scan.pair = Some(pair);
+            }
+            None if initial_guess != InitialGuess::Identity => {
+                return Err(Error::usage(
+                    "--initial-guess and --initial-guess-file apply only with --target",
+                ))
+            }
+            None => {}
+        }
+        Ok(scan)
     }
 }
 
@@ -394,45 +411,35 @@ impl DegeneracyArgs {
 pub fn degeneracy(args: &DegeneracyArgs, out: &mut dyn Write) -> Result<i32> {
     let inputs = args.inputs();
     super::check_output(&args.output, &inputs)?;
-    let mut scan = args.scan_options()?;
+    let mut scan = args.scan_file()?;
     // The 3D scene draws the points: keep them.
     scan.keep_points = args.output.format == OutputFormat::Mcap;
-    let opts = DegeneracyOptions {
-        scan,
-        tau: args.tau.tau,
-        ells: args.ell.ell.clone(),
-        show_matrices: args.show_matrices,
-    };
-    emit(
-        &det::degeneracy_scan(&opts, &TermBars)?,
-        &args.output,
-        &inputs,
-        out,
-    )?;
+    let report = args.detector()?.scan_with(&scan, &TermBars)?;
+    emit(&report, &args.output, &inputs, out)?;
     Ok(0)
 }
 
 /// `audit sweep`.
 pub fn sweep(args: &SweepArgs, out: &mut dyn Write) -> Result<i32> {
     let s = &args.scan;
+    if args.rig.is_empty() && (args.from.is_some() || args.to.is_some()) {
+        return Err(Error::usage("--from/--to apply only with --rig"));
+    }
     let mut inputs = s.inputs();
     inputs.extend(args.rig.iter().cloned());
     super::check_output(&s.output, &inputs)?;
-    let opts = SweepOptions {
-        scan: s.scan_options()?,
-        tau: s.tau.tau,
-        ells: s.ell.ell.clone(),
-        seed: args.seed,
-        rig: args.rig.clone(),
-        from: args.from.clone(),
-        to: args.to.clone(),
-        load: {
-            let mut load = extrinsic_audit::formats::LoadOptions::default();
-            args.xacro.apply(&mut load);
-            load
-        },
+    let (detector, scan) = (s.detector()?, s.scan_file()?);
+    let rig = if args.rig.is_empty() {
+        None
+    } else {
+        let mut load = LoadOptions::default();
+        args.xacro.apply(&mut load);
+        let robot = Robot::load(&args.rig, &load)?;
+        let (from, to) = robot.frame_pair(args.from.as_deref(), args.to.as_deref())?;
+        Some(robot.transform(&from, &to)?)
     };
-    emit(&det::sweep_scan(&opts, &TermBars)?, &s.output, &inputs, out)?;
+    let report = detector.sweep(&scan, args.seed, rig.as_ref(), &TermBars)?;
+    emit(&report, &s.output, &inputs, out)?;
     Ok(0)
 }
 
@@ -471,7 +478,7 @@ pub fn simulate(args: &SimulateArgs, out: &mut dyn Write) -> Result<i32> {
         ells: args.ell.ell.clone(),
         update: det::parse_update(&args.update)?,
     };
-    let mut load = extrinsic_audit::formats::LoadOptions::default();
+    let mut load = LoadOptions::default();
     args.xacro.apply(&mut load);
     let rig = SimulateRig {
         files: args.files.clone(),

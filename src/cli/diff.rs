@@ -6,11 +6,10 @@ use super::args::{
 };
 use super::{emit, print_warnings};
 use clap::Args;
-use extrinsic_audit::diagnostic::{Error, Result};
-use extrinsic_audit::formats::LoadOptions;
-use extrinsic_audit::pipeline::{self, DiffOptions, RigOptions, SideRead};
-use extrinsic_audit::report::diff::DiffToleranceJson;
-use extrinsic_audit::tolerances::{DEFAULT_DIFF_ROTATION_TOL_DEG, DEFAULT_DIFF_TRANSLATION_TOL_MM};
+use extrinsic_audit::internals::tolerances::{
+    DEFAULT_DIFF_ROTATION_TOL_DEG, DEFAULT_DIFF_TRANSLATION_TOL_MM,
+};
+use extrinsic_audit::{diff, DiffOptions, Error, Result};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -85,39 +84,21 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
     };
     let inputs = [args.old.clone(), args.new.clone()];
     super::check_output(&args.output, &inputs)?;
-    let (report, warnings) = pipeline::diff(&DiffOptions {
-        old: args.old.clone(),
-        new: args.new.clone(),
-        from: args.from.clone(),
-        to: args.to.clone(),
-        renames: args.renames.renames.clone(),
-        load: {
-            let mut load = LoadOptions {
-                joints: args.joints.positions(),
-                ..LoadOptions::default()
-            };
-            args.xacro.apply(&mut load);
-            load
-        },
-        old_read: SideRead {
-            key: args.read.key.clone().or_else(|| args.key_old.clone()),
-            invert: args.read.invert || args.invert_old,
-        },
-        new_read: SideRead {
-            key: args.read.key.clone().or_else(|| args.key_new.clone()),
-            invert: args.read.invert || args.invert_new,
-        },
-        rig: RigOptions {
-            ells: args.ell.ell.clone(),
-            pitch_tol: args.pitch.pitch_tol,
-            sigma: None,
-            kappa_lambda: None,
-        },
-        tolerance: DiffToleranceJson {
-            translation_mm,
-            rotation_deg,
-        },
-    })?;
+    let mut opts = DiffOptions::new(&args.old, &args.new);
+    opts.from = args.from.clone();
+    opts.to = args.to.clone();
+    opts.load.renames = args.renames.renames.clone();
+    opts.load.joints = args.joints.positions();
+    args.xacro.apply(&mut opts.load);
+    opts.old_read.key = args.read.key.clone().or_else(|| args.key_old.clone());
+    opts.old_read.invert = args.read.invert || args.invert_old;
+    opts.new_read.key = args.read.key.clone().or_else(|| args.key_new.clone());
+    opts.new_read.invert = args.read.invert || args.invert_new;
+    opts.rig.ells = args.ell.ell.clone();
+    opts.rig.pitch_tol = args.pitch.pitch_tol;
+    opts.tolerance.translation_mm = translation_mm;
+    opts.tolerance.rotation_deg = rotation_deg;
+    let (report, warnings) = diff(&opts)?;
     print_warnings(&warnings);
     emit(&report, &args.output, &inputs, out)?;
     Ok(if report.exceeded.is_empty() { 0 } else { 1 })

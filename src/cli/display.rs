@@ -5,7 +5,9 @@
 //! machine-friendly table).
 
 use clap::Args;
-use extrinsic_audit::render::{ColorChoice, Layout, Style};
+use extrinsic_audit::internals::render::layout::{wrap, MIN_TERMINAL_WIDTH};
+use extrinsic_audit::internals::render::{ColorChoice, Style};
+use extrinsic_audit::{Progress, ProgressFactory, RenderOptions};
 use std::io::IsTerminal;
 use std::sync::OnceLock;
 
@@ -45,31 +47,30 @@ pub fn stderr_style() -> Style {
     Style::chosen(args().color, std::io::stderr().is_terminal())
 }
 
-/// The layout of standard output: the terminal's width (`COLUMNS` when set to
-/// a number, else the terminal's own, else 80), none when not a terminal.
-pub fn stdout_layout() -> Layout {
+/// How standard output is written: its colour, and the terminal's width
+/// (`COLUMNS` when set to a number, else the terminal's own, else 80), none
+/// when not a terminal.
+pub fn stdout_options() -> RenderOptions {
     let a = args();
-    let width = std::io::stdout().is_terminal().then(terminal_width);
-    Layout {
-        width,
-        wide: a.wide,
-        columns: a.columns,
-        cwd: std::env::current_dir().ok(),
-    }
+    let mut opts = RenderOptions::default();
+    opts.color = stdout_style().color;
+    opts.width = std::io::stdout().is_terminal().then(terminal_width);
+    opts.wide = a.wide;
+    opts.columns = a.columns;
+    opts.cwd = std::env::current_dir().ok();
+    opts
 }
 
-/// The style and layout of an output file (`--output`): as a pipe gets them,
-/// every column and no colour unless `--color always`.
-pub fn file_style_layout() -> (Style, Layout) {
+/// How an output file (`--output`) is written: as a pipe gets it, every
+/// column and no colour unless `--color always`.
+pub fn file_options() -> RenderOptions {
     let a = args();
-    let style = Style::chosen(a.color, false);
-    let layout = Layout {
-        width: None,
-        wide: a.wide,
-        columns: a.columns,
-        cwd: std::env::current_dir().ok(),
-    };
-    (style, layout)
+    let mut opts = RenderOptions::default();
+    opts.color = Style::chosen(a.color, false).color;
+    opts.wide = a.wide;
+    opts.columns = a.columns;
+    opts.cwd = std::env::current_dir().ok();
+    opts
 }
 
 fn terminal_width() -> usize {
@@ -87,11 +88,11 @@ pub fn stderr_fit(line: &str) -> String {
     if !std::io::stderr().is_terminal() {
         return line.to_string();
     }
-    let w = terminal_width().max(extrinsic_audit::render::layout::MIN_TERMINAL_WIDTH);
-    let lines = extrinsic_audit::render::layout::wrap(line, w);
+    let w = terminal_width().max(MIN_TERMINAL_WIDTH);
+    let lines = wrap(line, w);
     match lines.split_first() {
         Some((first, rest)) if !rest.is_empty() => {
-            let rest = extrinsic_audit::render::layout::wrap(&format!("    {}", rest.join(" ")), w);
+            let rest = wrap(&format!("    {}", rest.join(" ")), w);
             format!("{first}\n{}", rest.join("\n"))
         }
         _ => line.to_string(),
@@ -121,7 +122,7 @@ impl TermProgress {
     }
 }
 
-impl extrinsic_audit::progress::Progress for TermProgress {
+impl Progress for TermProgress {
     fn start(&self, total: u64, what: &str) {
         self.bar.set_message(what.to_string());
         self.bar.set_length(total);
@@ -137,8 +138,8 @@ impl extrinsic_audit::progress::Progress for TermProgress {
 /// A [`TermProgress`] for each piece of work the library reports.
 pub struct TermBars;
 
-impl extrinsic_audit::progress::ProgressFactory for TermBars {
-    fn progress(&self) -> Box<dyn extrinsic_audit::progress::Progress> {
+impl ProgressFactory for TermBars {
+    fn progress(&self) -> Box<dyn Progress> {
         Box::new(TermProgress::new())
     }
 }

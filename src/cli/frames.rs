@@ -4,17 +4,15 @@
 
 use super::args::OutputArgs;
 use super::emit_warned;
-use extrinsic_audit::diagnostic::{Error, Result};
-use extrinsic_audit::pipeline::Loaded;
-use extrinsic_audit::report::frames::frames_report;
+use extrinsic_audit::{Error, Result, Robot};
 use std::io::Write;
 use std::path::PathBuf;
 
-/// Print the frame tree of `loaded` as `output` asks, the `from` -> `to` chain
-/// marked when both are given; its JSON carries the graph's warnings (already
+/// Print the frame tree of `robot` as `output` asks, the `from` -> `to`
+/// chain marked when both are given; its JSON carries the robot's warnings (already
 /// printed on standard error).
 pub fn run(
-    loaded: &Loaded,
+    robot: &Robot,
     from: Option<&str>,
     to: Option<&str>,
     output: &OutputArgs,
@@ -22,7 +20,7 @@ pub fn run(
     out: &mut dyn Write,
 ) -> Result<i32> {
     let chain = match (from, to) {
-        (Some(f), Some(t)) => Some(loaded.graph.transform(f, t)?),
+        (Some(f), Some(t)) => Some(robot.chain(f, t)?),
         (None, None) => None,
         _ => {
             return Err(Error::usage(
@@ -30,7 +28,7 @@ pub fn run(
             ))
         }
     };
-    let rep = frames_report(&loaded.graph, chain.as_ref());
-    emit_warned(&rep, loaded.graph.warnings(), output, inputs, out)?;
+    let rep = robot.frame_tree(chain.as_ref());
+    emit_warned(&rep, robot.warnings(), output, inputs, out)?;
     Ok(0)
 }

@@ -1,8 +1,8 @@
 //! The commands' arguments and the output. Each command module parses its
-//! arguments, calls `extrinsic_audit::pipeline`, and renders the typed report
-//! it gets back with `extrinsic_audit::render` (through [`emit`]); the flags
-//! several commands share are declared once, in `args`. The command tree and
-//! the dispatch are in `main.rs`.
+//! arguments, calls the library, and renders the typed report it gets back
+//! with `extrinsic_audit::render` (through [`emit`]); the flags several
+//! commands share are declared once, in `args`. The command tree and the
+//! dispatch are in `main.rs`.
 
 pub mod args;
 pub mod audit;
@@ -16,11 +16,11 @@ pub mod spread;
 pub mod survey;
 
 use args::OutputArgs;
-use extrinsic_audit::diagnostic::{Code, Error, Result, Warning};
-use extrinsic_audit::document::Report;
-use extrinsic_audit::pipeline;
-use extrinsic_audit::render::{self, OutputFormat, Style};
-use extrinsic_audit::sanitize;
+use extrinsic_audit::internals::pipeline;
+use extrinsic_audit::internals::sanitize;
+use extrinsic_audit::{
+    render_bytes, render_to, Code, Error, OutputFormat, Report, Result, Warning,
+};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 
@@ -50,8 +50,9 @@ pub fn emit_warned<R: Report>(
     let format = output.format;
     if let Some(path) = &output.output {
         pipeline::check_output_target("--output", "command", path, inputs)?;
-        let (style, layout) = display::file_style_layout();
-        let bytes = render::render_bytes(report, warnings, format, style, &layout)?;
+        let mut opts = display::file_options();
+        opts.warnings = warnings.to_vec();
+        let bytes = render_bytes(report, format, &opts)?;
         return pipeline::write_atomic(path, &bytes);
     }
     if format.is_binary() && std::io::stdout().is_terminal() {
@@ -60,23 +61,38 @@ pub fn emit_warned<R: Report>(
             format.name()
         )));
     }
-    let style = if format == OutputFormat::Table {
-        display::stdout_style()
-    } else {
-        Style::plain()
-    };
-    let layout = display::stdout_layout();
+    let mut opts = display::stdout_options();
+    opts.color &= format == OutputFormat::Table;
+    opts.warnings = warnings.to_vec();
     let mut pipe = Pipe { out, closed: false };
-    let written =
-        render::render_to(report, warnings, format, style, &layout, &mut pipe).and_then(|()| {
-            pipe.flush()
-                .map_err(|e| Error::new(Code::Io, format!("cannot write output: {e}")))
-        });
+    let written = render_to(report, format, &opts, &mut pipe).and_then(|()| {
+        pipe.flush()
+            .map_err(|e| Error::new(Code::Io, format!("cannot write output: {e}")))
+    });
     if pipe.closed {
         // `audit ... | head -1`: the reader asked for no more; status 0.
         std::process::exit(0);
     }
     written
+}
+
+/// `--strict`: warnings (already printed) stop the command, an error naming
+/// their codes.
+pub fn deny_warnings(strict: bool, warnings: &[Warning]) -> Result<()> {
+    if !strict || warnings.is_empty() {
+        return Ok(());
+    }
+    let mut codes: Vec<&str> = warnings.iter().map(|w| w.code.name()).collect();
+    codes.sort_unstable();
+    codes.dedup();
+    Err(Error::new(
+        Code::WarningsDenied,
+        format!(
+            "--strict: expected no warnings, found {} ({})",
+            warnings.len(),
+            codes.join(", ")
+        ),
+    ))
 }
 
 /// Check `--output` before a command does its work (the write checks again).

@@ -6,23 +6,27 @@
 use super::args::{parse_positive, BagArgs, EllArgs, OutputArgs, TauArgs, XacroArgs};
 use super::display::TermBars;
 use super::{emit_warned, print_warnings};
-use extrinsic_audit::degeneracy::normals::NormalParams;
-use extrinsic_audit::degeneracy::MetricRule;
-use extrinsic_audit::diagnostic::{Code, Error, Result};
-use extrinsic_audit::formats::bag::BagLimits;
-use extrinsic_audit::formats::LoadOptions;
-use extrinsic_audit::pipeline::detector::parse_triple;
-use extrinsic_audit::pipeline::files::AtomicFile;
-use extrinsic_audit::pipeline::run::{self as pr, RunOptions};
-use extrinsic_audit::render::{self, OutputFormat};
-use extrinsic_audit::report::run::{RunHeader, RunSink};
-use extrinsic_audit::run::poses::PoseFormat;
-use extrinsic_audit::run::scan::{Outcome, Settings};
-use extrinsic_audit::run::source::{Bound, Window};
-use extrinsic_audit::tolerances::{
+use extrinsic_audit::internals::degeneracy::normals::NormalParams;
+use extrinsic_audit::internals::degeneracy::MetricRule;
+use extrinsic_audit::internals::formats::bag::BagLimits;
+use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::internals::pipeline::detector::parse_triple;
+use extrinsic_audit::internals::pipeline::files::AtomicFile;
+use extrinsic_audit::internals::pipeline::run::{self as pr, RunOptions};
+use extrinsic_audit::internals::pipeline::{check_output_target, write_atomic};
+use extrinsic_audit::internals::render;
+use extrinsic_audit::internals::render::mcap::{RunMcap, RUN_TOPIC};
+use extrinsic_audit::internals::report::run::{RunHeader, RunReport, RunSink};
+use extrinsic_audit::internals::report::run_scene::RunTransforms;
+use extrinsic_audit::internals::run::frames::RunFrame;
+use extrinsic_audit::internals::run::poses::PoseFormat;
+use extrinsic_audit::internals::run::scan::{Outcome, Settings};
+use extrinsic_audit::internals::run::source::{Bound, Window};
+use extrinsic_audit::internals::tolerances::{
     MAX_SCAN_CELLS, PAIR_GATE_M, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
     RUN_VOXEL_M,
 };
+use extrinsic_audit::{Code, Error, LoadOptions, OutputFormat, Result, Warning};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -44,7 +48,11 @@ Output: the summary (scans read and skipped with reasons, degenerate intervals p
 body frame changes a label, the point-displacement eigenvalues' largest change between frames) as \
 text, markdown or JSON; one record per scan or pair as CSV (--csv FILE, or --format csv on \
 standard output) and JSON lines (--jsonl FILE); the timeline as SVG (--timeline FILE, or --format \
-svg). Skipped scans are named warnings; the scans before damage (a truncated bag) are reported.\n\n\
+svg) or as an MCAP file for Foxglove (--format mcap --output FILE.mcap: one message per scan, the \
+run's transforms; docs/foxglove.md). Skipped scans are named warnings; the scans before damage (a truncated bag) are reported.\n\n\
+Exit codes: 0 the run was read (skipped scans and damage are warnings); 1 with --strict when a scan or \
+pair was skipped or damage stopped the read (every output still written); 2 usage error, unreadable \
+run or refused output.\n\n\
 Examples:\n  audit run run.mcap\n  audit run run.bag --topic /points --frame base_link --csv scans.csv --timeline run.svg\n  \
 audit run run_db3/ --pairs --all-frames --format json\n  \
 audit run sequences/00 --poses poses/00.txt --poses-format kitti --calib sequences/00/calib.txt --pairs\n  \
@@ -139,6 +147,9 @@ pub struct RunArgs {
     /// Draw the timeline to FILE (.svg).
     #[arg(long, value_name = "FILE")]
     pub timeline: Option<PathBuf>,
+    /// Exit 1 when data was lost: a scan or pair skipped (scan-skipped) or the read stopped at damage (run-damaged); the outputs are written all the same
+    #[arg(long)]
+    pub strict: bool,
     #[command(flatten)]
     pub bag: BagArgs,
     #[command(flatten)]
@@ -208,10 +219,8 @@ impl RunArgs {
             gate: self.gate,
             max_cells: MAX_SCAN_CELLS,
         };
-        let mut load = LoadOptions {
-            bag: self.bag.bag_options(),
-            ..LoadOptions::default()
-        };
+        let mut load = LoadOptions::default();
+        load.bag = self.bag.bag_options();
         self.xacro.apply(&mut load);
         Ok(RunOptions {
             inputs: self.run.clone(),
@@ -264,7 +273,7 @@ fn check_target(flag: &str, target: &Path, ext: &str, inputs: &[PathBuf]) -> Res
             )));
         }
     }
-    extrinsic_audit::pipeline::check_output_target(flag, "run", target, inputs)
+    check_output_target(flag, "run", target, inputs)
 }
 
 /// A file written as the scans finish, put in place when the run ends well
@@ -285,15 +294,25 @@ impl Streamed {
     }
 }
 
-/// Where the records go: the CSV and JSON lines files, and standard output
-/// for `--format csv`.
+/// Where the records go: the CSV and JSON lines files, standard output
+/// for `--format csv`, the MCAP file for `--format mcap`.
 struct Sinks<'a> {
     csv: Option<Streamed>,
     jsonl: Option<Streamed>,
     stdout_csv: Option<&'a mut dyn Write>,
+    mcap: Option<RunMcap<AtomicFile>>,
+    /// The run's transforms until the first scan names the scan frame.
+    tf: Option<RunTransforms>,
 }
 
 impl RunSink for Sinks<'_> {
+    fn frames(&mut self, frames: &[RunFrame], graph: Option<&FrameGraph>) -> Result<()> {
+        if self.mcap.is_some() {
+            self.tf = Some(RunTransforms::new(frames, graph));
+        }
+        Ok(())
+    }
+
     fn begin(&mut self, h: &RunHeader) -> Result<()> {
         let head = render::csv_line(&h.csv_header());
         if let Some(c) = self.csv.as_mut() {
@@ -315,13 +334,47 @@ impl RunSink for Sinks<'_> {
                 stdout_line(*out, &row)?;
             }
         }
+        if self.jsonl.is_none() && self.mcap.is_none() {
+            return Ok(());
+        }
+        let line = h.json_line(o);
         if let Some(j) = self.jsonl.as_mut() {
-            let v = serde_json::to_string(&h.json_line(o))
+            let v = serde_json::to_string(&line)
                 .map_err(|e| Error::new(Code::Io, format!("cannot write the JSON line: {e}")))?;
             j.line(&v)?;
         }
+        if let Some(m) = self.mcap.as_mut() {
+            if let Some(tf) = self.tf.take() {
+                m.transforms(tf.resolve(o.scan.frame_id.as_deref()));
+            }
+            m.record(&line)?;
+        }
         Ok(())
     }
+}
+
+/// The MCAP file's metadata: what the run is, and its summary as
+/// `--format json` gives it.
+fn mcap_facts(report: &RunReport, warnings: &[Warning]) -> Result<Vec<(String, String)>> {
+    let summary = render::render(
+        report,
+        warnings,
+        OutputFormat::Json,
+        render::Style::plain(),
+        &render::Layout::default(),
+    )?;
+    // `scans` or `pairs`, as the records name it.
+    let unit = serde_json::to_value(report.unit)
+        .map_err(|e| Error::new(Code::Io, format!("cannot encode the run's unit: {e}")))?
+        .as_str()
+        .unwrap_or_default()
+        .to_string();
+    Ok(vec![
+        ("report".into(), "run".into()),
+        ("unit".into(), unit),
+        ("timeline_topic".into(), RUN_TOPIC.into()),
+        ("summary".into(), summary),
+    ])
 }
 
 fn stdout_line(out: &mut dyn Write, s: &str) -> Result<()> {
@@ -342,9 +395,10 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
             | OutputFormat::Json
             | OutputFormat::Csv
             | OutputFormat::Svg
+            | OutputFormat::Mcap
     ) {
         return Err(Error::usage(format!(
-            "--format {}: audit run writes text, markdown, json (the summary), csv (one row per scan) or svg (the timeline)",
+            "--format {}: audit run writes text, markdown, json (the summary), csv (one row per scan), svg (the timeline) or mcap (the timeline for Foxglove)",
             format.name()
         )));
     }
@@ -355,6 +409,16 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
             "--output with --format csv: the per-scan rows are streamed; give --csv FILE",
         ));
     }
+    let mcap_target = match (format, &args.output.output) {
+        (OutputFormat::Mcap, Some(t)) => Some(t),
+        (OutputFormat::Mcap, None) => {
+            // Written as the scans finish, going back over its chunks.
+            return Err(Error::usage(
+                "--format mcap: audit run streams the MCAP file; give --output FILE.mcap",
+            ));
+        }
+        _ => None,
+    };
     super::check_output(&args.output, &args.run)?;
     for (flag, t, ext) in [
         ("--csv", &args.csv, "csv"),
@@ -369,11 +433,20 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
         csv: args.csv.as_deref().map(Streamed::create).transpose()?,
         jsonl: args.jsonl.as_deref().map(Streamed::create).transpose()?,
         stdout_csv: (format == OutputFormat::Csv).then_some(&mut *out),
+        mcap: mcap_target
+            .map(|t| AtomicFile::create(t).and_then(RunMcap::new))
+            .transpose()?,
+        tf: None,
     };
     let (report, warnings) = pr::run(&opts, &mut sinks, &TermBars)?;
-    let Sinks { csv, jsonl, .. } = sinks;
+    let Sinks {
+        csv, jsonl, mcap, ..
+    } = sinks;
     for s in [csv, jsonl].into_iter().flatten() {
         s.finish()?;
+    }
+    if let Some(m) = mcap {
+        m.finish(mcap_facts(&report, &warnings)?)?.commit()?;
     }
     print_warnings(&warnings);
     let svg = || {
@@ -385,15 +458,33 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
         )
     };
     if let Some(t) = &args.timeline {
-        extrinsic_audit::pipeline::write_atomic(t, svg()?.as_bytes())?;
+        write_atomic(t, svg()?.as_bytes())?;
     }
     match (format, &args.output.output) {
-        (OutputFormat::Csv, _) => {}
-        (OutputFormat::Svg, Some(t)) => {
-            extrinsic_audit::pipeline::write_atomic(t, svg()?.as_bytes())?
-        }
+        (OutputFormat::Csv | OutputFormat::Mcap, _) => {}
+        (OutputFormat::Svg, Some(t)) => write_atomic(t, svg()?.as_bytes())?,
         (OutputFormat::Svg, None) => stdout_line(out, svg()?.trim_end())?,
         _ => emit_warned(&report, &warnings, &args.output, &args.run, out)?,
     }
-    Ok(0)
+    Ok(strict_exit(args.strict, &report))
+}
+
+/// `--strict`: 1 when the run lost data (scans or pairs skipped, or a read
+/// stopped at damage), said on standard error; else 0. Only this class:
+/// the other warnings (`ignored`, `frame-missing`...) leave every scan
+/// reported, as `check`'s exit 1 is for problems, not notes.
+fn strict_exit(strict: bool, report: &RunReport) -> i32 {
+    let skipped: usize = report.skipped.iter().map(|s| s.count).sum();
+    if !strict || (skipped == 0 && report.damage.is_none()) {
+        return 0;
+    }
+    let mut lost = Vec::new();
+    if skipped > 0 {
+        lost.push(format!("{skipped} {} skipped", report.unit.name()));
+    }
+    if let Some(d) = &report.damage {
+        lost.push(format!("the read stopped at damage ({d})"));
+    }
+    eprintln!("audit run --strict: {}: exit 1", lost.join("; "));
+    1
 }

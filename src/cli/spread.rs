@@ -6,10 +6,8 @@ use super::args::{
 };
 use super::{emit_warned, print_warnings};
 use clap::Args;
-use extrinsic_audit::diagnostic::{Error, Result};
-use extrinsic_audit::formats::LoadOptions;
-use extrinsic_audit::pipeline::{self, RigOptions, SpreadOptions};
-use extrinsic_audit::report::diff::DiffToleranceJson;
+use extrinsic_audit::internals::pipeline::{check_spread_plot_target, write_spread_plot};
+use extrinsic_audit::{spread, DiffToleranceJson, Error, Result, SpreadOptions};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -84,30 +82,22 @@ pub fn run(args: &SpreadArgs, out: &mut dyn Write) -> Result<i32> {
     };
     super::check_output(&args.output, &args.paths)?;
     if let Some(plot) = &args.plot {
-        pipeline::check_spread_plot_target(plot, &args.paths)?;
+        check_spread_plot_target(plot, &args.paths)?;
     }
-    let mut load = LoadOptions {
-        joints: args.joints.positions(),
-        ..LoadOptions::default()
-    };
-    args.read.apply(&mut load);
-    args.xacro.apply(&mut load);
-    let (report, warnings) = pipeline::spread(&SpreadOptions {
-        paths: args.paths.clone(),
-        from: args.from.clone(),
-        to: args.to.clone(),
-        load,
-        rig: RigOptions {
-            ells: args.ell.ell.clone(),
-            pitch_tol: args.pitch.pitch_tol,
-            sigma: None,
-            kappa_lambda: None,
-        },
-        tolerance,
-    })?;
+    let mut opts = SpreadOptions::default();
+    opts.paths = args.paths.clone();
+    opts.from = args.from.clone();
+    opts.to = args.to.clone();
+    opts.load.joints = args.joints.positions();
+    args.read.apply(&mut opts.load);
+    args.xacro.apply(&mut opts.load);
+    opts.rig.ells = args.ell.ell.clone();
+    opts.rig.pitch_tol = args.pitch.pitch_tol;
+    opts.tolerance = tolerance;
+    let (report, warnings) = spread(&opts)?;
     print_warnings(&warnings);
     if let Some(plot) = &args.plot {
-        pipeline::write_spread_plot(plot, &args.paths, &report)?;
+        write_spread_plot(plot, &args.paths, &report)?;
     }
     emit_warned(&report, &warnings, &args.output, &args.paths, out)?;
     Ok(if report.exceeded.is_empty() { 0 } else { 1 })

@@ -3,9 +3,8 @@
 use super::args::{OutputArgs, PitchTolArgs, ReadArgs, SigmaArgs, XacroArgs};
 use super::{emit_warned, print_warnings};
 use clap::Args;
-use extrinsic_audit::diagnostic::Result;
-use extrinsic_audit::formats::LoadOptions;
-use extrinsic_audit::pipeline::{self, SortColumn, SurveyOptions};
+use extrinsic_audit::internals::pipeline::{check_plot_target, write_survey_plot};
+use extrinsic_audit::{survey, Result, SortColumn, SurveyOptions};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -55,23 +54,21 @@ pub struct SurveyArgs {
 pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
     super::check_output(&args.output, &args.paths)?;
     if let Some(plot) = &args.plot {
-        pipeline::check_plot_target(plot, &args.paths)?;
+        check_plot_target(plot, &args.paths)?;
     }
-    let mut load = LoadOptions::default();
-    args.read.apply(&mut load);
-    args.xacro.apply(&mut load);
-    let (report, warnings) = pipeline::survey(&SurveyOptions {
-        paths: args.paths.clone(),
-        pitch_tol: args.pitch.pitch_tol,
-        sigma: args.sigma.user_sigma(),
-        all: args.all,
-        sort: args.sort,
-        pair: args.from.clone().zip(args.to.clone()),
-        load,
-    })?;
+    let mut opts = SurveyOptions::default();
+    opts.paths = args.paths.clone();
+    opts.pitch_tol = args.pitch.pitch_tol;
+    opts.sigma = args.sigma.user_sigma();
+    opts.all = args.all;
+    opts.sort = args.sort;
+    opts.pair = args.from.clone().zip(args.to.clone());
+    args.read.apply(&mut opts.load);
+    args.xacro.apply(&mut opts.load);
+    let (report, warnings) = survey(&opts)?;
     print_warnings(&warnings);
     if let Some(plot) = &args.plot {
-        pipeline::write_survey_plot(plot, &args.paths, &report)?;
+        write_survey_plot(plot, &args.paths, &report)?;
     }
     emit_warned(&report, &warnings, &args.output, &args.paths, out)?;
     Ok(0)

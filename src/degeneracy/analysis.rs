@@ -2,7 +2,10 @@
 
 #![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
 
-use super::*;
+use super::accumulate::Assembly;
+use super::eigen::{generalized_eigen, GenEigen};
+use super::rules::MetricRule;
+use super::subspace::{canonical_basis, footprint, TwistScrew};
 use crate::diagnostic::Result;
 use nalgebra::{Matrix6, Vector6};
 
@@ -86,8 +89,7 @@ impl Analysis {
     /// Per-axis footprint (frame-dependent): axis `k` flagged when the `k`-th
     /// diagonal entry of the Euclidean projector onto the degenerate subspace
     /// is at least [`FOOTPRINT_SCORE_TOL`](crate::tolerances::FOOTPRINT_SCORE_TOL)
-    /// (the absolute 1e-6 of [`FOOTPRINT_TOL`](crate::tolerances::FOOTPRINT_TOL)
-    /// flagged every axis on noisy data).
+    /// (an absolute 1e-6 flagged every axis on noisy data).
     pub fn footprint(&self) -> [bool; 6] {
         footprint(&self.degenerate_vectors())
     }

@@ -15,7 +15,9 @@
 //! moved back to the frame (`v = Ad(I, c) v_c`), so axis points are in the
 //! frame's coordinates; pitch and kind do not depend on the frame.
 
-use super::*;
+use super::accumulate::Assembly;
+use super::analysis::Analysis;
+use super::subspace::{canonical_basis_scored, TwistScrew};
 use crate::tolerances::{FOOTPRINT_SCORE_TOL, ROTATION_FRACTION_TOL, SCREW_PITCH_REL_TOL};
 use nalgebra::Vector6;
 
@@ -82,7 +84,7 @@ pub fn classify_subspace(asm: &Assembly, an: &Analysis) -> Vec<ScoredScrew> {
 }
 
 /// Footprint flags from scores: an axis is flagged when its score is at least
-/// [`FOOTPRINT_SCORE_TOL`].
+/// `FOOTPRINT_SCORE_TOL`.
 pub fn footprint_flags(scores: &[f64; 6]) -> [bool; 6] {
     scores.map(|s| s >= FOOTPRINT_SCORE_TOL)
 }

@@ -98,7 +98,7 @@ pub const AXIS_NAMES: [&str; 6] = ["rot-x", "rot-y", "rot-z", "trans-x", "trans-
 
 /// `H v = lambda M v` through the Cholesky factor of `M`: `C = L^-1 H L^-T`,
 /// symmetric eigen of `C`, `v = L^-T y`. `Err(pivot)` when `M` is not positive
-/// definite (see [`CHOLESKY_REL_TOL`]).
+/// definite (see `CHOLESKY_REL_TOL`).
 pub fn generalized_eigen_raw(
     h: &Matrix6<f64>,
     m: &Matrix6<f64>,

@@ -284,7 +284,7 @@ pub fn estimate_normals_indexed(
     estimate_normals_progress(points, prm, threads, &NoProgress)
 }
 
-/// [`estimate_normals_indexed`], reporting the points done to `progress`.
+/// `estimate_normals_indexed`, reporting the points done to `progress`.
 pub fn estimate_normals_progress(
     points: &[[f64; 3]],
     prm: &NormalParams,

@@ -2,7 +2,7 @@
 
 #![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
 
-use super::*;
+use super::accumulate::Assembly;
 use crate::analysis::metric::{block_scaling_ell, Family};
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::{DEFAULT_ELLS, JACOBI_FLOOR};
@@ -19,9 +19,9 @@ pub enum MetricRule {
     Unnormalized,
     /// `diag(l^2 I3, I3)` with the given `l` (m).
     CharacteristicLength(f64),
-    /// `diag(l^2 I3, I3)`, `l^2 = tr(H_rr) / tr(H_tt)` ([`block_scaling_ell`]).
+    /// `diag(l^2 I3, I3)`, `l^2 = tr(H_rr) / tr(H_tt)` (`block_scaling_ell`).
     BlockScaling,
-    /// `diag(H)` (floored, see [`JACOBI_FLOOR`]).
+    /// `diag(H)` (floored, see `JACOBI_FLOOR`).
     Jacobi,
     /// A constant metric adapted to one rig (`metric::adapted_metric_matrix`).
     AdaptedConstant(Box<Matrix6<f64>>),

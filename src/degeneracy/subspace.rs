@@ -25,7 +25,7 @@ pub(crate) fn orthonormal_basis(vs: &[Vector6<f64>]) -> DMatrix<f64> {
 
 /// Per-axis footprint of the span of `vs` (see [`Analysis::footprint`](crate::degeneracy::Analysis::footprint)):
 /// an axis whose score ([`footprint_scores`]) is at least
-/// [`FOOTPRINT_SCORE_TOL`], as `audit degeneracy` flags it.
+/// `FOOTPRINT_SCORE_TOL`, as `audit degeneracy` flags it.
 pub fn footprint(vs: &[Vector6<f64>]) -> [bool; 6] {
     footprint_scores(vs).map(|d| d >= FOOTPRINT_SCORE_TOL)
 }
@@ -44,7 +44,7 @@ pub fn footprint_scores(vs: &[Vector6<f64>]) -> [f64; 6] {
 ///
 /// Pure translations are the directions of the span with no rotational part
 /// (singular value of the rotational block at or below
-/// [`PURE_TRANSLATION_TOL`]); each rotational twist has the pure-translation
+/// `PURE_TRANSLATION_TOL`); each rotational twist has the pure-translation
 /// directions removed from its translational part (for the tunnel that leaves
 /// the zero-pitch rotation about the axis), is scaled to `|omega| = 1` and signed
 /// so that its largest rotational component is positive. Pure translations are

@@ -2,7 +2,9 @@
 
 #![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
 
-use super::*;
+use super::accumulate::Assembly;
+use super::analysis::{analyse, Analysis};
+use super::rules::MetricRule;
 use crate::diagnostic::{Error, Result};
 use crate::geometry::se3::Transform;
 use nalgebra::{Matrix3, Matrix6, Vector3};

@@ -169,9 +169,9 @@ pub struct FamilyResult {
 /// Sweep options.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Calibration {
-    /// Range-noise standard deviations to sweep (m); default [`NOISE_LEVELS`].
+    /// Range-noise standard deviations to sweep (m); default `NOISE_LEVELS`.
     pub noise_levels: Vec<f64>,
-    /// Voxel edges to sweep (m); default [`VOXEL_SIZES`].
+    /// Voxel edges to sweep (m); default `VOXEL_SIZES`.
     pub voxel_sizes: Vec<f64>,
     /// Seeds `0..seeds` per configuration and scene; default [`SEEDS`].
     pub seeds: u64,

@@ -2,7 +2,8 @@
 
 #![allow(clippy::needless_range_loop)] // index loops mirror the maths and the lane layout
 
-use super::*;
+use super::analysis::Analysis;
+use super::subspace::orthonormal_basis;
 use nalgebra::{DMatrix, Matrix6, Vector6};
 
 // ---------------------------------------------------------------------------

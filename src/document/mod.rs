@@ -30,7 +30,7 @@ use serde::Serialize;
 /// 2, in its `schema_version` field).
 pub const SCHEMA_VERSION: u32 = 1;
 
-/// A typed report: serialised for JSON, laid out as a [`Document`] for the
+/// A typed report: serialised for JSON, laid out as a `Document` for the
 /// other formats.
 pub trait Report: Serialize {
     /// The report laid out for people (and for the pictures).

@@ -136,17 +136,6 @@ pub fn short(x: f64) -> String {
     }
 }
 
-/// `[a, b, c]` with fixed decimals (the rig report's vectors).
-pub fn vec_str(v: &[f64], decimals: usize) -> String {
-    format!(
-        "[{}]",
-        v.iter()
-            .map(|x| fixed(*x, decimals))
-            .collect::<Vec<_>>()
-            .join(", ")
-    )
-}
-
 /// One number for the detector tables: `prec` decimals for ordinary
 /// magnitudes, scientific otherwise; `0` below [`PRINT_RATIO_ZERO`]
 /// (rounding noise of a unit twist, `2.498e-16`).

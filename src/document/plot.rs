@@ -50,6 +50,9 @@ pub enum Corner {
     UpperLeft,
     /// Top right.
     UpperRight,
+    /// Right of the plot area, outside it, from its top: it never covers
+    /// data (the panel's plot area narrows by the legend's width).
+    Outside,
 }
 
 /// An RGB colour with an opacity in `[0, 1]`.

@@ -15,7 +15,7 @@
 //! transform in Apollo ("Extrinsic yaml file parse failed"): refused here.
 
 use super::calib_shapes::{edge, field, name, number, rigid_quat, top_map};
-use super::spec::{check_metres, locate_warnings, Loaded};
+use super::spec::{check_metres, locate_warnings, Parsed};
 use super::yaml::Node;
 use super::yaml_keyed::{keys, yaml_dialect};
 use super::yaml_shapes::{key_node, loc_of};
@@ -24,7 +24,7 @@ use std::path::Path;
 
 yaml_dialect!(APOLLO_EXTRINSICS, "apollo-extrinsics", false, |i| keys((i.has_key("child_frame_id") || i.has_key("header")) && i.has_key("transform") && i.has_key("rotation") && !i.has_key("transforms")), |d, _, p| parse(d, p), "Apollo extrinsics YAML (a TransformStamped: header.frame_id, child_frame_id, transform.translation x y z, transform.rotation x y z w), broadcast on /tf_static by Apollo's transform module: the pose of child_frame_id in frame_id, edge frame_id -> child_frame_id");
 
-fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
+fn parse(docs: &[Node], path: &Path) -> Result<Parsed> {
     let d = top_map(docs, "Apollo extrinsics")?;
     let parent = name(
         field(d, "header", "Apollo extrinsics")?,
@@ -46,7 +46,7 @@ fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
     }
     let k = key_node(d, "transform").unwrap_or(tr);
     let loc = loc_of(path, k);
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut ws = Vec::new();
     let read = rigid_quat(q, dd, r, "transform.rotation", &mut ws)?;
     check_metres(&dd, "transform.translation", &loc, &mut ws);

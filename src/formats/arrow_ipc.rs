@@ -58,7 +58,7 @@ pub enum Column {
 
 /// The requested columns of every record batch, concatenated.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Table {
+pub struct Columns {
     /// Rows in all record batches.
     pub rows: usize,
     /// `(name, values)` in the order requested.
@@ -771,7 +771,7 @@ fn locate(fields: &[Field], wanted: &[(&str, bool)]) -> Result<Vec<usize>> {
 /// Read the columns `wanted` (name, `true` for a string column, `false` for
 /// Float64) of every record batch of the Arrow IPC file `bytes`; at most
 /// `cap` bytes are decompressed in all.
-pub fn read_table(bytes: &[u8], wanted: &[(&str, bool)], cap: u64) -> Result<Table> {
+pub fn read_columns(bytes: &[u8], wanted: &[(&str, bool)], cap: u64) -> Result<Columns> {
     if !is_arrow_file(bytes) {
         let v1 = if bytes.starts_with(b"FEA1") {
             " (a Feather version 1 file: rewrite it with pyarrow's feather.write_feather, version 2)"
@@ -792,7 +792,7 @@ pub fn read_table(bytes: &[u8], wanted: &[(&str, bool)], cap: u64) -> Result<Tab
         .collect();
     let total: usize = fields.iter().map(|f| buffers_of(f.kind)).sum();
     let mut budget = cap;
-    let mut table = Table {
+    let mut table = Columns {
         rows: 0,
         columns: Vec::new(),
     };
@@ -842,7 +842,7 @@ mod tests {
             b"FEA1xxxx",
             b"ARROW1\0\0\xff\xff\xff\x7fARROW1",
         ] {
-            assert!(read_table(b, &[("x", false)], 1 << 20).is_err(), "{b:?}");
+            assert!(read_columns(b, &[("x", false)], 1 << 20).is_err(), "{b:?}");
         }
     }
 

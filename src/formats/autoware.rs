@@ -20,7 +20,7 @@
 //! with a KeyError otherwise; never 0 by default).
 
 use super::calib_shapes::{edge, number, rigid_rpy, top_map};
-use super::spec::{check_metres, locate_warnings, Input, Loaded};
+use super::spec::{check_metres, locate_warnings, Input, Parsed};
 use super::yaml::{self, Node, Value};
 use super::yaml_keyed::{keys, yaml_dialect};
 use super::yaml_shapes::{err_at, loc_of};
@@ -49,9 +49,9 @@ fn sniff(i: &Input) -> Option<super::spec::Confidence> {
     keys(ok)
 }
 
-fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
+fn parse(docs: &[Node], path: &Path) -> Result<Parsed> {
     let d = top_map(docs, "Autoware calibration")?;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     for (pk, children) in d.entries() {
         let parent = pk.as_str().unwrap_or_default();
         if !matches!(children.value, Value::Map(_)) {

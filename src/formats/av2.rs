@@ -23,7 +23,7 @@ use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::arrow_ipc::{self, Column};
 use crate::formats::json::json_documents;
 use crate::formats::spec::{
-    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Parsed,
 };
 use crate::formats::yaml::{Node, Value};
 use crate::formats::yaml_shapes::{err_at, loc_of};
@@ -145,7 +145,7 @@ fn row_edge(row: Row, format: &'static str, ws: &mut Vec<Warning>) -> Result<(Ed
 
 /// Keeps one edge per sensor; a sensor listed twice with different values is
 /// left out with an `ambiguous-key` warning naming both places.
-fn resolve_duplicates(edges: Vec<(Edge, String)>, out: &mut Loaded) {
+fn resolve_duplicates(edges: Vec<(Edge, String)>, out: &mut Parsed) {
     let mut by_child: BTreeMap<String, Vec<(Edge, String)>> = BTreeMap::new();
     let mut order = Vec::new();
     for e in edges {
@@ -181,8 +181,8 @@ fn resolve_duplicates(edges: Vec<(Edge, String)>, out: &mut Loaded) {
 }
 
 /// The edges of `rows` (those `--key` selects), duplicates resolved.
-fn finish(rows: Vec<Row>, what: &str, format: &'static str, opts: &LoadOptions) -> Result<Loaded> {
-    let mut out = Loaded::default();
+fn finish(rows: Vec<Row>, what: &str, format: &'static str, opts: &LoadOptions) -> Result<Parsed> {
+    let mut out = Parsed::default();
     let mut edges = Vec::new();
     for row in rows {
         if opts.key.as_deref().is_some_and(|k| k.trim() != row.name) {
@@ -205,7 +205,7 @@ fn finish(rows: Vec<Row>, what: &str, format: &'static str, opts: &LoadOptions) 
 }
 
 /// Parse Argoverse 2 `egovehicle_SE3_sensor` rows (JSON).
-pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let docs = json_documents(text)?;
     let Some(Value::Seq(rows)) = docs.first().map(|d| &d.value) else {
         return Err(Error::parse(format!(
@@ -301,8 +301,8 @@ fn feather_row(cols: &[(String, Column)], r: usize, path: &Path) -> Result<Row> 
 
 /// Parse an Argoverse 2 `egovehicle_SE3_sensor.feather` file (its bytes).
 /// With `--key`, only the rows of that sensor are read (as for JSON rows).
-pub fn parse_feather(bytes: &[u8], path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    let table = arrow_ipc::read_table(bytes, &COLUMNS, opts.max_file_size)?;
+pub fn parse_feather(bytes: &[u8], path: &Path, opts: &LoadOptions) -> Result<Parsed> {
+    let table = arrow_ipc::read_columns(bytes, &COLUMNS, opts.max_file_size)?;
     let wanted = |r: usize| {
         opts.key.as_deref().is_none_or(|k| {
             let name = table.columns.first().and_then(|(_, c)| text_at(c, r));

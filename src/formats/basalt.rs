@@ -17,7 +17,7 @@
 
 use super::calib_shapes::{edge, field, number, rigid_quat, top_map};
 use super::json::json_documents;
-use super::spec::{check_metres, locate_warnings, Confidence, FormatSpec, Input, Loaded};
+use super::spec::{check_metres, locate_warnings, Confidence, FormatSpec, Input, Parsed};
 use super::yaml::Value;
 use super::yaml_shapes::{err_at, key_node, loc_of};
 use crate::diagnostic::Result;
@@ -38,7 +38,7 @@ pub const BASALT_CALIB: FormatSpec = FormatSpec {
 
 const KEYS: [&str; 7] = ["px", "py", "pz", "qx", "qy", "qz", "qw"];
 
-fn parse(text: &str, path: &Path) -> Result<Loaded> {
+fn parse(text: &str, path: &Path) -> Result<Parsed> {
     let docs = json_documents(text)?;
     let v0 = field(
         top_map(&docs, "Basalt calibration")?,
@@ -50,7 +50,7 @@ fn parse(text: &str, path: &Path) -> Result<Loaded> {
         return Err(err_at(cams, format!("value0.T_imu_cam: expected a list of poses {{px, py, pz, qx, qy, qz, qw}}, found {}", cams.kind())));
     };
     let k = key_node(v0, "T_imu_cam").unwrap_or(cams);
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     for (i, p) in list.iter().enumerate() {
         let what = format!("T_imu_cam[{i}]");
         let mut v = [0.0; 7];

@@ -20,7 +20,7 @@
 //! bottom row must be `0 0 0 1` (Kimera only DCHECKs it).
 
 use super::calib_shapes::{cv_matrix, edge, field, rigid16, top_map};
-use super::spec::{check_metres, locate_warnings, Loaded};
+use super::spec::{check_metres, locate_warnings, Parsed};
 use super::yaml::Node;
 use super::yaml_keyed::{keys, yaml_dialect};
 use super::yaml_shapes::{key_node, loc_of};
@@ -45,12 +45,12 @@ fn sensor_name(d: &Node, path: &Path) -> String {
     }
 }
 
-fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
+fn parse(docs: &[Node], path: &Path) -> Result<Parsed> {
     let d = top_map(docs, "EuRoC sensor.yaml")?;
     let v = field(d, "T_BS", "EuRoC sensor.yaml")?;
     let k = key_node(d, "T_BS").unwrap_or(v);
     let data = cv_matrix(v, 4, 4, "T_BS")?;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut ws = Vec::new();
     let read = rigid16(&data, field(v, "data", "T_BS")?, "T_BS", &mut ws)?;
     let loc = loc_of(path, k);

@@ -25,7 +25,7 @@
 //! HILTI22.yaml keeps them in the camera file) is read by `fast-lio`.
 
 use super::calib_shapes::{edge, numbers_n, rigid_rt, stored_inverted};
-use super::spec::{check_metres, locate_warnings, Loaded};
+use super::spec::{check_metres, locate_warnings, Parsed};
 use super::yaml::Node;
 use super::yaml_dialects::parse_fast_lio;
 use super::yaml_keyed::{keys, yaml_dialect};
@@ -35,7 +35,7 @@ use std::path::Path;
 
 yaml_dialect!(FAST_LIVO, "fast-livo", false, |i| keys(i.has_key("extrinsic_T") && (i.has_key("Rcl") || i.has_key("Pcl"))), |d, _, p| parse(d, p), "FAST-LIVO / FAST-LIVO2 `extrinsic_T` + `extrinsic_R` (the LiDAR in the IMU, edge imu -> lidar) with `Rcl` (row-major) + `Pcl`: the LiDAR pose in the camera (p_camera = Rcl p_lidar + Pcl), stored as lidar -> camera");
 
-fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
+fn parse(docs: &[Node], path: &Path) -> Result<Parsed> {
     let mut out = parse_fast_lio(docs, path, FAST_LIVO.id)?;
     let m = unique_map(docs, "Rcl").or_else(|_| unique_map(docs, "Pcl"))?;
     let Some(rn) = m.get("Rcl") else {

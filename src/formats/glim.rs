@@ -28,7 +28,7 @@
 use super::calib_shapes::{edge, field, numbers_n, rigid_quat, top_map, untraced};
 use super::json::json_documents;
 use super::spec::{
-    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Parsed,
 };
 use super::yaml_shapes::{key_node, loc_of};
 use crate::diagnostic::{Error, Result};
@@ -99,14 +99,14 @@ const KEYS: [(&str, &str, bool); 2] = [
     ("T_lidar_camera", "camera", false),
 ];
 
-fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let docs = json_documents(&strip_json_comments(text)?)?;
     let s = field(
         top_map(&docs, "GLIM config_sensors.json")?,
         "sensors",
         "GLIM config_sensors.json",
     )?;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     for (key, child, traced) in KEYS {
         let Some(v) = s.get(key) else { continue };
         let k = key_node(s, key).unwrap_or(v);

@@ -14,7 +14,7 @@
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::spec::{
-    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, LoadOptions, Loaded,
+    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, LoadOptions, Parsed,
 };
 use crate::frames::Edge;
 use crate::geometry::se3::Transform;
@@ -38,7 +38,7 @@ fn numbers(s: &str, line: usize, what: &str) -> Result<Vec<f64>> {
 }
 
 /// KITTI calib text.
-pub fn parse_kitti(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse_kitti(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let _ = opts;
     let mut r: Option<(Vec<f64>, usize)> = None;
     let mut t: Option<(Vec<f64>, usize)> = None;
@@ -64,7 +64,7 @@ pub fn parse_kitti(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded
         );
     }
     let loc = Location::at(path, rl, Some(1));
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut ws = Vec::new();
     let tf = Transform::from_matrix3(
         [[r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[6], r[7], r[8]]],
@@ -125,9 +125,9 @@ fn slug(s: &str) -> String {
 }
 
 /// M2DGR calibration_results.txt.
-pub fn parse_m2dgr(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse_m2dgr(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let lines: Vec<&str> = text.lines().collect();
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut name = String::new();
     let mut i = 0;
     while i < lines.len() {

@@ -22,7 +22,7 @@
 
 use crate::diagnostic::{Error, Location, Result};
 use crate::formats::spec::{
-    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, Input, LoadOptions, Parsed,
 };
 use crate::frames::Edge;
 use crate::geometry::se3::Transform;
@@ -83,7 +83,7 @@ fn edge(
     r: &Row,
     t: Result<Transform>,
     path: &Path,
-    out: &mut Loaded,
+    out: &mut Parsed,
     ws: Vec<crate::diagnostic::Warning>,
 ) -> Result<()> {
     let loc = Location::at(path, r.line, Some(1));
@@ -130,9 +130,9 @@ fn camera_from_p(r: &Row) -> Result<Transform> {
 }
 
 /// KITTI object / tracking calib text.
-pub fn parse(text: &str, path: &Path, _opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse(text: &str, path: &Path, _opts: &LoadOptions) -> Result<Parsed> {
     let rows = rows(text)?;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     if let Some(r) = find(&rows, &["R0_rect", "R_rect"]) {
         expect_len(r, 9, "3x3 rotation")?;
         let v = &r.nums;

@@ -4,11 +4,11 @@
 //! themselves are read by `degeneracy::points` (`audit degeneracy FILE
 //! --estimate-normals`).
 
-use super::spec::{FormatSpec, Input, LoadOptions, Loaded};
+use super::spec::{FormatSpec, Input, LoadOptions, Parsed};
 use crate::bytes::LAS_MAGIC;
 use crate::diagnostic::{Error, Result};
 
-fn parse(input: &Input, _: &LoadOptions) -> Result<Loaded> {
+fn parse(input: &Input, _: &LoadOptions) -> Result<Parsed> {
     Err(Error::parse(
         "expected a file with transforms (URDF, launch, YAML, JSON, TOML, ...), found a LAS/LAZ point cloud (magic `LASF`); its degeneracy is read by `audit degeneracy FILE --estimate-normals`",
     )

@@ -53,7 +53,7 @@
 use super::launch_subst::{ArgDecl, Condition, LaunchArgs};
 use super::source::LineIndex;
 use super::spec::{
-    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, Input, LoadOptions, Parsed,
 };
 use super::xml;
 use super::yaml::{self, Node, Value};
@@ -375,11 +375,11 @@ fn xml_doc(text: &str) -> Result<roxmltree::Document<'_>> {
 
 /// ROS 1 / ROS 2 launch XML: every `static_transform_publisher` node that
 /// runs (see [`super::launch_subst`] for `$(arg ...)` and `if` / `unless`).
-pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let doc = xml_doc(text)?;
     let idx = LineIndex::new(text);
     let args = LaunchArgs::new(&doc, &opts.xacro_args);
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     // The first node switched off, for the error when none runs.
     let mut skipped: Option<(usize, String)> = None;
     for n in doc
@@ -443,10 +443,10 @@ pub fn parse_launch_xml(text: &str, path: &Path, opts: &LoadOptions) -> Result<L
 }
 
 /// LIO-Livox `<rosparam param="Extrinsic_Tlb">` (or the `--key` param).
-pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse_lio_livox(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let doc = xml_doc(text)?;
     let want = opts.key.as_deref().unwrap_or("Extrinsic_Tlb");
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     for n in doc
         .descendants()
         .filter(|n| n.is_element() && n.tag_name().name() == "rosparam")
@@ -580,7 +580,7 @@ fn yaml_args(n: &Node, out: &mut Vec<ArgDecl>) {
 }
 
 /// ROS 2 launch YAML.
-pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let docs = yaml::parse_documents(text)?;
     let mut nodes = Vec::new();
     let mut decls = Vec::new();
@@ -589,7 +589,7 @@ pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<
         yaml_args(d, &mut decls);
     }
     let largs = LaunchArgs::from_decls(decls, &opts.xacro_args);
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut skipped: Option<(usize, String)> = None;
     for (n, conds) in nodes {
         let loc = Location::at(path, n.line.max(1), Some(n.column.max(1)));
@@ -659,9 +659,9 @@ pub fn parse_launch_yaml(text: &str, path: &Path, opts: &LoadOptions) -> Result<
 }
 
 /// Command lines saved as text.
-pub fn parse_commands(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse_commands(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let _ = opts;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut joined = String::new();
     let mut start_line = 0;
     // Length of the logical line's first physical line: columns are counted

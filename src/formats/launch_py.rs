@@ -25,7 +25,7 @@ use super::launch_subst::{ArgDecl, Condition, LaunchArgs};
 use super::pyexpr::budget::Budget;
 use super::pyexpr::eval::{bind, fail, iterate, BUILTINS};
 use super::pyexpr::{module, Eval, Expr, ExprKind, Func, Host, Record, Stmt, Value};
-use super::spec::{LoadOptions, Loaded};
+use super::spec::{LoadOptions, Parsed};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use std::collections::HashMap;
 use std::path::Path;
@@ -579,7 +579,7 @@ fn condition(v: &Value, place: &str) -> std::result::Result<Condition, String> {
 }
 
 /// ROS 2 Python launch files (see the module docs).
-pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let stmts = module(text)?;
     let mut it = Interp {
         defs: HashMap::new(),
@@ -606,7 +606,7 @@ pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Lo
         return Err(e.in_file(path));
     }
     let args = LaunchArgs::from_decls(std::mem::take(&mut it.decls), &opts.xacro_args);
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut skipped: Option<(usize, String)> = None;
     for c in &it.created {
         let r = &c.node;

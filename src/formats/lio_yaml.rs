@@ -25,7 +25,7 @@
 //!   `body_T_cam1` ("cam0 to body") are `A_T_B` keys, read by `matrix-yaml`
 //!   as edges `body -> cam0`, `body -> cam1`.
 
-use super::spec::{check_metres, locate_warnings, Confidence, Input, Loaded};
+use super::spec::{check_metres, locate_warnings, Confidence, Input, Parsed};
 use super::yaml::Node;
 use super::yaml_keyed::{keys, yaml_dialect};
 use super::yaml_shapes::{err_at, exactly, key_node, loc_of, mat3, unique_map};
@@ -59,7 +59,7 @@ fn rt_edge(
     (parent, child): (&str, &str),
     id: &'static str,
     path: &Path,
-    out: &mut Loaded,
+    out: &mut Parsed,
 ) -> Result<()> {
     let tn = m
         .get(tkey)
@@ -96,9 +96,9 @@ fn rt_edge(
     Ok(())
 }
 
-fn parse_ig_lio(docs: &[Node], path: &Path) -> Result<Loaded> {
+fn parse_ig_lio(docs: &[Node], path: &Path) -> Result<Parsed> {
     let m = unique_map(docs, "t_imu_lidar")?;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     rt_edge(
         m,
         ("t_imu_lidar", "R_imu_lidar"),
@@ -110,8 +110,8 @@ fn parse_ig_lio(docs: &[Node], path: &Path) -> Result<Loaded> {
     Ok(out)
 }
 
-fn parse_dlio(docs: &[Node], path: &Path) -> Result<Loaded> {
-    let mut out = Loaded::default();
+fn parse_dlio(docs: &[Node], path: &Path) -> Result<Parsed> {
+    let mut out = Parsed::default();
     for (key, child) in [("baselink2imu", "imu"), ("baselink2lidar", "lidar")] {
         // ROS 2 parameter files flatten the block: `extrinsics/KEY/t`, `/R`.
         let (tflat, rflat) = (format!("extrinsics/{key}/t"), format!("extrinsics/{key}/R"));
@@ -130,7 +130,7 @@ fn parse_dlio(docs: &[Node], path: &Path) -> Result<Loaded> {
             continue;
         };
         let Some(block) = m.get(key) else { continue };
-        let mut one = Loaded::default();
+        let mut one = Parsed::default();
         rt_edge(
             block,
             ("t", "R"),
@@ -157,9 +157,9 @@ fn parse_dlio(docs: &[Node], path: &Path) -> Result<Loaded> {
     Ok(out)
 }
 
-fn parse_vins_mono(docs: &[Node], path: &Path) -> Result<Loaded> {
+fn parse_vins_mono(docs: &[Node], path: &Path) -> Result<Parsed> {
     let m = unique_map(docs, "extrinsicRotation")?;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     rt_edge(
         m,
         ("extrinsicTranslation", "extrinsicRotation"),

@@ -25,7 +25,7 @@
 
 use super::calib_shapes::{edge, field, name, number, rigid_rpy, top_map};
 use super::json::json_documents;
-use super::spec::{check_metres, locate_warnings, Confidence, FormatSpec, Input, Loaded};
+use super::spec::{check_metres, locate_warnings, Confidence, FormatSpec, Input, Parsed};
 use super::yaml::{Node, Value};
 use super::yaml_shapes::{err_at, loc_of};
 use crate::diagnostic::Result;
@@ -59,7 +59,7 @@ fn integer(m: &Node, key: &str, what: &str, text: &str) -> Result<i64> {
     Ok(x as i64)
 }
 
-fn parse(text: &str, path: &Path) -> Result<Loaded> {
+fn parse(text: &str, path: &Path) -> Result<Parsed> {
     let docs = json_documents(text)?;
     let list = field(
         top_map(&docs, "livox_ros_driver2 config")?,
@@ -72,7 +72,7 @@ fn parse(text: &str, path: &Path) -> Result<Loaded> {
             format!("`lidar_configs`: expected a list, found {}", list.kind()),
         ));
     };
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     for (i, lc) in items.iter().enumerate() {
         let what = format!("lidar_configs[{i}]");
         let ip = name(lc, "ip", &what)?;

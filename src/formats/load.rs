@@ -2,7 +2,7 @@
 //! parser, then the checks every format's result goes through.
 
 use super::registry;
-use super::spec::{Format, Includes, Input, LoadOptions, Loaded};
+use super::spec::{Format, Includes, Input, LoadOptions, Parsed};
 use crate::diagnostic::{Code, Error, Result, Warning};
 use crate::frames::{Edge, JointType};
 use crate::tolerances::MAX_TRANSLATION_M;
@@ -12,7 +12,7 @@ use std::path::Path;
 /// A FIFO or a device is refused before anything blocks on it; a bag (a file
 /// or a rosbag2 folder) is read through its index, never whole; anything else
 /// at most `opts.max_file_size` bytes.
-pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     if let Err(why) = opts.check_confined(path).or_else(|e| {
         if crate::input::is_stdin(path) {
             Ok(())
@@ -28,13 +28,13 @@ pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
 /// Read bytes as if read from `path`: binary formats (bags, Arrow IPC
 /// `.feather`, a LAS/LAZ refused with the command that reads it) by their
 /// magic bytes or extension, anything else as UTF-8 text ([`load_str`]).
-pub fn load_bytes(bytes: Vec<u8>, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn load_bytes(bytes: Vec<u8>, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     load(Input::from_bytes(path, bytes), opts)
 }
 
 /// Parse `text` as if read from `path` (the path names the file in provenance
 /// and selects the format by extension).
-pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn load_str(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     load(Input::from_text(path, text), opts)
 }
 
@@ -65,7 +65,7 @@ struct Includer<'o> {
 }
 
 impl Includes for Includer<'_> {
-    fn include(&self, path: &Path, key: Option<String>, invert: bool) -> Result<Loaded> {
+    fn include(&self, path: &Path, key: Option<String>, invert: bool) -> Result<Parsed> {
         let opts = LoadOptions {
             key,
             invert,
@@ -76,7 +76,7 @@ impl Includes for Includer<'_> {
     }
 }
 
-fn load(input: Input, opts: &LoadOptions) -> Result<Loaded> {
+fn load(input: Input, opts: &LoadOptions) -> Result<Parsed> {
     let includer = Includer { opts };
     let mut input = input.with_includes(&includer);
     if let Some(f) = registry::binary(&input, opts.format) {
@@ -87,7 +87,7 @@ fn load(input: Input, opts: &LoadOptions) -> Result<Loaded> {
 }
 
 /// A text input: not empty, then its format (`opts.format`, or detected).
-fn load_text(input: &Input, opts: &LoadOptions) -> Result<Loaded> {
+fn load_text(input: &Input, opts: &LoadOptions) -> Result<Parsed> {
     not_empty(input)?;
     let format = match opts.format {
         Some(f) => f,
@@ -107,7 +107,7 @@ fn not_empty(input: &Input) -> Result<()> {
 }
 
 /// Parse with `format`, then the common checks unless the format has none.
-fn run(format: Format, input: &Input, opts: &LoadOptions) -> Result<Loaded> {
+fn run(format: Format, input: &Input, opts: &LoadOptions) -> Result<Parsed> {
     let path = input.path();
     let loaded = (format.0.parse)(input, opts).map_err(|e| e.in_file(path))?;
     if !format.0.checked {
@@ -168,7 +168,7 @@ fn check_names(e: &Edge) -> Result<()> {
 
 /// What every loader's result goes through: at least one edge, names and
 /// translations checked, `--joint` degrees warned, `--invert` applied.
-fn checked(mut loaded: Loaded, format: Format, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+fn checked(mut loaded: Parsed, format: Format, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     if loaded.edges.is_empty() {
         return Err(Error::parse(format!(
             "read as {}: expected at least one transform, found none",

@@ -13,7 +13,7 @@
 
 use super::calib_shapes::assumed;
 use super::spec::{
-    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+    check_metres, locate_warnings, parse_number, Confidence, FormatSpec, Input, LoadOptions, Parsed,
 };
 use crate::diagnostic::{Error, Location, Result};
 use crate::frames::Edge;
@@ -54,7 +54,7 @@ fn sniff(i: &Input) -> Option<Confidence> {
     (n >= 12).then_some(Confidence::Lines)
 }
 
-fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let loc = Location::at(path, 1, Some(1));
     let mut v = Vec::new();
     for t in tokens(text) {
@@ -89,7 +89,7 @@ fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         [v[8], v[9], v[10], v[11]],
         [v[12], v[13], v[14], v[15]],
     ];
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut ws = Vec::new();
     let t = Transform::from_matrix4(m, &mut ws).map_err(|e| e.at(&loc))?;
     check_metres(

@@ -21,7 +21,7 @@
 //! different values is ambiguous: an `ambiguous-key` warning names both lines
 //! and its edges are left out, the rest of the file is read.
 
-use super::spec::{Confidence, Loaded};
+use super::spec::{Confidence, Parsed};
 use super::yaml::{Node, Value};
 use super::yaml_keyed::yaml_dialect;
 use super::yaml_shapes::{
@@ -133,7 +133,7 @@ fn reversed(e: &Edge, why: &str) -> Edge {
 
 /// Place one edge: a tree edge (reversed when its child has a parent), or a
 /// redundant one when the tree already connects its frames.
-fn place(g: &mut FrameGraph, e: Edge, out: &mut Loaded) -> Result<()> {
+fn place(g: &mut FrameGraph, e: Edge, out: &mut Parsed) -> Result<()> {
     if e.parent == e.child {
         return Err(Error::frame(format!(
             "`{}`: frame '{}' is its own parent: expected two different frames",
@@ -158,8 +158,8 @@ fn place(g: &mut FrameGraph, e: Edge, out: &mut Loaded) -> Result<()> {
 
 /// Read every matrix key of a `matrix-yaml` file into a tree plus redundant
 /// edges (see the module documentation).
-pub fn parse(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
-    let mut out = Loaded::default();
+pub fn parse(docs: &[Node], text: &str, path: &Path) -> Result<Parsed> {
+    let mut out = Parsed::default();
     let imu = kalibr_imu(docs);
     let entries = collect(docs, imu);
     let blocked = ambiguous(&entries, &mut out.warnings, path);

@@ -12,7 +12,7 @@
 //! Layout, each layer importing only those below it:
 //! - [`spec`], the contract (a leaf): `FormatSpec`, `Confidence`, `Input`
 //!   (the bytes, the text on demand, the facts sniffers share),
-//!   `LoadOptions`, `Loaded`;
+//!   `LoadOptions`, `Parsed`;
 //! - readers shared by several formats: `yaml`, `yaml_shapes` (the transform
 //!   shapes of YAML and JSON), `yaml_keyed` (`--key`, the YAML dialects'
 //!   spec), `json`, `xml`, `source`, `shell`, `launch_subst`, `arrow_ipc`;
@@ -22,8 +22,6 @@
 //! - [`registry`], the list of formats and detection; then `load`
 //!   ([`load_file`], [`load_bytes`], [`load_str`]: detection, parser, the
 //!   common checks).
-
-pub use crate::frames::{Edge, JointState, JointType, Provenance};
 
 pub mod apollo;
 pub mod arrow_ipc;
@@ -72,7 +70,4 @@ pub(crate) mod yaml_shapes;
 
 pub use load::{detect_file, detect_format, load_bytes, load_file, load_str};
 pub use registry::{all_formats, is_calibration_file, FORMATS};
-pub use spec::{
-    check_metres, parse_number, Assume, Confidence, Format, FormatSpec, Input, LoadOptions, Loaded,
-    RigMeta,
-};
+pub use spec::{Assume, BagOptions, Format, LoadOptions, Parsed, Rename, RigMeta, UrdfVersion};

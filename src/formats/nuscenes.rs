@@ -18,7 +18,7 @@
 use crate::diagnostic::{Code, Error, Result, Warning};
 use crate::formats::json::json_documents;
 use crate::formats::spec::{
-    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Parsed,
 };
 use crate::formats::yaml::{Node, Value};
 use crate::formats::yaml_shapes::{err_at, exactly, loc_of};
@@ -99,7 +99,7 @@ fn record_edge(
 }
 
 /// nuScenes calibrated_sensor.json.
-pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let docs = json_documents(text)?;
     let Some(Value::Seq(items)) = docs.first().map(|d| &d.value) else {
         return Err(Error::parse(
@@ -107,7 +107,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
         ));
     };
     let names = channels(path)?;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut by_frame: BTreeMap<String, Vec<(String, Edge)>> = BTreeMap::new();
     for it in items {
         let token = text_field(it, "token")?;

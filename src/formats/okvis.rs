@@ -21,7 +21,7 @@
 
 use super::calib_shapes::{edge, field, numbers_n, rigid16, top_map, untraced};
 use super::spec::{
-    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Parsed,
 };
 use super::yaml::{self, Node, Value};
 use super::yaml_shapes::{err_at, key_node, loc_of};
@@ -47,7 +47,7 @@ fn matrix_key(
     what: &str,
     (parent, child): (&str, &str),
     path: &Path,
-    out: &mut Loaded,
+    out: &mut Parsed,
 ) -> Result<crate::frames::Edge> {
     let v = field(m, key, what)?;
     let k = key_node(m, key).unwrap_or(v);
@@ -68,7 +68,7 @@ fn matrix_key(
     ))
 }
 
-fn parse(docs: &[Node], path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+fn parse(docs: &[Node], path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let d = top_map(docs, "OKVIS config")?;
     let cams = field(d, "cameras", "OKVIS config")?;
     let Value::Seq(list) = &cams.value else {
@@ -80,7 +80,7 @@ fn parse(docs: &[Node], path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             ),
         ));
     };
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     for (i, cam) in list.iter().enumerate() {
         let e = matrix_key(
             cam,

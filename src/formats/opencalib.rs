@@ -29,7 +29,7 @@
 
 use super::calib_shapes::{edge, field, name, rigid16, top_map};
 use super::json::json_documents;
-use super::spec::{check_metres, locate_warnings, Confidence, FormatSpec, Input, Loaded};
+use super::spec::{check_metres, locate_warnings, Confidence, FormatSpec, Input, Parsed};
 use super::yaml::Value;
 use super::yaml_shapes::{err_at, loc_of};
 use crate::diagnostic::{Code, Result, Warning};
@@ -47,7 +47,7 @@ pub const OPENCALIB: FormatSpec = FormatSpec {
     checked: true,
 };
 
-fn parse(text: &str, path: &Path) -> Result<Loaded> {
+fn parse(text: &str, path: &Path) -> Result<Parsed> {
     let docs = json_documents(text)?;
     let root = top_map(&docs, "OpenCalib extrinsic")?;
     let Some((k, rec)) = root.entries().first() else {
@@ -58,7 +58,7 @@ fn parse(text: &str, path: &Path) -> Result<Loaded> {
         ));
     };
     let key = &k.as_str().unwrap_or_default();
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     for (other, _) in &root.entries()[1..] {
         out.warnings.push(
             Warning::new(

@@ -26,7 +26,7 @@
 //! and data lengths other than rows x cols, are refused.
 
 use super::calib_shapes::{cv_matrix, edge, field, rigid16, rigid_rt, top_map};
-use super::spec::{locate_warnings, Loaded};
+use super::spec::{locate_warnings, Parsed};
 use super::yaml::Node;
 use super::yaml_keyed::{keys, yaml_dialect};
 use super::yaml_shapes::{key_node, loc_of};
@@ -42,7 +42,7 @@ const V1: &[(&str, &str, &str, usize)] = &[
 ];
 const V0: &[(&str, &str, &str, usize)] = &[("Tbc", "b", "c1", 4), ("Tlr", "c1", "c2", 3)];
 
-fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
+fn parse(docs: &[Node], path: &Path) -> Result<Parsed> {
     let d = top_map(docs, "ORB-SLAM3 settings")?;
     let v1 = d.get("File.version").and_then(|v| v.as_str()).as_deref() == Some("1.0");
     let (read, other, why) = if v1 {
@@ -50,7 +50,7 @@ fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
     } else {
         (V0, V1, "no File.version \"1.0\": ORB-SLAM3 reads this file with its pre-1.0 parser, which reads Tbc and Tlr only")
     };
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     for &(key, _, _, _) in other {
         if let Some(k) = key_node(d, key) {
             out.warnings.push(

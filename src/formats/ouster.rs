@@ -13,7 +13,7 @@
 
 use crate::diagnostic::{Error, Location, Result};
 use crate::formats::json::json_documents;
-use crate::formats::spec::{locate_warnings, Confidence, FormatSpec, LoadOptions, Loaded};
+use crate::formats::spec::{locate_warnings, Confidence, FormatSpec, LoadOptions, Parsed};
 use crate::formats::yaml::{Node, Value};
 use crate::formats::{matrix_tree, yaml_keyed};
 use crate::frames::Edge;
@@ -37,7 +37,7 @@ fn find<'a>(n: &'a Node, key: &str) -> Option<(&'a Node, &'a Node)> {
 }
 
 /// Parse Ouster metadata (or any JSON with `--key`).
-pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let docs = json_documents(text)?;
     let Some(doc) = docs.first() else {
         return Err(Error::parse("empty JSON document"));
@@ -45,7 +45,7 @@ pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     if let Some(key) = &opts.key {
         return yaml_keyed::parse_keyed(&docs, key, text, path, opts.assume.as_ref());
     }
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     for (key, child) in [
         ("lidar_to_sensor_transform", "os_lidar"),
         ("imu_to_sensor_transform", "os_imu"),

@@ -26,7 +26,7 @@
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::json::json_documents;
-use crate::formats::spec::{locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded};
+use crate::formats::spec::{locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Parsed};
 use crate::formats::yaml::{Node, Value};
 use crate::formats::yaml_shapes::{err_at, loc_of};
 use crate::frames::Edge;
@@ -174,7 +174,7 @@ fn records(doc: &Node) -> Result<Vec<&Node>> {
 
 /// Keeps one edge per sensor; a sensor given twice with different values is
 /// left out with an `ambiguous-key` warning naming both places.
-fn resolve_duplicates(edges: Vec<Edge>, out: &mut Loaded) {
+fn resolve_duplicates(edges: Vec<Edge>, out: &mut Parsed) {
     let mut by_child: BTreeMap<String, Vec<Edge>> = BTreeMap::new();
     let mut order = Vec::new();
     for e in edges {
@@ -218,12 +218,12 @@ fn where_(l: &Location) -> String {
 }
 
 /// Parse an Ouster `extrinsic_parameters.json`.
-pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let docs = json_documents(text)?;
     let Some(doc) = docs.first() else {
         return Err(Error::parse("empty JSON document"));
     };
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut edges = Vec::new();
     for rec in records(doc)? {
         if let Some(k) = &opts.key {

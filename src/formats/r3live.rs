@@ -13,7 +13,7 @@
 //! coincide, but the code composes the numbers with the IMU pose.)
 
 use super::calib_shapes::{edge, field, numbers_n, rigid_rt};
-use super::spec::{check_metres, locate_warnings, Loaded};
+use super::spec::{check_metres, locate_warnings, Parsed};
 use super::yaml::Node;
 use super::yaml_keyed::{keys, yaml_dialect};
 use super::yaml_shapes::{key_node, loc_of, unique_map};
@@ -22,12 +22,12 @@ use std::path::Path;
 
 yaml_dialect!(R3LIVE, "r3live", false, |i| keys(i.has_key("camera_ext_R") || i.has_key("camera_ext_t")), |d, _, p| parse(d, p), "R3LIVE `r3live_vio: {camera_ext_R (row-major), camera_ext_t}`: the camera pose in the IMU (state) frame, as r3live_vio.cpp composes it, edge imu -> camera");
 
-fn parse(docs: &[Node], path: &Path) -> Result<Loaded> {
+fn parse(docs: &[Node], path: &Path) -> Result<Parsed> {
     let m = unique_map(docs, "camera_ext_R")?;
     let k = key_node(m, "camera_ext_R").unwrap_or(m);
     let r = numbers_n(field(m, "camera_ext_R", "r3live_vio")?, 9, "camera_ext_R")?;
     let t = numbers_n(field(m, "camera_ext_t", "r3live_vio")?, 3, "camera_ext_t")?;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut ws = Vec::new();
     let read = rigid_rt(&r, &t, m, "camera_ext_R + camera_ext_t", &mut ws)?;
     let loc = loc_of(path, k);

@@ -13,7 +13,7 @@ use crate::diagnostic::{Error, Result};
 use std::path::Path;
 
 /// Every format, in detection-tie order (among the YAML dialects, which all
-/// sniff at [`Confidence::Keys`], the order decides which of two dialects
+/// sniff at `Confidence::Keys`, the order decides which of two dialects
 /// whose keys a file holds reads it).
 pub const FORMATS: &[&FormatSpec] = &[
     &super::urdf::SPEC,

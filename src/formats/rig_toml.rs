@@ -42,7 +42,7 @@
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::source::line_col;
-use crate::formats::spec::{FormatSpec, Includes, LoadOptions, Loaded, RigMeta};
+use crate::formats::spec::{FormatSpec, Includes, LoadOptions, Parsed, RigMeta};
 use crate::frames::{Edge, Provenance};
 use crate::geometry::se3::{QuatOrder, Transform};
 use crate::geometry::uncertainty::{rounding_covariance, tuple_half_units};
@@ -182,7 +182,7 @@ fn loc_of(text: &str, path: &Path, offset: usize) -> Location {
 /// `[[include]]` files (relative to the TOML's directory); an include is an
 /// error here: a rig file read on its own cannot load the files it names
 /// (`formats::load_file` can).
-pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     read(text, path, opts, None)
 }
 
@@ -192,7 +192,7 @@ fn read(
     path: &Path,
     opts: &LoadOptions,
     includes: Option<&dyn Includes>,
-) -> Result<Loaded> {
+) -> Result<Parsed> {
     // Parsed once: the typed file and the numbers' spans are both read from
     // the one document (lexing and parsing are most of a rig file's cost).
     let doc = toml::de::DeTable::parse(text);
@@ -281,11 +281,11 @@ fn read(
         }
     }
 
-    Ok(Loaded {
+    Ok(Parsed {
         edges,
         warnings,
         rig: Some(meta),
-        ..Loaded::default()
+        ..Parsed::default()
     })
 }
 
@@ -543,7 +543,7 @@ fn load_include(
     toml_path: &Path,
     includes: Option<&dyn Includes>,
     loc: &Location,
-) -> Result<Loaded> {
+) -> Result<Parsed> {
     let p = include_path(toml_path, &inc.file, loc)?;
     let Some(includes) = includes else {
         return Err(Error::usage(format!(

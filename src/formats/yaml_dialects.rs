@@ -63,7 +63,7 @@
 //! still not YAML (UrbanNav's `KEY:!!opencv-matrix (comment)` with mis-indented
 //! fields) is refused with the parser's position and what to fix.
 
-use super::spec::{check_metres, locate_warnings, Confidence, Input, Loaded};
+use super::spec::{check_metres, locate_warnings, Confidence, Input, Parsed};
 use super::yaml::{Node, Value};
 use super::yaml_keyed::{keys, yaml_dialect};
 use super::yaml_shapes::{err_at, exactly, key_node, loc_of, mat3, rpy_map, unique_map};
@@ -149,8 +149,8 @@ fn scope_changes(edges: Vec<Edge>) -> Vec<Edge> {
     out
 }
 
-fn parse_tf_echo(docs: &[Node], path: &Path) -> Result<Loaded> {
-    let mut out = Loaded::default();
+fn parse_tf_echo(docs: &[Node], path: &Path) -> Result<Parsed> {
+    let mut out = Parsed::default();
     for d in docs {
         if matches!(d.value, Value::Null) {
             continue;
@@ -223,7 +223,7 @@ fn parse_tf_echo(docs: &[Node], path: &Path) -> Result<Loaded> {
 
 /// `extrinsic_T` + `extrinsic_R` as the edge `imu -> lidar` of format `id`
 /// (FAST-LIVO's files hold them too).
-pub(crate) fn parse_fast_lio(docs: &[Node], path: &Path, id: &'static str) -> Result<Loaded> {
+pub(crate) fn parse_fast_lio(docs: &[Node], path: &Path, id: &'static str) -> Result<Parsed> {
     let m = unique_map(docs, "extrinsic_T")?;
     let tn = m
         .get("extrinsic_T")
@@ -240,7 +240,7 @@ pub(crate) fn parse_fast_lio(docs: &[Node], path: &Path, id: &'static str) -> Re
         .unwrap_or_else(|| loc_of(path, tn));
     let d = exactly::<3>(tn, "extrinsic_T")?;
     let r = exactly::<9>(rn, "extrinsic_R")?;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut ws = Vec::new();
     let t = Transform::from_matrix3(mat3(r), d, &mut ws).map_err(|e| e.at(&loc_of(path, rn)))?;
     check_metres(&d, "extrinsic_T", &loc, &mut ws);
@@ -252,7 +252,7 @@ pub(crate) fn parse_fast_lio(docs: &[Node], path: &Path, id: &'static str) -> Re
     Ok(out)
 }
 
-fn parse_lio_sam(docs: &[Node], path: &Path) -> Result<Loaded> {
+fn parse_lio_sam(docs: &[Node], path: &Path) -> Result<Parsed> {
     let m = unique_map(docs, "extrinsicTrans")?;
     let tn = m
         .get("extrinsicTrans")
@@ -269,7 +269,7 @@ fn parse_lio_sam(docs: &[Node], path: &Path) -> Result<Loaded> {
         .unwrap_or_else(|| loc_of(path, tn));
     let d = exactly::<3>(tn, "extrinsicTrans")?;
     let r = exactly::<9>(rn, "extrinsicRot")?;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let mut ws = Vec::new();
     let t = Transform::from_matrix3(mat3(r), d, &mut ws).map_err(|e| e.at(&loc_of(path, rn)))?;
     check_metres(&d, "extrinsicTrans", &loc, &mut ws);
@@ -307,8 +307,8 @@ fn parse_lio_sam(docs: &[Node], path: &Path) -> Result<Loaded> {
     Ok(out)
 }
 
-fn parse_coco_lic(docs: &[Node], path: &Path) -> Result<Loaded> {
-    let mut out = Loaded::default();
+fn parse_coco_lic(docs: &[Node], path: &Path) -> Result<Parsed> {
+    let mut out = Parsed::default();
     for d in docs {
         for (k, v) in d.entries() {
             let Some(name) = k.as_str() else { continue };
@@ -352,7 +352,7 @@ fn parse_coco_lic(docs: &[Node], path: &Path) -> Result<Loaded> {
     Ok(out)
 }
 
-fn parse_slict(docs: &[Node], path: &Path) -> Result<Loaded> {
+fn parse_slict(docs: &[Node], path: &Path) -> Result<Parsed> {
     let m = unique_map(docs, "lidar_extr")?;
     let n = m
         .get("lidar_extr")
@@ -371,7 +371,7 @@ fn parse_slict(docs: &[Node], path: &Path) -> Result<Loaded> {
         ));
     }
     let k = v.len() / 16;
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     for i in 0..k {
         let b = &v[16 * i..16 * (i + 1)];
         let r = [[b[0], b[1], b[2]], [b[4], b[5], b[6]], [b[8], b[9], b[10]]];
@@ -411,8 +411,8 @@ fn parse_slict(docs: &[Node], path: &Path) -> Result<Loaded> {
     Ok(out)
 }
 
-fn parse_tf_tree(docs: &[Node], path: &Path) -> Result<Loaded> {
-    let mut out = Loaded::default();
+fn parse_tf_tree(docs: &[Node], path: &Path) -> Result<Parsed> {
+    let mut out = Parsed::default();
     for d in docs {
         for (k, v) in d.entries() {
             let Some(name) = k.as_str() else { continue };
@@ -457,8 +457,8 @@ fn parse_tf_tree(docs: &[Node], path: &Path) -> Result<Loaded> {
     Ok(out)
 }
 
-fn parse_quaternion(docs: &[Node], text: &str, path: &Path) -> Result<Loaded> {
-    let mut out = Loaded::default();
+fn parse_quaternion(docs: &[Node], text: &str, path: &Path) -> Result<Parsed> {
+    let mut out = Parsed::default();
     let stated_wxyz = text.contains("(qw, qx, qy, qz)") || text.contains("qw, qx, qy, qz");
     for d in docs {
         for (k, v) in d.entries() {

@@ -7,7 +7,7 @@
 //! is read only with `--assume DIRECTION:PARENT,CHILD` (refused without).
 
 use super::calib_shapes::assumed;
-use super::spec::{Assume, Confidence, LoadOptions, Loaded};
+use super::spec::{Assume, Confidence, LoadOptions, Parsed};
 use super::yaml::{self, Node, Value};
 use super::yaml_shapes::{
     err_at, frames_from_key, kalibr_frames, kalibr_imu, matrix_edge, MATRIX_YAML_ID,
@@ -47,7 +47,7 @@ macro_rules! yaml_dialect {
 }
 pub(crate) use yaml_dialect;
 
-pub(crate) type DocsParser = fn(&[Node], &str, &Path) -> Result<Loaded>;
+pub(crate) type DocsParser = fn(&[Node], &str, &Path) -> Result<Parsed>;
 
 /// Parse YAML text with one dialect's reader; `--key` reads one key instead
 /// (except in tf_static dumps, whose keys are not transforms).
@@ -57,7 +57,7 @@ pub(crate) fn parse_with(
     text: &str,
     path: &Path,
     opts: &LoadOptions,
-) -> Result<Loaded> {
+) -> Result<Parsed> {
     let docs = yaml::parse_documents(text).map_err(|e| explain_yaml_error(e, text))?;
     // A JSON file read by a YAML dialect keeps JSON's rule on keys.
     if super::json::is_json(text) {
@@ -107,7 +107,7 @@ pub fn parse_keyed(
     text: &str,
     path: &Path,
     assume: Option<&Assume>,
-) -> Result<Loaded> {
+) -> Result<Parsed> {
     // `NAME[i]`: the i-th of stacked 4x4 matrices under NAME.
     let (key, index) = match key.strip_suffix(']').and_then(|k| k.rsplit_once('[')) {
         Some((k, i)) => match i.trim().parse::<usize>() {
@@ -130,7 +130,7 @@ pub fn parse_keyed(
         }
     };
     let last = key.rsplit('.').next().unwrap_or(key);
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     // Kalibr `camN.T_cam_imu`: frames named from the block (camN, imu).
     let block = key.rsplit('.').nth(1);
     let imu = kalibr_imu(docs);

@@ -98,9 +98,9 @@ pub struct Edge {
     /// `Some` for non-fixed joints.
     pub joint: Option<JointState>,
     /// The rounding of the numbers as written and the user's uncertainty
-    /// (conventions in [`crate::geometry::uncertainty`]). `Edge::new` records
+    /// (conventions in `crate::geometry::uncertainty`). `Edge::new` records
     /// none; a reader that keeps the text adds it with [`Edge::with_precision`].
-    /// Stored compactly ([`Precision::full`] gives the covariance).
+    /// Stored compactly (`Precision::full` gives the covariance).
     pub precision: Precision,
 }
 

@@ -39,19 +39,22 @@
 
 use super::names::{Likeness, Resemblance};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::frames::{Edge, JointType};
+use crate::frames::edge::{Edge, JointType};
+
+use crate::geometry::se3::Transform;
+use crate::tolerances::{
+    CYCLE_LIST_MAX, DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, REDUNDANT_ROTATION_TOL,
+    REDUNDANT_TRANSLATION_TOL, TREE_MAX_INDENT,
+};
+// foldhash: frame names are short and hashed several times per edge; SipHash
+// was a tenth of loading a 100,000-link URDF (issue 29). Seeded per process.
+use foldhash::{HashMap, HashMapExt};
 
 /// The [`crate::frames::JointState::name`] prefix of a transform that changes
 /// between the messages of a tf dump (`formats::yaml_dialects`): a floating
 /// joint without a value, so that only a path that uses it is refused; the
 /// rest of the name says which messages disagree.
 pub const MOVING_TF: &str = "moving tf: ";
-use crate::geometry::se3::Transform;
-use crate::tolerances::{
-    CYCLE_LIST_MAX, DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, REDUNDANT_ROTATION_TOL,
-    REDUNDANT_TRANSLATION_TOL, TREE_MAX_INDENT,
-};
-use std::collections::HashMap;
 
 /// One step of a composed chain: an edge walked down (parent -> child) or up
 /// (`inverted`, child -> parent).

@@ -19,7 +19,9 @@
 //! resembles no frame gets a `padded-frame-name` warning. Both are warnings:
 //! the names are kept as written (tf2 would keep them).
 
-use std::collections::HashMap;
+// foldhash: frame names are short and hashed several times per edge; SipHash
+// was a tenth of loading a 100,000-link URDF (issue 29). Seeded per process.
+use foldhash::HashMap;
 use unicode_normalization::UnicodeNormalization;
 use unicode_security::confusable_detection::skeleton;
 

@@ -115,7 +115,7 @@ pub fn band(delta_eff: f64) -> [f64; 2] {
 ///
 /// Returns `Ok(true)` iff `lambda / kappa` lies outside the closed band
 /// `[s_min^2, s_max^2]`, with the band widened by the relative
-/// [`BAND_EDGE_MARGIN`] so that rounding can only make the answer conservative.
+/// `BAND_EDGE_MARGIN` so that rounding can only make the answer conservative.
 /// On the edge itself the answer is `false`: some frame change can move `lambda`
 /// exactly onto `kappa`, and whether that counts as a crossing depends on the
 /// detector's `<` or `<=`.

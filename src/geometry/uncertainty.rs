@@ -52,6 +52,10 @@ use serde::Serialize;
 /// adopt the tuple's finest place ([`tuple_half_units`]). `Some(0.0)` means
 /// exact (a double printed in full).
 pub fn literal_half_unit(text: &str) -> Option<f64> {
+    plain_half_unit(text).unwrap_or_else(|| general_half_unit(text))
+}
+
+fn general_half_unit(text: &str) -> Option<f64> {
     let t = text.trim().trim_start_matches(['+', '-']);
     let (mant, exp) = match t.find(['e', 'E']) {
         Some(i) => (&t[..i], t[i + 1..].parse::<i32>().ok()?),
@@ -80,14 +84,58 @@ pub fn literal_half_unit(text: &str) -> Option<f64> {
     Some(0.5 * 10f64.powi(exp - decimals))
 }
 
+/// [`literal_half_unit`] of the common literal in one pass over its bytes:
+/// signs, then digits and dots only (`None` for anything else, white space or
+/// an exponent: the general path reads those). A URDF reads six per joint.
+fn plain_half_unit(text: &str) -> Option<Option<f64>> {
+    let b = text.as_bytes();
+    let mant = &b[b.iter().take_while(|&&c| c == b'+' || c == b'-').count()..];
+    let (mut significant, mut dot) = (0usize, None);
+    for (k, &c) in mant.iter().enumerate() {
+        match c {
+            b'0' if significant == 0 => {}
+            b'0'..=b'9' => significant += 1,
+            b'.' => dot = dot.or(Some(k)),
+            _ => return None,
+        }
+    }
+    Some(if significant == 0 {
+        None // zero, in any spelling
+    } else if significant >= EXACT_SIGNIFICANT_DIGITS {
+        Some(0.0)
+    } else {
+        dot.map(|d| 0.5 * 10f64.powi(-((mant.len() - d - 1) as i32)))
+    })
+}
+
 /// Half-units of the numbers of one tuple as written (see the module
 /// conventions): integers and zeros take the finest place of the tuple, a
 /// tuple without any decimal is exact.
 pub fn tuple_half_units(texts: &[&str]) -> Vec<f64> {
-    let own: Vec<Option<f64>> = texts.iter().map(|t| literal_half_unit(t)).collect();
-    let finest = own.iter().flatten().copied().fold(f64::INFINITY, f64::min);
+    let mut out = vec![0.0; texts.len()];
+    fill_half_units(texts, &mut out);
+    out
+}
+
+/// [`tuple_half_units`] of a fixed-size tuple, without allocating (the URDF
+/// reader's path, once per joint).
+pub fn half_units<const N: usize>(texts: &[&str; N]) -> [f64; N] {
+    let mut out = [0.0; N];
+    fill_half_units(texts, &mut out);
+    out
+}
+
+fn fill_half_units(texts: &[&str], out: &mut [f64]) {
+    // NaN marks "adopts the finest place" (a half-unit is never NaN).
+    let mut finest = f64::INFINITY;
+    for (o, t) in out.iter_mut().zip(texts) {
+        *o = literal_half_unit(t).unwrap_or(f64::NAN);
+        finest = finest.min(*o);
+    }
     let fill = if finest.is_finite() { finest } else { 0.0 };
-    own.into_iter().map(|h| h.unwrap_or(fill)).collect()
+    for o in out.iter_mut().filter(|o| o.is_nan()) {
+        *o = fill;
+    }
 }
 
 /// Half-units of a tuple of parsed numbers, from the digits of their shortest
@@ -519,7 +567,7 @@ pub struct Outputs {
     pub h: f64,
 }
 
-/// [`Outputs`] of `t` against the nominal axis `e0`.
+/// `Outputs` of `t` against the nominal axis `e0`.
 pub fn outputs(t: &Transform, e0: Option<&Vector3<f64>>) -> Outputs {
     let (mut phi, axis) = t.rotation_angle_axis();
     let h = match (axis, e0) {
@@ -735,10 +783,12 @@ impl PitchVerdict {
     }
 }
 
-/// `--pitch-tol`: `auto` (the three-way verdict) or a length in metres.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// `--pitch-tol`: `auto` (the three-way verdict, the default) or a length in
+/// metres.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum PitchTol {
     /// Decided from `h` and its standard uncertainty.
+    #[default]
     Auto,
     /// `|h| <= tol` (m): two-way.
     Fixed(f64),
@@ -808,5 +858,35 @@ pub fn pitch_decision(h: f64, sigma_h: f64, tol: PitchTol) -> PitchDecision {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod half_unit_tests {
+    use super::{general_half_unit, plain_half_unit};
+
+    /// The one-pass reading of plain literals agrees with the general one on
+    /// every literal of a small alphabet it accepts.
+    #[test]
+    fn plain_path_agrees_with_the_general_one() {
+        let alphabet = ["0", "1", "5", ".", "-", "+", "e", " "];
+        let mut texts = vec![String::new()];
+        for _ in 0..5 {
+            let next: Vec<String> = texts
+                .iter()
+                .flat_map(|t| alphabet.iter().map(move |c| format!("{t}{c}")))
+                .collect();
+            texts.extend(next);
+        }
+        texts.push("1.2345678901234567890".into());
+        texts.push("-0.000123456789012345678".into());
+        let mut plain = 0;
+        for t in &texts {
+            if let Some(h) = plain_half_unit(t) {
+                plain += 1;
+                assert_eq!(h, general_half_unit(t), "{t:?}");
+            }
+        }
+        assert!(plain > 1000, "{plain}");
     }
 }

@@ -11,17 +11,18 @@
 //! malformed baseline or a refused `--write-baseline` target is an error
 //! (exit 2), raised before anything is written.
 
+use super::files::write_atomic_with;
 use super::files::{dir_of, same_file, unsafe_target};
+use super::load::apply_renames;
 use super::manifest;
 use super::walk::{file_id, walk, FileId, Found};
-use super::{apply_renames, files::write_atomic_with, Rename};
 use crate::analysis::mistakes::MistakeTol;
 use crate::baseline::{
-    self, BaselineFile, BaselinePair, BaselineTransform, CheckedFile, Locations, Store, Tolerances,
-    WriteLock,
+    self, BaselineFile, BaselinePair, BaselineTransform, CheckedFile, DriftTolerances, Locations,
+    Store, WriteLock,
 };
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result, Severity, Warning};
-use crate::formats::{self, LoadOptions};
+use crate::formats::{self, LoadOptions, Rename};
 use crate::frames::FrameGraph;
 use crate::geometry::{PitchTol, PitchVerdict, ScrewKind};
 use crate::progress::{NoProgress, Progress};
@@ -32,8 +33,10 @@ use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-/// What `audit check` is asked to check.
-#[derive(Debug, Clone)]
+/// What `audit check` is asked to check. `Default`: the command's defaults,
+/// no paths.
+#[derive(Debug, Clone, Default)]
+#[non_exhaustive]
 pub struct CheckOptions {
     /// Calibration files or directories of them.
     pub paths: Vec<PathBuf>,
@@ -53,10 +56,11 @@ pub struct CheckOptions {
     /// A finding when a checked pair does not have zero screw pitch.
     pub require_zero_pitch: bool,
     /// Drift tolerances against the baseline.
-    pub drift: Tolerances,
+    pub drift: DriftTolerances,
     /// `--pitch-tol`: `auto` or a tolerance on `|h|` (m).
     pub pitch_tol: PitchTol,
-    /// How files are read (joint values, size cap).
+    /// How files are read (joint values, size cap; renames come from each
+    /// directory's `audit.toml`, per robot: `renames` here is refused).
     pub load: LoadOptions,
     /// Codes accepted: reported at severity warning, never a problem.
     pub allow: Vec<Code>,
@@ -64,9 +68,10 @@ pub struct CheckOptions {
     pub deny: Vec<Code>,
     /// Every warning is a problem (`--deny-warnings`).
     pub deny_warnings: bool,
-    /// `--fleet-tolerance`: a finding for each checked pair further than
-    /// this from the mean of the same pair over all checked files.
-    pub fleet: Option<Tolerances>,
+    /// `--fleet-tolerance`: one calibration per vehicle; a `fleet-deviation`
+    /// finding for each checked pair further than this from the mean of the
+    /// same pair over all checked files (`None`: no fleet comparison).
+    pub fleet: Option<DriftTolerances>,
 }
 
 impl CheckOptions {
@@ -640,10 +645,10 @@ struct Gathered<'a> {
     base: Option<(&'a Store, Vec<bool>)>,
     /// Baseline findings by key (sorted by key at the end, as a baseline is).
     compared: Vec<(String, Diagnostic)>,
-    /// The checked files' records for `--write-baseline`.
-    written: Store,
     /// With `--fleet-tolerance`: every checked pair, in the walk's order.
     fleet: Vec<super::fleet::Member>,
+    /// The checked files' records for `--write-baseline`.
+    written: Store,
 }
 
 impl Gathered<'_> {
@@ -764,6 +769,37 @@ fn merge_and_write(
 
 /// Run the check; writes the baseline when asked (after refusing a target
 /// that is an input or not a regular baseline file, before reading anything).
+///
+/// ```
+/// use extrinsic_audit::{check, CheckOptions, Code};
+/// use std::path::Path;
+///
+/// # fn main() -> extrinsic_audit::Result<()> {
+/// let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+/// // The shipped calibrations against their baseline: every rig file and the
+/// // URDF read, nothing drifted.
+/// let dir = root.join("calibrations");
+/// let mut opts = CheckOptions::default();
+/// opts.paths = vec![dir.clone()];
+/// opts.baseline = Some(dir.join("baseline.json"));
+/// let report = check(&opts)?;
+/// let is_calibration = |p: &Path| p.extension().is_some_and(|x| x == "toml" || x == "urdf");
+/// let files = std::fs::read_dir(&dir).unwrap().filter(|e| is_calibration(&e.as_ref().unwrap().path()));
+/// assert_eq!(report.files_checked, files.count());
+/// assert_eq!((report.problems, report.exit_code()), (0, 0));
+///
+/// // ANYmal C's LiDAR sits 0.3908 m from its base (pytransform3d): a
+/// // 0.3 m limit on the lever arm is a problem, exit 1.
+/// let mut opts = CheckOptions::default();
+/// opts.paths = vec![root.join("tests/fixtures/urdf/anymal_c_lidar.urdf")];
+/// opts.pairs = vec![("base".into(), "lidar".into())];
+/// opts.max_lever_arm = Some(0.3);
+/// let report = check(&opts)?;
+/// assert_eq!(report.exit_code(), 1);
+/// assert!(report.findings.iter().any(|d| d.code == Code::LeverArm && d.message.contains("0.390790 m")));
+/// # Ok(())
+/// # }
+/// ```
 pub fn check(opts: &CheckOptions) -> Result<CheckReport> {
     check_with(opts, &NoProgress)
 }
@@ -783,6 +819,11 @@ fn calibration_files(opts: &CheckOptions) -> Result<super::walk::Walked> {
 /// directory takes seconds). The robots are checked on every core
 /// (`pipeline::parallel`), their results taken in the walk's order.
 pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckReport> {
+    if !opts.load.renames.is_empty() {
+        return Err(Error::usage(
+            "check: expected renames in each directory's audit.toml (per robot), found renames in the load options",
+        ));
+    }
     let mut walked = calibration_files(opts)?;
     let given: Vec<PathBuf> = opts
         .paths

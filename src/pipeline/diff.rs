@@ -3,7 +3,8 @@
 //! edges and the two rig reports compared (what counts as a change: see
 //! [`crate::report::diff`]).
 
-use super::{apply_renames, Rename, RigOptions};
+use super::load::apply_renames;
+use super::rig::{self, RigOptions};
 use crate::diagnostic::{Error, Result, Warning};
 use crate::formats::{self, LoadOptions};
 use crate::frames::{Edge, FrameGraph};
@@ -18,8 +19,10 @@ use crate::tolerances::{DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, NEAR_
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
-/// What to compare and how.
-#[derive(Debug, Clone)]
+/// What to compare and how. `Default`: the command's defaults, no files
+/// ([`DiffOptions::new`] names them).
+#[derive(Debug, Clone, Default)]
+#[non_exhaustive]
 pub struct DiffOptions {
     /// The old calibration file.
     pub old: PathBuf,
@@ -29,9 +32,7 @@ pub struct DiffOptions {
     pub from: Option<String>,
     /// `--to`.
     pub to: Option<String>,
-    /// `--rename [FILE:]OLD=NEW`, applied to the files they match.
-    pub renames: Vec<Rename>,
-    /// How the files are read.
+    /// How the files are read (`renames` applied to the files they match).
     pub load: LoadOptions,
     /// How the old file is read beyond `load` (`--key-old`, `--invert-old`).
     pub old_read: SideRead,
@@ -46,12 +47,24 @@ pub struct DiffOptions {
 /// How one side of a diff is read: one key of a YAML/JSON file with several
 /// transforms, and whether its numbers are the pose of the parent in the
 /// child (inverted as they are read).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
+#[non_exhaustive]
 pub struct SideRead {
     /// `--key-old`/`--key-new` (or `--key` for both).
     pub key: Option<String>,
     /// `--invert-old`/`--invert-new`.
     pub invert: bool,
+}
+
+impl DiffOptions {
+    /// Compare `old` with `new`, with the command's defaults.
+    pub fn new(old: impl Into<PathBuf>, new: impl Into<PathBuf>) -> Self {
+        DiffOptions {
+            old: old.into(),
+            new: new.into(),
+            ..DiffOptions::default()
+        }
+    }
 }
 
 impl SideRead {
@@ -83,7 +96,7 @@ fn load_side(
     let mut loaded = formats::load_file(path, &load)?;
     for (total, n) in matched
         .iter_mut()
-        .zip(apply_renames(&opts.renames, path, &mut loaded))
+        .zip(apply_renames(&opts.load.renames, path, &mut loaded))
     {
         *total += n;
     }
@@ -305,12 +318,37 @@ fn frame_pair(opts: &DiffOptions, old: &Side, new: &Side) -> Result<(String, Str
 
 /// Compare OLD and NEW; returns the report and the warnings the files and
 /// chains raised.
+///
+/// ```
+/// use extrinsic_audit::{diff, DiffOptions, Rename};
+///
+/// # fn main() -> extrinsic_audit::Result<()> {
+/// let root = env!("CARGO_MANIFEST_DIR");
+/// // ANYmal D's IMU -> LiDAR extrinsic against a FAST-LIO file written with a
+/// // known change (tests/fixtures/diff/gen_expected.py, pytransform3d).
+/// let mut opts = DiffOptions::new(
+///     format!("{root}/calibrations/anymal-d.urdf"),
+///     format!("{root}/tests/fixtures/diff/anymal_d_fastlio.yaml"),
+/// );
+/// opts.from = Some("imu_link".into());
+/// opts.to = Some("lidar".into());
+/// // FAST-LIO calls the IMU frame `imu`.
+/// let imu = Rename { file: Some("anymal_d_fastlio.yaml".into()), old: "imu".into(), new: "imu_link".into() };
+/// opts.load.renames = vec![imu];
+/// let (report, _warnings) = diff(&opts)?;
+/// assert!((report.chain.translation_change_mm - 2.2234203889759425).abs() < 1e-9);
+/// assert!((report.chain.rotation_change_deg - 0.2).abs() < 1e-9);
+/// // Beyond the default tolerance (1 mm, 0.05 deg): the command exits 1.
+/// assert!(!report.exceeded.is_empty());
+/// # Ok(())
+/// # }
+/// ```
 pub fn diff(opts: &DiffOptions) -> Result<(DiffReport, Vec<Warning>)> {
-    let mut matched = vec![0usize; opts.renames.len()];
+    let mut matched = vec![0usize; opts.load.renames.len()];
     let old = load_side(&opts.old, &opts.old_read, opts, &mut matched)?;
     let new = load_side(&opts.new, &opts.new_read, opts, &mut matched)?;
     if let Some(i) = matched.iter().position(|&n| n == 0) {
-        let r = &opts.renames[i];
+        let r = &opts.load.renames[i];
         return Err(Error::usage(format!(
             "--rename {}{}={}: expected a frame `{}` in OLD or NEW, found none",
             r.file
@@ -331,8 +369,8 @@ pub fn diff(opts: &DiffOptions) -> Result<(DiffReport, Vec<Warning>)> {
         .graph
         .transform(&from, &to)
         .map_err(|e| e.in_file(&opts.new))?;
-    let ro = super::report(&co, &opts.rig)?;
-    let rn = super::report(&cn, &opts.rig)?;
+    let ro = rig::report(&co, &opts.rig)?;
+    let rn = rig::report(&cn, &opts.rig)?;
     let chain = chain_diff(&ro, &rn, &co.transform, &cn.transform, &opts.tolerance);
     let on: HashSet<(&str, &str)> = co
         .steps

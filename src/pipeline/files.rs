@@ -266,6 +266,14 @@ impl Write for AtomicFile {
     }
 }
 
+/// For writers that go back over what they wrote (an MCAP file's chunk
+/// headers): the buffer is flushed first.
+impl std::io::Seek for AtomicFile {
+    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+        self.out.seek(pos)
+    }
+}
+
 fn cannot_write(path: &Path, e: std::io::Error) -> Error {
     Error::new(Code::Io, format!("cannot write: {e}")).in_file(path)
 }

@@ -7,7 +7,7 @@
 
 use crate::analysis::mistakes::{explain, MistakeTol};
 use crate::analysis::spread;
-use crate::baseline::{BaselinePair, Tolerances};
+use crate::baseline::{BaselinePair, DriftTolerances};
 use crate::diagnostic::{Code, Diagnostic, Location};
 use crate::geometry::{QuatOrder, Transform};
 use std::path::Path;
@@ -52,7 +52,7 @@ fn vec3(v: [f64; 3], decimals: usize) -> String {
 
 /// The findings: per frame pair with two calibrations or more, each one
 /// beyond `tol` from the pair's fleet mean.
-pub(super) fn findings(members: &[Member], tol: &Tolerances) -> Vec<Diagnostic> {
+pub(super) fn findings(members: &[Member], tol: &DriftTolerances) -> Vec<Diagnostic> {
     let mut pairs: Vec<(&str, &str)> = Vec::new();
     for m in members {
         if !pairs.contains(&(m.from.as_str(), m.to.as_str())) {

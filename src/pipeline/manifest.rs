@@ -19,8 +19,8 @@
 //! rename that matches no frame, or a malformed pair is an error (exit 2).
 
 use super::walk::Found;
-use super::Rename;
 use crate::diagnostic::{Error, Result};
+use crate::formats::Rename;
 use crate::tolerances::MAX_MANIFEST_FILE_SIZE;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};

@@ -5,14 +5,15 @@
 //! before the work and again just before the write; the write itself is
 //! [`write_atomic`](super::write_atomic)'s.
 
-use super::files::{same_file, unsafe_target};
+use super::files::{same_file, unsafe_target, write_atomic};
 use super::survey::{is_any_input, split_pair};
 use crate::diagnostic::{Error, Result};
+use crate::report::SurveyReport;
 use std::path::{Path, PathBuf};
 
 /// Whether `flag TARGET` may be written by a command (`whose`: `survey`,
 /// `command`) that reads `inputs` (paths as given, `PATH:FROM:TO` included,
-/// and the files they included); then [`unsafe_target`]'s refusals (a
+/// and the files they included); then `unsafe_target`'s refusals (a
 /// symlink, a file of several names, a symlinked directory here).
 pub fn check_output_target(
     flag: &str,
@@ -51,21 +52,49 @@ pub fn check_output_target(
     }
 }
 
-impl super::Loaded {
-    /// The files named (`named`) and every file an edge of the graph came
-    /// from (includes among them), each once: what an output must not
-    /// replace.
-    pub fn files_read(&self, named: &[PathBuf]) -> Vec<PathBuf> {
-        let mut v: Vec<PathBuf> = named.to_vec();
-        for e in self.graph.edges() {
-            if let Some(f) = &e.provenance.location.file {
-                if !v.contains(f) {
-                    v.push(f.clone());
-                }
-            }
-        }
-        v
+/// Whether the survey plot may be written to `target`: an `.svg` file name in
+/// an existing directory that is none of the survey's inputs (checked before
+/// the survey runs, so that nothing is read or written in vain).
+pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
+    plot_target("survey", target, inputs)
+}
+
+/// [`check_plot_target`] for `command`'s plot.
+pub(super) fn plot_target(command: &str, target: &Path, inputs: &[PathBuf]) -> Result<()> {
+    if !target
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+    {
+        return Err(Error::usage(format!(
+            "--plot {}: expected a file name ending in .svg",
+            target.display()
+        )));
     }
+    check_output_target("--plot", command, target, inputs)
+}
+
+/// Draw the survey plot to `target` after [`check_plot_target`] (again: the
+/// inputs must still not include it).
+pub fn write_survey_plot(target: &Path, inputs: &[PathBuf], report: &SurveyReport) -> Result<()> {
+    write_plot("survey", target, inputs, &report.plot())
+}
+
+/// Draw `plot` (a document of one plot block) as SVG to `target`, checked
+/// again as [`plot_target`] checks it.
+pub(super) fn write_plot(
+    command: &str,
+    target: &Path,
+    inputs: &[PathBuf],
+    plot: &crate::document::Document,
+) -> Result<()> {
+    plot_target(command, target, inputs)?;
+    let svg = crate::render::draw(
+        plot,
+        crate::render::OutputFormat::Svg,
+        crate::render::Style::plain(),
+        &crate::render::Layout::default(),
+    )?;
+    write_atomic(target, svg.as_bytes())
 }
 
 /// `p` with its directory's real path (the file itself resolved too when it

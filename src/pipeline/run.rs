@@ -503,12 +503,14 @@ fn produce(
 }
 
 /// Per-scan warnings, each message counted once with the first scans it
-/// concerned (a message repeated on every scan is one line).
+/// concerned (a message repeated on every scan is one line), given out in
+/// the order of the first scan each concerns (never the messages' order).
 #[derive(Default)]
 struct ScanWarnings {
     by_message: BTreeMap<String, (Warning, usize, Vec<usize>)>,
     skips: BTreeMap<Skip, usize>,
-    out: Vec<Warning>,
+    /// Each warning with the index of the first scan it concerns.
+    out: Vec<(usize, Warning)>,
 }
 
 impl ScanWarnings {
@@ -519,10 +521,11 @@ impl ScanWarnings {
             *n += 1;
             if *n <= MAX_SKIP_WARNINGS {
                 let what = unit.describe(&o.scan, o.target.as_ref());
-                self.out.push(Warning::new(
+                let w = Warning::new(
                     Code::ScanSkipped,
                     format!("{what}: skipped ({}): {msg}", why.name()),
-                ));
+                );
+                self.out.push((at, w));
             }
             return;
         }
@@ -539,9 +542,22 @@ impl ScanWarnings {
     }
 
     fn finish(mut self) -> Vec<Warning> {
+        for (_, (mut w, n, at)) in std::mem::take(&mut self.by_message) {
+            let list: Vec<String> = at.iter().map(usize::to_string).collect();
+            let more = if n > at.len() {
+                format!(" and {} more", n - at.len())
+            } else {
+                String::new()
+            };
+            w.message = format!("scan {}{more}: {}", list.join(", "), w.message);
+            self.out.push((at[0], w));
+        }
+        // Stable: a scan's skip comes before its other warnings, as it came.
+        self.out.sort_by_key(|(at, _)| *at);
+        let mut out: Vec<Warning> = self.out.into_iter().map(|(_, w)| w).collect();
         for (s, n) in &self.skips {
             if *n > MAX_SKIP_WARNINGS {
-                self.out.push(Warning::new(
+                out.push(Warning::new(
                     Code::ScanSkipped,
                     format!(
                         "{} more skipped ({}): listed in the summary, the CSV and the JSON lines",
@@ -551,17 +567,7 @@ impl ScanWarnings {
                 ));
             }
         }
-        for (_, (mut w, n, at)) in self.by_message {
-            let list: Vec<String> = at.iter().map(usize::to_string).collect();
-            let more = if n > at.len() {
-                format!(" and {} more", n - at.len())
-            } else {
-                String::new()
-            };
-            w.message = format!("scan {}{more}: {}", list.join(", "), w.message);
-            self.out.push(w);
-        }
-        self.out
+        out
     }
 }
 
@@ -601,6 +607,7 @@ pub fn run(
         families: opts.settings.rules.len(),
         point_displacement: header.point_displacement(),
     });
+    sink.frames(&frames.list, frames.graph())?;
     sink.begin(&header)?;
     let threads = match opts.threads {
         // AUDIT_JOBS or the cores, as check and survey choose.

@@ -6,8 +6,9 @@
 //! `vehicles/*/sensors_calibration.yaml`); a calibration is named by its file
 //! name, or by its folder when the file names repeat.
 
+use super::files::expand_paths;
+use super::rig::{report, RigOptions};
 use super::survey::is_any_input;
-use super::{expand_paths, RigOptions};
 use crate::analysis::spread::{self, AxisSpread, Spread};
 use crate::diagnostic::{Error, Result, Warning};
 use crate::formats::{self, LoadOptions};
@@ -24,8 +25,10 @@ use crate::tolerances::OUTLIER_FEW;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
-/// What `audit spread` reads and how.
-#[derive(Debug, Clone)]
+/// What `audit spread` reads and how: set the fields on
+/// `SpreadOptions::default()`.
+#[derive(Debug, Clone, Default)]
+#[non_exhaustive]
 pub struct SpreadOptions {
     /// Calibration files, or directories walked for them.
     pub paths: Vec<PathBuf>,
@@ -91,7 +94,7 @@ fn read_one(path: &Path, opts: &SpreadOptions, warnings: &mut Vec<Warning>) -> R
         }
     };
     let chain = graph.transform(&from, &to).map_err(|e| e.in_file(path))?;
-    let mut report = super::report(&chain, &opts.rig).map_err(|e| e.in_file(path))?;
+    let mut report = report(&chain, &opts.rig).map_err(|e| e.in_file(path))?;
     report.from = from;
     report.to = to;
     Ok(Read {
@@ -287,6 +290,27 @@ fn one_pair(reads: &[Read]) -> Result<(String, String)> {
 
 /// Read every calibration and report their spread; the warnings the files
 /// raised are returned beside it.
+///
+/// ```
+/// use extrinsic_audit::{spread, SpreadOptions};
+///
+/// # fn main() -> extrinsic_audit::Result<()> {
+/// // Five noisy copies of the KITTI IMU -> Velodyne extrinsic and one planted
+/// // outlier (1.5 deg about x, +25 mm in x), one rig TOML each.
+/// let mut opts = SpreadOptions::default();
+/// opts.paths = vec![concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/spread/kitti-repeat").into()];
+/// let (report, warnings) = spread(&opts)?;
+/// assert!(warnings.is_empty());
+/// assert_eq!((report.from.as_str(), report.to.as_str(), report.count), ("imu", "lidar", 6));
+/// // scipy's Rotation.mean and numpy's mean (tests/fixtures/spread/spread_reference.json).
+/// let q = report.mean.quaternion_xyzw;
+/// let scipy = [-0.00521525574549396, 0.001049568981181026, 0.0003820267702573023, 0.9999857766828539];
+/// assert!((0..4).all(|k| (q[k] - scipy[k]).abs() < 1e-12));
+/// assert!((report.mean.translation_m[0] - 0.8147164666666667).abs() < 1e-12);
+/// assert_eq!(report.outliers.names, ["kitti-repeat-outlier"]);
+/// # Ok(())
+/// # }
+/// ```
 pub fn spread(opts: &SpreadOptions) -> Result<(SpreadReport, Vec<Warning>)> {
     let paths = files(&opts.paths)?;
     let mut warnings = Vec::new();
@@ -358,10 +382,10 @@ pub fn spread(opts: &SpreadOptions) -> Result<(SpreadReport, Vec<Warning>)> {
 /// Whether the spread plot may be written to `target` (an `.svg` name, none
 /// of the inputs), checked before anything is read.
 pub fn check_spread_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
-    super::survey::plot_target("spread", target, inputs)
+    super::output::plot_target("spread", target, inputs)
 }
 
 /// Draw the spread plot (a strip plot per axis, outliers named) to `target`.
 pub fn write_spread_plot(target: &Path, inputs: &[PathBuf], report: &SpreadReport) -> Result<()> {
-    super::survey::write_plot("spread", target, inputs, &report.plot())
+    super::output::write_plot("spread", target, inputs, &report.plot())
 }

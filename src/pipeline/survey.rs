@@ -10,7 +10,7 @@
 //! `ignored` warning (a folder holds other robots too); a file named on the
 //! command line is an error.
 
-use super::expand_paths;
+use super::files::expand_paths;
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::{self, LoadOptions, RigMeta};
 use crate::frames::FrameGraph;
@@ -41,8 +41,9 @@ pub enum SortColumn {
     SigmaMax,
 }
 
-/// What to survey and how.
-#[derive(Debug, Clone)]
+/// What to survey and how. `Default`: the command's defaults, no paths.
+#[derive(Debug, Clone, Default)]
+#[non_exhaustive]
 pub struct SurveyOptions {
     /// Rig files or directories of them.
     pub paths: Vec<PathBuf>,
@@ -226,6 +227,23 @@ fn sort_rows(rows: &mut [Row], col: Option<SortColumn>) {
 
 /// Survey every rig under the paths; returns the report and the warnings the
 /// files raised.
+///
+/// ```
+/// use extrinsic_audit::{survey, SurveyOptions};
+///
+/// # fn main() -> extrinsic_audit::Result<()> {
+/// let mut opts = SurveyOptions::default();
+/// opts.paths = vec![concat!(env!("CARGO_MANIFEST_DIR"), "/calibrations").into()];
+/// let (report, _warnings) = survey(&opts)?;
+/// // As numpy and pytransform3d compute them from the same files
+/// // (tests/fixtures/survey/expected.json): 38 rigs counted (placeholders and
+/// // duplicates left out), the median lever arm, 37 with a nonzero pitch.
+/// assert_eq!(report.summary.count, 38);
+/// assert!((report.summary.lever_arm_median_m - 0.0755011509284429).abs() < 1e-12);
+/// assert_eq!(report.summary.nonzero_pitch_count, 37);
+/// # Ok(())
+/// # }
+/// ```
 pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
     let files = inputs(opts)?;
     let names = || {
@@ -298,49 +316,4 @@ pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
     let counted: Vec<bool> = rows.iter().map(|r| r.2).collect();
     let report = SurveyReport::new(rows.into_iter().map(|(j, m, _)| (j, m)).collect(), &counted);
     Ok((report, warnings))
-}
-
-/// Whether the survey plot may be written to `target`: an `.svg` file name in
-/// an existing directory that is none of the survey's inputs (checked before
-/// the survey runs, so that nothing is read or written in vain).
-pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
-    plot_target("survey", target, inputs)
-}
-
-/// [`check_plot_target`] for `command`'s plot.
-pub(super) fn plot_target(command: &str, target: &Path, inputs: &[PathBuf]) -> Result<()> {
-    if !target
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
-    {
-        return Err(Error::usage(format!(
-            "--plot {}: expected a file name ending in .svg",
-            target.display()
-        )));
-    }
-    super::output::check_output_target("--plot", command, target, inputs)
-}
-
-/// Draw the survey plot to `target` after [`check_plot_target`] (again: the
-/// inputs must still not include it).
-pub fn write_survey_plot(target: &Path, inputs: &[PathBuf], report: &SurveyReport) -> Result<()> {
-    write_plot("survey", target, inputs, &report.plot())
-}
-
-/// Draw `plot` (a document of one plot block) as SVG to `target`, checked
-/// again as [`plot_target`] checks it.
-pub(super) fn write_plot(
-    command: &str,
-    target: &Path,
-    inputs: &[PathBuf],
-    plot: &crate::document::Document,
-) -> Result<()> {
-    plot_target(command, target, inputs)?;
-    let svg = crate::render::draw(
-        plot,
-        crate::render::OutputFormat::Svg,
-        crate::render::Style::plain(),
-        &crate::render::Layout::default(),
-    )?;
-    super::write_atomic(target, svg.as_bytes())
 }

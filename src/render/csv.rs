@@ -49,7 +49,7 @@ pub fn table(t: &Table) -> String {
     s
 }
 
-/// One CSV record (no line end), each cell through [`cell`]. A command that
+/// One CSV record (no line end), each cell through `cell`. A command that
 /// streams its rows (`audit run`) writes them with this.
 pub fn line(cells: &[String]) -> String {
     cells.iter().map(|c| cell(c)).collect::<Vec<_>>().join(",")

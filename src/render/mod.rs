@@ -250,7 +250,7 @@ pub fn render_to<R: Report>(
 }
 
 /// Draw a document in a text format (every format but JSON, which is the
-/// report itself, and MCAP, which is binary: [`render_to`]): the text
+/// report itself, and MCAP, which is binary: `render_to`): the text
 /// formats from its blocks, the pictures from its picture.
 pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout) -> Result<String> {
     let picture = picture(doc);

@@ -7,15 +7,19 @@
 use crate::diagnostic::{Code, Error, Result};
 use crate::document::plot::{Colour, Corner, Mark, Panel, Plot, Point, Series};
 use crate::sanitize;
-use plotters::chart::SeriesAnno;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
-use plotters::element::IntoDynElement;
+use plotters::element::DynElement;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// The drawing area of one panel, and its chart.
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 type Chart<'a, 'b, X, Y> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, Y>>;
+
+/// Width (px) kept right of a panel's plot area for a [`Corner::Outside`]
+/// legend: 34 characters of the legend font (plotters draws 12 px as 9.7).
+const OUTSIDE_LEGEND_PX: u32 = 230;
 
 fn plot_err(e: impl std::fmt::Display) -> Error {
     Error::new(Code::Io, format!("cannot draw the plot: {e}"))
@@ -59,9 +63,14 @@ where
     X::CoordDescType: ValueFormatter<f64>,
     Y::CoordDescType: ValueFormatter<f64>,
 {
+    let right = match p.legend {
+        Corner::Outside => 12 + OUTSIDE_LEGEND_PX,
+        _ => 12,
+    };
     let mut chart = ChartBuilder::on(area)
         .caption(shown(&p.caption), ("sans-serif", 18))
         .margin(12)
+        .margin_right(right)
         .x_label_area_size(40)
         .y_label_area_size(60)
         .build_cartesian_2d(x, y)
@@ -81,6 +90,7 @@ where
     let corner = match p.legend {
         Corner::UpperLeft => SeriesLabelPosition::UpperLeft,
         Corner::UpperRight => SeriesLabelPosition::UpperRight,
+        Corner::Outside => return outside_legend(area, &chart, &p.series),
     };
     chart
         .configure_series_labels()
@@ -121,7 +131,7 @@ fn tick(v: f64) -> String {
 
 /// One series, with its legend entry (its mark, or a short line) when it
 /// has one.
-fn series<X, Y>(chart: &mut Chart<X, Y>, s: &Series) -> Result<()>
+fn series<'a, 'b: 'a, X, Y>(chart: &mut Chart<'a, 'b, X, Y>, s: &Series) -> Result<()>
 where
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
@@ -129,79 +139,108 @@ where
     let c = rgba(s.colour);
     let of = |p: &Point| p.colour.map_or(c, rgba);
     let at = |p: &Point| (p.x, p.y);
-    let l = s.legend.as_deref();
-    match s.mark {
+    let anno = match s.mark {
         Mark::Dot { radius } => {
             let r = radius as i32;
-            let a = chart
-                .draw_series(
-                    s.points
-                        .iter()
-                        .map(|p| Circle::new(at(p), r, of(p).filled())),
-                )
-                .map_err(plot_err)?;
-            legend(a, l, move |(x, y)| Circle::new((x + 8, y), r, c.filled()));
+            let dot = |p: &Point| Circle::new(at(p), r, of(p).filled());
+            chart.draw_series(s.points.iter().map(dot))
         }
         Mark::Ring { radius, width } => {
             let r = radius as i32;
             let ring = |p: &Point| Circle::new(at(p), r, of(p).stroke_width(width));
-            let a = chart
-                .draw_series(s.points.iter().map(ring))
-                .map_err(plot_err)?;
-            legend(a, l, move |(x, y)| {
-                Circle::new((x + 8, y), r, c.stroke_width(width))
-            });
+            chart.draw_series(s.points.iter().map(ring))
         }
         Mark::Triangle { size } => {
             let z = size as i32;
             let tri = |p: &Point| TriangleMarker::new(at(p), z, of(p).filled());
-            let a = chart
-                .draw_series(s.points.iter().map(tri))
-                .map_err(plot_err)?;
-            legend(a, l, move |(x, y)| {
-                TriangleMarker::new((x + 8, y), z, c.filled())
-            });
+            chart.draw_series(s.points.iter().map(tri))
         }
         Mark::Label { size, offset } => {
             let text = |p: &Point| {
                 let font = ("sans-serif", size).into_font().color(&of(p));
                 EmptyElement::at(at(p)) + Text::new(shown(&p.label), offset, font)
             };
-            let a = chart
-                .draw_series(s.points.iter().map(text))
-                .map_err(plot_err)?;
-            legend(a, l, move |(x, y)| Circle::new((x + 8, y), 2, c.filled()));
+            chart.draw_series(s.points.iter().map(text))
         }
         Mark::Span => {
             let rect = |c: &[Point]| Rectangle::new([at(&c[0]), at(&c[1])], of(&c[0]).filled());
-            let a = chart
-                .draw_series(s.points.chunks_exact(2).map(rect))
-                .map_err(plot_err)?;
-            legend(a, l, move |(x, y)| {
-                Rectangle::new([(x, y - 5), (x + 16, y + 5)], c.filled())
-            });
+            chart.draw_series(s.points.chunks_exact(2).map(rect))
         }
-        Mark::Line { width } => {
-            let line = LineSeries::new(s.points.iter().map(at), c.stroke_width(width));
-            let a = chart.draw_series(line).map_err(plot_err)?;
-            legend(a, l, move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(width))
-            });
-        }
+        Mark::Line { width } => chart.draw_series(LineSeries::new(
+            s.points.iter().map(at),
+            c.stroke_width(width),
+        )),
+    }
+    .map_err(plot_err)?;
+    // plotters lists every series with an icon, labelled or not: only the
+    // labelled ones get an entry.
+    if let Some(l) = s.legend.as_deref() {
+        let mark = s.mark;
+        anno.label(shown(l)).legend(move |at| icon(mark, c, at));
     }
     Ok(())
 }
 
-/// A legend entry for the series just drawn, when it has a label (plotters
-/// lists every series with an icon, labelled or not).
-fn legend<'a, 'b, E, F>(anno: &mut SeriesAnno<'a, SVGBackend<'b>>, label: Option<&str>, icon: F)
-where
-    E: IntoDynElement<'a, SVGBackend<'b>, (i32, i32)>,
-    F: Fn((i32, i32)) -> E + 'a,
-{
-    if let Some(l) = label {
-        anno.label(shown(l)).legend(icon);
+/// A legend entry's icon for `mark` in `c`, its left end at `(x, y)`: the
+/// mark itself, or a short line.
+fn icon<'a, 'b>(
+    mark: Mark,
+    c: RGBAColor,
+    (x, y): (i32, i32),
+) -> DynElement<'a, SVGBackend<'b>, (i32, i32)> {
+    match mark {
+        Mark::Dot { radius } => Circle::new((x + 8, y), radius as i32, c.filled()).into_dyn(),
+        Mark::Ring { radius, width } => {
+            Circle::new((x + 8, y), radius as i32, c.stroke_width(width)).into_dyn()
+        }
+        Mark::Triangle { size } => {
+            TriangleMarker::new((x + 8, y), size as i32, c.filled()).into_dyn()
+        }
+        Mark::Label { .. } => Circle::new((x + 8, y), 2, c.filled()).into_dyn(),
+        Mark::Span => Rectangle::new([(x, y - 5), (x + 16, y + 5)], c.filled()).into_dyn(),
+        Mark::Line { width } => {
+            PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(width)).into_dyn()
+        }
     }
+}
+
+/// Height (px) of one legend entry.
+const LEGEND_LINE_PX: i32 = 16;
+
+/// The legend of a [`Corner::Outside`] panel, drawn here rather than by
+/// plotters (whose box takes its width from text it cannot measure without
+/// fonts): a box [`OUTSIDE_LEGEND_PX`] - 10 wide right of the plot area,
+/// from its top, one entry per labelled series.
+fn outside_legend<X, Y>(area: &Area, chart: &Chart<X, Y>, series: &[Series]) -> Result<()>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let entries: Vec<(&Series, &str)> = series
+        .iter()
+        .filter_map(|s| s.legend.as_deref().map(|l| (s, l)))
+        .collect();
+    if entries.is_empty() {
+        return Ok(());
+    }
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    let base = area.get_base_pixel();
+    let (x0, y0) = (xr.end - base.0 + 10, yr.start - base.1);
+    let h = LEGEND_LINE_PX * entries.len() as i32 + 8;
+    let w = OUTSIDE_LEGEND_PX as i32 - 10;
+    let corners = [(x0, y0), (x0 + w, y0 + h)];
+    area.draw(&Rectangle::new(corners, WHITE.filled()))
+        .and_then(|_| area.draw(&Rectangle::new(corners, BLACK.mix(0.3))))
+        .map_err(plot_err)?;
+    let font =
+        TextStyle::from(("sans-serif", 12).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+    for (i, (s, l)) in entries.iter().enumerate() {
+        let y = y0 + 4 + LEGEND_LINE_PX * i as i32 + LEGEND_LINE_PX / 2;
+        area.draw(&icon(s.mark, rgba(s.colour), (x0 + 6, y)))
+            .and_then(|_| area.draw(&Text::new(shown(l), (x0 + 28, y), font.clone())))
+            .map_err(plot_err)?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -12,7 +12,7 @@ pub const CHECK_SCHEMA_VERSION: u32 = 2;
 /// What `audit check` found.
 #[derive(Debug, Clone, Serialize)]
 pub struct CheckReport {
-    /// [`CHECK_SCHEMA_VERSION`].
+    /// `CHECK_SCHEMA_VERSION`.
     pub schema_version: u32,
     /// Files read.
     pub files_checked: usize,

@@ -13,6 +13,7 @@ use crate::analysis::Family;
 use crate::document::numbers::{fixed, short};
 use crate::document::{Document, Report, Table};
 use crate::geometry::ScrewKind;
+use crate::tolerances::{DEFAULT_DIFF_ROTATION_TOL_DEG, DEFAULT_DIFF_TRANSLATION_TOL_MM};
 use serde::Serialize;
 
 /// A value in OLD and in NEW.
@@ -24,13 +25,23 @@ pub struct OldNew<T> {
     pub new: T,
 }
 
-/// `tolerance`: what counts as a change.
+/// `tolerance`: what counts as a change. `Default`:
+/// [`DEFAULT_DIFF_TRANSLATION_TOL_MM`], [`DEFAULT_DIFF_ROTATION_TOL_DEG`].
 #[derive(Debug, Clone, Copy, Serialize, PartialEq)]
 pub struct DiffToleranceJson {
     /// On a translation change (mm).
     pub translation_mm: f64,
     /// On a rotation change (deg).
     pub rotation_deg: f64,
+}
+
+impl Default for DiffToleranceJson {
+    fn default() -> Self {
+        DiffToleranceJson {
+            translation_mm: DEFAULT_DIFF_TRANSLATION_TOL_MM,
+            rotation_deg: DEFAULT_DIFF_ROTATION_TOL_DEG,
+        }
+    }
 }
 
 /// How an edge of one file compares with the other's.

@@ -14,6 +14,7 @@ pub mod mistakes;
 pub mod rig;
 mod rig_scene;
 pub mod run;
+pub mod run_scene;
 mod run_timeline;
 pub mod scan_scene;
 pub mod spread;

@@ -223,9 +223,11 @@ pub struct RigReport {
     #[serde(skip)]
     pub tree: Option<super::frames::FramesReport>,
     /// What the user's own detector does on this rig (`--detector NAME`, or
-    /// the odometry an input reveals); absent otherwise.
+    /// the odometry an input reveals): set it to
+    /// [`OdometryDetector::advise`](crate::OdometryDetector::advise) of the
+    /// chain's transform; `None` (absent from the JSON) otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub detector: Option<crate::analysis::detectors::Advice>,
+    pub detector: Option<crate::analysis::detectors::DetectorAdvice>,
 }
 
 /// One edge of the chain as the report's table shows it.

@@ -330,16 +330,13 @@ pub trait RunSink {
     fn begin(&mut self, header: &RunHeader) -> crate::diagnostic::Result<()>;
     /// One record, in run order.
     fn outcome(&mut self, header: &RunHeader, o: &Outcome) -> crate::diagnostic::Result<()>;
-}
-
-/// A sink that keeps nothing.
-pub struct NoSink;
-
-impl RunSink for NoSink {
-    fn begin(&mut self, _: &RunHeader) -> crate::diagnostic::Result<()> {
-        Ok(())
-    }
-    fn outcome(&mut self, _: &RunHeader, _: &Outcome) -> crate::diagnostic::Result<()> {
+    /// The run's frames and transforms, before [`begin`](RunSink::begin)
+    /// (`--format mcap` draws them).
+    fn frames(
+        &mut self,
+        _frames: &[crate::run::frames::RunFrame],
+        _graph: Option<&crate::frames::FrameGraph>,
+    ) -> crate::diagnostic::Result<()> {
         Ok(())
     }
 }

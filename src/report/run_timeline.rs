@@ -133,7 +133,7 @@ impl RunReport {
                 log: true,
             },
             series: all,
-            legend: Corner::UpperRight,
+            legend: Corner::Outside,
         }
     }
 
@@ -149,7 +149,7 @@ impl RunReport {
             .copied()
             .filter(|v| v.is_finite())
             .fold(1.0f64, f64::max);
-        // Room above the lines for the markers and the legend.
+        // Room above the lines for the markers (the legend is outside).
         let top = 10f64.powf((max * 30.0).log10().ceil());
         let n = self.families.len();
         let panels = (0..n)

@@ -197,7 +197,7 @@ pub struct CalibrationJson {
 /// The spread report.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct SpreadReport {
-    /// [`crate::report::SCHEMA_VERSION`].
+    /// The JSON schema version (docs/schemas/spread.schema.json).
     pub schema_version: u32,
     /// Parent frame.
     pub from: String,

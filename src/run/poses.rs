@@ -174,16 +174,6 @@ impl PoseTrack {
             }
         }
     }
-
-    /// Number of samples.
-    pub fn len(&self) -> usize {
-        self.poses.len()
-    }
-
-    /// No samples.
-    pub fn is_empty(&self) -> bool {
-        self.poses.is_empty()
-    }
 }
 
 fn seconds(ns: i128) -> String {

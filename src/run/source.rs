@@ -214,7 +214,9 @@ impl ScanSource for BagScans {
             };
             match bag::stream(b, &|t| t == topic, self.limits, &mut one) {
                 Ok(listing) => end.warnings.extend(listing.warnings),
-                Err(e) if index > 0 && e.code != Code::Usage => {
+                // Damage after scans: reported up to it. A limit (a
+                // decompression bomb) is a refusal wherever it is, exit 2.
+                Err(e) if index > 0 && !matches!(e.code, Code::Usage | Code::Limit) => {
                     end.damage = Some(e);
                     break;
                 }

@@ -11,11 +11,12 @@
 //! the sign of `h` depends on rounding (the axis sign is chosen by `h >= 0` only
 //! at an exact half-turn), so `|h|` is compared there.
 
-use extrinsic_audit::analysis::metric::adapted_metric_matrix;
-use extrinsic_audit::formats::rig_toml;
-use extrinsic_audit::formats::{Edge, LoadOptions, Loaded};
-use extrinsic_audit::geometry::se3::{ScrewKind, Transform};
-use extrinsic_audit::tolerances::{DEFAULT_PITCH_TOL, SMALL_ROTATION_DEG};
+use extrinsic_audit::internals::analysis::metric::adapted_metric_matrix;
+use extrinsic_audit::internals::formats::rig_toml;
+use extrinsic_audit::internals::formats::Parsed;
+use extrinsic_audit::internals::tolerances::{DEFAULT_PITCH_TOL, SMALL_ROTATION_DEG};
+use extrinsic_audit::{Edge, LoadOptions};
+use extrinsic_audit::{ScrewKind, Transform};
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::path::{Path, PathBuf};
@@ -49,12 +50,12 @@ fn is_sidecar(text: &str) -> bool {
     v.contains_key("include")
 }
 
-fn load(path: &Path) -> Loaded {
+fn load(path: &Path) -> Parsed {
     let text = std::fs::read_to_string(path).expect("read rig");
     let opts = LoadOptions::default();
     // A rig file parsed on its own cannot load what it includes: the loader can.
     let loaded = if is_sidecar(&text) {
-        extrinsic_audit::formats::load_file(path, &opts)
+        extrinsic_audit::internals::formats::load_file(path, &opts)
     } else {
         rig_toml::parse(&text, path, &opts)
     };

@@ -1006,7 +1006,7 @@ fn exclude_globs_and_the_default_file_set() {
     // Nothing left: a usage error, not a green run.
     assert_eq!(count(&["--exclude", "*.yaml"]), (2, 0));
     // docs/check.md lists the registry's walk extensions.
-    let mut exts: Vec<&str> = extrinsic_audit::formats::FORMATS
+    let mut exts: Vec<&str> = extrinsic_audit::internals::formats::FORMATS
         .iter()
         .flat_map(|f| f.walk.iter().copied())
         .collect();

@@ -4,12 +4,13 @@
 //! allocator keeps the live and peak heap bytes of each thread, for the URDF
 //! reader's memory per link (issue 12).
 
-use extrinsic_audit::analysis::metric::{adapted_metric, analyze, family_verdicts};
-use extrinsic_audit::geometry::certificate::{
+use extrinsic_audit::analyze;
+use extrinsic_audit::internals::analysis::metric::{adapted_metric, family_verdicts};
+use extrinsic_audit::internals::geometry::certificate::{
     adjoint_summary, certificates, certifies_no_crossing,
 };
-use extrinsic_audit::geometry::se3::{QuatOrder, Transform};
-use extrinsic_audit::tolerances::DEFAULT_PITCH_TOL;
+use extrinsic_audit::internals::tolerances::DEFAULT_PITCH_TOL;
+use extrinsic_audit::{QuatOrder, Transform};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::hint::black_box;
@@ -180,8 +181,9 @@ fn urdf_chain(n: usize, one_line: bool) -> String {
 /// adds the allocator's own overhead and the program.
 #[test]
 fn urdf_chain_loads_in_under_1_kb_of_heap_per_link() {
-    use extrinsic_audit::formats::{load_str, LoadOptions};
-    use extrinsic_audit::frames::FrameGraph;
+    use extrinsic_audit::internals::formats::load_str;
+    use extrinsic_audit::internals::frames::FrameGraph;
+    use extrinsic_audit::LoadOptions;
     use std::path::Path;
     let n = 20_000;
     for one_line in [false, true] {

@@ -4,15 +4,14 @@
 // Index loops over fixed-size vectors read more clearly than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use extrinsic_audit::analysis::metric::{
-    analyze, family_verdicts, AdaptedReason, Family, RigAnalysis, VerdictReason,
-};
-use extrinsic_audit::diagnostic::Code;
-use extrinsic_audit::geometry::certificate::{
+use extrinsic_audit::internals::analysis::metric::{family_verdicts, AdaptedReason, VerdictReason};
+use extrinsic_audit::internals::geometry::certificate::{
     band, certificates, certifies_no_crossing, delta_eff, sigma_max, sigma_min,
 };
-use extrinsic_audit::geometry::se3::{QuatOrder, ScrewKind, Transform};
-use extrinsic_audit::tolerances::{DEFAULT_PITCH_TOL, MAX_ELLS};
+use extrinsic_audit::internals::tolerances::{DEFAULT_PITCH_TOL, MAX_ELLS};
+use extrinsic_audit::Code;
+use extrinsic_audit::{analyze, Family, RigAnalysis};
+use extrinsic_audit::{QuatOrder, ScrewKind, Transform};
 use nalgebra::{Matrix3, Matrix6, Vector3};
 use std::f64::consts::{FRAC_PI_2, PI};
 

@@ -5,12 +5,13 @@
 // Index loops over fixed-size vectors read more clearly than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use extrinsic_audit::analysis::metric::{adapted_metric, analyze};
-use extrinsic_audit::geometry::certificate::{
+use extrinsic_audit::analyze;
+use extrinsic_audit::internals::analysis::metric::adapted_metric;
+use extrinsic_audit::internals::geometry::certificate::{
     adjoint_singular_values, ata_minus_i_rel, band, certificates, delta_eff,
 };
-use extrinsic_audit::geometry::se3::{QuatOrder, ScrewKind, Transform};
-use extrinsic_audit::tolerances::DEFAULT_PITCH_TOL;
+use extrinsic_audit::internals::tolerances::DEFAULT_PITCH_TOL;
+use extrinsic_audit::{QuatOrder, ScrewKind, Transform};
 use serde_json::Value;
 
 const TOL: f64 = 1e-12;

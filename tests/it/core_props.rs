@@ -3,10 +3,13 @@
 // Index loops over fixed-size vectors read more clearly than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use extrinsic_audit::analysis::metric::{adapted_metric, analyze};
-use extrinsic_audit::geometry::certificate::{adjoint_singular_values, ata_minus_i_rel, band};
-use extrinsic_audit::geometry::se3::{QuatOrder, ScrewKind, Transform};
-use extrinsic_audit::tolerances::DEFAULT_PITCH_TOL;
+use extrinsic_audit::analyze;
+use extrinsic_audit::internals::analysis::metric::adapted_metric;
+use extrinsic_audit::internals::geometry::certificate::{
+    adjoint_singular_values, ata_minus_i_rel, band,
+};
+use extrinsic_audit::internals::tolerances::DEFAULT_PITCH_TOL;
+use extrinsic_audit::{QuatOrder, ScrewKind, Transform};
 use nalgebra::{Matrix3, Matrix6, SymmetricEigen, Vector3, Vector6};
 use proptest::prelude::*;
 

@@ -1,10 +1,11 @@
 //! Detector core: assembly, congruence, generalized eigenproblem, invariances,
 //! remapping projector.
 
-use extrinsic_audit::degeneracy::scene::SceneRng;
-use extrinsic_audit::degeneracy::*;
-use extrinsic_audit::geometry::se3::{skew, Transform};
-use extrinsic_audit::tolerances::DEFAULT_TAU;
+use extrinsic_audit::internals::degeneracy::scene::SceneRng;
+use extrinsic_audit::internals::degeneracy::*;
+use extrinsic_audit::internals::geometry::se3::skew;
+use extrinsic_audit::internals::tolerances::DEFAULT_TAU;
+use extrinsic_audit::Transform;
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
 /// Random points in a box of half-size `extent` with random unit normals and
@@ -375,8 +376,8 @@ fn twist_screw_reads_axis_pitch_and_point() {
 
 #[test]
 fn sweep_on_a_tunnel_behaves_as_the_paper_says() {
-    use extrinsic_audit::degeneracy::scene::{synthesize, Preprocess, SceneKind};
-    use extrinsic_audit::degeneracy::threshold::default_threshold;
+    use extrinsic_audit::internals::degeneracy::scene::{synthesize, Preprocess, SceneKind};
+    use extrinsic_audit::internals::degeneracy::threshold::default_threshold;
     let cloud = synthesize(SceneKind::Tunnel, &Preprocess::pipeline(0.1, 0.01, 3)).unwrap();
     let asm = Assembly::from_points(&cloud.points, &cloud.normals, None).unwrap();
     let rules = MetricRule::paper_configs();

@@ -2,9 +2,9 @@
 //! assembly anywhere (centroid reference), relative footprint and screw
 //! classification, raw scans with estimated normals.
 
-use extrinsic_audit::degeneracy::scene::{synthesize, Preprocess, SceneKind};
-use extrinsic_audit::degeneracy::*;
-use extrinsic_audit::tolerances::DEFAULT_TAU;
+use extrinsic_audit::internals::degeneracy::scene::{synthesize, Preprocess, SceneKind};
+use extrinsic_audit::internals::degeneracy::*;
+use extrinsic_audit::internals::tolerances::DEFAULT_TAU;
 
 /// A noisy corridor with PCA normals (a real-looking cloud of a few thousand
 /// points), offset by `shift`.
@@ -120,8 +120,8 @@ fn units_do_not_change_the_point_displacement_eigenvalues() {
 
 #[test]
 fn a_synthetic_pair_with_known_overlap_assembles_the_overlap() {
-    use extrinsic_audit::degeneracy::pairs::pair_assembly;
-    use extrinsic_audit::geometry::Transform;
+    use extrinsic_audit::internals::degeneracy::pairs::pair_assembly;
+    use extrinsic_audit::Transform;
     use nalgebra::Vector3;
     // Target: the L corner with exact normals. Source: the target's points
     // with x < 0 (the overlap) seen from the source frame T (pose in the
@@ -193,9 +193,9 @@ fn kernels_and_threads_agree_with_reference_points() {
 // ---------------------------------------------------------------------------
 
 mod real {
-    use crate::common::run_cli;
     use crate::common::testdata::{self, CAR6, GICP_RELATIVE, GICP_SCAN, GICP_SCAN_2};
-    use extrinsic_audit::degeneracy::points::read_xyz;
+    use crate::common::{derived, run_cli};
+    use extrinsic_audit::internals::degeneracy::points::read_xyz;
     use serde_json::Value;
     use std::path::PathBuf;
 
@@ -204,14 +204,27 @@ mod real {
     }
 
     /// A scan by the name expected.json gives it: a real one from the
-    /// test-data folder (`None` where absent), else the crop in dir().
+    /// test-data folder, or the ground crop made from one at run time
+    /// (`None` where absent).
     fn scan(file: &str) -> Option<PathBuf> {
         match file {
             "251370668.pcd" => testdata::file(GICP_SCAN),
             "251371071.pcd" => testdata::file(GICP_SCAN_2),
             "car6_pcl_compressed.pcd" => testdata::file(CAR6),
-            _ => Some(dir().join(file)),
+            "ground_crop.pcd" => derived::ground_crop().map(|c| c.pcd.clone()),
+            "ground_crop_weighted.csv" => derived::ground_crop().map(|c| c.weighted_csv.clone()),
+            other => panic!("no scan named {other}"),
         }
+    }
+
+    /// [`scan`], the test returning (skipped) where it is absent.
+    macro_rules! need {
+        ($file:expr) => {
+            match scan($file) {
+                Some(p) => p,
+                None => return,
+            }
+        };
     }
 
     fn expected() -> Value {
@@ -337,6 +350,7 @@ mod real {
 
     #[test]
     fn ground_plane_crop_has_rotation_about_the_vertical_and_two_translations() {
+        need!("ground_crop.pcd");
         let r = run(
             "ground_crop.pcd",
             &["--normal-radius", "0.5", "--min-planarity", "0.2"],
@@ -389,6 +403,7 @@ mod real {
         // The ground crop with a `w` column (make_reference.py): each voxel's
         // weight is the mean of its points' weights, then H = sum w a a^T and
         // M = sum w J^T J over the points that got a normal.
+        need!("ground_crop_weighted.csv");
         let r = run(
             "ground_crop_weighted.csv",
             &["--normal-radius", "0.5", "--min-planarity", "0.2"],
@@ -442,7 +457,7 @@ mod real {
             .collect();
         assert!(rel(&sum, &nums(&e["car6_sum"])) < 1e-12);
         // Without normals it is refused for the normal-reading path, naming them.
-        let err = extrinsic_audit::degeneracy::points::read_points(&car6).unwrap_err();
+        let err = extrinsic_audit::internals::degeneracy::points::read_points(&car6).unwrap_err();
         assert!(
             err.message.contains("missing normal_x normal_y normal_z"),
             "{err}"
@@ -497,7 +512,7 @@ mod real {
 
     #[test]
     fn sweep_on_the_ground_crop_keeps_point_displacement_and_flips_others() {
-        let path = dir().join("ground_crop.pcd");
+        let path = need!("ground_crop.pcd");
         let (code, out, err) = run_cli(&[
             "sweep",
             path.to_str().unwrap(),
@@ -539,7 +554,7 @@ mod real {
 
     #[test]
     fn wilson_interval_matches_the_closed_form() {
-        use extrinsic_audit::pipeline::detector::wilson95;
+        use extrinsic_audit::internals::pipeline::detector::wilson95;
         let [lo, hi] = wilson95(50, 100);
         assert!(
             (lo - 0.403_8).abs() < 1e-4 && (hi - 0.596_2).abs() < 1e-4,
@@ -552,7 +567,7 @@ mod real {
 
     #[test]
     fn raw_options_are_checked() {
-        let path = dir().join("ground_crop.pcd");
+        let path = need!("ground_crop.pcd");
         let p = path.to_str().unwrap();
         for bad in [
             vec!["degeneracy", p, "--voxel", "0.1"],
@@ -595,7 +610,7 @@ mod real {
 
 #[test]
 fn corrupt_compressed_pcd_is_an_error_never_a_panic() {
-    use extrinsic_audit::degeneracy::points::read_xyz;
+    use extrinsic_audit::internals::degeneracy::points::read_xyz;
     let Some(good) = crate::common::testdata::read(crate::common::testdata::CAR6) else {
         return;
     };
@@ -633,7 +648,7 @@ fn corrupt_compressed_pcd_is_an_error_never_a_panic() {
 
 #[test]
 fn normals_do_not_depend_on_threads_and_knn_covers_the_radius() {
-    use extrinsic_audit::degeneracy::normals::{estimate_normals_with, NormalParams};
+    use extrinsic_audit::internals::degeneracy::normals::{estimate_normals_with, NormalParams};
     let c = synthesize(SceneKind::Tunnel, &Preprocess::exact(0.15, 0.01, 5)).unwrap();
     let prm = NormalParams {
         radius: 0.3,

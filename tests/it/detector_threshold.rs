@@ -2,8 +2,8 @@
 //! 30 s in release; its numbers are in BENCHMARKS.md).
 
 use crate::common::run_cli;
-use extrinsic_audit::degeneracy::threshold::*;
-use extrinsic_audit::degeneracy::MetricRule;
+use extrinsic_audit::internals::degeneracy::threshold::*;
+use extrinsic_audit::internals::degeneracy::MetricRule;
 
 #[test]
 fn point_displacement_interval_contains_1e2_and_calibrated_values_fit() {

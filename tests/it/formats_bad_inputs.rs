@@ -1,8 +1,9 @@
 //! The bad-input catalogue (tests/bad_inputs/README.md): every file is refused
 //! with the committed message. `BLESS=1` rewrites the `.expected` files.
 
-use extrinsic_audit::formats::{load_file, Format, LoadOptions};
-use extrinsic_audit::frames::FrameGraph;
+use extrinsic_audit::internals::formats::load_file;
+use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::{Format, LoadOptions};
 use std::path::{Path, PathBuf};
 
 const DIR: &str = "tests/bad_inputs";
@@ -18,14 +19,12 @@ fn run(path: &Path) -> Result<(), String> {
         path.extension().and_then(|e| e.to_str()),
         Some("las" | "laz")
     ) {
-        let r = extrinsic_audit::degeneracy::points::read_xyz(path);
+        let r = extrinsic_audit::internals::degeneracy::points::read_xyz(path);
         return r.map(|_| ()).map_err(|e| e.to_string());
     }
     // The xacro case must not depend on whether `xacro` is installed.
-    let mut opts = LoadOptions {
-        xacro_search_path: Some("".into()),
-        ..LoadOptions::default()
-    };
+    let mut opts = LoadOptions::default();
+    opts.xacro_search_path = Some("".into());
     let (mut from, mut to) = (None, None);
     let args_path = Path::new(DIR).join(format!("{}.args", stem(path)));
     if let Ok(a) = std::fs::read_to_string(&args_path) {

@@ -5,9 +5,11 @@
 //! corrupt bags give clear errors and never panic.
 
 use crate::common::audit;
-use extrinsic_audit::diagnostic::Code;
-use extrinsic_audit::formats::bag::{self, BagOptions};
-use extrinsic_audit::formats::{load_file, Edge, LoadOptions, Loaded};
+use extrinsic_audit::internals::formats::bag;
+use extrinsic_audit::internals::formats::{load_file, Parsed};
+use extrinsic_audit::BagOptions;
+use extrinsic_audit::Code;
+use extrinsic_audit::{Edge, LoadOptions};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -45,7 +47,7 @@ fn expected() -> Value {
     serde_json::from_str(&t).expect("json")
 }
 
-fn load(p: &Path) -> Loaded {
+fn load(p: &Path) -> Parsed {
     load_file(p, &LoadOptions::default()).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
@@ -101,14 +103,14 @@ fn assert_edge(e: &Edge, want: &Value, what: &str) {
     }
 }
 
-fn edge<'a>(l: &'a Loaded, child: &str, what: &str) -> &'a Edge {
+fn edge<'a>(l: &'a Parsed, child: &str, what: &str) -> &'a Edge {
     l.edges
         .iter()
         .find(|e| e.child == child)
         .unwrap_or_else(|| panic!("{what}: no edge to {child} in {:?}", l.edges))
 }
 
-fn assert_edges(l: &Loaded, want: &Value, what: &str) {
+fn assert_edges(l: &Parsed, want: &Value, what: &str) {
     let want = want.as_array().expect("list");
     assert_eq!(l.edges.len(), want.len(), "{what}: {:?}", l.edges);
     for w in want {
@@ -213,10 +215,8 @@ fn unrelated_topics_before_tf_static_are_skipped() {
 #[test]
 fn tf_on_request_keeps_the_constant_transforms() {
     let x = expected();
-    let opts = BagOptions {
-        tf_topics: vec!["/tf".into()],
-        ..BagOptions::default()
-    };
+    let mut opts = BagOptions::default();
+    opts.tf_topics = vec!["/tf".into()];
     for p in containers("unrelated") {
         let what = p.display().to_string();
         // By default /tf is not read.
@@ -308,22 +308,19 @@ fn cli_topic_flags_choose_what_is_read() {
 #[test]
 fn only_the_asked_topics_are_read() {
     // Without /tf_static there is only the description.
-    let opts = BagOptions {
-        static_topics: vec![],
-        ..BagOptions::default()
-    };
+    let mut opts = BagOptions::default();
+    opts.static_topics = vec![];
     for p in containers("description") {
         let l = bag::load_with(&p, &LoadOptions::default(), &opts).expect("load");
         assert_eq!(l.edges.len(), 3, "{}", p.display());
         assert!(l.edges.iter().all(|e| e.provenance.format == "urdf"));
     }
     // /tf_static read as if it were /tf: imu_link never moves, lidar does.
-    let opts = BagOptions {
-        static_topics: vec![],
-        tf_topics: vec!["/tf_static".into()],
-        description_topics: vec![],
-        parameter_topics: vec![],
-    };
+    let mut opts = BagOptions::default();
+    opts.static_topics = vec![];
+    opts.tf_topics = vec!["/tf_static".into()];
+    opts.description_topics = vec![];
+    opts.parameter_topics = vec![];
     for p in containers("updates") {
         let what = p.display().to_string();
         let l = bag::load_with(&p, &LoadOptions::default(), &opts).expect("load");
@@ -573,10 +570,8 @@ fn mcap_chunks_without_wanted_topics_are_never_read() {
     std::fs::write(&p, &data).expect("write");
     assert_edges(&load(&p), &expected()["unrelated"], "wiped.mcap");
     // ...and reading those chunks would have failed.
-    let opts = BagOptions {
-        static_topics: vec!["/tf_static".into(), "/chatter".into()],
-        ..BagOptions::default()
-    };
+    let mut opts = BagOptions::default();
+    opts.static_topics = vec!["/tf_static".into(), "/chatter".into()];
     let e = bag::load_with(&p, &LoadOptions::default(), &opts).expect_err("garbage chunk");
     assert!(e.message.contains("chunk at byte"), "{e}");
 }

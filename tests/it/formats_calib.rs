@@ -7,8 +7,8 @@
 //! (frames and 4x4 to 1e-12, or to the projection the tool reports with a
 //! `non-orthonormal-rotation` warning), detected without `--input-format`.
 
-use extrinsic_audit::diagnostic::Code;
-use extrinsic_audit::formats::{detect_file, load_file, Assume, LoadOptions, Loaded};
+use extrinsic_audit::internals::formats::{detect_file, load_file, Parsed};
+use extrinsic_audit::{Assume, Code, LoadOptions};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -32,7 +32,7 @@ fn matrix(v: &Value) -> [[f64; 4]; 4] {
 }
 
 /// The tool's pose of `child` in `parent`, whichever way the edge is stored.
-fn pose(l: &Loaded, parent: &str, child: &str) -> Option<[[f64; 4]; 4]> {
+fn pose(l: &Parsed, parent: &str, child: &str) -> Option<[[f64; 4]; 4]> {
     l.edges.iter().find_map(|e| {
         let t = if (e.parent.as_str(), e.child.as_str()) == (parent, child) {
             e.transform
@@ -60,15 +60,14 @@ fn orthonormality(m: &[[f64; 4]; 4]) -> f64 {
 }
 
 fn opts(assume: Option<&str>) -> LoadOptions {
-    LoadOptions {
-        assume: assume.map(|a| Assume::parse(a).unwrap()),
-        ..LoadOptions::default()
-    }
+    let mut o = LoadOptions::default();
+    o.assume = assume.map(|a| Assume::parse(a).unwrap());
+    o
 }
 
 /// Check every fixture of `format` against expected.json; `assume` is passed
 /// for the fixtures whose expected edges need it. Returns the loads, by file.
-fn check_format(format: &str, assume: Option<&str>) -> Vec<(String, Loaded)> {
+fn check_format(format: &str, assume: Option<&str>) -> Vec<(String, Parsed)> {
     let exp = expected();
     let mut out = Vec::new();
     let fixtures = exp["fixtures"].as_object().unwrap();
@@ -137,7 +136,7 @@ fn check_format(format: &str, assume: Option<&str>) -> Vec<(String, Loaded)> {
     out
 }
 
-fn warned(l: &Loaded, code: Code, text: &str) -> bool {
+fn warned(l: &Parsed, code: Code, text: &str) -> bool {
     l.warnings
         .iter()
         .any(|w| w.code == code && w.message.contains(text))
@@ -247,7 +246,7 @@ fn glim_sensors_json_with_comments() {
 
 #[test]
 fn glim_comment_markers_inside_strings_stay_text() {
-    let s = extrinsic_audit::formats::glim::strip_json_comments(
+    let s = extrinsic_audit::internals::formats::glim::strip_json_comments(
         "{\"a\": \"x//y/*z*/\", // c\n\"b\": 1 /* d\n e */}",
     )
     .unwrap();
@@ -428,10 +427,8 @@ fn roslaunch_eval_in_args_and_conditions() {
         "{e}"
     );
     // --arg overrides a default an $(eval) reads.
-    let o = LoadOptions {
-        xacro_args: [("robot".to_string(), "husky".to_string())].into(),
-        ..LoadOptions::default()
-    };
+    let mut o = LoadOptions::default();
+    o.xacro_args = [("robot".to_string(), "husky".to_string())].into();
     let h = load_file(&dir().join("roslaunch-eval/eval_static_tf.launch"), &o).unwrap();
     assert!(
         h.edges.iter().any(|e| e.child == "rear_bumper"),

@@ -9,7 +9,8 @@
 //! folder (`common::testdata`), and its row is skipped, saying so, where the
 //! folder does not have them.
 
-use extrinsic_audit::formats::{all_formats, detect_file, LoadOptions};
+use extrinsic_audit::internals::formats::{all_formats, detect_file};
+use extrinsic_audit::LoadOptions;
 use std::path::{Path, PathBuf};
 
 /// Where a fixture lives.
@@ -198,15 +199,14 @@ fn the_table_covers_every_format_both_ways() {
 /// cannot read it, and a bag is never read whole).
 #[test]
 fn input_format_names_every_format() {
-    use extrinsic_audit::formats::{load_file, Format};
+    use extrinsic_audit::internals::formats::load_file;
+    use extrinsic_audit::Format;
     for &(at, id, by) in TABLE {
         let Some(file) = path_of(at).filter(|_| by == Name) else {
             continue;
         };
-        let opts = LoadOptions {
-            format: Some(Format::from_name(id).unwrap()),
-            ..LoadOptions::default()
-        };
+        let mut opts = LoadOptions::default();
+        opts.format = Some(Format::from_name(id).unwrap());
         match load_file(&file, &opts) {
             Ok(l) => assert!(!l.edges.is_empty(), "{id}: {}", name_of(at)),
             // No direction can be traced: refused without --assume, naming it.
@@ -223,10 +223,8 @@ fn input_format_names_every_format() {
         }
     }
     let bag = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/bags/description.mcap");
-    let opts = LoadOptions {
-        format: Some(Format::from_name("fast-lio").unwrap()),
-        ..LoadOptions::default()
-    };
+    let mut opts = LoadOptions::default();
+    opts.format = Some(Format::from_name("fast-lio").unwrap());
     let l = load_file(&bag, &opts).expect("a bag under a text format's name");
     assert!(l.edges.iter().any(|e| e.provenance.format == "bag"));
 }

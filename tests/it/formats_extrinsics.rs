@@ -5,9 +5,10 @@
 
 use crate::common::audit;
 use crate::common::testdata;
-use extrinsic_audit::diagnostic::Code;
-use extrinsic_audit::formats::{load_file, LoadOptions};
-use extrinsic_audit::frames::FrameGraph;
+use extrinsic_audit::internals::formats::load_file;
+use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::Code;
+use extrinsic_audit::LoadOptions;
 use std::path::{Path, PathBuf};
 
 const DIR: &str = "tests/fixtures/extrinsics";
@@ -60,10 +61,8 @@ fn fixture(file: &str) -> Option<PathBuf> {
 
 /// The frame graph of case `file` (`None`: a real file, absent).
 fn real_graph(file: &str, key: Option<&str>) -> Option<FrameGraph> {
-    let opts = LoadOptions {
-        key: key.map(str::to_string),
-        ..LoadOptions::default()
-    };
+    let mut opts = LoadOptions::default();
+    opts.key = key.map(str::to_string);
     let path = fixture(file)?;
     let loaded = load_file(&path, &opts).unwrap_or_else(|e| panic!("{file}: {e}"));
     let mut g = FrameGraph::new();
@@ -267,7 +266,7 @@ fn no_transform_lists_the_keys_seen_and_the_layouts_known() {
 
 #[test]
 fn each_fixture_is_detected_as_its_format() {
-    use extrinsic_audit::formats::detect_format;
+    use extrinsic_audit::internals::formats::detect_format;
     for (file, id) in [
         ("kalibr_padrl_camchain-imucam.yaml", "matrix-yaml"),
         ("kalibr_openvins_euroc_imucam_chain.yaml", "matrix-yaml"),
@@ -432,7 +431,7 @@ fn kalibr_t_imu_cam_variant_and_imu0_naming() {
     assert!(g.redundant().is_empty());
     // A file with an `imu0` block names the IMU imu0 (Kalibr's IMU naming).
     let text = "imu0:\n  update_rate: 200.0\ncam0:\n  T_cam_imu:\n  - [1, 0, 0, 0.1]\n  - [0, 1, 0, 0]\n  - [0, 0, 1, 0]\n  - [0, 0, 0, 1]\n";
-    let l = extrinsic_audit::formats::load_str(
+    let l = extrinsic_audit::internals::formats::load_str(
         text,
         Path::new("camchain-imucam.yaml"),
         &LoadOptions::default(),
@@ -447,9 +446,10 @@ fn kalibr_t_imu_cam_variant_and_imu0_naming() {
 
 #[test]
 fn a_redundant_edge_between_unconnected_frames_joins_the_tree() {
-    use extrinsic_audit::diagnostic::Location;
-    use extrinsic_audit::frames::{Edge, EdgeSet};
-    use extrinsic_audit::geometry::Transform;
+    use extrinsic_audit::internals::frames::EdgeSet;
+    use extrinsic_audit::Edge;
+    use extrinsic_audit::Location;
+    use extrinsic_audit::Transform;
     let t = |x: f64| Transform::from_translation([x, 0.0, 0.0]).expect("t");
     let e = |p: &str, c: &str, x: f64| {
         Edge::new(
@@ -509,10 +509,8 @@ fn ouster_extrinsics_names_sensors_by_their_serials_under_world() {
     assert_eq!(g.edges()[0].child, "992225001114");
 }
 
-fn ouster_load(
-    text: &str,
-) -> extrinsic_audit::diagnostic::Result<extrinsic_audit::formats::Loaded> {
-    extrinsic_audit::formats::load_str(
+fn ouster_load(text: &str) -> extrinsic_audit::Result<extrinsic_audit::internals::formats::Parsed> {
+    extrinsic_audit::internals::formats::load_str(
         text,
         Path::new("extrinsic_parameters.json"),
         &LoadOptions::default(),
@@ -630,7 +628,7 @@ fn av2_rows_are_sensor_poses_under_egovehicle() {
     let yaw = up.transform.rotation()[(1, 0)].atan2(up.transform.rotation()[(0, 0)]);
     assert!((yaw - 2.0 * (-0.005084966495157445f64).atan2(0.9999870714742982)).abs() < 1e-15);
     let text = "[\n{\"sensor_name\": \"up_lidar\", \"qw\": 1, \"qx\": 0, \"qy\": 0, \"qz\": 0, \"tx_m\": 1, \"ty_m\": 0, \"tz_m\": 1},\n{\"sensor_name\": \"up_lidar\", \"qw\": 1, \"qx\": 0, \"qy\": 0, \"qz\": 0, \"tx_m\": 1.2, \"ty_m\": 0, \"tz_m\": 1},\n{\"sensor_name\": \"down_lidar\", \"qw\": 1, \"qx\": 0, \"qy\": 0, \"qz\": 0, \"tx_m\": 1, \"ty_m\": 0, \"tz_m\": 0.5}\n]";
-    let l = extrinsic_audit::formats::load_str(
+    let l = extrinsic_audit::internals::formats::load_str(
         text,
         Path::new("egovehicle_SE3_sensor.json"),
         &LoadOptions::default(),
@@ -685,7 +683,7 @@ const AV2_FEATHER: [(&str, &str); 8] = [
     ),
 ];
 
-fn load(file: &str, opts: &LoadOptions) -> extrinsic_audit::formats::Loaded {
+fn load(file: &str, opts: &LoadOptions) -> extrinsic_audit::internals::formats::Parsed {
     load_file(&Path::new(DIR).join(file), opts).unwrap_or_else(|e| panic!("{file}: {e}"))
 }
 
@@ -742,7 +740,7 @@ fn av2_feather_matches_the_numpy_expected_transforms() {
 
 #[test]
 fn av2_feather_is_detected_by_its_magic_and_reads_one_key() {
-    use extrinsic_audit::formats::load_bytes;
+    use extrinsic_audit::internals::formats::load_bytes;
     let bytes = std::fs::read(Path::new(DIR).join(AV2_FEATHER[1].0)).expect("read");
     // No `.feather` name: the `ARROW1` magic decides.
     let l = load_bytes(
@@ -752,20 +750,16 @@ fn av2_feather_is_detected_by_its_magic_and_reads_one_key() {
     )
     .expect("magic");
     assert_eq!(l.edges[0].provenance.format, "av2-feather");
-    let opts = LoadOptions {
-        key: Some("up_lidar".into()),
-        ..LoadOptions::default()
-    };
+    let mut opts = LoadOptions::default();
+    opts.key = Some("up_lidar".into());
     let l = load_bytes(bytes.clone(), Path::new("x.feather"), &opts).expect("key");
     assert_eq!(l.edges.len(), 1);
     assert_eq!(
         (l.edges[0].parent.as_str(), l.edges[0].child.as_str()),
         ("egovehicle", "up_lidar")
     );
-    let opts = LoadOptions {
-        key: Some("no_such".into()),
-        ..LoadOptions::default()
-    };
+    let mut opts = LoadOptions::default();
+    opts.key = Some("no_such".into());
     let e = load_bytes(bytes, Path::new("x.feather"), &opts).expect_err("no row");
     assert!(e.message.contains("no row with sensor_name no_such"), "{e}");
     // A `.feather` name without the magic, and Feather version 1.
@@ -800,7 +794,7 @@ fn av2_feather_null_names_its_row() {
 /// Every prefix of a fixture is refused, never accepted or panicking.
 #[test]
 fn av2_feather_every_truncation_is_an_error() {
-    use extrinsic_audit::formats::load_bytes;
+    use extrinsic_audit::internals::formats::load_bytes;
     for (file, _) in &AV2_FEATHER[..3] {
         let bytes = std::fs::read(Path::new(DIR).join(file)).expect("read");
         for cut in 0..bytes.len() {
@@ -819,7 +813,7 @@ fn av2_feather_every_truncation_is_an_error() {
 /// changed, seeded. No panic, no abort, no hang; every copy read is sane.
 #[test]
 fn av2_feather_survives_random_byte_changes() {
-    use extrinsic_audit::formats::load_bytes;
+    use extrinsic_audit::internals::formats::load_bytes;
     use rand_core::RngCore;
     let start = std::time::Instant::now();
     let mut rng = rand_pcg::Pcg64::new(0xa2f3_0014, 0x5eed);
@@ -863,7 +857,7 @@ fn av2_feather_survives_random_byte_changes() {
 /// is an error, never a short or padded column.
 #[test]
 fn av2_feather_compressed_lengths_are_checked() {
-    use extrinsic_audit::formats::load_bytes;
+    use extrinsic_audit::internals::formats::load_bytes;
     for (file, magic) in [
         (AV2_FEATHER[2].0, [0x28u8, 0xb5, 0x2f, 0xfd]),
         (AV2_FEATHER[1].0, [0x04, 0x22, 0x4d, 0x18]),
@@ -901,10 +895,8 @@ fn av2_feather_compressed_lengths_are_checked() {
             "{file}: {e}"
         );
         // Every decompressed byte counts against the --max-file-size cap.
-        let opts = LoadOptions {
-            max_file_size: 500,
-            ..LoadOptions::default()
-        };
+        let mut opts = LoadOptions::default();
+        opts.max_file_size = 500;
         let e = load_bytes(clean.clone(), Path::new("c.feather"), &opts).expect_err("cap");
         assert_eq!(e.code, Code::Limit, "{file}: {e}");
     }
@@ -970,10 +962,8 @@ fn cli_reads_a_feather_file_and_feather_on_stdin() {
 #[test]
 fn av2_feather_key_reads_past_a_null_in_another_row() {
     // Row 3 (ring_front_right) has a null qw; --key up_lidar does not read it.
-    let opts = LoadOptions {
-        key: Some("up_lidar".into()),
-        ..LoadOptions::default()
-    };
+    let mut opts = LoadOptions::default();
+    opts.key = Some("up_lidar".into());
     let l = load("av2/av2_null_qw_row3.uncompressed.feather", &opts);
     assert_eq!(l.edges.len(), 1);
     assert_eq!(l.edges[0].child, "up_lidar");
@@ -981,7 +971,7 @@ fn av2_feather_key_reads_past_a_null_in_another_row() {
 
 #[test]
 fn av2_feather_bad_quaternion_names_the_row() {
-    use extrinsic_audit::formats::load_bytes;
+    use extrinsic_audit::internals::formats::load_bytes;
     let mut b = std::fs::read(Path::new(DIR).join(AV2_FEATHER[0].0)).expect("read");
     // Row 1 (ring_front_center): qw qx qy qz as in the JSON, set to zero.
     for v in [

@@ -6,7 +6,8 @@
 //! off the queried chain changes between messages.
 
 use crate::common::run_cli;
-use extrinsic_audit::formats::{load_file, LoadOptions};
+use extrinsic_audit::internals::formats::load_file;
+use extrinsic_audit::LoadOptions;
 use std::path::{Path, PathBuf};
 
 fn dir() -> PathBuf {
@@ -48,10 +49,8 @@ fn launch_py_helpers_and_loops_match_python() {
 #[test]
 fn launch_py_launch_configuration_in_a_loop_follows_arg() {
     let f = dir().join("helpers_loops.launch.py");
-    let o = LoadOptions {
-        xacro_args: [("base_frame".to_string(), "chassis".to_string())].into(),
-        ..LoadOptions::default()
-    };
+    let mut o = LoadOptions::default();
+    o.xacro_args = [("base_frame".to_string(), "chassis".to_string())].into();
     let l = load_file(&f, &o).unwrap();
     let parents: Vec<(&str, &str)> = l
         .edges

@@ -1,8 +1,9 @@
 //! No input makes a loader panic: every fixture and bad input, whole and
 //! truncated at several points, read as every format.
 
-use extrinsic_audit::formats::{all_formats, load_str, LoadOptions};
-use extrinsic_audit::frames::FrameGraph;
+use extrinsic_audit::internals::formats::{all_formats, load_str};
+use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::LoadOptions;
 
 #[test]
 fn no_panics_on_any_format() {
@@ -37,10 +38,8 @@ fn no_panics_on_any_format() {
             }
             let t = &text[..cut];
             for (f, _) in all_formats() {
-                let opts = LoadOptions {
-                    format: Some(f),
-                    ..Default::default()
-                };
+                let mut opts = LoadOptions::default();
+                opts.format = Some(f);
                 if let Ok(l) = load_str(t, p, &opts) {
                     let mut g = FrameGraph::new();
                     if g.add(l).is_ok() {

@@ -7,7 +7,8 @@
 //! bad-input catalogue (tests/bad_inputs/8*-xacro-*, 9*-xacro-*).
 
 use crate::common::testdata;
-use extrinsic_audit::formats::{load_file, Format, LoadOptions, Loaded};
+use extrinsic_audit::internals::formats::{load_file, Parsed};
+use extrinsic_audit::{Format, LoadOptions};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -76,19 +77,17 @@ fn case(name: &str) -> Option<Case> {
     cases().into_iter().find(|c| c.name == name)
 }
 
-fn native(c: &Case) -> Loaded {
-    let opts = LoadOptions {
-        xacro_args: c.args.clone(),
-        package_paths: c.package_paths.clone(),
-        ..LoadOptions::default()
-    };
+fn native(c: &Case) -> Parsed {
+    let mut opts = LoadOptions::default();
+    opts.xacro_args = c.args.clone();
+    opts.package_paths = c.package_paths.clone();
     load_file(&c.input, &opts).unwrap_or_else(|e| panic!("{}: {e}", c.name))
 }
 
 /// Python xacro's edges (expected/<case>.json, generate.py: parent, child,
 /// origin xyz and rpy of every joint), read back as a URDF of those joints so
 /// that both sides go through the same transform code.
-fn expected(c: &Case) -> Loaded {
+fn expected(c: &Case) -> Parsed {
     let p = Path::new(DIR)
         .join("expected")
         .join(format!("{}.json", c.name));
@@ -97,7 +96,7 @@ fn expected(c: &Case) -> Loaded {
 
 /// An edge table (`{"edges": [{"parent", "child", "xyz", "rpy"}]}`) as the
 /// URDF reader reads those joints.
-pub fn edge_table(p: &Path, name: &str) -> Loaded {
+pub fn edge_table(p: &Path, name: &str) -> Parsed {
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(p).expect("expected json")).expect("json");
     let vec3 = |e: &serde_json::Value, k: &str| {
@@ -143,8 +142,8 @@ pub fn edge_table(p: &Path, name: &str) -> Loaded {
 
 /// Largest entry difference of the 4x4 matrices, per edge keyed by
 /// (parent, child); panics when the edge sets differ.
-pub fn compare(name: &str, got: &Loaded, want: &Loaded) -> f64 {
-    let key = |l: &Loaded| -> BTreeMap<(String, String), nalgebra::Matrix4<f64>> {
+pub fn compare(name: &str, got: &Parsed, want: &Parsed) -> f64 {
+    let key = |l: &Parsed| -> BTreeMap<(String, String), nalgebra::Matrix4<f64>> {
         l.edges
             .iter()
             .map(|e| ((e.parent.clone(), e.child.clone()), e.transform.matrix4()))
@@ -186,7 +185,7 @@ fn native_expansion_equals_python_xacro_on_real_packages() {
 /// root), composed through the frame graph, equals Python xacro's to 1e-12.
 #[test]
 fn lidar_and_imu_paths_equal_python_xacro() {
-    use extrinsic_audit::frames::FrameGraph;
+    use extrinsic_audit::internals::frames::FrameGraph;
     let sensor = |f: &str| {
         let f = f.to_ascii_lowercase();
         ["lidar", "laser", "velodyne", "imu", "scan"]
@@ -314,10 +313,8 @@ fn find_uses_the_package_path() {
     let input = crate::common::vlp16_rig_xacro(dir.path());
     let e = load_file(&input, &LoadOptions::default()).expect_err("not found");
     assert!(e.message.contains("$(find velodyne_description)"), "{e}");
-    let opts = LoadOptions {
-        package_paths: vec![velodyne],
-        ..LoadOptions::default()
-    };
+    let mut opts = LoadOptions::default();
+    opts.package_paths = vec![velodyne];
     let l = load_file(&input, &opts).expect("expanded");
     let mount = l
         .edges
@@ -367,10 +364,11 @@ fn external_xacro_on_request() {
     crate::common::fake_xacro(dir.path());
     let l = load_file(
         &Path::new(DIR).join("own/lidar_rig/urdf/rig.urdf.xacro"),
-        &LoadOptions {
-            xacro_search_path: Some(dir.path().into()),
-            xacro_external: true,
-            ..LoadOptions::default()
+        &{
+            let mut o = LoadOptions::default();
+            o.xacro_search_path = Some(dir.path().into());
+            o.xacro_external = true;
+            o
         },
     )
     .expect("expanded");
@@ -392,15 +390,13 @@ fn external_xacro_failures_keep_the_cause_and_are_bounded() {
         let script = dir.path().join("xacro");
         std::fs::write(&script, format!("#!/bin/sh\n{body}\n")).expect("write");
         std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).expect("chmod");
-        load_file(
-            &input,
-            &LoadOptions {
-                xacro_search_path: Some(dir.path().into()),
-                xacro_external: true,
-                max_file_size: 1 << 16,
-                ..LoadOptions::default()
-            },
-        )
+        load_file(&input, &{
+            let mut o = LoadOptions::default();
+            o.xacro_search_path = Some(dir.path().into());
+            o.xacro_external = true;
+            o.max_file_size = 1 << 16;
+            o
+        })
         .expect_err("refused")
         .to_string()
     };
@@ -421,7 +417,7 @@ fn external_xacro_failures_keep_the_cause_and_are_bounded() {
 /// fuzz target exists; cargo-fuzz is not installed on this machine).
 #[test]
 fn mutated_xacro_never_panics_or_hangs() {
-    use extrinsic_audit::formats::load_str;
+    use extrinsic_audit::internals::formats::load_str;
     use rand_core::{RngCore, SeedableRng};
     let files: Vec<PathBuf> = [
         "own/lidar_rig/urdf/rig.urdf.xacro",
@@ -465,11 +461,9 @@ fn mutated_xacro_never_panics_or_hangs() {
         }
         let text = String::from_utf8_lossy(&text).into_owned();
         let t = std::time::Instant::now();
-        let opts = LoadOptions {
-            format: Some(Format(&extrinsic_audit::formats::xacro::SPEC)),
-            package_paths: rig_packages().unwrap_or_default(),
-            ..LoadOptions::default()
-        };
+        let mut opts = LoadOptions::default();
+        opts.format = Some(Format(&extrinsic_audit::internals::formats::xacro::SPEC));
+        opts.package_paths = rig_packages().unwrap_or_default();
         match load_str(&text, path, &opts) {
             Ok(l) => {
                 ok += 1;
@@ -566,11 +560,9 @@ fn unprefixed_xacro_elements_are_warned_about() {
   <joint name="j" type="fixed"><parent link="a"/><child link="b"/><origin xyz="0 0 1"/></joint>
 </robot>
 "#;
-    let opts = LoadOptions {
-        format: Some(Format(&extrinsic_audit::formats::xacro::SPEC)),
-        ..LoadOptions::default()
-    };
-    let l = extrinsic_audit::formats::load_str(text, Path::new("old.urdf.xacro"), &opts)
+    let mut opts = LoadOptions::default();
+    opts.format = Some(Format(&extrinsic_audit::internals::formats::xacro::SPEC));
+    let l = extrinsic_audit::internals::formats::load_str(text, Path::new("old.urdf.xacro"), &opts)
         .expect("expands");
     let w: Vec<_> = l
         .warnings

@@ -10,7 +10,8 @@
 
 use crate::common::testdata;
 use crate::formats_xacro::{compare, edge_table};
-use extrinsic_audit::formats::{load_file, LoadOptions};
+use extrinsic_audit::internals::formats::load_file;
+use extrinsic_audit::LoadOptions;
 use std::path::{Path, PathBuf};
 
 const DIR: &str = "tests/fixtures/xacro/corpus";
@@ -84,11 +85,9 @@ fn real_description_packages_expand_as_python_xacro_expands_them() {
             Some(w) => Path::new(DIR).join(w),
             None => roots[0].join(top),
         };
-        let opts = LoadOptions {
-            xacro_args: args(c.get(4).unwrap_or(&""), &roots),
-            package_paths: roots.clone(),
-            ..LoadOptions::default()
-        };
+        let mut opts = LoadOptions::default();
+        opts.xacro_args = args(c.get(4).unwrap_or(&""), &roots);
+        opts.package_paths = roots.clone();
         let want = edge_table(
             &Path::new(DIR).join("edges").join(format!("{name}.json")),
             name,

@@ -2,10 +2,11 @@
 //! composition through the common ancestor, several files in one graph, and the
 //! URDF details (joints, mimic, quat_xyzw, axes, xacro).
 
-use extrinsic_audit::diagnostic::{Code, Location};
-use extrinsic_audit::formats::{load_file, load_str, Edge, Format, LoadOptions};
-use extrinsic_audit::frames::FrameGraph;
-use extrinsic_audit::geometry::se3::Transform;
+use extrinsic_audit::internals::formats::{load_file, load_str};
+use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::Transform;
+use extrinsic_audit::{Assume, Edge, Format, LoadOptions};
+use extrinsic_audit::{Code, Location};
 use std::path::Path;
 
 fn edge(p: &str, c: &str, t: Transform, line: usize) -> Edge {
@@ -23,7 +24,7 @@ fn tr(x: f64, y: f64, z: f64) -> Transform {
     Transform::from_translation([x, y, z]).expect("t")
 }
 
-fn urdf(body: &str, opts: &LoadOptions) -> extrinsic_audit::diagnostic::Result<FrameGraph> {
+fn urdf(body: &str, opts: &LoadOptions) -> extrinsic_audit::Result<FrameGraph> {
     let text = format!("<?xml version=\"1.0\"?>\n<robot name=\"r\">\n{body}</robot>\n");
     let l = load_str(&text, Path::new("t.urdf"), opts)?;
     let mut g = FrameGraph::new();
@@ -196,8 +197,7 @@ fn urdf_quat_xyzw_follows_the_version() {
         let r = g.transform("a", "b").expect("chain").transform;
         (r, g.warnings().to_vec())
     };
-    let codes =
-        |ws: &[extrinsic_audit::diagnostic::Warning]| ws.iter().map(|w| w.code).collect::<Vec<_>>();
+    let codes = |ws: &[extrinsic_audit::Warning]| ws.iter().map(|w| w.code).collect::<Vec<_>>();
     // 1.0, by default or declared: the identity, with a warning naming the cause.
     for v in ["", " version=\"1.0\""] {
         let (r, ws) = load(v, &LoadOptions::default());
@@ -215,10 +215,8 @@ fn urdf_quat_xyzw_follows_the_version() {
     assert!((r.rotation()[(1, 0)] - 1.0).abs() < 1e-12, "a 90 deg yaw");
     assert!(ws.is_empty(), "{ws:?}");
     // --urdf-version 1.1 on a 1.0 file: applied, and the warning says ROS differs.
-    let opts = LoadOptions {
-        urdf_version: Some(extrinsic_audit::formats::urdf::UrdfVersion::V1_1),
-        ..LoadOptions::default()
-    };
+    let mut opts = LoadOptions::default();
+    opts.urdf_version = Some(extrinsic_audit::UrdfVersion::V1_1);
     let (r, ws) = load("", &opts);
     assert!((r.rotation()[(1, 0)] - 1.0).abs() < 1e-12, "a 90 deg yaw");
     assert_eq!(codes(&ws), vec![Code::AssumedConvention]);
@@ -267,13 +265,11 @@ fn xacro_in_urdf_refused_with_advice() {
 #[test]
 fn invert_key_format_and_size_options() {
     let p = Path::new("tests/fixtures/formats/fastlio_avia.yaml");
-    let l = load_file(
-        p,
-        &LoadOptions {
-            invert: true,
-            ..Default::default()
-        },
-    )
+    let l = load_file(p, &{
+        let mut o = LoadOptions::default();
+        o.invert = true;
+        o
+    })
     .expect("load");
     // The frames stay; the numbers are read as the pose of imu in lidar.
     assert_eq!(
@@ -281,26 +277,22 @@ fn invert_key_format_and_size_options() {
         ("imu", "lidar")
     );
     assert!((l.edges[0].transform.translation().x + 0.04165).abs() < 1e-15);
-    let e = load_file(
-        p,
-        &LoadOptions {
-            max_file_size: 10,
-            ..Default::default()
-        },
-    )
+    let e = load_file(p, &{
+        let mut o = LoadOptions::default();
+        o.max_file_size = 10;
+        o
+    })
     .expect_err("cap");
     assert_eq!(e.code, Code::Limit);
     // --input-format skips detection.
-    let e = load_file(
-        p,
-        &LoadOptions {
-            format: Some(Format::from_name("urdf").unwrap()),
-            ..Default::default()
-        },
-    )
+    let e = load_file(p, &{
+        let mut o = LoadOptions::default();
+        o.format = Some(Format::from_name("urdf").unwrap());
+        o
+    })
     .expect_err("not xml");
     assert!(e.message.contains("XML"), "{e}");
-    for (f, _) in extrinsic_audit::formats::all_formats() {
+    for (f, _) in extrinsic_audit::internals::formats::all_formats() {
         assert_eq!(Format::from_name(f.name()).expect("name"), f);
         assert!(!f.description().is_empty());
     }
@@ -379,14 +371,11 @@ fn kalibr_and_t_xyz_q_xyzw_keys() {
         ]
     );
     let text = "T_cam_front_lidar_t_xyz_q_xyzw: [0.1, 0.2, 0.3, 0, 0, 0, 1]\n";
-    let l = load_str(
-        text,
-        Path::new("sensor.yaml"),
-        &LoadOptions {
-            key: Some("T_cam_front_lidar_t_xyz_q_xyzw".into()),
-            ..Default::default()
-        },
-    );
+    let l = load_str(text, Path::new("sensor.yaml"), &{
+        let mut o = LoadOptions::default();
+        o.key = Some("T_cam_front_lidar_t_xyz_q_xyzw".into());
+        o
+    });
     // `cam_front` has an underscore: the name is ambiguous unless written
     // A_T_B, so it is refused unless --assume says which (e3480dc).
     let e = l.expect_err("an ambiguous --key is refused");
@@ -408,15 +397,13 @@ fn kalibr_and_t_xyz_q_xyzw_keys() {
 fn keyed_reads_stacked_millimetres_and_json_matrices() {
     let slict = Path::new("tests/fixtures/formats/slict_mcdviral_hhs.yaml");
     let whole = load_file(slict, &LoadOptions::default()).expect("slict");
-    let picked = load_file(
-        slict,
-        &LoadOptions {
-            key: Some("lidar_extr[0]".into()),
-            // The key's name gives no frames (issue 28: --assume gives them).
-            assume: extrinsic_audit::formats::Assume::parse("child-in-parent:body,lidar").ok(),
-            ..Default::default()
-        },
-    )
+    let picked = load_file(slict, &{
+        let mut o = LoadOptions::default();
+        o.key = Some("lidar_extr[0]".into());
+        // The key's name gives no frames (issue 28: --assume gives them).
+        o.assume = Assume::parse("child-in-parent:body,lidar").ok();
+        o
+    })
     .expect("slict[0]");
     assert!(
         (picked.edges[0].transform.matrix4() - whole.edges[0].transform.matrix4())
@@ -424,25 +411,21 @@ fn keyed_reads_stacked_millimetres_and_json_matrices() {
             .max()
             < 1e-15
     );
-    let e = load_file(
-        slict,
-        &LoadOptions {
-            key: Some("lidar_extr[1]".into()),
-            assume: extrinsic_audit::formats::Assume::parse("child-in-parent:body,lidar").ok(),
-            ..Default::default()
-        },
-    )
+    let e = load_file(slict, &{
+        let mut o = LoadOptions::default();
+        o.key = Some("lidar_extr[1]".into());
+        o.assume = Assume::parse("child-in-parent:body,lidar").ok();
+        o
+    })
     .expect_err("only one");
     assert!(e.message.contains("expected at least 2"), "{e}");
     // GEODE's millimetre block, picked by --key, is converted to metres.
     let geode = Path::new("tests/fixtures/formats/geode_gamma_opencv.yaml");
-    let l = load_file(
-        geode,
-        &LoadOptions {
-            key: Some("T_CamL_CamR".into()),
-            ..Default::default()
-        },
-    )
+    let l = load_file(geode, &{
+        let mut o = LoadOptions::default();
+        o.key = Some("T_CamL_CamR".into());
+        o
+    })
     .expect("mm");
     assert!((l.edges[0].transform.translation().x + 0.1884272993645592).abs() < 1e-12);
     assert!(l.warnings.iter().any(|w| w.message.contains("millimetres")));

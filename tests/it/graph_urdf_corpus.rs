@@ -5,9 +5,10 @@
 //! (`testdata::URDFS`); the kinematic trees written here are in tests/fixtures/urdf.
 
 use crate::common::testdata::{self, URDFS};
-use extrinsic_audit::diagnostic::Code;
-use extrinsic_audit::formats::{load_file, LoadOptions};
-use extrinsic_audit::frames::FrameGraph;
+use extrinsic_audit::internals::formats::load_file;
+use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::Code;
+use extrinsic_audit::LoadOptions;
 
 /// The project's own kinematic trees (names and numbers of real robots).
 const OWN: [&str; 3] = [
@@ -146,7 +147,7 @@ fn urdf_rs_cross_check() {
                 .unwrap_or_else(|| panic!("{f}: {}", j.name));
             assert_eq!(e.parent, j.parent.link);
             let o = &j.origin;
-            let t = extrinsic_audit::geometry::se3::Transform::from_rpy(
+            let t = extrinsic_audit::Transform::from_rpy(
                 [o.rpy[0], o.rpy[1], o.rpy[2]],
                 [o.xyz[0], o.xyz[1], o.xyz[2]],
             )

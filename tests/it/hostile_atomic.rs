@@ -10,7 +10,7 @@
 //! temporary `.B.json.<random>.tmp` (SIGKILL runs no clean-up): one such file
 //! is allowed and removed; any other stray file fails the test.
 
-use extrinsic_audit::pipeline::write_atomic;
+use extrinsic_audit::internals::pipeline::write_atomic;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

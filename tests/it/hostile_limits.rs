@@ -6,9 +6,10 @@
 
 use crate::common::hostile;
 
-use extrinsic_audit::degeneracy::points::parse_points;
-use extrinsic_audit::formats::{load_file, load_str, LoadOptions};
-use extrinsic_audit::frames::FrameGraph;
+use extrinsic_audit::internals::degeneracy::points::parse_points;
+use extrinsic_audit::internals::formats::{load_file, load_str};
+use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::LoadOptions;
 use hostile::{assert_quick, run_audit, write_tmp};
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -19,10 +20,8 @@ use std::time::{Duration, Instant};
 fn file_size_cap_library() {
     let dir = tempfile::tempdir().unwrap();
     let p = write_tmp(&dir, "big.yaml", &"# padding\n".repeat(1000));
-    let opts = LoadOptions {
-        max_file_size: 1000,
-        ..Default::default()
-    };
+    let mut opts = LoadOptions::default();
+    opts.max_file_size = 1000;
     let e = load_file(&p, &opts).unwrap_err().to_string();
     assert!(
         e.contains("file is 10000 bytes: expected at most 1000 bytes (the --max-file-size cap)"),
@@ -59,7 +58,7 @@ fn file_size_cap_binary() {
     let big = write_tmp(
         &dir,
         "huge.yaml",
-        &"#".repeat(extrinsic_audit::tolerances::DEFAULT_MAX_FILE_SIZE as usize + 10),
+        &"#".repeat(extrinsic_audit::internals::tolerances::DEFAULT_MAX_FILE_SIZE as usize + 10),
     );
     let out = run_audit(&["check", big.to_str().unwrap()], 20);
     assert!(matches!(out.code, Some(1) | Some(2)), "{out:?}");
@@ -296,7 +295,7 @@ fn star_urdf(n: usize) -> String {
 #[test]
 fn urdf_with_100000_links_in_a_chain() {
     let text = chain_urdf(100_000);
-    assert!(text.len() < extrinsic_audit::tolerances::DEFAULT_MAX_FILE_SIZE as usize);
+    assert!(text.len() < extrinsic_audit::internals::tolerances::DEFAULT_MAX_FILE_SIZE as usize);
     let t = Instant::now();
     let loaded = load_str(&text, Path::new("chain.urdf"), &LoadOptions::default()).unwrap();
     assert_eq!(loaded.edges.len(), 100_000);

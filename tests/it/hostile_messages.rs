@@ -41,7 +41,7 @@ fn a_million_column_csv_header_gives_a_bounded_message() {
     let p = write_tmp(&d, "wide.csv", &format!("{}\n1,2,3\n", header.join(",")));
     let o = run_audit(&["degeneracy", p.to_str().unwrap()], 20);
     assert_eq!(o.code, Some(2));
-    let max = extrinsic_audit::tolerances::MAX_MESSAGE_CHARS;
+    let max = extrinsic_audit::internals::tolerances::MAX_MESSAGE_CHARS;
     assert!(o.stderr.len() < max + 200, "{} bytes", o.stderr.len());
     let head: String = o.stderr.chars().take(300).collect();
     assert!(o.stderr.contains("wide.csv:1"), "{head}");

@@ -20,18 +20,20 @@
 
 use crate::common::hostile;
 
-use extrinsic_audit::diagnostic::Code;
-use extrinsic_audit::formats::{load_str, LoadOptions, Loaded};
-use extrinsic_audit::geometry::se3::{rpy_to_matrix, QuatOrder, Transform};
-use extrinsic_audit::tolerances::MAX_TRANSLATION_M;
+use extrinsic_audit::internals::formats::{load_str, Parsed};
+use extrinsic_audit::internals::geometry::se3::rpy_to_matrix;
+use extrinsic_audit::internals::tolerances::MAX_TRANSLATION_M;
+use extrinsic_audit::Code;
+use extrinsic_audit::LoadOptions;
+use extrinsic_audit::{QuatOrder, Transform};
 use hostile::{run_audit, write_tmp};
 use std::path::Path;
 
-fn load(name: &str, text: &str) -> Result<Loaded, String> {
+fn load(name: &str, text: &str) -> Result<Parsed, String> {
     load_str(text, Path::new(name), &LoadOptions::default()).map_err(|e| e.to_string())
 }
 
-fn codes(l: &Loaded) -> Vec<Code> {
+fn codes(l: &Parsed) -> Vec<Code> {
     l.warnings.iter().map(|w| w.code).collect()
 }
 

@@ -5,7 +5,7 @@
 //! with a scaled norm; coordinates beyond `MAX_COORDINATE` are refused
 //! (tests/points_regressions.rs checks the messages).
 
-use extrinsic_audit::degeneracy::points::parse_points;
+use extrinsic_audit::internals::degeneracy::points::parse_points;
 use std::time::{Duration, Instant};
 
 fn regressions() -> Vec<(String, Vec<u8>)> {

@@ -5,15 +5,14 @@
 //! Run under `ulimit -v 4000000` while changing the reader, so a regression
 //! fails instead of swapping the machine.
 
-use extrinsic_audit::formats::{load_str, Format, LoadOptions};
+use extrinsic_audit::internals::formats::load_str;
 use extrinsic_audit::{Code, Error};
+use extrinsic_audit::{Format, LoadOptions};
 use std::path::Path;
 
 fn read_as(format: &str, text: &str) -> Result<usize, Error> {
-    let o = LoadOptions {
-        format: Some(Format::from_name(format).unwrap()),
-        ..Default::default()
-    };
+    let mut o = LoadOptions::default();
+    o.format = Some(Format::from_name(format).unwrap());
     load_str(text, Path::new("hostile.launch.py"), &o).map(|l| l.edges.len())
 }
 
@@ -131,4 +130,75 @@ fn roslaunch_eval_concatenation_past_the_cap_is_refused() {
     let e = read_as("launch-xml", xml).expect_err("refused");
     assert!(e.message.contains("more than 1048576"), "{}", e.message);
     assert_eq!(e.location.line, Some(2), "{}", e.message);
+}
+
+/// A static_transform_publisher Node whose child frame is `child`.
+fn stp_node(child: &str) -> String {
+    format!(
+        "Node(package='tf2_ros', executable='static_transform_publisher', \
+         arguments=['0', '0', '1', '0', '0', '0', 'base', {child}])\n"
+    )
+}
+
+#[test]
+fn values_nested_past_the_depth_cap_are_refused_by_name() {
+    // 10^5 levels built in a loop (the cap, tolerances.rs MAX_PY_VALUE_DEPTH,
+    // is 100): lists, tuples and dicts, each refused where the value that
+    // passes 100 levels is evaluated, line 3. Tuples and dicts were copied
+    // whole at each step before (quadratic: still running after a minute),
+    // and printing or comparing a 10^5-deep value recursed 10^5 frames.
+    let want = "a value nested more than 100 levels deep";
+    for (seed, wrap) in [
+        ("[]", "[l[-1]]"),
+        ("()", "(l[-1],)"),
+        ("{}", "{'k': l[-1]}"),
+    ] {
+        let py = format!(
+            "l = [{seed}]\nfor i in range(100000):\n    l.append({wrap})\nx = str(l[-1]) + {}",
+            stp_node("'lidar'")
+        );
+        let e = refused(&py, 3, want);
+        assert_eq!(e.code, Code::Limit, "{wrap}");
+    }
+    // From a literal the parser's nesting limit refuses first, by name.
+    let deep = format!("x = {}{}\n", "[".repeat(100_000), "]".repeat(100_000));
+    refused(&deep, 1, "nested more than 32 deep");
+    // The boundary: `l` is 100 deep after 98 steps (accepted, the Node
+    // read), 101 after 99 (refused).
+    let at = |n: usize| {
+        format!(
+            "l = [[]]\nfor i in range({n}):\n    l.append([l[-1]])\nx = l\n{}",
+            stp_node("'lidar'")
+        )
+    };
+    assert_eq!(read_as("launch-py", &at(98)).expect("100 levels"), 1);
+    refused(&at(99), 4, want);
+    // A list holding itself is cyclic, not deep: read as CPython does.
+    let cyc = format!(
+        "a = []\na.append(a)\nc = 'lidar' if str(a) == '[[...]]' else 'x'\n{}",
+        stp_node("c")
+    );
+    assert_eq!(read_as("launch-py", &cyc).expect("a cyclic list"), 1);
+}
+
+#[test]
+fn a_character_that_is_no_letter_is_refused_not_looped_on() {
+    // The xacro lexer's fault (found by fuzzing), here too: `€` stopped the
+    // name lexer without moving it (900 MB in 10 s).
+    for py in [
+        "x = €\n",
+        "x = [1, \u{fffd}]\n",
+        "def f():\n    return 1 + ¤\n",
+    ] {
+        let e = read_as("launch-py", py).expect_err("refused");
+        assert!(
+            e.message.contains("invalid character"),
+            "{py:?}: {}",
+            e.message
+        );
+    }
+    assert_eq!(
+        read_as("launch-py", &format!("é = 'lidar'\n{}", stp_node("é"))).unwrap(),
+        1
+    );
 }

@@ -10,7 +10,7 @@
 #![cfg(unix)]
 
 use crate::check_gate::run_in;
-use extrinsic_audit::pipeline::write_atomic;
+use extrinsic_audit::internals::pipeline::write_atomic;
 use std::os::unix::fs::symlink;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

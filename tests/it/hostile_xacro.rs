@@ -218,3 +218,22 @@ fn check_notes_macro_only_files_and_names_duplicate_packages() {
     );
     assert!(all.contains("one") && all.contains("two"), "{all}");
 }
+
+#[test]
+fn a_character_that_is_no_letter_is_refused_not_looped_on() {
+    // Found by `fuzz/run.sh 300 xacro` (fuzz/regressions/xacro/): a
+    // non-ASCII character that is not alphanumeric (`€`, and the U+FFFD a
+    // lossy decoding leaves) entered the name branch of the expression
+    // lexer, matched nothing and pushed empty names without moving: 2 GB in
+    // 20 s. Python: "invalid character".
+    for ch in ["€", "\u{fffd}", "[x * 2 for \u{fffd} 2]"] {
+        refused(&robot("", &format!("${{{ch}}}")), "unexpected character");
+    }
+    // A letter outside ASCII is still a name, as in Python.
+    refused(&robot("", "${é}"), "name 'é' is not defined");
+    // The fuzzer's input itself, decoded as the fuzz target decodes it.
+    let raw =
+        std::fs::read("fuzz/regressions/xacro/timeout-765420b09e17ef9a19c65bf1dda1056f70c34bac")
+            .unwrap();
+    refused(&String::from_utf8_lossy(&raw[1..]), "unexpected character");
+}

@@ -4,7 +4,7 @@
 use crate::common::run_cli;
 use serde_json::Value;
 
-fn schema(name: &str) -> jsonschema::Validator {
+pub fn schema(name: &str) -> jsonschema::Validator {
     let path = format!(
         "{}/docs/schemas/{name}.schema.json",
         env!("CARGO_MANIFEST_DIR")
@@ -74,12 +74,12 @@ fn json_outputs_match_the_committed_schemas() {
         "degeneracy",
         &[
             "degeneracy",
-            "tests/fixtures/detector/scans/ground_crop.pcd",
+            "tests/fixtures/detector/tunnel_small_le.ply",
             "--estimate-normals",
             "--voxel",
             "0.1",
             "--normal-radius",
-            "0.5",
+            "1",
             "--min-planarity",
             "0.2",
             "--show-matrices",
@@ -91,10 +91,12 @@ fn json_outputs_match_the_committed_schemas() {
         "degeneracy-sweep",
         &[
             "sweep",
-            "tests/fixtures/detector/scans/ground_crop.pcd",
+            "tests/fixtures/detector/tunnel_small_le.ply",
             "--estimate-normals",
             "--voxel",
             "0.1",
+            "--normal-radius",
+            "1",
             "--rig",
             "tests/fixtures/urdf/anymal_c_lidar.urdf",
             "--from",

@@ -3,6 +3,7 @@
 //! graph, `cli_*` the binary, `hostile_*` hostile input, `detector_*`,
 //! `points_*` and `scene_*` the degeneracy wing), helpers in `common`.
 
+mod architecture;
 mod calibrations;
 mod check_fleet;
 mod check_gate;
@@ -60,6 +61,8 @@ mod readme;
 mod rig_toml;
 mod run_bags;
 mod run_fixtures;
+mod run_outputs;
+mod run_real;
 mod scene_simulate;
 mod scene_tunnel;
 mod snapshots;

@@ -267,3 +267,53 @@ fn output_never_replaces_an_input_a_hard_link_to_one_or_a_directory() {
         .collect();
     assert_eq!(names.len(), 2, "no file left behind: {names:?}");
 }
+
+#[test]
+fn a_run_is_one_message_per_scan_streamed_to_its_output_never_over_the_bag() {
+    let d = tempfile::tempdir().unwrap();
+    let bag = d.path().join("run.mcap");
+    std::fs::copy("tests/fixtures/run/run.mcap", &bag).unwrap();
+    let before = std::fs::read(&bag).unwrap();
+    let b = bag.to_str().unwrap();
+    let out = d.path().join("timeline.mcap");
+    let o = out.to_str().unwrap();
+    let lines = d.path().join("scans.jsonl");
+    let l = lines.to_str().unwrap();
+    let (code, stdout, err) = run_cli(&["run", b, "--format", "mcap", "--output", o, "--jsonl", l]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(stdout, "", "the MCAP file is the output");
+    let bytes = std::fs::read(&out).unwrap();
+    let mut stamps = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        if m.channel.topic == "/audit/run" {
+            let schema = m.channel.schema.as_ref().unwrap();
+            assert_eq!(schema.name, "extrinsic_audit.RunScan");
+            let ours = std::fs::read("docs/schemas/mcap/RunScan.json").unwrap();
+            assert_eq!(&*schema.data, &ours[..]);
+            let v: Value = serde_json::from_slice(&ours).unwrap();
+            let msg: Value = serde_json::from_slice(&m.data).unwrap();
+            assert!(jsonschema::validator_for(&v).unwrap().is_valid(&msg));
+            stamps.push(m.log_time);
+        }
+    }
+    let want: Vec<u64> = std::fs::read_to_string(&lines)
+        .unwrap()
+        .lines()
+        .map(|x| {
+            let v: Value = serde_json::from_str(x).unwrap();
+            v["stamp_ns"].as_u64().unwrap()
+        })
+        .collect();
+    assert_eq!(stamps.len(), 8);
+    assert_eq!(stamps, want);
+    // Never over the bag (nor without --output: the file goes back over
+    // its chunks, which a pipe cannot).
+    let (code, _, err) = run_cli(&["run", b, "--format", "mcap", "--output", b]);
+    assert_eq!(code, 2);
+    assert!(err.contains("refusing to write over an input"), "{err}");
+    let (code, _, err) = run_cli(&["run", b, "--format", "mcap"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("give --output FILE.mcap"), "{err}");
+    assert_eq!(std::fs::read(&bag).unwrap(), before);
+}

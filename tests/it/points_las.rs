@@ -4,7 +4,7 @@
 //! tests/fixtures/detector/scans/make_reference_las.py (laspy, lazrs, numpy).
 
 use crate::common::{audit, nums, rel, run_cli};
-use extrinsic_audit::degeneracy::points::{parse_points, read_xyz, PointFormat};
+use extrinsic_audit::internals::degeneracy::points::{parse_points, read_xyz, PointFormat};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -12,8 +12,8 @@ fn dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/detector/scans")
 }
 
-/// A scan: a real one from the test-data folder (`None` where absent), else
-/// the ground crop in dir().
+/// A scan: a real one from the test-data folder, or the weighted ground crop
+/// made from one at run time (`None` where absent).
 fn scan(file: &str) -> Option<PathBuf> {
     use crate::common::testdata::{file as real, AUTZEN_LAS, AUTZEN_LAZ, GICP_SCAN, LAS_1_4};
     match file {
@@ -21,7 +21,11 @@ fn scan(file: &str) -> Option<PathBuf> {
         "autzen.laz" => real(AUTZEN_LAZ),
         "32-1-472-150-76.laz" => real(LAS_1_4),
         "251370668.pcd" => real(GICP_SCAN),
-        _ => Some(dir().join(file)),
+        "ground_crop.pcd" => crate::common::derived::ground_crop().map(|c| c.pcd.clone()),
+        "ground_crop_weighted.csv" => {
+            crate::common::derived::ground_crop().map(|c| c.weighted_csv.clone())
+        }
+        other => panic!("no scan named {other}"),
     }
 }
 
@@ -182,10 +186,10 @@ fn an_airborne_laz_strip_in_utm_matches_numpy() {
 #[test]
 fn a_scan_pair_honours_the_source_weights() {
     // The weighted ground crop against the full scan it was cut from.
-    let d = dir();
+    let source = scan!("ground_crop_weighted.csv");
     let r = json(&[
         "degeneracy",
-        d.join("ground_crop_weighted.csv").to_str().unwrap(),
+        source.to_str().unwrap(),
         "--target",
         scan!("251370668.pcd").to_str().unwrap(),
         "--estimate-normals",
@@ -322,8 +326,8 @@ fn every_byte_of_a_las_or_laz_header_damaged_is_an_answer_not_a_panic() {
 
 #[test]
 fn class_keeps_the_ground_points_like_laspy() {
-    use extrinsic_audit::degeneracy::points::read_xyz_classes;
-    use extrinsic_audit::progress::NoProgress;
+    use extrinsic_audit::internals::degeneracy::points::read_xyz_classes;
+    use extrinsic_audit::NoProgress;
     let e = expected();
     // Both decoders (las for LAS, laz for LAZ) read the classification.
     for (file, key) in [("autzen.las", "autzen_las"), ("autzen.laz", "autzen_laz")] {
@@ -365,7 +369,7 @@ fn class_keeps_the_ground_points_like_laspy() {
         );
     }
     // Not a LAS file, or no --estimate-normals: a usage error.
-    let pcd = dir().join("ground_crop.pcd");
+    let pcd = scan!("ground_crop.pcd");
     for args in [
         vec![
             "degeneracy",

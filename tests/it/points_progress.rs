@@ -5,13 +5,13 @@
 
 use crate::common::run_cli;
 use crate::widths::{have_pty, pty_run, pty_run_stdout};
-use extrinsic_audit::degeneracy::normals::{estimate_normals_progress, NormalParams};
-use extrinsic_audit::degeneracy::points::{
+use extrinsic_audit::internals::degeneracy::normals::{estimate_normals_progress, NormalParams};
+use extrinsic_audit::internals::degeneracy::points::{
     accumulate_file_with, read_xyz_with, write_pcd, write_ply, Encoding,
 };
-use extrinsic_audit::pipeline::detector::{read_scan, ScanOptions};
-use extrinsic_audit::progress::{NoProgress, Progress, ProgressFactory};
-use extrinsic_audit::tolerances::PROGRESS_MIN_BYTES;
+use extrinsic_audit::internals::pipeline::detector::{read_scan, ScanOptions};
+use extrinsic_audit::internals::tolerances::PROGRESS_MIN_BYTES;
+use extrinsic_audit::{NoProgress, Progress, ProgressFactory};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 

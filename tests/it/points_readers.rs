@@ -1,10 +1,10 @@
 //! Point-file readers and `audit degeneracy`.
 
 use crate::common::run_cli;
-use extrinsic_audit::degeneracy::points::*;
-use extrinsic_audit::degeneracy::scene::SceneRng;
-use extrinsic_audit::geometry::se3::Transform;
-use extrinsic_audit::pipeline::detector::degeneracy;
+use extrinsic_audit::internals::degeneracy::points::*;
+use extrinsic_audit::internals::degeneracy::scene::SceneRng;
+use extrinsic_audit::internals::pipeline::detector::degeneracy;
+use extrinsic_audit::Transform;
 use std::path::{Path, PathBuf};
 
 fn fixture(name: &str) -> PathBuf {
@@ -126,7 +126,7 @@ fn degeneracy_json(
     t: &Transform,
     tau: f64,
     ells: &[f64],
-) -> extrinsic_audit::diagnostic::Result<serde_json::Value> {
+) -> extrinsic_audit::Result<serde_json::Value> {
     let r = degeneracy(d, t, tau, ells)?;
     Ok(serde_json::to_value(&r).unwrap())
 }

@@ -3,8 +3,8 @@
 //! normal; coordinates near 1e200 overflowed H and M) and now has a defined
 //! outcome.
 
-use extrinsic_audit::degeneracy::points::read_points;
-use extrinsic_audit::tolerances::MAX_COORDINATE;
+use extrinsic_audit::internals::degeneracy::points::read_points;
+use extrinsic_audit::internals::tolerances::MAX_COORDINATE;
 use std::path::Path;
 
 const DIR: &str = "fuzz/regressions/points";

@@ -4,12 +4,14 @@
 //! with the scalar reference, the frame change by congruence agrees with
 //! re-expressing the points, and `audit degeneracy` holds no cloud in memory.
 
-use extrinsic_audit::degeneracy::points::*;
-use extrinsic_audit::degeneracy::scene::{
+use extrinsic_audit::internals::degeneracy::points::*;
+use extrinsic_audit::internals::degeneracy::scene::{
     random_cloud, synthesize, Preprocess, SceneKind, SceneRng,
 };
-use extrinsic_audit::degeneracy::{reexpress, rel_diff, Accumulator, Assembly, Kernel, BLOCK};
-use extrinsic_audit::geometry::se3::Transform;
+use extrinsic_audit::internals::degeneracy::{
+    reexpress, rel_diff, Accumulator, Assembly, Kernel, BLOCK,
+};
+use extrinsic_audit::Transform;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 

@@ -1,7 +1,7 @@
 //! README.md stays true to the tool: every input format's row carries the
 //! loader's own description; the set-up block holds the two commands .ci/run runs.
 
-use extrinsic_audit::formats::all_formats;
+use extrinsic_audit::internals::formats::all_formats;
 
 /// Lines that print rounding noise (e.g. `1.1e-16`) may differ between CPUs
 /// (FMA or not); the README shows one run, the test skips them.

@@ -1,9 +1,10 @@
 //! The rig TOML parser on malformed and edge-case input: every error names the
 //! file and line, says what was expected and what was found, and nothing panics.
 
-use extrinsic_audit::diagnostic::Code;
-use extrinsic_audit::formats::rig_toml::parse;
-use extrinsic_audit::formats::{LoadOptions, Loaded};
+use extrinsic_audit::internals::formats::rig_toml::parse;
+use extrinsic_audit::internals::formats::Parsed;
+use extrinsic_audit::Code;
+use extrinsic_audit::LoadOptions;
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -32,13 +33,13 @@ fn path() -> &'static Path {
     Path::new("calibrations/bad-rig.toml")
 }
 
-fn run(text: &str) -> Result<Loaded, extrinsic_audit::diagnostic::Error> {
+fn run(text: &str) -> Result<Parsed, extrinsic_audit::Error> {
     parse(text, path(), &LoadOptions::default())
 }
 
 /// The error, its `file:line` prefix, and checks that the message says what
 /// was expected.
-fn err(text: &str, line: usize, needles: &[&str]) -> extrinsic_audit::diagnostic::Error {
+fn err(text: &str, line: usize, needles: &[&str]) -> extrinsic_audit::Error {
     let e = run(text).expect_err("expected an error");
     let shown = e.to_string();
     let prefix = format!("calibrations/bad-rig.toml:{line}");
@@ -311,10 +312,8 @@ fn millimetres_and_invert() {
 
 #[test]
 fn cli_invert_and_key_are_ignored_with_a_warning() {
-    let opts = LoadOptions {
-        invert: true,
-        ..LoadOptions::default()
-    };
+    let mut opts = LoadOptions::default();
+    opts.invert = true;
     let l = parse(&with_transform(GOOD), path(), &opts).unwrap();
     assert_eq!(l.edges[0].transform.translation()[0], 0.1, "not inverted");
     assert!(l.warnings.iter().any(|w| w.code == Code::Ignored));

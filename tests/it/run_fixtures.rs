@@ -20,8 +20,9 @@ fn expected() -> &'static Value {
     })
 }
 
-/// `audit run ARGS --jsonl F`: the exit code, stderr and the records of F.
-pub fn run_records(args: &[&str]) -> (i32, String, Vec<Value>) {
+/// `audit run ARGS --jsonl F` in the fixtures' folder: the output and the
+/// records of F.
+pub fn run_with_records(args: &[&str]) -> (std::process::Output, Vec<Value>) {
     let dir = tempfile::tempdir().unwrap();
     let jl = dir.path().join("r.jsonl");
     let out = audit()
@@ -37,6 +38,12 @@ pub fn run_records(args: &[&str]) -> (i32, String, Vec<Value>) {
         .lines()
         .map(|l| serde_json::from_str(l).expect("a JSON line"))
         .collect();
+    (out, recs)
+}
+
+/// `audit run ARGS --jsonl F`: the exit code, stderr and the records of F.
+pub fn run_records(args: &[&str]) -> (i32, String, Vec<Value>) {
+    let (out, recs) = run_with_records(args);
     let err = String::from_utf8_lossy(&out.stderr).into_owned();
     (out.status.code().unwrap_or(-1), err, recs)
 }
@@ -110,6 +117,16 @@ fn assert_label_changes(rec: &Value, frame: &str, want: &Value, what: &str) {
         assert_eq!(got, want, "{what}, {frame}, {key}: label changes");
     }
 }
+
+/// The KITTI sequence's pairs with three poses for five scans.
+pub const SHORT_POSES: [&str; 6] = [
+    "kitti_seq",
+    "--pairs",
+    "--poses",
+    "kitti_seq/poses_short.txt",
+    "--poses-format",
+    "kitti-lidar",
+];
 
 const BODY: [&str; 4] = ["base_link", "imu_link", "rear_axle", "trailer_axle"];
 
@@ -374,14 +391,7 @@ fn kitti_pairs_agree_across_the_three_pose_files() {
     }
     // Three poses for five scans: the pairs without a pose are skipped by
     // name (never paired with a guessed pose), the others reported.
-    let (code, err, recs) = run_records(&[
-        "kitti_seq",
-        "--pairs",
-        "--poses",
-        "kitti_seq/poses_short.txt",
-        "--poses-format",
-        "kitti-lidar",
-    ]);
+    let (code, err, recs) = run_records(&SHORT_POSES);
     assert_eq!(code, 0, "{err}");
     let ok: Vec<_> = recs
         .iter()

@@ -2,10 +2,10 @@
 //! another module's; see `load_transform`).
 
 use crate::common::run_cli;
-use extrinsic_audit::analysis::Family;
-use extrinsic_audit::degeneracy::scene::SceneKind;
-use extrinsic_audit::geometry::se3::Transform;
-use extrinsic_audit::pipeline::detector::{simulate, SimulateParams};
+use extrinsic_audit::internals::degeneracy::scene::SceneKind;
+use extrinsic_audit::internals::pipeline::detector::{simulate, SimulateParams};
+use extrinsic_audit::Family;
+use extrinsic_audit::Transform;
 
 fn args(scene: &str) -> SimulateParams {
     SimulateParams {

@@ -1,10 +1,10 @@
 //! Synthetic scenes and `audit tunnel`.
 
 use crate::common::run_cli;
-use extrinsic_audit::degeneracy::scene::*;
-use extrinsic_audit::degeneracy::{analyse, Assembly, MetricRule};
-use extrinsic_audit::pipeline::detector::{tunnel, TunnelParams};
-use extrinsic_audit::tolerances::DEFAULT_TAU;
+use extrinsic_audit::internals::degeneracy::scene::*;
+use extrinsic_audit::internals::degeneracy::{analyse, Assembly, MetricRule};
+use extrinsic_audit::internals::pipeline::detector::{tunnel, TunnelParams};
+use extrinsic_audit::internals::tolerances::DEFAULT_TAU;
 
 fn args() -> TunnelParams {
     TunnelParams {

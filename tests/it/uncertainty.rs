@@ -3,12 +3,12 @@
 //! and the three-way pitch verdict.
 
 use crate::common::run_cli;
-use extrinsic_audit::formats::LoadOptions;
-use extrinsic_audit::geometry::uncertainty::{
+use extrinsic_audit::internals::geometry::uncertainty::{
     compose_steps, literal_half_unit, outputs, propagate, tuple_half_units, Step,
 };
-use extrinsic_audit::geometry::UserSigma;
-use extrinsic_audit::pipeline;
+use extrinsic_audit::internals::pipeline;
+use extrinsic_audit::LoadOptions;
+use extrinsic_audit::UserSigma;
 use nalgebra::{Matrix6, Vector6};
 use rand_core::{RngCore, SeedableRng};
 use std::path::PathBuf;
@@ -207,7 +207,7 @@ fn first_order_matches_monte_carlo_on_five_shipped_rigs() {
         "oxford-spires-hesai",
     ] {
         let path = PathBuf::from(format!("calibrations/{rig}.toml"));
-        let loaded = pipeline::load(&[path], &LoadOptions::default(), &[]).unwrap();
+        let loaded = pipeline::load(&[path], &LoadOptions::default()).unwrap();
         let (from, to) = loaded.frame_pair(None, None).unwrap();
         let chain = loaded.graph.transform(&from, &to).unwrap();
         let steps: Vec<Step> = chain
@@ -258,8 +258,8 @@ fn first_order_matches_monte_carlo_on_five_shipped_rigs() {
 
 #[test]
 fn chain_covariance_matches_brute_force_with_inverted_steps() {
-    use extrinsic_audit::geometry::uncertainty::{chain_covariance, tangent_between};
-    use extrinsic_audit::geometry::Transform;
+    use extrinsic_audit::internals::geometry::uncertainty::{chain_covariance, tangent_between};
+    use extrinsic_audit::Transform;
     let t = |rpy: [f64; 3], d: [f64; 3]| Transform::from_rpy(rpy, d).unwrap();
     let cov = |k: f64| {
         Matrix6::from_fn(|i, j| {
@@ -375,10 +375,10 @@ fn calibrations_readme_lists_every_rig_verdict() {
 
 #[test]
 fn closed_form_rpy_covariance_matches_the_constructor() {
-    use extrinsic_audit::geometry::uncertainty::{
+    use extrinsic_audit::internals::geometry::uncertainty::{
         rounding_covariance, rounding_std, rpy_covariance,
     };
-    use extrinsic_audit::geometry::Transform;
+    use extrinsic_audit::Transform;
     let (rpy, d) = ([0.4, -1.1, 2.7], [0.12, -0.5, 0.03]);
     let halves = [5e-4, 5e-3, 5e-5, 5e-5, 5e-4, 5e-6];
     let params = [d[0], d[1], d[2], rpy[0], rpy[1], rpy[2]];

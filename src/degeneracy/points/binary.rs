@@ -2,8 +2,8 @@
 //! monomorphic fast paths for the usual all-`double` and all-`float` records.
 
 use super::check::Checker;
+use super::record::Sink;
 use super::source::Source;
-use super::Sink;
 use crate::bytes::{get_at, Endian};
 use crate::diagnostic::{Error, Result};
 use std::io::Read;

@@ -3,7 +3,7 @@
 //! [`MAX_COORDINATE`], a non-zero normal (renormalised when off unit length by
 //! more than [`NORMAL_UNIT_TOL`]), a non-negative finite weight.
 
-use super::Sink;
+use super::record::Sink;
 use crate::degeneracy::BLOCK;
 use crate::diagnostic::{Code, Error, Warning};
 use crate::tolerances::{MAX_COORDINATE, NORMAL_UNIT_TOL, NORMAL_ZERO_TOL};

@@ -1,8 +1,8 @@
 //! CSV `x,y,z,nx,ny,nz[,w]`, line by line.
 
 use super::check::{Checker, Stats};
+use super::record::{column_role, missing_roles, PointFormat, Sink};
 use super::source::Source;
-use super::{column_role, missing_roles, PointFormat, Sink};
 use crate::diagnostic::{Error, Result};
 use std::io::Read;
 

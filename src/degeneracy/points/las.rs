@@ -24,7 +24,7 @@
 //!   Point-wise LAZ (LASzip 1.x, no chunk table) is decoded unchecked.
 
 use super::check::{Checker, Stats};
-use super::{PointFormat, Sink};
+use super::record::{PointFormat, Sink};
 use crate::bytes::{read_at, Endian, Primitive};
 use crate::diagnostic::{Error, Result};
 use crate::progress::Progress;

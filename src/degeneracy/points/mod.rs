@@ -43,14 +43,17 @@
 mod binary;
 mod check;
 mod csv;
+mod decode;
 mod las;
 mod lzf;
 mod parallel;
 mod pcd;
 mod ply;
+mod record;
 mod source;
 mod write;
 
+pub use record::PointFormat;
 pub use write::{write_csv, write_pcd, write_ply, Encoding};
 
 use crate::bytes::LAS_MAGIC;
@@ -60,6 +63,8 @@ use crate::geometry::se3::Transform;
 use crate::progress::{Counted, NoProgress, Progress};
 use crate::tolerances::MAX_POINT_FILE_SIZE;
 use check::Stats;
+use decode::{decode, detect, las_without_normals, Kind};
+use record::Sink;
 use source::Source;
 use std::fs::File;
 use std::io::Read;
@@ -67,46 +72,6 @@ use std::path::Path;
 
 /// Cap on the capacity reserved from a header's point count.
 const MAX_PREALLOC: usize = 1 << 20;
-
-/// Which reader was used.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PointFormat {
-    /// CSV `x,y,z,nx,ny,nz[,w]`, with or without a header.
-    Csv,
-    /// PLY, ascii.
-    PlyAscii,
-    /// PLY, binary little-endian.
-    PlyBinaryLittleEndian,
-    /// PLY, binary big-endian.
-    PlyBinaryBigEndian,
-    /// PCD, ascii.
-    PcdAscii,
-    /// PCD, binary.
-    PcdBinary,
-    /// PCD, binary_compressed (LZF).
-    PcdBinaryCompressed,
-    /// LAS (uncompressed).
-    Las,
-    /// LAZ (LASzip-compressed LAS).
-    Laz,
-}
-
-impl PointFormat {
-    /// The name reports print (`ply-binary-little-endian`).
-    pub fn name(self) -> &'static str {
-        match self {
-            PointFormat::Csv => "csv",
-            PointFormat::PlyAscii => "ply-ascii",
-            PointFormat::PlyBinaryLittleEndian => "ply-binary-little-endian",
-            PointFormat::PlyBinaryBigEndian => "ply-binary-big-endian",
-            PointFormat::PcdAscii => "pcd-ascii",
-            PointFormat::PcdBinary => "pcd-binary",
-            PointFormat::PcdBinaryCompressed => "pcd-binary-compressed",
-            PointFormat::Las => "las",
-            PointFormat::Laz => "laz",
-        }
-    }
-}
 
 /// Points with unit normals and optional weights.
 #[derive(Debug, Clone, PartialEq)]
@@ -132,22 +97,6 @@ pub struct Accumulated {
     pub format: PointFormat,
     /// Named warnings (renormalised normals, skipped records, ...).
     pub warnings: Vec<Warning>,
-}
-
-/// Where the readers put valid points.
-pub(crate) trait Sink {
-    /// Called once, after the header: whether there are weights, and a
-    /// (capped, untrusted) size hint.
-    fn begin(&mut self, weighted: bool, hint: usize);
-    fn point(&mut self, p: &[f64; 3], n: &[f64; 3], w: f64);
-    /// Valid points in bulk (weights 1 when the file has none).
-    fn points(&mut self, p: &[[f64; 3]], n: &[[f64; 3]], w: &[f64]) {
-        for ((p, n), w) in p.iter().zip(n).zip(w) {
-            self.point(p, n, *w);
-        }
-    }
-    /// Every `BLOCK` records.
-    fn end_block(&mut self);
 }
 
 /// Collects the points.
@@ -305,13 +254,6 @@ where
     Ok(sink.into_data(format, &stats))
 }
 
-/// LAS records have no normals: the same refusal as a PCD without them.
-fn las_without_normals() -> Error {
-    Error::parse(
-        "LAS: expected points with normals, LAS records have none (missing normal_x normal_y normal_z)",
-    )
-}
-
 /// Parse a point file held in memory.
 pub fn parse_points(bytes: &[u8]) -> Result<PointData> {
     read_from(bytes)
@@ -379,6 +321,50 @@ pub fn accumulate_reader<R: Read>(r: R, frame: Option<&Transform>) -> Result<Acc
     Ok(finish(&acc, format, stats, frame))
 }
 
+/// Points held by the caller: `n` records `[x, y, z, nx, ny, nz, w]` from
+/// `record(i)`, checked as a file's records are (a non-finite point skipped
+/// with a warning, a normal off unit length renormalised, a coordinate out of
+/// bounds, a zero normal or a bad weight an error naming `point i`, counted
+/// from 0), summed into `H` and `M` re-expressed in `frame` as
+/// [`accumulate_file`] does. `weighted`: `w` is a weight (else 1).
+pub fn accumulate_records(
+    n: usize,
+    record: impl Fn(usize) -> [f64; 7],
+    weighted: bool,
+    frame: Option<&Transform>,
+) -> Result<Accumulated> {
+    let mut acc = Accumulator::new();
+    let stats = check_records(&mut acc, n, record, weighted)?;
+    Ok(finish(&acc, PointFormat::Memory, stats, frame))
+}
+
+/// The records of [`accumulate_records`], checked the same way and held (a
+/// raw scan's records carry the placeholder normal `+z`, as [`read_xyz`]
+/// reads them).
+pub fn collect_records(
+    n: usize,
+    record: impl Fn(usize) -> [f64; 7],
+    weighted: bool,
+) -> Result<PointData> {
+    let mut sink = Collect::default();
+    let stats = check_records(&mut sink, n, record, weighted)?;
+    Ok(sink.into_data(PointFormat::Memory, &stats))
+}
+
+fn check_records<S: Sink>(
+    sink: &mut S,
+    n: usize,
+    record: impl Fn(usize) -> [f64; 7],
+    weighted: bool,
+) -> Result<Stats> {
+    let mut ck = check::Checker::new(sink, weighted, n);
+    for i in 0..n {
+        ck.record(&record(i))
+            .map_err(|f| f.error(format!("point {i}"), None))?;
+    }
+    Ok(ck.stats)
+}
+
 fn finish(
     acc: &Accumulator,
     format: PointFormat,
@@ -393,101 +379,5 @@ fn finish(
         },
         format,
         warnings: stats.warnings(),
-    }
-}
-
-/// Which reader a file needs, from its first bytes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Kind {
-    Ply,
-    Pcd,
-    Las,
-    Csv,
-}
-
-fn detect<R: Read>(src: &mut Source<R>) -> Result<Kind> {
-    src.fill(4096)?;
-    // A UTF-8 byte-order mark is skipped, as in every text format (issue 12).
-    if src.data().starts_with(b"\xef\xbb\xbf") {
-        src.consume(3);
-    }
-    let head = src.data();
-    let head = &head[..head.len().min(4096)];
-    Ok(
-        if head.starts_with(b"ply\n") || head.starts_with(b"ply\r\n") {
-            Kind::Ply
-        } else if head.starts_with(LAS_MAGIC) {
-            Kind::Las
-        } else if looks_like_pcd(head) {
-            Kind::Pcd
-        } else {
-            Kind::Csv
-        },
-    )
-}
-
-/// Decode a whole stream into `sink` on this thread. `xyz_only`: normals are
-/// not required (a raw scan; absent normals read as the placeholder `+z`).
-fn decode<R: Read, S: Sink>(
-    src: &mut Source<R>,
-    sink: &mut S,
-    xyz_only: bool,
-) -> Result<(PointFormat, Stats)> {
-    match detect(src)? {
-        Kind::Ply => {
-            let h = ply::read_header(src, xyz_only)?;
-            ply::body(src, &h, sink)
-        }
-        Kind::Pcd => {
-            let h = pcd::read_header(src, xyz_only)?;
-            pcd::body(src, &h, sink)
-        }
-        // Normals required (H and M streamed): refused; raw scans are read
-        // whole by `read_mode`.
-        Kind::Las => Err(las_without_normals()),
-        Kind::Csv => csv::decode(src, sink, xyz_only),
-    }
-}
-
-fn looks_like_pcd(head: &[u8]) -> bool {
-    let s = String::from_utf8_lossy(head);
-    for line in s.lines() {
-        let t = line.trim();
-        if t.is_empty() || (t.starts_with('#') && !t.contains(".PCD")) {
-            continue;
-        }
-        if t.starts_with("# .PCD") {
-            return true;
-        }
-        let first = t.split_whitespace().next().unwrap_or("");
-        return matches!(first, "VERSION" | "FIELDS");
-    }
-    false
-}
-
-/// The names of the six required roles (x y z and the normal; x y z only
-/// when `xyz_only`) that `roles` has not found, in order.
-fn missing_roles<'a, T>(roles: &[Option<T>], names: [&'a str; 6], xyz_only: bool) -> Vec<&'a str> {
-    let need = if xyz_only { 3 } else { 6 };
-    names
-        .into_iter()
-        .take(need)
-        .zip(roles)
-        .filter(|(_, r)| r.is_none())
-        .map(|(n, _)| n)
-        .collect()
-}
-
-/// The role (0..7: x y z nx ny nz w) a column or field name plays.
-fn column_role(name: &str) -> Option<usize> {
-    match name.trim().trim_matches('"').to_ascii_lowercase().as_str() {
-        "x" => Some(0),
-        "y" => Some(1),
-        "z" => Some(2),
-        "nx" | "normal_x" => Some(3),
-        "ny" | "normal_y" => Some(4),
-        "nz" | "normal_z" => Some(5),
-        "w" | "weight" => Some(6),
-        _ => None,
     }
 }

@@ -6,8 +6,10 @@
 
 use super::binary::{decode_records, Layout, Run};
 use super::check::{Checker, Stats};
+use super::decode::{decode, detect, Kind};
+use super::record::{PointFormat, Sink};
 use super::source::{io_error, Source};
-use super::{detect, pcd, ply, Kind, PointFormat, Sink};
+use super::{pcd, ply};
 use crate::degeneracy::{worker_count, Accumulator, Block, Kernel, BLOCK};
 use crate::diagnostic::Result;
 use crate::progress::{Counted, Progress};
@@ -67,7 +69,7 @@ pub(super) fn decode_file<R: Read>(
             )?;
             Ok((h.format, stats))
         }
-        Kind::Las | Kind::Csv => super::decode(src, acc, false),
+        Kind::Las | Kind::Csv => decode(src, acc, false),
     }
 }
 

@@ -2,8 +2,8 @@
 
 use super::binary::{decode_records, Layout, Run, Scalar};
 use super::check::{Checker, Stats};
+use super::record::{column_role, missing_roles, PointFormat, Sink};
 use super::source::{header_lines, Source};
-use super::{column_role, missing_roles, PointFormat, Sink};
 use crate::bytes::Endian;
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::MAX_POINT_RECORD_BYTES;

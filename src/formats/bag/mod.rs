@@ -59,7 +59,7 @@ pub use progress::Progress;
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::spec::{
-    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Loaded,
+    check_metres, locate_warnings, Confidence, FormatSpec, Input, LoadOptions, Parsed,
 };
 use crate::formats::urdf;
 use crate::frames::{transforms_agree, Edge};
@@ -111,12 +111,12 @@ pub fn is_bag(path: &Path) -> bool {
 
 /// Read a bag's transform and description topics as `opts.bag` chooses
 /// (default `/tf_static` and `/robot_description`; see the module docs).
-pub fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn load(path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     load_with(path, opts, &opts.bag)
 }
 
 /// [`load`] with the topics chosen by `bag`.
-pub fn load_with(path: &Path, opts: &LoadOptions, bag: &BagOptions) -> Result<Loaded> {
+pub fn load_with(path: &Path, opts: &LoadOptions, bag: &BagOptions) -> Result<Parsed> {
     read(&Input::open(path, opts.max_file_size)?, opts, bag)
 }
 
@@ -178,7 +178,7 @@ pub fn stream(
 }
 
 /// The bag `input`, its topics chosen by `bag`.
-fn read(input: &Input, opts: &LoadOptions, bag: &BagOptions) -> Result<Loaded> {
+fn read(input: &Input, opts: &LoadOptions, bag: &BagOptions) -> Result<Parsed> {
     let path = input.path();
     let wanted = |t: &str| {
         bag.static_topics.iter().any(|w| w == t)
@@ -204,7 +204,7 @@ fn read(input: &Input, opts: &LoadOptions, bag: &BagOptions) -> Result<Loaded> {
         v.sort_by_key(|m| m.raw.time_ns);
         v
     };
-    let mut out = Loaded::default();
+    let mut out = Parsed::default();
     let statics = static_transforms(&pick(&bag.static_topics), &mut out.warnings)?;
     let mut edges: Vec<Edge> = statics.values().map(|s| s.edge.clone()).collect();
     edges.extend(constant_transforms(
@@ -502,7 +502,7 @@ fn description(
     texts: &[DescriptionText],
     opts: &LoadOptions,
     warnings: &mut Vec<Warning>,
-) -> Result<Option<Loaded>> {
+) -> Result<Option<Parsed>> {
     let Some(latest) = texts.last() else {
         return Ok(None);
     };
@@ -556,7 +556,7 @@ fn description(
 
 /// The description's edges less those `/tf_static` carries.
 fn merge_description(
-    desc: Loaded,
+    desc: Parsed,
     statics: &BTreeMap<String, Seen>,
     warnings: &mut Vec<Warning>,
 ) -> Vec<Edge> {

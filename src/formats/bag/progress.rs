@@ -4,7 +4,7 @@ use crate::tolerances::BAG_PROGRESS_MIN_BYTES;
 use std::path::Path;
 
 /// A one-line progress indicator on stderr, shown only on a terminal and for
-/// reads of at least [`BAG_PROGRESS_MIN_BYTES`]; erased when dropped.
+/// reads of at least `BAG_PROGRESS_MIN_BYTES`; erased when dropped.
 pub struct Progress {
     label: String,
     total: u64,

@@ -200,6 +200,18 @@ fn name_or_prefixed(lx: &mut Lexer) -> Result<()> {
         }
     }
     let word = &lx.text[start..lx.i];
+    if word.is_empty() {
+        // A non-ASCII character that is no letter (`€`, U+FFFD): Python's
+        // "invalid character". Without this the lexer stood still on it,
+        // pushing empty names until memory ran out (found by fuzzing xacro,
+        // whose expression lexer had the same fault).
+        let ch = lx.text[lx.i..].chars().next().unwrap_or('?');
+        return Err(err(
+            line,
+            col,
+            format!("invalid character {ch:?} (U+{:04X})", ch as u32),
+        ));
+    }
     let is_prefix = word.len() <= 2 && word.chars().all(|c| "rRbBuUfF".contains(c));
     if is_prefix && lx.i < lx.s.len() && matches!(lx.s[lx.i], b'"' | b'\'') {
         return string(lx, word.to_ascii_lowercase());

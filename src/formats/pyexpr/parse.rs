@@ -6,7 +6,7 @@
 //! there).
 
 use super::lex::{err, tokens, Tok, Token};
-use crate::diagnostic::Result;
+use crate::diagnostic::{Code, Error, Result};
 use crate::tolerances::MAX_YAML_DEPTH;
 
 /// An expression with its line and column.
@@ -210,7 +210,13 @@ impl P {
     fn deeper(&mut self) -> Result<()> {
         self.depth += 1;
         if self.depth > MAX_YAML_DEPTH {
-            return self.fail(format!("expression nested more than {MAX_YAML_DEPTH} deep"));
+            // A limit, not a syntax error: never kept as an unparsed
+            // statement (a 10^5-deep literal is refused by name).
+            let (l, c) = self.pos();
+            return Err(
+                Error::limit(format!("expression nested more than {MAX_YAML_DEPTH} deep"))
+                    .at_line(l, Some(c)),
+            );
         }
         Ok(())
     }
@@ -997,6 +1003,7 @@ impl P {
                 ),
                 line,
             ),
+            Err(e) if e.code == Code::Limit => return Err(e),
             Err(e) => Stmt::Other(
                 format!("a statement this reader does not parse: {}", e.message),
                 line,

@@ -11,7 +11,7 @@
 //! through [`Input::stream`] instead. Text is decoded as `crate::input`
 //! decodes it: UTF-8, a byte-order mark stripped, lone CRs read as LF.
 
-use super::loaded::Loaded;
+use super::parsed::Parsed;
 use crate::diagnostic::{Error, Result};
 use std::borrow::Cow;
 use std::cell::OnceCell;
@@ -35,7 +35,7 @@ const CAP: &str = "the --max-file-size cap";
 /// reaches the registry itself.
 pub(crate) trait Includes {
     /// Load `path` with `key` and `invert` (the other options as given).
-    fn include(&self, path: &Path, key: Option<String>, invert: bool) -> Result<Loaded>;
+    fn include(&self, path: &Path, key: Option<String>, invert: bool) -> Result<Parsed>;
 }
 
 /// One input: a file, a folder, or bytes or text held in memory, as read

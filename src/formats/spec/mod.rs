@@ -1,7 +1,7 @@
 //! The contract between the format registry and the formats, a leaf: what a
 //! format declares ([`FormatSpec`]), how sure its sniffer is ([`Confidence`]),
 //! what its parser is given ([`Input`], [`LoadOptions`]) and what it returns
-//! ([`Loaded`]). It imports no format: each format imports it and exports one
+//! ([`Parsed`]). It imports no format: each format imports it and exports one
 //! `FormatSpec` per format it reads; the registry lists them and runs the
 //! detection below, knowing nothing of how one format differs from another.
 //!
@@ -20,13 +20,13 @@
 //!    below [`Confidence::Claim`] is refused naming its root element.
 
 mod input;
-mod loaded;
+mod parsed;
 mod urdf_version;
 
 pub use input::Input;
 pub(crate) use input::{Includes, HEAD_BYTES};
-pub(crate) use loaded::locate_warnings;
-pub use loaded::{check_metres, parse_number, Loaded, RigMeta};
+pub(crate) use parsed::locate_warnings;
+pub use parsed::{check_metres, parse_number, Parsed, RigMeta};
 pub use urdf_version::UrdfVersion;
 
 use crate::diagnostic::Result;
@@ -77,7 +77,7 @@ pub enum Confidence {
 pub type SniffFn = fn(&Input) -> Option<Confidence>;
 
 /// A parser: the input into edges.
-pub type ParseFn = fn(&Input, &LoadOptions) -> Result<Loaded>;
+pub type ParseFn = fn(&Input, &LoadOptions) -> Result<Parsed>;
 
 /// One format, as its module declares it (`pub const SPEC: FormatSpec`).
 #[derive(Debug)]
@@ -121,7 +121,7 @@ impl FormatSpec {
     }
 }
 
-/// A format: a handle on its [`FormatSpec`] (compared by id). `from_name`
+/// A format: a handle on its `FormatSpec` (compared by id). `from_name`
 /// lives with the list of formats (`formats::registry`).
 #[derive(Clone, Copy)]
 pub struct Format(pub &'static FormatSpec);
@@ -162,8 +162,11 @@ impl From<Format> for &'static str {
     }
 }
 
-/// Options that change how files are read.
+/// How files are read into a robot. `Default`: as the command line reads
+/// them without flags (detection, no renames, movable joints at 0, the size
+/// cap [`DEFAULT_MAX_FILE_SIZE`], the built-in xacro expander).
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct LoadOptions {
     /// `--joint NAME=VALUE`.
     pub joints: BTreeMap<String, f64>,
@@ -200,11 +203,26 @@ pub struct LoadOptions {
     /// Which topics of a bag are read (`--tf-static-topic`, `--tf-topic`,
     /// `--description-topic`).
     pub bag: BagOptions,
+    /// `--rename [FILE:]OLD=NEW`: frames renamed as the files are loaded into
+    /// one graph. Applied after the parser, which never sees them (the
+    /// pipeline's `load`); one that matches no frame is an error there.
+    pub renames: Vec<Rename>,
     /// `--assume DIRECTION[:PARENT,CHILD]`: the direction (and, for files that
     /// name none, the frames) of the transforms whose convention cannot be
     /// traced to the code that consumes the file; without it they are refused
     /// (see [`Assume`]).
     pub assume: Option<Assume>,
+}
+
+/// `--rename [FILE:]OLD=NEW`: a frame renamed as it is loaded.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rename {
+    /// Only in files whose path ends with this (`None`: every file).
+    pub file: Option<String>,
+    /// The name in the file.
+    pub old: String,
+    /// The name to use.
+    pub new: String,
 }
 
 impl Default for LoadOptions {
@@ -222,6 +240,7 @@ impl Default for LoadOptions {
             package_paths: Vec::new(),
             confine: Vec::new(),
             bag: BagOptions::default(),
+            renames: Vec::new(),
             assume: None,
         }
     }
@@ -348,6 +367,7 @@ impl LoadOptions {
 
 /// Which topics of a bag to read (see `formats::bag`).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct BagOptions {
     /// Static transform topics (`tf2_msgs/TFMessage`): default `/tf_static`.
     pub static_topics: Vec<String>,

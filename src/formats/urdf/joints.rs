@@ -73,28 +73,23 @@ impl<'o> Builder<'o> {
 
     fn edge(&mut self, i: usize, j: JointRaw) -> std::result::Result<(), Failure> {
         let opts = self.opts;
-        let set = opts.joints.get(&j.name).copied();
-        let key = format!("joint \"{}\" <origin>", j.name);
-        let edge = |t: Transform, key: String| {
-            Edge::new(&j.parent, &j.child, t, j.loc.clone(), self.format, key)
-                .with_compact_precision(j.origin_precision.clone())
+        // Most loads set no joint: no lookup then.
+        let set = match opts.joints.is_empty() {
+            true => None,
+            false => opts.joints.get(&j.name).copied(),
         };
-        match j.jtype {
+        let origin_key = || format!("joint \"{}\" <origin>", j.name);
+        let mut carried = None;
+        let (transform, key, state) = match j.jtype {
             None => {
                 if let Some(v) = set {
-                    return Err(Failure::FixedSet(j.name.clone(), v, j.loc.clone()));
+                    return Err(Failure::FixedSet(j.name, v, j.loc));
                 }
-                self.edges.push(edge(j.origin, key));
+                (j.origin, origin_key(), None)
             }
             Some(jt) if !jt.has_one_value() => {
-                let mut e = edge(j.origin, key);
-                e.joint = Some(JointState {
-                    name: j.name.clone(),
-                    joint_type: jt,
-                    value: unset_pose_value(&j, jt, set).map_err(Failure::Ready)?,
-                    defaulted: false,
-                });
-                self.edges.push(e);
+                let value = unset_pose_value(&j, jt, set).map_err(Failure::Ready)?;
+                (j.origin, origin_key(), Some((jt, value, false)))
             }
             Some(jt) => {
                 if let (None, Some(m)) = (set, &j.mimic) {
@@ -107,29 +102,43 @@ impl<'o> Builder<'o> {
                     check_limit(&j, jt, value, set.is_some(), &mut self.warnings);
                 }
                 let motion = motion(&j, jt, value, &mut self.warnings).map_err(Failure::Ready)?;
-                let mut e = edge(
-                    j.origin.compose(&motion),
-                    format!("joint \"{}\" <origin> + {} motion", j.name, jt),
-                );
                 // Origin Exp(xi) motion = (origin motion) Exp(Ad(motion^-1) xi).
-                e.precision.transform_rounding(&motion.adjoint_inverse());
-                e.joint = Some(JointState {
-                    name: j.name.clone(),
-                    joint_type: jt,
-                    value: Some(value),
-                    defaulted,
-                });
-                self.edges.push(e);
+                carried = Some(motion.adjoint_inverse());
+                let key = format!("joint \"{}\" <origin> + {} motion", j.name, jt);
+                (
+                    j.origin.compose(&motion),
+                    key,
+                    Some((jt, Some(value), defaulted)),
+                )
             }
+        };
+        // The joint's strings move into the edge.
+        let mut e = Edge::new(j.parent, j.child, transform, j.loc, self.format, key)
+            .with_compact_precision(j.origin_precision);
+        if let Some(a) = carried {
+            e.precision.transform_rounding(&a);
         }
+        if let Some((joint_type, value, defaulted)) = state {
+            e.joint = Some(JointState {
+                name: j.name,
+                joint_type,
+                value,
+                defaulted,
+            });
+        }
+        self.edges.push(e);
         Ok(())
     }
 
     /// The edges and their warnings, or the first joint's error; `names` are
     /// all joint names of the file (for the mimic masters).
-    pub(super) fn finish<K>(self, names: &HashMap<K, usize>) -> Result<(Vec<Edge>, Vec<Warning>)>
+    pub(super) fn finish<K, S>(
+        self,
+        names: &HashMap<K, usize, S>,
+    ) -> Result<(Vec<Edge>, Vec<Warning>)>
     where
         K: std::borrow::Borrow<str> + std::hash::Hash + Eq,
+        S: std::hash::BuildHasher,
     {
         let before = self.failed.as_ref().map_or(usize::MAX, |(i, _)| *i);
         // At the same joint the mimic master is checked first.

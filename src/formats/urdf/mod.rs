@@ -39,9 +39,11 @@
 //! numbers: give it as a static transform instead).
 //!
 //! Reader: the text is read without a document tree (`stream`, quick-xml
-//! events; XML errors still worded by roxmltree), in two passes: the whole
-//! text checked and the root, links and any xacro noted, then the joints one
-//! at a time, each turned into its edge at once (issue 12: memory per link).
+//! events; XML errors still worded by roxmltree), in one pass (issue 29):
+//! the whole text checked, the root, links and any xacro noted, and the
+//! joints read one at a time, each turned into its edge at once (issue 12:
+//! memory per link); the error a file gets is settled at the end, in the
+//! order of the checks (`document`).
 //! Every edge knows the line and column of its `<joint>` element. Only
 //! top-level `<link>` and `<joint>` count
 //! (Husky's `<transmission>` blocks hold decoy `<joint>` elements). Several
@@ -60,147 +62,35 @@
 //! `${...}`, `$(...)`) is refused with the advice of [`super::xacro`]: it is
 //! never parsed as URDF.
 //!
-//! Layout: `stream` reads the XML; `read` turns it into links and raw joints
-//! (names, types, origins, axes, mimic); `joints` applies joint values
-//! (`--joint`, mimic, defaults) and builds the edges; this file checks the
-//! document and the tree.
+//! Layout: `stream` reads the XML (`values`: attribute values); `read` turns
+//! it into raw joints (names, types, axes, limits, mimic; `origin`: numbers
+//! and origins); `joints` applies joint values (`--joint`, mimic, defaults)
+//! and builds the edges; `document` holds the pass together, checks the
+//! document and the tree and settles the error.
 
+mod document;
 mod joints;
+mod origin;
 mod read;
 mod stream;
+mod values;
+mod version;
 
-pub use crate::formats::spec::UrdfVersion;
-
-use crate::diagnostic::{Code, Error, Location, Result, Warning};
+use crate::diagnostic::Result;
 use crate::formats::source::LineIndex;
-use crate::formats::spec::{Confidence, FormatSpec, LoadOptions, Loaded};
-use crate::formats::xacro::markers as xacro;
+use crate::formats::spec::{Confidence, FormatSpec, LoadOptions, Parsed};
 use crate::formats::xml;
-use crate::frames::{Edge, FrameDecl};
-use std::borrow::Cow;
-use std::collections::HashMap;
 use std::path::Path;
 
 /// Parse URDF text.
-pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
-    let mut warnings = Vec::new();
-    let outline = stream::outline(text, path)?;
+pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let idx = LineIndex::new(text);
-    check_root(&idx, &outline.root)?;
-    refuse_xacro(&idx, outline.xacro.as_ref(), path)?;
-    let version = read::version(&idx, &outline.root, opts)?;
-    let links = read::links(&idx, &outline.links)?;
-    let mut builder = joints::Builder::new(opts, outline.joints, SPEC.id);
-    let names = read::joints(text, &idx, &links, version, path, &mut warnings, |j| {
-        builder.push(j);
+    let mut doc = document::Document::new(text, &idx, path, opts, SPEC.id);
+    stream::read(text, path, |item| {
+        doc.add(item);
         Ok(())
     })?;
-    let (edges, edge_warnings) = builder.finish(&names)?;
-    drop((names, links));
-    warnings.extend(edge_warnings);
-    // The joints must form a tree: checked now, with the file's positions,
-    // without a second copy of the edges.
-    crate::frames::check_tree(&edges)?;
-    let (frames, roots) = link_frames(&idx, &outline.links, &edges, path);
-    drop(outline);
-    root_links(&roots, path, &mut warnings);
-    Ok(Loaded {
-        edges,
-        frames,
-        warnings,
-        ..Loaded::default()
-    })
-}
-
-/// The links no joint names, as declared frames (a link a joint names is
-/// known to the graph through its edge: issue 12, memory per link), and the
-/// links without a parent joint with their lines, both in file order.
-fn link_frames(
-    idx: &LineIndex,
-    links: &[(Option<Cow<'_, str>>, usize)],
-    edges: &[Edge],
-    path: &Path,
-) -> (Vec<FrameDecl>, Vec<(String, usize)>) {
-    const CHILD: u8 = 1;
-    const PARENT: u8 = 2;
-    let mut named: HashMap<&str, u8> = HashMap::with_capacity(edges.len() + 1);
-    for e in edges {
-        *named.entry(e.parent.as_str()).or_default() |= PARENT;
-        *named.entry(e.child.as_str()).or_default() |= CHILD;
-    }
-    let (mut frames, mut roots) = (Vec::new(), Vec::new());
-    for (name, start) in links {
-        let name = name.as_deref().unwrap_or("");
-        let flags = named.get(name).copied().unwrap_or(0);
-        if flags & CHILD != 0 {
-            continue;
-        }
-        let (l, c) = idx.pos(*start);
-        roots.push((name.to_string(), l));
-        if flags == 0 {
-            frames.push(FrameDecl {
-                name: name.to_string(),
-                location: Location::at(path, l, Some(c)),
-            });
-        }
-    }
-    (frames, roots)
-}
-
-/// More than one link without a parent joint: ROS refuses the file.
-fn root_links(roots: &[(String, usize)], path: &Path, warnings: &mut Vec<Warning>) {
-    if roots.len() < 2 {
-        return;
-    }
-    let names: Vec<String> = roots
-        .iter()
-        .map(|(name, line)| format!("'{name}' (line {line})"))
-        .collect();
-    warnings.push(
-        Warning::new(
-            Code::RefusedByRos,
-            format!(
-                "{} links have no parent joint: {}; ROS (urdfdom) refuses a URDF with more than one root link (\"Two root links found\"); each is listed as its own tree and only links joined by joints can be audited",
-                roots.len(),
-                names.join(", ")
-            ),
-        )
-        .at(&Location::file(path)),
-    );
-}
-
-/// The root element must be `<robot>`; an `<sdf>` root gets its own advice.
-fn check_root(idx: &LineIndex, root: &stream::El) -> Result<()> {
-    let (rl, rc) = idx.pos(root.start);
-    match root.name {
-        "robot" if root.attr("name").is_none() => Err(Error::parse(
-            "<robot> without a name: expected <robot name=\"...\"> (ROS refuses a robot without a name)",
-        )
-        .at_line(rl, Some(rc))),
-        "robot" => Ok(()),
-        "sdf" => Err(Error::parse(
-            "root element is <sdf>: this is an SDF (Gazebo) file, expected a URDF <robot>; convert it to URDF first",
-        )
-        .at_line(rl, Some(rc))),
-        other => Err(Error::parse(format!(
-            "root element is <{other}>: expected a URDF <robot>"
-        ))
-        .at_line(rl, Some(rc))),
-    }
-}
-
-/// Un-expanded xacro: namespace, elements or `${...}` / `$(...)` in
-/// attributes (the first such element, noted by [`stream::outline`]).
-fn refuse_xacro(idx: &LineIndex, first: Option<&stream::El>, path: &Path) -> Result<()> {
-    let Some(n) = first else { return Ok(()) };
-    let (l, c) = idx.pos(n.start);
-    Err(Error::parse(format!(
-        "this file holds un-expanded xacro (<{}{}>), not URDF: {}",
-        if n.xacro_ns { "xacro:" } else { "" },
-        n.name,
-        xacro::advice(path)
-    ))
-    .at_line(l, Some(c)))
+    doc.finish()
 }
 
 /// URDF.

@@ -1,36 +1,45 @@
 //! A pull reader over the URDF text: the elements the reader needs, without a
-//! document tree (issue 12: a `roxmltree` tree costs about 1 KB per link).
+//! document tree (issue 12: a `roxmltree` tree costs about 1 KB per link), in
+//! one pass (issue 29: the text was read twice).
 //!
-//! Events come from quick-xml (`NsReader`, names resolved against their
-//! namespaces). Every element's start is a byte offset into the text (its
+//! Events come from quick-xml's plain `Reader`; element names are resolved
+//! against their namespaces here ([`Scopes`]: the attributes are split once,
+//! where quick-xml's `NsReader` splits them a second time to find the
+//! declarations). Every element's start is a byte offset into the text (its
 //! `<`), turned into line and column by [`LineIndex`] only when a message
-//! needs one. Attribute values are decoded as XML reads them: literal tabs
-//! and line breaks become spaces, then the five predefined entities and
-//! character references are replaced; `raw` keeps the text as written.
+//! needs one. Attribute values are decoded as XML reads them
+//! ([`super::values`]): literal tabs and line breaks become spaces, then the
+//! five predefined entities and character references are replaced; `raw`
+//! keeps the text as written. Each element's attributes go into one buffer
+//! reused from element to element, and a joint's elements into another
+//! reused from joint to joint: reading allocates nothing per attribute.
 //!
 //! Errors stay those of `roxmltree`, word for word: quick-xml checks less
 //! than roxmltree does, so anything unusual (a quick-xml error, a DOCTYPE, an
 //! entity other than the five predefined, a character reference, a namespace
-//! prefix on an attribute or an unknown one on an element, a non-ASCII or
-//! malformed name, a control character, a misplaced or unusual XML
-//! declaration, a PI named `xml`, text or a second element outside the root,
-//! an element left open at the end) makes the whole text be checked once by
-//! `roxmltree` ([`crate::formats::xml`]), whose error is reported; its tree is
-//! dropped at once. When roxmltree accepts the text, reading goes on (or, if
-//! quick-xml cannot go on, its own error is reported at its position).
+//! prefix on an attribute, a prefixed or empty namespace declaration, an
+//! unknown prefix on an element, a non-ASCII or malformed name, a duplicated
+//! attribute, a control character, a misplaced or unusual XML declaration, a
+//! PI named `xml`, text or a second element outside the root, an element left
+//! open at the end) makes the whole text be checked once by `roxmltree`
+//! ([`crate::formats::xml`]), whose error is reported; its tree is dropped at
+//! once. When roxmltree accepts the text, reading goes on (or, if quick-xml
+//! cannot go on, its own error is reported at its position).
 
+use super::values::{decode, has_expr, scan};
 use crate::diagnostic::{Error, Result};
 use crate::formats::source::LineIndex;
 use crate::formats::xacro::markers as xacro;
 use crate::formats::xml;
 use crate::tolerances::URDF_MAX_XML_DEPTH;
 use quick_xml::events::{BytesStart, Event};
-use quick_xml::name::ResolveResult;
-use quick_xml::reader::{NsReader, Reader};
+use quick_xml::reader::Reader;
 use std::borrow::Cow;
+use std::ops::Range;
 use std::path::Path;
 
 /// An attribute: local name, value as XML decodes it, text as written.
+#[derive(Clone)]
 pub(super) struct Attr<'a> {
     pub name: &'a str,
     pub value: Cow<'a, str>,
@@ -38,137 +47,170 @@ pub(super) struct Attr<'a> {
     /// Written with a namespace prefix (`a:b="..."`): not found by
     /// [`El::attr`], as roxmltree's `attribute(name)` does not find it.
     pub prefixed: bool,
+    /// No entity, tab or line break: `value` is `raw`.
+    pub plain: bool,
 }
 
-/// An element's start tag.
-pub(super) struct El<'a> {
+/// An element's start tag (its attributes live in the reader's buffers).
+#[derive(Clone, Copy)]
+pub(super) struct El<'e, 'a> {
     /// Local name (without prefix).
     pub name: &'a str,
     /// Byte offset of its `<`.
     pub start: usize,
-    pub attrs: Vec<Attr<'a>>,
+    pub attrs: &'e [Attr<'a>],
     /// In a namespace whose name contains `xacro`.
     pub xacro_ns: bool,
 }
 
-impl<'a> El<'a> {
+impl<'e, 'a> El<'e, 'a> {
     /// The decoded value of the un-prefixed attribute `name`.
-    pub fn attr(&self, name: &str) -> Option<&str> {
+    pub fn attr(&self, name: &str) -> Option<&'e str> {
         self.attribute(name).map(|a| a.value.as_ref())
     }
 
     /// The un-prefixed attribute `name`.
-    pub fn attribute(&self, name: &str) -> Option<&Attr<'a>> {
+    pub fn attribute(&self, name: &str) -> Option<&'e Attr<'a>> {
         self.attrs.iter().find(|a| !a.prefixed && a.name == name)
     }
 }
 
-/// A top-level `<joint>` and its child elements (their own children are not kept).
-pub(super) struct JointEl<'a> {
-    pub el: El<'a>,
-    pub children: Vec<El<'a>>,
+/// An element of a joint: its attributes are a range of [`JointBuf::attrs`].
+struct Head<'a> {
+    name: &'a str,
+    start: usize,
+    xacro_ns: bool,
+    attrs: Range<usize>,
 }
 
-impl<'a> JointEl<'a> {
-    /// The first child element named `tag`.
-    pub fn child(&self, tag: &str) -> Option<&El<'a>> {
-        self.children.iter().find(|c| c.name == tag)
+/// The joint being read, kept in buffers reused from joint to joint.
+#[derive(Default)]
+struct JointBuf<'a> {
+    heads: Vec<Head<'a>>,
+    attrs: Vec<Attr<'a>>,
+}
+
+impl<'a> JointBuf<'a> {
+    fn push(&mut self, el: &El<'_, 'a>) {
+        let from = self.attrs.len();
+        self.attrs.extend_from_slice(el.attrs);
+        self.heads.push(Head {
+            name: el.name,
+            start: el.start,
+            xacro_ns: el.xacro_ns,
+            attrs: from..self.attrs.len(),
+        });
+    }
+
+    fn clear(&mut self) {
+        self.heads.clear();
+        self.attrs.clear();
     }
 }
 
-/// What the first pass keeps: the root, the first xacro element or
-/// attribute, the links and the number of joints.
-pub(super) struct Outline<'a> {
-    pub root: El<'a>,
-    /// The first element (document order) in a xacro namespace or with
-    /// `${` / `$(` in an attribute value.
-    pub xacro: Option<El<'a>>,
-    /// Top-level `<link>`: name (if any) and start offset.
-    pub links: Vec<(Option<Cow<'a, str>>, usize)>,
-    /// Number of top-level `<joint>` elements.
-    pub joints: usize,
+/// A top-level `<joint>` and its child elements (their own children are not kept).
+#[derive(Clone, Copy)]
+pub(super) struct JointEl<'e, 'a> {
+    pub el: El<'e, 'a>,
+    buf: &'e JointBuf<'a>,
 }
 
-/// The first pass: the whole text checked, the outline kept.
-pub(super) fn outline<'a>(text: &'a str, path: &Path) -> Result<Outline<'a>> {
-    let mut w = Walker::new(text, path);
-    w.check_chars()?;
-    let mut root = None;
-    let mut first_xacro = None;
-    let mut links = Vec::new();
-    let mut joints = 0;
-    w.walk(|w, depth, e, xacro_ns, start| {
-        // Checked without collecting: only the root and the first xacro
-        // element are kept whole.
-        let (mut expr, mut name) = (false, None);
-        w.attributes(e, start, |a| {
-            expr |= a.value.contains("${") || a.value.contains("$(");
-            if !a.prefixed && a.name == "name" {
-                name = Some(a.value);
-            }
-        })?;
-        if first_xacro.is_none() && (xacro_ns || expr) {
-            first_xacro = Some(w.element(e, start, xacro_ns)?);
+impl<'e, 'a> JointEl<'e, 'a> {
+    fn new(buf: &'e JointBuf<'a>) -> Self {
+        JointEl {
+            el: buf.view(0),
+            buf,
         }
-        match (depth, local(w.text, e)) {
-            (1, _) => root = Some(w.element(e, start, xacro_ns)?),
-            (2, Some("link")) => links.push((name, start)),
-            (2, Some("joint")) => joints += 1,
-            _ => {}
-        }
-        Ok(())
-    })?;
-    let root = root.ok_or_else(|| w.fail(text.len(), "no root element"))?;
-    Ok(Outline {
-        root,
-        xacro: first_xacro,
-        links,
-        joints,
-    })
+    }
+
+    /// The child elements, in file order.
+    pub fn children(&self) -> impl Iterator<Item = El<'e, 'a>> + '_ {
+        (1..self.buf.heads.len()).map(|i| self.buf.view(i))
+    }
+
+    /// The first child element named `tag`.
+    pub fn child(&self, tag: &str) -> Option<El<'e, 'a>> {
+        self.children().find(|c| c.name == tag)
+    }
 }
 
-/// The second pass: each top-level `<joint>` with its child elements, in
-/// file order (the text was checked by [`outline`]).
-pub(super) fn joints<'a>(
+impl<'a> JointBuf<'a> {
+    fn view(&self, i: usize) -> El<'_, 'a> {
+        let h = &self.heads[i];
+        El {
+            name: h.name,
+            start: h.start,
+            attrs: &self.attrs[h.attrs.clone()],
+            xacro_ns: h.xacro_ns,
+        }
+    }
+}
+
+/// The first element (document order) in a xacro namespace or with `${` /
+/// `$(` in an attribute value.
+pub(super) struct XacroAt<'a> {
+    pub name: &'a str,
+    pub xacro_ns: bool,
+    pub start: usize,
+}
+
+/// What the pass hands on, in document order.
+pub(super) enum Item<'e, 'a> {
+    /// The root element (always the first item).
+    Root(El<'e, 'a>),
+    /// The first xacro element, before that element's own item.
+    Xacro(XacroAt<'a>),
+    /// A top-level `<link>`: its name (if any) and start offset.
+    Link(Option<Cow<'a, str>>, usize),
+    /// A top-level `<joint>` with its child elements.
+    Joint(JointEl<'e, 'a>),
+}
+
+/// The one pass: the whole text checked, every item handed to `each` in
+/// document order (a joint once its child elements are read).
+pub(super) fn read<'a>(
     text: &'a str,
     path: &Path,
-    mut f: impl FnMut(JointEl<'a>) -> Result<()>,
+    mut each: impl FnMut(Item<'_, 'a>) -> Result<()>,
 ) -> Result<()> {
     let mut w = Walker::new(text, path);
-    w.validated = true;
-    let mut cur: Option<JointEl<'a>> = None;
-    w.walk(|w, depth, e, xacro_ns, start| {
-        match depth {
-            2 => {
-                if let Some(j) = cur.take() {
-                    f(j)?;
-                }
-                if local(w.text, e) == Some("joint") {
-                    let el = w.element(e, start, xacro_ns)?;
-                    cur = Some(JointEl {
-                        el,
-                        children: Vec::new(),
-                    });
-                }
+    w.check_chars()?;
+    let mut xacro_seen = false;
+    let mut joint = JointBuf::default();
+    let mut in_joint = false;
+    w.walk(|depth, el, expr| {
+        if !xacro_seen && (el.xacro_ns || expr) {
+            xacro_seen = true;
+            each(Item::Xacro(XacroAt {
+                name: el.name,
+                xacro_ns: el.xacro_ns,
+                start: el.start,
+            }))?;
+        }
+        if depth == 2 && in_joint {
+            in_joint = false;
+            each(Item::Joint(JointEl::new(&joint)))?;
+        }
+        match (depth, el.name) {
+            (1, _) => each(Item::Root(el))?,
+            (2, "link") => {
+                let name = el.attribute("name").map(|a| a.value.clone());
+                each(Item::Link(name, el.start))?;
             }
-            3 => {
-                if let Some(j) = &mut cur {
-                    j.children.push(w.element(e, start, xacro_ns)?);
-                }
+            (2, "joint") => {
+                joint.clear();
+                joint.push(&el);
+                in_joint = true;
             }
+            (3, _) if in_joint => joint.push(&el),
             _ => {}
         }
         Ok(())
     })?;
-    match cur {
-        Some(j) => f(j),
-        None => Ok(()),
+    if in_joint {
+        each(Item::Joint(JointEl::new(&joint)))?;
     }
-}
-
-/// The element's local name, as a slice of the text.
-fn local<'a>(text: &'a str, e: &BytesStart) -> Option<&'a str> {
-    sub(text, e.local_name().into_inner())
+    Ok(())
 }
 
 /// `s` as a slice of `text` (quick-xml borrows every name and value from it).
@@ -177,11 +219,45 @@ fn sub<'a>(text: &'a str, s: &[u8]) -> Option<&'a str> {
     text.get(off..off.checked_add(s.len())?)
 }
 
+/// The namespace declarations in scope: (prefix, `None` for the default
+/// namespace; its name contains `xacro`; its name is empty; element depth).
+#[derive(Default)]
+struct Scopes<'a> {
+    bindings: Vec<(Option<&'a [u8]>, bool, bool, usize)>,
+}
+
+impl<'a> Scopes<'a> {
+    /// An element's name resolved: (in a xacro namespace, undeclared prefix).
+    fn resolve(&self, qname: &[u8]) -> (bool, bool) {
+        let prefix = qname.iter().position(|&c| c == b':').map(|i| &qname[..i]);
+        if prefix == Some(b"xml") {
+            return (false, false);
+        }
+        match self.bindings.iter().rev().find(|b| b.0 == prefix) {
+            Some(&(_, xacro, empty, _)) => (xacro && !empty, false),
+            None => (false, prefix.is_some()),
+        }
+    }
+
+    /// Leaves the element at `depth`: its declarations go out of scope.
+    fn leave(&mut self, depth: usize) {
+        while self.bindings.last().is_some_and(|b| b.3 >= depth) {
+            self.bindings.pop();
+        }
+    }
+}
+
+/// Past this many attributes on one element, duplicates are left to roxmltree
+/// (the pairwise comparison would be quadratic).
+const PAIRWISE_ATTRS: usize = 32;
+
 struct Walker<'a, 'p> {
     text: &'a str,
     path: &'p Path,
     /// roxmltree accepted the text: no more suspicion checks.
     validated: bool,
+    /// The keys of the element's attributes so far (duplicates).
+    keys: Vec<&'a str>,
 }
 
 impl<'a, 'p> Walker<'a, 'p> {
@@ -190,6 +266,7 @@ impl<'a, 'p> Walker<'a, 'p> {
             text,
             path,
             validated: false,
+            keys: Vec::new(),
         }
     }
 
@@ -242,14 +319,21 @@ impl<'a, 'p> Walker<'a, 'p> {
     }
 
     /// Characters XML does not allow (controls other than tab, LF, CR;
-    /// U+FFFE, U+FFFF).
+    /// U+FFFE, U+FFFF), looked for a block at a time (a branch-free test
+    /// the compiler vectorises), each flagged block then byte by byte.
     fn check_chars(&mut self) -> Result<()> {
         let b = self.text.as_bytes();
-        let bad = b.iter().enumerate().any(|(i, &c)| {
+        let odd = |c: u8| (c < 0x20 && c != b'\t' && c != b'\n' && c != b'\r') || c == 0xEF;
+        let bad_at = |i: usize| {
+            let c = b[i];
             (c < 0x20 && !matches!(c, b'\t' | b'\n' | b'\r'))
                 || (c == 0xEF
                     && b.get(i + 1) == Some(&0xBF)
                     && matches!(b.get(i + 2), Some(0xBE | 0xBF)))
+        };
+        let bad = b.chunks(64).enumerate().any(|(k, block)| {
+            block.iter().fold(false, |acc, &c| acc | odd(c))
+                && (k * 64..k * 64 + block.len()).any(bad_at)
         });
         if bad {
             self.suspect()?;
@@ -257,28 +341,32 @@ impl<'a, 'p> Walker<'a, 'p> {
         Ok(())
     }
 
-    /// Every event in order; `f(walker, depth, start tag, in a xacro
-    /// namespace, offset of '<')` for each element (depth 1: the root).
+    /// Every event in order; `f(depth, element, xacro expression in an
+    /// attribute)` for each element (depth 1: the root), its attributes
+    /// checked and decoded.
     fn walk<F>(&mut self, mut f: F) -> Result<()>
     where
-        F: FnMut(&mut Self, usize, &BytesStart<'a>, bool, usize) -> Result<()>,
+        F: FnMut(usize, El<'_, 'a>, bool) -> Result<()>,
     {
         let text = self.text;
-        // Namespaces are resolved only while the text is not known to be
-        // well-formed (the first pass): the second needs none.
-        let mut r = Events::new(text, !self.validated);
+        let mut r = Reader::from_str(text);
+        let cfg = r.config_mut();
+        cfg.check_comments = true;
+        cfg.check_end_names = true;
+        cfg.expand_empty_elements = false;
+        cfg.trim_text(false);
         let (mut depth, mut roots) = (0usize, 0usize);
+        let mut attrs: Vec<Attr<'a>> = Vec::new();
+        let mut scopes = Scopes::default();
         loop {
-            let before = r.position();
-            let (xacro_ns, unknown, ev) = match r.next() {
-                Ok(x) => x,
+            let before = position(r.buffer_position());
+            let ev = match r.read_event() {
+                Ok(ev) => ev,
                 Err(e) => {
-                    let at = r.error_position();
+                    let at = position(r.error_position());
                     return Err(self.fail(at, &e.to_string()));
                 }
             };
-            let after = r.position();
-            let raw = text.get(before..after).unwrap_or("");
             match ev {
                 Event::Start(ref e) | Event::Empty(ref e) => {
                     if depth == 0 {
@@ -287,18 +375,39 @@ impl<'a, 'p> Walker<'a, 'p> {
                     if depth >= URDF_MAX_XML_DEPTH {
                         return Err(self.too_deep(before));
                     }
-                    if !self.validated && (unknown || roots > 1 || !qname_ok(e.name().as_ref())) {
+                    let qname = e.name();
+                    if !self.validated && (roots > 1 || !qname_ok(qname.as_ref())) {
                         self.suspect()?;
                     }
-                    let start = sub(text, e.name().as_ref()).map_or(before, |s| {
+                    let start = sub(text, qname.as_ref()).map_or(before, |s| {
                         (s.as_ptr() as usize - text.as_ptr() as usize).saturating_sub(1)
                     });
-                    f(self, depth + 1, e, xacro_ns, start)?;
+                    attrs.clear();
+                    let expr = self.attributes(e, start, depth + 1, &mut attrs, &mut scopes)?;
+                    let (xacro_ns, unknown) = scopes.resolve(qname.as_ref());
+                    if unknown {
+                        self.suspect()?;
+                    }
+                    let Some(name) = sub(text, e.local_name().into_inner()) else {
+                        return Err(self.fail(start, "an element name"));
+                    };
+                    let el = El {
+                        name,
+                        start,
+                        attrs: &attrs,
+                        xacro_ns,
+                    };
+                    f(depth + 1, el, expr)?;
                     if matches!(ev, Event::Start(_)) {
                         depth += 1;
+                    } else {
+                        scopes.leave(depth + 1);
                     }
                 }
-                Event::End(_) => depth = depth.saturating_sub(1),
+                Event::End(_) => {
+                    scopes.leave(depth);
+                    depth = depth.saturating_sub(1);
+                }
                 Event::Text(_) if self.validated => {}
                 Event::Text(ref t) => {
                     let s = sub(text, t).unwrap_or("");
@@ -315,10 +424,10 @@ impl<'a, 'p> Walker<'a, 'p> {
                         self.suspect()?;
                     }
                 }
-                Event::Decl(_) if before == 0 && decl_ok(raw) => {}
+                Event::Decl(_) if before == 0 && decl_ok(raw(text, before, &r)) => {}
                 Event::Decl(_) | Event::DocType(_) => self.suspect()?,
                 Event::PI(_) => {
-                    let target = raw
+                    let target = raw(text, before, &r)
                         .trim_start_matches("<?")
                         .split(|c: char| c.is_ascii_whitespace() || c == '?')
                         .next()
@@ -340,146 +449,116 @@ impl<'a, 'p> Walker<'a, 'p> {
         }
     }
 
-    /// The start tag's name and attributes, checked and decoded.
-    fn element(&mut self, e: &BytesStart<'a>, start: usize, xacro_ns: bool) -> Result<El<'a>> {
-        let name = match local(self.text, e) {
-            Some(n) => n,
-            None => return Err(self.fail(start, "an element name")),
-        };
-        let mut attrs = Vec::new();
-        self.attributes(e, start, |a| attrs.push(a))?;
-        Ok(El {
-            name,
-            start,
-            attrs,
-            xacro_ns,
-        })
-    }
-
-    /// The start tag's attributes (not the namespace declarations), checked,
-    /// decoded and handed to `each` in order.
+    /// The start tag's attributes (not the namespace declarations, which go
+    /// into `scopes` at `depth`), checked, decoded and put in `out` in order;
+    /// whether a value holds a xacro expression.
     fn attributes(
         &mut self,
         e: &BytesStart<'a>,
         start: usize,
-        mut each: impl FnMut(Attr<'a>),
-    ) -> Result<()> {
+        depth: usize,
+        out: &mut Vec<Attr<'a>>,
+        scopes: &mut Scopes<'a>,
+    ) -> Result<bool> {
         let text = self.text;
-        for a in e.attributes() {
+        let mut expr = false;
+        self.keys.clear();
+        // Duplicates are checked here, pairwise, not by quick-xml, whose check
+        // allocates a vector per element.
+        for a in e.attributes().with_checks(false) {
             let a = match a {
                 Ok(a) => a,
                 Err(err) => return Err(self.fail(start, &err.to_string())),
             };
-            if !self.validated && !qname_ok(a.key.as_ref()) {
-                self.suspect()?;
-            }
-            if a.key.as_namespace_binding().is_some() {
-                // xmlns declarations are not attributes (roxmltree).
-                if a.value.is_empty() || a.key.prefix().is_some() {
-                    self.suspect()?;
-                }
-                continue;
-            }
-            let prefixed = a.key.prefix().is_some();
-            let (Some(local), Some(raw)) = (
-                sub(text, a.key.local_name().into_inner()),
-                sub(text, &a.value),
-            ) else {
+            let (Some(key), Some(raw)) = (sub(text, a.key.as_ref()), sub(text, &a.value)) else {
                 return Err(self.fail(start, "an attribute"));
             };
-            if prefixed || raw.contains('<') || raw.contains("&#") {
+            if !self.validated {
+                let twice = self.keys.len() >= PAIRWISE_ATTRS || self.keys.contains(&key);
+                self.keys.push(key);
+                if twice || !qname_ok(key.as_bytes()) {
+                    self.suspect()?;
+                }
+            }
+            // The name split once at its first colon, as quick-xml splits it.
+            let (prefix, local) = match key.find(':') {
+                Some(i) => (Some(&key[..i]), &key[i + 1..]),
+                None => (None, key),
+            };
+            if key == "xmlns" || prefix == Some("xmlns") {
+                // xmlns declarations are not attributes (roxmltree); a
+                // prefixed one is left to roxmltree's checks.
+                if raw.is_empty() || prefix.is_some() {
+                    self.suspect()?;
+                }
+                let named = raw.contains("xacro");
+                let declared = prefix.map(|_| local.as_bytes());
+                scopes
+                    .bindings
+                    .push((declared, named, raw.is_empty(), depth));
+                continue;
+            }
+            let prefixed = prefix.is_some();
+            let s = scan(raw);
+            if prefixed || s.lt || s.char_ref {
                 self.suspect()?;
             }
-            let Some(value) = decode(raw) else {
-                self.suspect()?;
-                return Err(self.fail(start, &format!("attribute {local}: an unknown entity")));
+            let value = if s.plain {
+                expr |= s.expr;
+                Cow::Borrowed(raw)
+            } else {
+                let Some(v) = decode(raw) else {
+                    self.suspect()?;
+                    return Err(self.fail(start, &format!("attribute {local}: an unknown entity")));
+                };
+                expr |= has_expr(&v);
+                v
             };
-            each(Attr {
+            out.push(Attr {
                 name: local,
                 value,
                 raw,
                 prefixed,
+                plain: s.plain,
             });
         }
-        Ok(())
+        Ok(expr)
     }
 }
 
-/// quick-xml events, with namespaces resolved (`xacro`: in a namespace whose
-/// name contains `xacro`; `unknown`: an undeclared prefix) or not.
-enum Events<'a> {
-    Resolved(NsReader<&'a [u8]>),
-    Plain(Reader<&'a [u8]>),
+/// quick-xml's position as an offset into the text.
+fn position(p: u64) -> usize {
+    usize::try_from(p).unwrap_or(usize::MAX)
 }
 
-impl<'a> Events<'a> {
-    fn new(text: &'a str, resolve: bool) -> Self {
-        let mut r = if resolve {
-            Events::Resolved(NsReader::from_str(text))
-        } else {
-            Events::Plain(Reader::from_str(text))
-        };
-        let cfg = match &mut r {
-            Events::Resolved(r) => r.config_mut(),
-            Events::Plain(r) => r.config_mut(),
-        };
-        cfg.check_comments = true;
-        cfg.check_end_names = true;
-        cfg.expand_empty_elements = false;
-        cfg.trim_text(false);
-        r
-    }
-
-    /// The next event: (in a xacro namespace, undeclared prefix, event).
-    fn next(&mut self) -> quick_xml::Result<(bool, bool, Event<'a>)> {
-        match self {
-            Events::Resolved(r) => r.read_resolved_event().map(|(res, ev)| {
-                (
-                    matches!(&res, ResolveResult::Bound(ns) if contains(ns.as_ref(), b"xacro")),
-                    matches!(res, ResolveResult::Unknown(_)),
-                    ev,
-                )
-            }),
-            Events::Plain(r) => r.read_event().map(|ev| (false, false, ev)),
-        }
-    }
-
-    fn position(&self) -> usize {
-        let p = match self {
-            Events::Resolved(r) => r.buffer_position(),
-            Events::Plain(r) => r.buffer_position(),
-        };
-        usize::try_from(p).unwrap_or(usize::MAX)
-    }
-
-    fn error_position(&self) -> usize {
-        let p = match self {
-            Events::Resolved(r) => r.error_position(),
-            Events::Plain(r) => r.error_position(),
-        };
-        usize::try_from(p).unwrap_or(usize::MAX)
-    }
-}
-
-fn contains(hay: &[u8], needle: &[u8]) -> bool {
-    hay.windows(needle.len()).any(|w| w == needle)
+/// The text of the event just read, from `before`.
+fn raw<'a>(text: &'a str, before: usize, r: &Reader<&[u8]>) -> &'a str {
+    text.get(before..position(r.buffer_position()))
+        .unwrap_or("")
 }
 
 /// An ASCII XML name, or two joined by one `:` (a non-ASCII name is left to
 /// roxmltree).
 fn qname_ok(name: &[u8]) -> bool {
-    let part = |p: &[u8]| {
-        p.first()
-            .is_some_and(|&c| c.is_ascii_alphabetic() || c == b'_')
-            && p.iter()
-                .all(|&c| c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.'))
-    };
-    let mut it = name.splitn(2, |&c| c == b':');
-    match (it.next(), it.next()) {
-        (Some(a), None) => part(a),
-        (Some(a), Some(b)) => part(a) && part(b),
-        _ => false,
+    // One pass: `at_start` at the first byte of each part.
+    let (mut at_start, mut colons) = (true, 0);
+    for &c in name {
+        if at_start {
+            if !(c.is_ascii_alphabetic() || c == b'_') {
+                return false;
+            }
+            at_start = false;
+        } else if c == b':' {
+            colons += 1;
+            at_start = true;
+            if colons > 1 {
+                return false;
+            }
+        } else if !(c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.')) {
+            return false;
+        }
     }
+    !at_start
 }
 
 /// `<?xml version="1.x"( encoding="...")?( standalone="yes|no")??>`.
@@ -540,57 +619,20 @@ fn decl_ok(raw: &str) -> bool {
     )
 }
 
-/// The character an entity or character reference stands for.
-fn entity(name: &str) -> Option<char> {
-    let code = if let Some(h) = name.strip_prefix("#x") {
-        u32::from_str_radix(h, 16).ok()?
-    } else if let Some(d) = name.strip_prefix('#') {
-        d.parse().ok()?
-    } else {
-        return match name {
-            "lt" => Some('<'),
-            "gt" => Some('>'),
-            "amp" => Some('&'),
-            "apos" => Some('\''),
-            "quot" => Some('"'),
-            _ => None,
-        };
-    };
-    char::from_u32(code)
+/// A parse error at element `n`'s line and column.
+pub(super) fn err_at(idx: &LineIndex, n: &El, msg: String) -> Error {
+    fail_at(idx, n.start, msg)
 }
 
-/// An attribute value as XML reads it: literal tab, CR, LF (a CR LF pair
-/// counting once) become spaces; the five predefined entities and character
-/// references are replaced (a reference's character is kept as is). `None`
-/// for any other entity.
-fn decode(raw: &str) -> Option<Cow<'_, str>> {
-    if !raw.contains(['&', '\t', '\n', '\r']) {
-        return Some(Cow::Borrowed(raw));
-    }
-    let mut out = String::with_capacity(raw.len());
-    let mut rest = raw;
-    while let Some(i) = rest.find(['&', '\t', '\n', '\r']) {
-        out.push_str(&rest[..i]);
-        let tail = &rest[i..];
-        if let Some(t) = tail.strip_prefix("\r\n") {
-            out.push(' ');
-            rest = t;
-        } else if tail.starts_with('&') {
-            let end = tail.find(';')?;
-            out.push(entity(&tail[1..end])?);
-            rest = &tail[end + 1..];
-        } else {
-            out.push(' ');
-            rest = &tail[1..];
-        }
-    }
-    out.push_str(rest);
-    Some(Cow::Owned(out))
+/// A parse error at byte `start`'s line and column.
+pub(super) fn fail_at(idx: &LineIndex, start: usize, msg: String) -> Error {
+    let (l, c) = idx.pos(start);
+    Error::parse(msg).at_line(l, Some(c))
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{decl_ok, decode, joints, outline, qname_ok};
+    use super::{decl_ok, qname_ok, read, Item};
     use crate::formats::{xml, LoadOptions};
     use std::path::Path;
 
@@ -653,35 +695,44 @@ mod tests {
             <joint name=\"j\r\n1\" type=\"fixed\"><parent link=\"a&#x42;\tc\"/><child link='q&quot;&lt;&gt;&apos;'/>\
             <origin xyz=\"1\t2\n3\" rpy=\"0 0 0\"/><![CDATA[<x>]]></joint>\n</robot>\n";
         let doc = roxmltree::Document::parse(text).unwrap();
-        let o = outline(text, Path::new("t.urdf")).unwrap();
         let root = doc.root_element();
-        assert_eq!(o.root.attr("name"), root.attribute("name"));
-        assert_eq!(o.root.start, root.range().start);
         let links: Vec<_> = root.children().filter(|n| n.has_tag_name("link")).collect();
-        assert_eq!(o.links.len(), links.len());
-        for ((name, start), l) in o.links.iter().zip(&links) {
-            assert_eq!(name.as_deref(), l.attribute("name"));
-            assert_eq!(*start, l.range().start);
-        }
         let j = root.children().find(|n| n.has_tag_name("joint")).unwrap();
-        let mut seen = 0;
-        joints(text, Path::new("t.urdf"), |je| {
-            seen += 1;
-            assert_eq!(je.el.attr("name"), j.attribute("name"));
-            assert_eq!(je.el.start, j.range().start);
-            let kids: Vec<_> = j.children().filter(|n| n.is_element()).collect();
-            assert_eq!(je.children.len(), kids.len());
-            for (c, k) in je.children.iter().zip(&kids) {
-                assert_eq!(c.name, k.tag_name().name());
-                assert_eq!(c.start, k.range().start);
-                for a in k.attributes() {
-                    assert_eq!(c.attr(a.name()), Some(a.value()), "{}", a.name());
-                    assert_eq!(c.attribute(a.name()).unwrap().raw, &text[a.range_value()]);
+        let (mut seen, mut roots, mut read_links) = (0, 0, 0);
+        read(text, Path::new("t.urdf"), |item| {
+            match item {
+                Item::Root(r) => {
+                    roots += 1;
+                    assert_eq!(r.attr("name"), root.attribute("name"));
+                    assert_eq!(r.start, root.range().start);
                 }
+                Item::Link(name, start) => {
+                    let l = links[read_links];
+                    read_links += 1;
+                    assert_eq!(name.as_deref(), l.attribute("name"));
+                    assert_eq!(start, l.range().start);
+                }
+                Item::Joint(je) => {
+                    seen += 1;
+                    assert_eq!(je.el.attr("name"), j.attribute("name"));
+                    assert_eq!(je.el.start, j.range().start);
+                    let kids: Vec<_> = j.children().filter(|n| n.is_element()).collect();
+                    assert_eq!(je.children().count(), kids.len());
+                    for (c, k) in je.children().zip(&kids) {
+                        assert_eq!(c.name, k.tag_name().name());
+                        assert_eq!(c.start, k.range().start);
+                        for a in k.attributes() {
+                            assert_eq!(c.attr(a.name()), Some(a.value()), "{}", a.name());
+                            assert_eq!(c.attribute(a.name()).unwrap().raw, &text[a.range_value()]);
+                        }
+                    }
+                }
+                Item::Xacro(_) => panic!("no xacro here"),
             }
             Ok(())
         })
         .unwrap();
+        assert_eq!((roots, read_links), (1, links.len()));
         assert_eq!(seen, 1);
         let loaded =
             super::super::parse(text, Path::new("t.urdf"), &LoadOptions::default()).unwrap();
@@ -716,18 +767,15 @@ mod tests {
     fn default_xacro_namespace_is_xacro() {
         let text =
             "<robot name=\"r\" xmlns=\"http://www.ros.org/wiki/xacro\"><link name=\"a\"/></robot>";
-        let o = outline(text, Path::new("t.urdf")).unwrap();
-        assert!(o.xacro.is_some_and(|e| e.name == "robot" && e.xacro_ns));
-    }
-
-    #[test]
-    fn attribute_values_decode_as_xml_reads_them() {
-        assert_eq!(decode("a b").unwrap(), "a b");
-        assert_eq!(decode("a\tb\r\nc\rd\ne").unwrap(), "a b c d e");
-        assert_eq!(decode("&lt;&amp;&gt;&apos;&quot;").unwrap(), "<&>'\"");
-        assert_eq!(decode("a&#9;b&#x41;").unwrap(), "a\tbA");
-        assert!(decode("&nbsp;").is_none());
-        assert!(decode("a & b").is_none());
+        let mut first = None;
+        read(text, Path::new("t.urdf"), |item| {
+            if let (Item::Xacro(x), None) = (item, &first) {
+                first = Some((x.name, x.xacro_ns));
+            }
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(first, Some(("robot", true)));
     }
 
     #[test]

@@ -11,7 +11,7 @@ use super::limits::Budget;
 use super::scope::{MacroEntry, MacroScope, MacroTable};
 use super::subst::{self, Subst};
 use super::tree::{self, err_at, Doc, Elem, Node, Src};
-use super::value::{eval_literal, Scope, Slot, Table, Value};
+use super::value::{eval_literal, Bindings, Scope, Slot, Value};
 use crate::diagnostic::{Code, Error, Result, Warning};
 use crate::formats::spec::LoadOptions;
 use std::collections::{BTreeMap, HashMap};
@@ -318,7 +318,7 @@ impl<'o> Expander<'o> {
 
     /// Evaluate a document's root: its children in a fresh scope.
     pub fn run(&mut self, doc: &Doc) -> Result<Elem> {
-        let syms = Table::root();
+        let syms = Bindings::root();
         let macros = MacroTable::root();
         self.namespaces.extend(doc.namespaces.clone());
         let mut root = Elem {

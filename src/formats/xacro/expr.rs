@@ -59,6 +59,13 @@ pub(super) fn lex(src: &str) -> Result<Vec<Tok>, String> {
             let n = src[i..]
                 .find(|ch: char| !(ch.is_alphanumeric() || ch == '_'))
                 .unwrap_or(src.len() - i);
+            if n == 0 {
+                // A non-ASCII character that is no letter (`€`, U+FFFD):
+                // Python's "invalid character" (it looped here, pushing
+                // empty names until memory ran out: found by fuzzing).
+                let ch = src[i..].chars().next().unwrap_or('?');
+                return Err(format!("unexpected character {ch:?}"));
+            }
             let word = &src[i..i + n];
             if matches!(b.get(i + n), Some(b'\'' | b'"')) {
                 if let Some(raw) = prefix(word)? {

@@ -12,7 +12,7 @@
 
 use super::markers::advice;
 use crate::diagnostic::{Error, Result};
-use crate::formats::spec::{LoadOptions, Loaded};
+use crate::formats::spec::{LoadOptions, Parsed};
 use crate::formats::urdf;
 use crate::tolerances::{XACRO_EXTERNAL_DRAIN_SECONDS, XACRO_MAX_SECONDS, XACRO_MAX_STDERR_BYTES};
 use std::io::Read;
@@ -171,7 +171,7 @@ fn run_bounded(
 
 /// Expand `path` with the external `xacro` program, passing `--arg`s as
 /// `name:=value`.
-pub fn parse(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse(path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     let Some(xacro) = find_on_path("xacro", opts.xacro_search_path.as_deref()) else {
         return Err(Error::parse(format!(
             "--xacro external: the `xacro` program is not on PATH ({})",

@@ -6,7 +6,7 @@ use super::expand::Expander;
 use super::limits::Meter;
 use super::scope::{MacroEntry, MacroScope, MacroTable};
 use super::tree::{self, Elem, Node, Src};
-use super::value::{eval_literal, Res, Scope, Slot, Table, Value};
+use super::value::{eval_literal, Bindings, Res, Scope, Slot, Value};
 use crate::diagnostic::{Error, Result};
 use crate::formats::yaml;
 use std::path::{Path, PathBuf};
@@ -144,7 +144,7 @@ impl Expander<'_> {
         let (ns_syms, ns_macros) = match e.attr("ns") {
             Some(ns) => {
                 let ns = self.eval_str(ns, syms, &e.src)?;
-                let s = Table::child(syms, true);
+                let s = Bindings::child(syms, true);
                 let m = MacroTable::root();
                 syms.set(&ns, Slot::Val(Value::Ns(s.clone())));
                 macros.set(&ns, MacroEntry::Ns(m.clone()));

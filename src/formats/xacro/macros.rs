@@ -6,7 +6,7 @@
 use super::expand::Expander;
 use super::scope::{Macro, MacroEntry, MacroScope, MacroTable};
 use super::tree::{Elem, Node};
-use super::value::{eval_literal, Scope, Slot, Table, Value};
+use super::value::{eval_literal, Bindings, Scope, Slot, Value};
 use crate::diagnostic::Result;
 use std::collections::HashMap;
 use std::rc::Rc;
@@ -189,7 +189,7 @@ impl Expander<'_> {
         scope_macros: &MacroScope,
         out: &mut Vec<Node>,
     ) -> Result<()> {
-        let local = Table::child(scope_syms, false);
+        let local = Bindings::child(scope_syms, false);
         let local_macros = MacroTable::child(scope_macros);
         let mut params = m.params.clone();
         for (k, v) in &e.attrs {

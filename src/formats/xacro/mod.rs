@@ -47,10 +47,8 @@ pub mod subst;
 mod tree;
 mod value;
 
-pub use markers::{advice, has_markers};
-
 use crate::diagnostic::{Error, Location, Result, Warning};
-use crate::formats::spec::{FormatSpec, LoadOptions, Loaded};
+use crate::formats::spec::{FormatSpec, LoadOptions, Parsed};
 use crate::formats::urdf;
 use std::path::Path;
 
@@ -200,7 +198,7 @@ fn relocate(loc: &mut Location, x: &Expanded, path: &Path) {
 
 /// A `.xacro` file: expanded natively (or by the external program with
 /// `--xacro external`), then read as URDF with source locations.
-pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     if opts.xacro_external {
         return external::parse(path, opts);
     }

@@ -24,19 +24,20 @@ pub enum Slot<V> {
     Val(V),
 }
 
+/// One table of bindings (properties or macros by name) in the chain.
 #[derive(Debug)]
-pub struct Table<V> {
+pub struct Bindings<V> {
     vars: RefCell<HashMap<String, Slot<V>>>,
     pub parent: Option<Scope<V>>,
     /// A namespace opened by `xacro:include ns` (for `scope="parent"`).
     pub is_ns: bool,
 }
 
-pub type Scope<V> = Rc<Table<V>>;
+pub type Scope<V> = Rc<Bindings<V>>;
 
-impl<V: Clone> Table<V> {
+impl<V: Clone> Bindings<V> {
     pub fn root() -> Scope<V> {
-        Rc::new(Table {
+        Rc::new(Bindings {
             vars: RefCell::new(HashMap::new()),
             parent: None,
             is_ns: false,
@@ -44,7 +45,7 @@ impl<V: Clone> Table<V> {
     }
 
     pub fn child(parent: &Scope<V>, is_ns: bool) -> Scope<V> {
-        Rc::new(Table {
+        Rc::new(Bindings {
             vars: RefCell::new(HashMap::new()),
             parent: Some(parent.clone()),
             is_ns,

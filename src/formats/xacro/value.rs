@@ -19,7 +19,7 @@ use std::cell::{Ref, RefCell, RefMut};
 use std::rc::Rc;
 
 /// A property table of values (see `scope`).
-pub type Table = scope::Table<Value>;
+pub type Bindings = scope::Bindings<Value>;
 /// A chain of property tables.
 pub type Scope = scope::Scope<Value>;
 /// A property as stored.

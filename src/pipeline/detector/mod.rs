@@ -4,16 +4,21 @@
 //! threshold calibration. Each takes a plain options struct and returns its
 //! typed report; `values` parses the options' textual forms (`x,y,z`, lists).
 
+mod options;
+mod points;
 mod scan;
 mod values;
 
-pub use scan::{read_scan, InitialGuess, KeptCloud, Scan, ScanOptions, ScanPair};
+pub use options::{DetectorOptions, NormalOptions};
+pub use points::{Coords, Points};
+pub use scan::{read_scan, InitialGuess, KeptCloud, ScanOptions, ScanPair};
 pub use values::{parse_frame, parse_initial_guess, parse_scene, parse_triple, parse_update};
 
 use crate::analysis::metric::adapted_metric_matrix;
 use crate::analysis::Family;
 use crate::degeneracy::information_shares;
 use crate::degeneracy::points::PointData;
+use crate::degeneracy::points::{accumulate_records, collect_records};
 use crate::degeneracy::scene::{synthesize, tunnel_exact, Preprocess, SceneKind};
 use crate::degeneracy::threshold::default_threshold;
 use crate::degeneracy::threshold::Calibration;
@@ -36,6 +41,7 @@ use crate::tolerances::{
     SIM_VOXEL_RANGE_M,
 };
 use nalgebra::{DMatrix, Vector6};
+use scan::{normals_progress, with_normals, RawScan};
 use std::path::PathBuf;
 
 fn check_tau(tau: f64) -> Result<()> {
@@ -72,7 +78,7 @@ fn pair_json(p: &ScanPair) -> PairJson {
 
 /// Every family on points with normals, re-expressed in `frame` (the points
 /// are copied; `audit degeneracy` streams a file instead, see
-/// [`degeneracy_of`]).
+/// `degeneracy_of`).
 pub fn degeneracy(
     data: &PointData,
     frame: &Transform,
@@ -200,6 +206,58 @@ pub fn degeneracy_scan(
     }
     if opts.show_matrices {
         report.matrices = Some(MatricesJson::new(&scan.assembly));
+    }
+    Ok(report)
+}
+
+/// Every family on `points`, as `audit degeneracy` on a scan file: `H` and
+/// `M` about the centroid, re-expressed in `opts.frame`; normals estimated
+/// (long estimations reported to a progress from `bars`) when there are none.
+pub fn degeneracy_points(
+    points: &Points,
+    opts: &DetectorOptions,
+    bars: &dyn ProgressFactory,
+) -> Result<DegeneracyReport> {
+    points.check_lengths()?;
+    let n = points.xyz.len();
+    let weight = |i: usize| points.weights.map_or(1.0, |w| w[i]);
+    let weighted = points.weights.is_some();
+    let (asm, warnings, normals) = match points.normals {
+        Some(nrm) => {
+            if opts.normals.estimation_asked() {
+                return Err(Error::usage(
+                    "points: voxel, viewpoint and knn apply only to points without normals",
+                ));
+            }
+            let record = |i| {
+                let (p, q) = (points.xyz.row(i), nrm.row(i));
+                [p[0], p[1], p[2], q[0], q[1], q[2], weight(i)]
+            };
+            let acc = accumulate_records(n, record, weighted, Some(&opts.frame))?;
+            (acc.assembly, acc.warnings, None)
+        }
+        None => {
+            let record = |i| {
+                let p = points.xyz.row(i);
+                [p[0], p[1], p[2], 0.0, 0.0, 1.0, weight(i)]
+            };
+            let data = collect_records(n, record, weighted)?;
+            let progress = normals_progress(bars, data.points.len());
+            let raw = RawScan::new(&opts.normals);
+            let (cloud, w, nj) =
+                with_normals(&data.points, data.weights.as_deref(), &raw, &*progress)?;
+            let asm = Assembly::from_points(&cloud.points, &cloud.normals, w.as_deref())?;
+            (
+                asm.congruence(&opts.frame.adjoint()),
+                data.warnings,
+                Some(nj),
+            )
+        }
+    };
+    let mut report = degeneracy_of(&asm, &warnings, &opts.frame, opts.tau, &opts.ells)?;
+    report.normals = normals;
+    if opts.show_matrices {
+        report.matrices = Some(MatricesJson::new(&asm));
     }
     Ok(report)
 }
@@ -467,18 +525,13 @@ pub fn simulate_transform(rig: &SimulateRig) -> Result<Transform> {
         )),
         (Some(t), true) => Ok(*t),
         (Some(_), false) => Err(Error::usage("--shift/--rotate-rpy apply only without FILE")),
-        (None, false) => super::transform_between(
+        (None, false) => super::load::transform_between(
             &rig.files,
             rig.from.as_deref(),
             rig.to.as_deref(),
             &rig.load,
         ),
     }
-}
-
-/// The threshold calibration over the synthetic corridors.
-pub fn calibrate_threshold(c: &Calibration) -> Result<ThresholdReport> {
-    calibrate_threshold_with(c, &crate::progress::NoProgress)
 }
 
 /// [`calibrate_threshold`], reporting the sweep's progress.
@@ -499,7 +552,7 @@ pub fn calibrate_threshold_with(
 /// synthetic corridors, every default family ([`MetricRule::default_set`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CalibrateOptions {
-    /// Seeds per configuration and scene, 1 to [`MAX_CALIBRATION_SEEDS`].
+    /// Seeds per configuration and scene, 1 to `MAX_CALIBRATION_SEEDS`.
     pub seeds: u64,
     /// Range-noise levels (m), 0 to [`MAX_SIM_NOISE_M`].
     pub noise_levels: Vec<f64>,
@@ -508,7 +561,7 @@ pub struct CalibrateOptions {
     /// Characteristic lengths (m) of the characteristic length family.
     pub ells: Vec<f64>,
     /// Worker threads (0: the default, one per core up to 8; at most
-    /// [`MAX_CALIBRATION_THREADS`]).
+    /// `MAX_CALIBRATION_THREADS`).
     pub threads: usize,
 }
 
@@ -635,52 +688,4 @@ pub fn sweep(
         rig: rig.map(frame_json),
         families,
     })
-}
-
-/// What `audit sweep` is asked for.
-#[derive(Debug, Clone)]
-pub struct SweepOptions {
-    /// The scan and the frame.
-    pub scan: ScanOptions,
-    /// Point-displacement threshold.
-    pub tau: f64,
-    /// Characteristic lengths (m) of the characteristic length family.
-    pub ells: Vec<f64>,
-    /// Seed of the random frame changes.
-    pub seed: u64,
-    /// Calibration files of the user's rig (empty: no rig).
-    pub rig: Vec<PathBuf>,
-    /// With `rig`: the cloud's frame.
-    pub from: Option<String>,
-    /// With `rig`: the other frame.
-    pub to: Option<String>,
-    /// How the rig's files are read (`--arg`, `--package-path`, ...).
-    pub load: crate::formats::LoadOptions,
-}
-
-/// The paper's frame sweep on the user's scan ([`read_scan`], then
-/// [`sweep`]), with the rig's other frame when files are given.
-pub fn sweep_scan(opts: &SweepOptions, bars: &dyn ProgressFactory) -> Result<SweepReport> {
-    if opts.rig.is_empty() && (opts.from.is_some() || opts.to.is_some()) {
-        return Err(Error::usage("--from/--to apply only with --rig"));
-    }
-    let scan = read_scan(&opts.scan, bars)?;
-    let rig = if opts.rig.is_empty() {
-        None
-    } else {
-        Some(super::transform_between(
-            &opts.rig,
-            opts.from.as_deref(),
-            opts.to.as_deref(),
-            &opts.load,
-        )?)
-    };
-    sweep(
-        &scan.assembly,
-        opts.tau,
-        &opts.ells,
-        opts.seed,
-        rig.as_ref(),
-    )
-    .map_err(|e| e.in_file(&opts.scan.points))
 }

@@ -14,6 +14,7 @@
 //! Long reads and normal estimations report to a [`ProgressFactory`] when they
 //! are long enough to show ([`PROGRESS_MIN_BYTES`], [`PROGRESS_MIN_POINTS`]).
 
+use super::options::NormalOptions;
 use crate::degeneracy::normals::{estimate_normals_progress, merge_duplicates, NormalParams};
 use crate::degeneracy::pairs::{self, PairStats};
 use crate::degeneracy::points::{
@@ -26,8 +27,7 @@ use crate::geometry::Transform;
 use crate::progress::{NoProgress, Progress, ProgressFactory};
 use crate::report::detector::NormalsJson;
 use crate::tolerances::{
-    MAX_MATRIX_FILE_SIZE, PAIR_GATE_M, PROGRESS_MIN_BYTES, PROGRESS_MIN_POINTS, RAW_MIN_NEIGHBOURS,
-    RAW_NORMAL_RADIUS_M,
+    MAX_MATRIX_FILE_SIZE, PAIR_GATE_M, PROGRESS_MIN_BYTES, PROGRESS_MIN_POINTS,
 };
 use std::path::{Path, PathBuf};
 
@@ -40,18 +40,9 @@ pub struct ScanOptions {
     pub frame: Transform,
     /// A raw scan: estimate the normals instead of reading them.
     pub estimate_normals: bool,
-    /// Voxel grid edge (m) applied first to a raw scan and to a pair's source.
-    pub voxel: Option<f64>,
-    /// Neighbourhood radius (m) of the normal estimation.
-    pub normal_radius: f64,
-    /// At most this many nearest neighbours within the radius.
-    pub knn: Option<usize>,
-    /// Fewest neighbours (the point counted) for a normal.
-    pub min_neighbours: usize,
-    /// Planarity gate `(l2 - l3) / l1` of a neighbourhood.
-    pub min_planarity: Option<f64>,
-    /// Normals point toward this point (input frame; `None`: the sensor origin).
-    pub viewpoint: Option<[f64; 3]>,
+    /// How a raw scan's normals are estimated; its voxel grid also applies to
+    /// a pair's source.
+    pub normals: NormalOptions,
     /// Only the LAS/LAZ points of these classifications (raw scans).
     pub classes: Vec<u8>,
     /// A scan pair: the target's point file.
@@ -60,7 +51,7 @@ pub struct ScanOptions {
     pub gate: f64,
     /// A pair's initial guess: the pose of the source frame in the target frame.
     pub initial_guess: InitialGuess,
-    /// Keep the points `H` and `M` were assembled from ([`Scan::cloud`], for
+    /// Keep the points `H` and `M` were assembled from (`Scan::cloud`, for
     /// the 3D scene); a file with normals is then read a second time, whole
     /// (the streamed sums stay the report's).
     pub keep_points: bool,
@@ -74,12 +65,7 @@ impl ScanOptions {
             points: points.into(),
             frame: Transform::identity(),
             estimate_normals: false,
-            voxel: None,
-            normal_radius: RAW_NORMAL_RADIUS_M,
-            knn: None,
-            min_neighbours: RAW_MIN_NEIGHBOURS,
-            min_planarity: None,
-            viewpoint: None,
+            normals: NormalOptions::default(),
             classes: Vec::new(),
             target: None,
             gate: PAIR_GATE_M,
@@ -160,7 +146,7 @@ pub fn read_scan(opts: &ScanOptions, bars: &dyn ProgressFactory) -> Result<Scan>
             "--class applies only with --estimate-normals (LAS and LAZ are raw scans)",
         ));
     }
-    if opts.voxel.is_some() || opts.viewpoint.is_some() || opts.knn.is_some() {
+    if opts.normals.estimation_asked() {
         return Err(Error::usage(
             "--voxel, --viewpoint and --knn apply only with --estimate-normals",
         ));
@@ -214,7 +200,7 @@ fn file_progress(bars: &dyn ProgressFactory, path: &Path) -> Box<dyn Progress> {
 
 /// A bar for estimating the normals of `n` points when they are many
 /// ([`PROGRESS_MIN_POINTS`]), none otherwise.
-fn normals_progress(bars: &dyn ProgressFactory, n: usize) -> Box<dyn Progress> {
+pub(super) fn normals_progress(bars: &dyn ProgressFactory, n: usize) -> Box<dyn Progress> {
     if n >= PROGRESS_MIN_POINTS {
         bars.progress()
     } else {
@@ -234,26 +220,31 @@ fn read_raw(opts: &ScanOptions, path: &Path, bars: &dyn ProgressFactory) -> Resu
 
 /// How a raw scan (points without normals) becomes points with normals.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct RawScan {
+pub(super) struct RawScan {
     /// Voxel edge (m) of the down-sampling (one centroid per voxel, grid
     /// anchored at the frame's origin); `None`: every point.
-    voxel: Option<f64>,
+    pub voxel: Option<f64>,
     /// Normal estimation.
-    normals: NormalParams,
+    pub normals: NormalParams,
     /// Threads for the normal estimation (0: one per core).
-    threads: usize,
+    pub threads: usize,
 }
 
 impl RawScan {
     fn of(opts: &ScanOptions) -> Self {
+        Self::new(&opts.normals)
+    }
+
+    /// The estimation `n` asks for, one thread per core.
+    pub(super) fn new(n: &NormalOptions) -> Self {
         RawScan {
-            voxel: opts.voxel,
+            voxel: n.voxel,
             normals: NormalParams {
-                radius: opts.normal_radius,
-                knn: opts.knn,
-                min_neighbours: opts.min_neighbours,
-                min_planarity: opts.min_planarity,
-                viewpoint: opts.viewpoint.unwrap_or([0.0; 3]),
+                radius: n.radius,
+                knn: n.knn,
+                min_neighbours: n.min_neighbours,
+                min_planarity: n.min_planarity,
+                viewpoint: n.viewpoint.unwrap_or([0.0; 3]),
             },
             threads: 0,
         }
@@ -300,7 +291,7 @@ fn pair_scan(opts: &ScanOptions, target: &Path, bars: &dyn ProgressFactory) -> R
         InitialGuess::File(f) => read_matrix(f, &mut warnings)?,
     };
     let src = read_raw(opts, &opts.points, bars)?;
-    let (source, source_weights) = match opts.voxel {
+    let (source, source_weights) = match opts.normals.voxel {
         Some(v) => voxel_downsample_weighted(&src.points, src.weights.as_deref(), v, [0.0; 3]),
         None => (src.points, src.weights),
     };
@@ -381,7 +372,7 @@ fn read_matrix(path: &Path, warnings: &mut Vec<Warning>) -> Result<Transform> {
 /// A raw scan's points with estimated normals: duplicates merged, voxel
 /// grid, PCA normals toward the viewpoint; the weights of the points kept
 /// (when given); what the estimation kept.
-fn with_normals(
+pub(super) fn with_normals(
     points: &[[f64; 3]],
     weights: Option<&[f64]>,
     raw: &RawScan,

@@ -34,31 +34,28 @@
 //! frame's origin keep millimetres.
 
 mod foxglove;
+mod run;
+mod write;
 
-use crate::diagnostic::{Code, Error, Result};
-use crate::document::scene::{Entity, Paint, PointCloud, Scene, SceneTransform, Shape};
+pub use run::{RunMcap, RUN_TOPIC};
+use write::{channel, finish, message, transforms, writer, FRAME_TRANSFORMS, TF_TOPIC};
+
+use crate::diagnostic::{Error, Result};
+use crate::document::scene::{Entity, Paint, PointCloud, Scene, Shape};
 use base64::Engine as _;
 use foxglove::{
-    ArrowPrimitive, Color, FrameTransform, FrameTransforms, KeyValuePair, LinePrimitive,
-    PackedElementField, Pose, SceneEntity, SceneUpdate, TextPrimitive, Time, FLOAT32, LINE_STRIP,
+    ArrowPrimitive, Color, KeyValuePair, LinePrimitive, PackedElementField, Pose, SceneEntity,
+    SceneUpdate, TextPrimitive, Time, FLOAT32, LINE_STRIP,
 };
-use mcap::records::{MessageHeader, Metadata};
 use serde::Serialize;
-use std::collections::BTreeMap;
 use std::io::Cursor;
 
-/// The topic of the transforms.
-pub const TF_TOPIC: &str = "/tf";
 /// The topic of the entities.
 pub const SCENE_TOPIC: &str = "/audit/scene";
 /// Point clouds are on `CLOUD_TOPIC_PREFIX` + their name.
 pub const CLOUD_TOPIC_PREFIX: &str = "/audit/";
-/// The name of the metadata record.
-pub const METADATA_NAME: &str = "extrinsic-audit";
 
 /// Foxglove's schemas (`@foxglove/schemas` 2.1.0), as their files have them.
-const FRAME_TRANSFORMS: &[u8] =
-    include_bytes!("../../../docs/schemas/external/foxglove/FrameTransforms.json");
 const SCENE_UPDATE: &[u8] =
     include_bytes!("../../../docs/schemas/external/foxglove/SceneUpdate.json");
 const POINT_CLOUD: &[u8] =
@@ -81,16 +78,10 @@ pub fn write(scene: &Scene) -> Result<Vec<u8>> {
             "--format mcap: {what} holds a non-finite number, which JSON cannot carry"
         )));
     }
-    let fail = |e: mcap::McapError| Error::new(Code::Io, format!("cannot write MCAP: {e}"));
-    let opts = mcap::WriteOptions::new()
-        .profile("")
-        .library(concat!("extrinsic-audit ", env!("CARGO_PKG_VERSION")));
-    let mut w = opts.create(Cursor::new(Vec::new())).map_err(fail)?;
+    let mut w = writer(Cursor::new(Vec::new()))?;
     let mut out = Out { w: &mut w };
     if !scene.transforms.is_empty() {
-        let msg = FrameTransforms {
-            transforms: scene.transforms.iter().map(frame_transform).collect(),
-        };
+        let msg = transforms(&scene.transforms, Time::default());
         out.one(TF_TOPIC, "foxglove.FrameTransforms", FRAME_TRANSFORMS, &msg)?;
     }
     if !scene.entities.is_empty() {
@@ -104,57 +95,18 @@ pub fn write(scene: &Scene) -> Result<Vec<u8>> {
         let topic = format!("{CLOUD_TOPIC_PREFIX}{}", c.name);
         out.one(&topic, "foxglove.PointCloud", POINT_CLOUD, &point_cloud(c))?;
     }
-    let mut facts: BTreeMap<String, String> = scene.metadata.iter().cloned().collect();
-    facts.insert(
-        "tool".into(),
-        format!("audit {}", env!("CARGO_PKG_VERSION")),
-    );
-    w.write_metadata(&Metadata {
-        name: METADATA_NAME.into(),
-        metadata: facts,
-    })
-    .map_err(fail)?;
-    w.finish().map_err(fail)?;
-    Ok(w.into_inner().into_inner())
+    Ok(finish(w, scene.metadata.iter().cloned())?.into_inner())
 }
 
-/// The writer, adding one channel per topic.
+/// The writer of a scene, one message per topic at time 0.
 struct Out<'a> {
     w: &'a mut mcap::Writer<Cursor<Vec<u8>>>,
 }
 
 impl Out<'_> {
-    /// One message at time 0 on a new `json` channel `topic` whose
-    /// `jsonschema` schema is `schema` (named `name`, its title).
     fn one<T: Serialize>(&mut self, topic: &str, name: &str, schema: &[u8], msg: &T) -> Result<()> {
-        let fail = |e: mcap::McapError| Error::new(Code::Io, format!("cannot write MCAP: {e}"));
-        let sid = self
-            .w
-            .add_schema(name, "jsonschema", schema)
-            .map_err(fail)?;
-        let ch = self
-            .w
-            .add_channel(sid, topic, "json", &BTreeMap::new())
-            .map_err(fail)?;
-        let data = serde_json::to_vec(msg)
-            .map_err(|e| Error::new(Code::Io, format!("cannot encode {topic}: {e}")))?;
-        let header = MessageHeader {
-            channel_id: ch,
-            sequence: 0,
-            log_time: 0,
-            publish_time: 0,
-        };
-        self.w.write_to_known_channel(&header, &data).map_err(fail)
-    }
-}
-
-fn frame_transform(t: &SceneTransform) -> FrameTransform {
-    FrameTransform {
-        timestamp: Time::default(),
-        parent_frame_id: t.parent.clone(),
-        child_frame_id: t.child.clone(),
-        translation: t.translation_m.into(),
-        rotation: t.rotation_xyzw.into(),
+        let ch = channel(self.w, topic, name, schema)?;
+        message(self.w, ch, 0, 0, msg)
     }
 }
 
@@ -293,6 +245,7 @@ fn point_cloud(c: &PointCloud) -> foxglove::PointCloud {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::document::scene::SceneTransform;
 
     /// `q` applied to `v`.
     fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {

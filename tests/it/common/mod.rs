@@ -2,6 +2,7 @@
 
 #![allow(dead_code)] // each module uses some of the helpers
 
+pub mod derived;
 pub mod hostile;
 pub mod schema;
 pub mod testdata;

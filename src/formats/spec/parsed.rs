@@ -1,4 +1,4 @@
-//! What a parser returns ([`Loaded`], with [`RigMeta`] for rig files), and
+//! What a parser returns ([`Parsed`], with [`RigMeta`] for rig files), and
 //! the checks every parser applies to the numbers it reads.
 
 use crate::diagnostic::{Code, Location, Warning};
@@ -57,7 +57,7 @@ impl RigMeta {
 
 /// What one file yields.
 #[derive(Debug, Clone, Default)]
-pub struct Loaded {
+pub struct Parsed {
     /// The edges the file yields (each the pose of its child in its parent),
     /// in file order, with provenance.
     pub edges: Vec<Edge>,
@@ -72,8 +72,8 @@ pub struct Loaded {
     pub redundant: Vec<Edge>,
 }
 
-impl From<Loaded> for crate::frames::EdgeSet {
-    fn from(l: Loaded) -> Self {
+impl From<Parsed> for crate::frames::EdgeSet {
+    fn from(l: Parsed) -> Self {
         crate::frames::EdgeSet {
             edges: l.edges,
             frames: l.frames,

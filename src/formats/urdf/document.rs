@@ -1,0 +1,517 @@
+//! The document, read in one pass (issue 29): what each item of
+//! [`super::stream::read`] adds, and at the end which error, if any, the file gets.
+//!
+//! The text is read once, so an error met early is kept, not raised: a later
+//! part of the file may hold one that comes first in the order the checks
+//! have always been made (the XML anywhere, the root element, un-expanded
+//! xacro, the version, the links in file order, then the joints in file
+//! order, then the tree), and a joint may name a link declared after it
+//! ([`PendingLink`]). Once an error is certain to be reported (or one that
+//! comes before it), the items it makes irrelevant are no longer read.
+
+use super::joints::Builder;
+use super::read::{self, Context, JointRaw, Links, PendingLink};
+use super::stream::err_at;
+use super::stream::{El, Item, JointEl, XacroAt};
+use super::version::{self, Version};
+use crate::diagnostic::{Code, Error, Location, Result, Warning};
+use crate::formats::source::LineIndex;
+use crate::formats::spec::{LoadOptions, Parsed};
+use crate::formats::xacro::markers as xacro;
+use crate::frames::{Edge, FrameDecl};
+use foldhash::{HashMap, HashMapExt};
+use std::borrow::Cow;
+use std::collections::VecDeque;
+use std::path::Path;
+
+pub(super) struct Document<'c, 'a> {
+    idx: &'c LineIndex<'a>,
+    path: &'c Path,
+    opts: &'c LoadOptions,
+    root_error: Option<Error>,
+    xacro: Option<XacroAt<'a>>,
+    version: Option<Result<Version>>,
+    /// Top-level `<link>`s in file order: name and start offset.
+    decls: Vec<(Cow<'a, str>, usize)>,
+    links: Links<'a>,
+    link_error: Option<Error>,
+    /// Joint names and their lines (duplicates, mimic masters).
+    names: HashMap<Cow<'a, str>, usize>,
+    builder: Builder<'c>,
+    warnings: Vec<Warning>,
+    joints_read: usize,
+    /// The first joint that could not be read: its index and error.
+    joint_error: Option<(usize, Error)>,
+    /// Links named by joints before any `<link>` declared them, oldest
+    /// first (dropped from the front as they are declared).
+    pending: VecDeque<PendingLink<'a>>,
+}
+
+impl<'c, 'a> Document<'c, 'a> {
+    pub(super) fn new(
+        text: &'a str,
+        idx: &'c LineIndex<'a>,
+        path: &'c Path,
+        opts: &'c LoadOptions,
+        format: &'static str,
+    ) -> Self {
+        // Capacities from a count of the tags (a vector or map grown by
+        // doubling would hold up to twice the memory per link: issue 12).
+        let (links, joints) = (tags(text, b"<link"), tags(text, b"<joint"));
+        Document {
+            idx,
+            path,
+            opts,
+            root_error: None,
+            xacro: None,
+            version: None,
+            decls: Vec::with_capacity(links),
+            links: Links::with_capacity(links),
+            link_error: None,
+            names: HashMap::with_capacity(joints),
+            builder: Builder::new(opts, joints, format),
+            warnings: Vec::new(),
+            joints_read: 0,
+            joint_error: None,
+            pending: VecDeque::new(),
+        }
+    }
+
+    /// An error is certain that comes before any link's or joint's.
+    fn settled(&self) -> bool {
+        self.root_error.is_some()
+            || self.xacro.is_some()
+            || matches!(self.version, Some(Err(_)))
+            || self.link_error.is_some()
+    }
+
+    /// The next item of the pass.
+    pub(super) fn add(&mut self, item: Item<'_, 'a>) {
+        match item {
+            Item::Root(el) => match check_root(self.idx, &el) {
+                Err(e) => self.root_error = Some(e),
+                Ok(()) => self.version = Some(version::version(self.idx, &el, self.opts)),
+            },
+            Item::Xacro(x) => self.xacro = Some(x),
+            Item::Link(name, start) if !self.settled() => self.link(name, start),
+            Item::Joint(j) if !self.settled() && self.joint_error.is_none() => self.joint(&j),
+            Item::Link(..) | Item::Joint(_) => {}
+        }
+    }
+
+    fn link(&mut self, name: Option<Cow<'a, str>>, start: usize) {
+        let at = |msg: String| {
+            let (l, c) = self.idx.pos(start);
+            Error::parse(msg).at_line(l, Some(c))
+        };
+        let Some(name) = name else {
+            self.link_error = Some(at("<link> without a name: expected name=\"...\"".into()));
+            return;
+        };
+        if let Some(prev) = self.links.get(name.as_ref()) {
+            let (pl, _) = self.idx.pos(*prev);
+            self.link_error = Some(at(format!(
+                "link '{name}' declared twice: expected unique link names, first at line {pl}"
+            )));
+            return;
+        }
+        self.links.insert(name.clone(), start);
+        self.decls.push((name, start));
+        while let Some(p) = self.pending.front() {
+            if !self.links.contains_key(p.link.as_ref()) {
+                break;
+            }
+            self.pending.pop_front();
+        }
+    }
+
+    fn joint(&mut self, j: &JointEl<'_, 'a>) {
+        let k = self.joints_read;
+        self.joints_read += 1;
+        let name = j.el.attribute("name").map(|a| a.value.clone());
+        if let Some(&prev) = name.as_ref().and_then(|n| self.names.get(n.as_ref())) {
+            let msg = format!(
+                "joint '{}' declared twice: expected unique joint names, first at line {}",
+                name.as_deref().unwrap_or(""),
+                prev
+            );
+            self.joint_error = Some((k, err_at(self.idx, &j.el, msg)));
+            return;
+        }
+        // Joints are read only once the root gave the version.
+        let Some(Ok(version)) = self.version else {
+            return;
+        };
+        let cx = Context {
+            idx: self.idx,
+            path: self.path,
+            version,
+            links: &self.links,
+        };
+        match read::joint(&cx, j, k, &mut self.pending, &mut self.warnings) {
+            Err(e) => self.joint_error = Some((k, e)),
+            Ok(raw) => self.push(name, raw),
+        }
+    }
+
+    fn push(&mut self, name: Option<Cow<'a, str>>, raw: JointRaw) {
+        if let Some(n) = name {
+            self.names.insert(n, raw.loc.line.unwrap_or(0));
+        }
+        self.builder.push(raw);
+    }
+
+    /// The file's edges, frames and warnings, or its first error.
+    pub(super) fn finish(self) -> Result<Parsed> {
+        let idx = self.idx;
+        if let Some(e) = self.root_error {
+            return Err(e);
+        }
+        refuse_xacro(idx, self.xacro.as_ref(), self.path)?;
+        if let Some(Err(e)) = self.version {
+            return Err(e);
+        }
+        if let Some(e) = self.link_error {
+            return Err(e);
+        }
+        let undeclared = self
+            .pending
+            .iter()
+            .find(|p| !self.links.contains_key(p.link.as_ref()));
+        match (undeclared, self.joint_error) {
+            (Some(p), Some((k, _))) if p.joint <= k => return Err(p.error(idx)),
+            (Some(p), None) => return Err(p.error(idx)),
+            (_, Some((_, e))) => return Err(e),
+            (None, None) => {}
+        }
+        let (edges, edge_warnings) = self.builder.finish(&self.names)?;
+        drop((self.names, self.links, self.pending));
+        let mut warnings = self.warnings;
+        warnings.extend(edge_warnings);
+        // The joints must form a tree: checked now, with the file's positions,
+        // without a second copy of the edges.
+        crate::frames::check_tree(&edges)?;
+        let (frames, roots) = link_frames(idx, &self.decls, &edges, self.path);
+        drop(self.decls);
+        root_links(&roots, self.path, &mut warnings);
+        Ok(Parsed {
+            edges,
+            frames,
+            warnings,
+            ..Parsed::default()
+        })
+    }
+}
+
+/// How many times `tag` occurs in `text` (a capacity hint: it also counts
+/// tags in comments and nested elements).
+fn tags(text: &str, tag: &[u8]) -> usize {
+    memchr::memmem::find_iter(text.as_bytes(), tag).count()
+}
+
+/// The links no joint names, as declared frames (a link a joint names is
+/// known to the graph through its edge: issue 12, memory per link), and the
+/// links without a parent joint with their lines, both in file order.
+fn link_frames(
+    idx: &LineIndex,
+    links: &[(Cow<'_, str>, usize)],
+    edges: &[Edge],
+    path: &Path,
+) -> (Vec<FrameDecl>, Vec<(String, usize)>) {
+    const CHILD: u8 = 1;
+    const PARENT: u8 = 2;
+    let mut named: HashMap<&str, u8> = HashMap::with_capacity(edges.len() + 1);
+    for e in edges {
+        *named.entry(e.parent.as_str()).or_default() |= PARENT;
+        *named.entry(e.child.as_str()).or_default() |= CHILD;
+    }
+    let (mut frames, mut roots) = (Vec::new(), Vec::new());
+    for (name, start) in links {
+        let flags = named.get(name.as_ref()).copied().unwrap_or(0);
+        if flags & CHILD != 0 {
+            continue;
+        }
+        let (l, c) = idx.pos(*start);
+        roots.push((name.to_string(), l));
+        if flags == 0 {
+            frames.push(FrameDecl {
+                name: name.to_string(),
+                location: Location::at(path, l, Some(c)),
+            });
+        }
+    }
+    (frames, roots)
+}
+
+/// More than one link without a parent joint: ROS refuses the file.
+fn root_links(roots: &[(String, usize)], path: &Path, warnings: &mut Vec<Warning>) {
+    if roots.len() < 2 {
+        return;
+    }
+    let names: Vec<String> = roots
+        .iter()
+        .map(|(name, line)| format!("'{name}' (line {line})"))
+        .collect();
+    warnings.push(
+        Warning::new(
+            Code::RefusedByRos,
+            format!(
+                "{} links have no parent joint: {}; ROS (urdfdom) refuses a URDF with more than one root link (\"Two root links found\"); each is listed as its own tree and only links joined by joints can be audited",
+                roots.len(),
+                names.join(", ")
+            ),
+        )
+        .at(&Location::file(path)),
+    );
+}
+
+/// The root element must be `<robot>`; an `<sdf>` root gets its own advice.
+fn check_root(idx: &LineIndex, root: &El) -> Result<()> {
+    let (rl, rc) = idx.pos(root.start);
+    match root.name {
+        "robot" if root.attr("name").is_none() => Err(Error::parse(
+            "<robot> without a name: expected <robot name=\"...\"> (ROS refuses a robot without a name)",
+        )
+        .at_line(rl, Some(rc))),
+        "robot" => Ok(()),
+        "sdf" => Err(Error::parse(
+            "root element is <sdf>: this is an SDF (Gazebo) file, expected a URDF <robot>; convert it to URDF first",
+        )
+        .at_line(rl, Some(rc))),
+        other => Err(Error::parse(format!(
+            "root element is <{other}>: expected a URDF <robot>"
+        ))
+        .at_line(rl, Some(rc))),
+    }
+}
+
+/// Un-expanded xacro: namespace, elements or `${...}` / `$(...)` in
+/// attributes (the first such element, noted by [`super::stream::read`]).
+fn refuse_xacro(idx: &LineIndex, first: Option<&XacroAt>, path: &Path) -> Result<()> {
+    let Some(n) = first else { return Ok(()) };
+    let (l, c) = idx.pos(n.start);
+    Err(Error::parse(format!(
+        "this file holds un-expanded xacro (<{}{}>), not URDF: {}",
+        if n.xacro_ns { "xacro:" } else { "" },
+        n.name,
+        xacro::advice(path)
+    ))
+    .at_line(l, Some(c)))
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::formats::{xml, LoadOptions};
+    use std::path::Path;
+
+    fn load(text: &str) -> crate::diagnostic::Result<crate::formats::Parsed> {
+        super::super::parse(text, Path::new("t.urdf"), &LoadOptions::default())
+    }
+
+    fn error(text: &str) -> String {
+        match load(text) {
+            Err(e) => e.to_string(),
+            Ok(_) => "accepted".into(),
+        }
+    }
+
+    /// The error's message and line (`accepted`, no line, when there is none).
+    fn line_of(text: &str) -> (String, Option<usize>) {
+        match load(text) {
+            Err(e) => (e.message.clone(), e.location.line),
+            Ok(_) => ("accepted".into(), None),
+        }
+    }
+
+    fn joint(name: &str, parent: &str, child: &str, xyz: &str) -> String {
+        format!(
+            "<joint name=\"{name}\" type=\"fixed\"><parent link=\"{parent}\"/><child link=\"{child}\"/><origin xyz=\"{xyz}\"/></joint>\n"
+        )
+    }
+
+    fn robot(body: &str) -> String {
+        format!("<robot name=\"r\">\n{body}</robot>\n")
+    }
+
+    /// Links may follow the joints that name them, in any order: the edges
+    /// are those of the file written links first.
+    #[test]
+    fn links_declared_after_their_joints() {
+        let (ja, jb) = (
+            joint("ja", "a", "b", "1 2 3"),
+            joint("jb", "b", "c", "4 5 6"),
+        );
+        let links = "<link name=\"a\"/>\n<link name=\"b\"/>\n<link name=\"c\"/>\n";
+        let first = load(&robot(&format!("{links}{ja}{jb}"))).unwrap();
+        for body in [
+            format!("{ja}{jb}{links}"),
+            format!("<link name=\"a\"/>\n{ja}<link name=\"b\"/>\n{jb}<link name=\"c\"/>\n"),
+            format!("{jb}<link name=\"c\"/>\n{ja}<link name=\"b\"/>\n<link name=\"a\"/>\n"),
+        ] {
+            let l = load(&robot(&body)).unwrap();
+            let pairs = |l: &crate::formats::Parsed| {
+                let mut v: Vec<_> = l
+                    .edges
+                    .iter()
+                    .map(|e| {
+                        (
+                            e.parent.clone(),
+                            e.child.clone(),
+                            *e.transform.translation(),
+                        )
+                    })
+                    .collect();
+                v.sort_by(|a, b| a.0.cmp(&b.0));
+                v
+            };
+            assert_eq!(pairs(&l), pairs(&first), "{body}");
+        }
+    }
+
+    /// The error reported is the first in the order of the checks, wherever
+    /// in the file the pass met it.
+    #[test]
+    fn the_first_error_in_check_order_wins() {
+        let links = "<link name=\"a\"/>\n<link name=\"b\"/>\n<link name=\"c\"/>\n";
+        let bad_xyz = joint("j1", "a", "b", "1 2");
+        let undeclared = joint("j2", "b", "nowhere", "0 0 0");
+        let xyz_msg = "joint 'j1' <origin xyz>: expected 3 numbers, found 2 (\"1 2\")";
+        let link_msg = "joint 'j2': child link 'nowhere' is not declared as a <link>";
+        // Joints in file order: the earlier joint's error, of either kind.
+        assert!(error(&robot(&format!("{links}{bad_xyz}{undeclared}"))).contains(xyz_msg));
+        assert!(error(&robot(&format!("{undeclared}{bad_xyz}{links}"))).contains(link_msg));
+        // In one joint, an undeclared parent comes before a bad origin.
+        let both = joint("j3", "gone", "b", "1 2");
+        let e = error(&robot(&format!("{both}{links}")));
+        assert!(
+            e.contains("joint 'j3': parent link 'gone' is not declared"),
+            "{e}"
+        );
+        // A duplicate link, declared after the bad joint, comes first.
+        let e = line_of(&robot(&format!("{links}{bad_xyz}<link name=\"a\"/>\n")));
+        assert!(
+            e.0.contains("link 'a' declared twice") && e.1 == Some(6),
+            "{e:?}"
+        );
+        // Un-expanded xacro late in the file comes before both.
+        let e = line_of(&robot(&format!(
+            "{links}{bad_xyz}<link name=\"${{x}}\"/>\n"
+        )));
+        assert!(
+            e.0.contains("un-expanded xacro (<link>)") && e.1 == Some(6),
+            "{e:?}"
+        );
+        // And malformed XML anywhere comes first: roxmltree's words.
+        let text = format!("<robot name=\"r\">\n{links}{bad_xyz}</robt>\n");
+        let want = xml::error(
+            &roxmltree::Document::parse_with_options(&text, xml::parse_options()).unwrap_err(),
+            &text,
+        )
+        .to_string();
+        assert_eq!(error(&text), want);
+        // A bad version at the root comes before the joints.
+        let text = format!("<robot name=\"r\" version=\"2\">\n{links}{bad_xyz}</robot>");
+        assert!(error(&text).contains("<robot version>"), "{}", error(&text));
+    }
+
+    /// An error at the end of a long file names its line.
+    #[test]
+    fn a_late_error_names_its_line() {
+        let n = 20_000;
+        let mut body = String::from("<link name=\"l0\"/>\n");
+        for k in 1..n {
+            body.push_str(&format!("<link name=\"l{k}\"/>\n"));
+            body.push_str(&joint(
+                &format!("j{k}"),
+                &format!("l{}", k - 1),
+                &format!("l{k}"),
+                "0.1 0 0",
+            ));
+        }
+        let ok = load(&robot(&body)).unwrap();
+        assert_eq!(ok.edges.len(), n - 1);
+        body.push_str(&joint("last", &format!("l{}", n - 1), "l0", "0.1 0 nan"));
+        let e = load(&robot(&body)).unwrap_err();
+        // Line 1 is <robot>, then two lines per link and joint but the first.
+        assert_eq!(e.location.line, Some(2 * n + 1), "{e}");
+        assert!(
+            e.to_string()
+                .contains("joint 'last' <origin xyz>: expected finite numbers, found \"nan\""),
+            "{e}"
+        );
+    }
+
+    /// Numbers with signs and exponents, entities and character references
+    /// in values, comments and CDATA inside a joint: read as XML and urdfdom
+    /// read them.
+    #[test]
+    fn values_signs_exponents_entities() {
+        let text = robot(
+            "<link name=\"a&amp;b\"/><link name=\"c\"/>\n\
+             <joint name=\"j\" type=\"fixed\"><!-- <origin xyz=\"9 9 9\"/> -->\
+             <parent link=\"a&amp;b\"/><![CDATA[<child link=\"x\"/>]]><child link='c'/>\
+             <origin xyz=\"+1e-3&#32;-2.5E+2 .5\" rpy=\"-0 +0.0 1e0\"/></joint>\n",
+        );
+        let l = load(&text).unwrap();
+        let e = &l.edges[0];
+        assert_eq!((e.parent.as_str(), e.child.as_str()), ("a&b", "c"));
+        assert_eq!(e.transform.translation().as_slice(), &[0.001, -250.0, 0.5]);
+        let want = crate::geometry::Transform::from_rpy([-0.0, 0.0, 1.0], [0.0; 3]).unwrap();
+        assert_eq!(e.transform.rotation(), want.rotation());
+    }
+
+    /// `${` and `$(` anywhere in a value, as written or once decoded, are
+    /// xacro; a `$` alone is not.
+    #[test]
+    fn xacro_expressions_in_values() {
+        for (value, xacro) in [
+            ("${pi}", true),
+            ("$(find pkg)", true),
+            ("a$&#123;b}", true),
+            ("$&#40;arg x)", true),
+            ("a$b", false),
+            ("$ {x}", false),
+        ] {
+            let text = robot(&format!(
+                "<link name=\"a\"/>\n<link name=\"b\" note=\"{value}\"/>\n"
+            ));
+            let e = line_of(&text);
+            assert_eq!(
+                e.0.contains("un-expanded xacro (<link>)"),
+                xacro,
+                "{value}: {e:?}"
+            );
+            if xacro {
+                assert_eq!(e.1, Some(3), "{e:?}");
+            }
+        }
+    }
+
+    /// Duplicated attributes past the pairwise limit, and namespace scopes,
+    /// get roxmltree's error; a xacro prefix in scope is xacro.
+    #[test]
+    fn duplicates_and_namespace_scopes() {
+        let attrs: String = (0..40).map(|i| format!(" a{i}=\"{i}\"")).collect();
+        for text in [
+            robot(&format!("<link name=\"a\"{attrs} a39=\"x\"/>\n")),
+            robot(&format!("<link name=\"a\"{attrs} a3=\"x\"/>\n")),
+            robot("<a xmlns:x=\"urn:x\"><x:b/></a><x:c/>\n<link name=\"a\"/>\n"),
+        ] {
+            let want = xml::error(
+                &roxmltree::Document::parse_with_options(&text, xml::parse_options()).unwrap_err(),
+                &text,
+            )
+            .to_string();
+            assert_eq!(error(&text), want, "{text}");
+        }
+        let text = robot(
+            "<link name=\"a\"/>\n<a xmlns:x=\"urn:other\"><x:b/></a>\n\
+             <c xmlns:x=\"http://www.ros.org/wiki/xacro\">\n<x:d/></c>\n",
+        );
+        let e = line_of(&text);
+        assert!(
+            e.0.contains("un-expanded xacro (<xacro:d>)") && e.1 == Some(5),
+            "{e:?}"
+        );
+    }
+}
