@@ -445,3 +445,52 @@ fn h_per_calibration_is_oriented_with_the_mean_axis() {
         assert!(flipped >= 1, "{label}: no calibration's axis was flipped");
     }
 }
+
+/// `fleet_tolerance = [MM, DEG]` in the fleet's `audit.toml` gates as the
+/// flag does; the flag wins; a malformed value or two manifests that
+/// disagree is an error (exit 2).
+#[test]
+fn audit_toml_sets_the_fleet_tolerance() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = fleet(dir.path(), 12, 7);
+    let r = root.to_str().unwrap();
+    let pair = ["--pair", "base_link:velodyne_top"];
+    let manifest = root.join("audit.toml");
+    std::fs::write(&manifest, "fleet_tolerance = [5.0, 0.5]\n").unwrap();
+    let (code, out, err) = run_cli(&[&["check", r][..], &pair].concat());
+    assert_eq!(code, 1, "{out}{err}");
+    let found: Vec<&str> = out
+        .lines()
+        .filter(|l| l.contains("fleet-deviation"))
+        .collect();
+    assert_eq!(found.len(), 1, "{out}");
+    assert!(
+        found[0].contains("v007/sensors_calibration.yaml")
+            && found[0].contains("(tolerance 5 mm, 0.5 deg)"),
+        "{out}"
+    );
+    // The flag wins over the manifest.
+    let (code, out, _) =
+        run_cli(&[&["check", r, "--fleet-tolerance", "10,0.5"][..], &pair].concat());
+    assert_eq!(code, 0, "{out}");
+    // Without it, no fleet gate.
+    std::fs::write(&manifest, "").unwrap();
+    let (code, out, _) = run_cli(&[&["check", r][..], &pair].concat());
+    assert_eq!(code, 0, "{out}");
+    for bad in [
+        "fleet_tolerance = [5.0]\n",
+        "fleet_tolerance = [5.0, -1.0]\n",
+    ] {
+        std::fs::write(&manifest, bad).unwrap();
+        let (code, _, err) = run_cli(&[&["check", r][..], &pair].concat());
+        assert_eq!(code, 2, "{bad}");
+        assert!(err.contains("fleet_tolerance: expected [MM, DEG]"), "{err}");
+    }
+    // Two checked fleets whose manifests disagree.
+    let other = fleet(&dir.path().join("b"), 3, 0);
+    std::fs::write(&manifest, "fleet_tolerance = [5.0, 0.5]\n").unwrap();
+    std::fs::write(other.join("audit.toml"), "fleet_tolerance = [4.0, 0.5]\n").unwrap();
+    let (code, _, err) = run_cli(&[&["check", r, other.to_str().unwrap()][..], &pair].concat());
+    assert_eq!(code, 2);
+    assert!(err.contains("expected one fleet tolerance"), "{err}");
+}
