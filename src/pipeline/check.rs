@@ -474,7 +474,7 @@ fn jobs(
                     "audit.toml: fleet_tolerance {t:?} here, {f:?} in {}: expected one fleet tolerance (or give --fleet-tolerance)",
                     at.join(manifest::MANIFEST).display()
                 ))
-                .in_file(&dir.join(manifest::MANIFEST)))
+                .in_file(dir.join(manifest::MANIFEST)))
             }
             (Some(t), None) => fleet = Some((t, dir)),
             _ => {}
