@@ -456,13 +456,30 @@ enum Job {
 /// Group the files into jobs: each checked directory's `audit.toml` robots
 /// (their files loaded together), then every other file on its own. The
 /// manifests themselves are not calibration files.
-fn jobs(opts: &CheckOptions, files: &mut Vec<Found>) -> Result<Vec<Job>> {
+/// Also the manifests' `fleet_tolerance` (m, deg), one value or an error.
+fn jobs(
+    opts: &CheckOptions,
+    files: &mut Vec<Found>,
+) -> Result<(Vec<Job>, Option<DriftTolerances>)> {
     files.retain(|f| f.path.file_name().is_none_or(|n| n != manifest::MANIFEST));
     let mut out = Vec::new();
     let mut grouped: HashSet<FileId> = HashSet::new();
     let mut walked: Option<HashSet<FileId>> = None;
+    let mut fleet: Option<([f64; 2], &Path)> = None;
     for dir in opts.paths.iter().filter(|p| p.is_dir()) {
-        for r in manifest::read(dir)? {
+        let (robots, tol) = manifest::read(dir)?;
+        match (tol, fleet) {
+            (Some(t), Some((f, at))) if t != f => {
+                return Err(Error::usage(format!(
+                    "audit.toml: fleet_tolerance {t:?} here, {f:?} in {}: expected one fleet tolerance (or give --fleet-tolerance)",
+                    at.join(manifest::MANIFEST).display()
+                ))
+                .in_file(dir.join(manifest::MANIFEST)))
+            }
+            (Some(t), None) => fleet = Some((t, dir)),
+            _ => {}
+        }
+        for r in robots {
             let have = walked
                 .get_or_insert_with(|| files.iter().filter_map(|f| file_id(&f.path)).collect());
             for f in &r.files {
@@ -487,7 +504,11 @@ fn jobs(opts: &CheckOptions, files: &mut Vec<Found>) -> Result<Vec<Job>> {
             out.push(Job::File(i));
         }
     }
-    Ok(out)
+    let fleet = fleet.map(|([mm, deg], _)| DriftTolerances {
+        translation_m: mm * 1e-3,
+        rotation_deg: deg,
+    });
+    Ok((out, fleet))
 }
 
 /// The directory a baseline file's keys are relative to.
@@ -865,7 +886,19 @@ pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckR
             ));
         }
     }
-    let jobs = jobs(opts, &mut walked.files)?;
+    let (jobs, manifest_fleet) = jobs(opts, &mut walked.files)?;
+    // The flag wins over the manifests' `fleet_tolerance`.
+    let with_fleet;
+    let opts = match (&opts.fleet, manifest_fleet) {
+        (None, Some(t)) => {
+            with_fleet = CheckOptions {
+                fleet: Some(t),
+                ..opts.clone()
+            };
+            &with_fleet
+        }
+        _ => opts,
+    };
     let base_keys = opts.baseline.as_deref().map(KeyDir::new).transpose()?;
     let write_keys = opts
         .write_baseline

@@ -11,6 +11,11 @@
 //! pairs = ["base:lidar"]                               # FROM:TO, checked and baselined
 //! ```
 //!
+//! A fleet (one file per vehicle) sets its gate once, at the top:
+//! `fleet_tolerance = [5.0, 0.5]` (mm, deg), what `check --fleet-tolerance
+//! 5,0.5` does; the flag, when given, wins. Two checked directories whose
+//! manifests set different tolerances are an error.
+//!
 //! Each robot's files are loaded into one frame graph, as `audit a b` loads
 //! several files: the same edge given different values in two files, a cycle
 //! or a frame with two parents is a finding naming both file:line. A file
@@ -33,6 +38,9 @@ pub const MANIFEST: &str = "audit.toml";
 struct Manifest {
     #[serde(default)]
     robot: Vec<RobotSpec>,
+    /// `fleet_tolerance = [MM, DEG]`: `check --fleet-tolerance` for this
+    /// directory when the flag is not given.
+    fleet_tolerance: Option<Vec<f64>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -75,11 +83,12 @@ pub fn parse_pair(s: &str) -> Option<(String, String)> {
     }
 }
 
-/// The robots of `dir/audit.toml` (none when there is no manifest).
-pub fn read(dir: &Path) -> Result<Vec<ManifestRobot>> {
+/// The robots of `dir/audit.toml` (none when there is no manifest) and its
+/// `fleet_tolerance` as `[mm, deg]` (two finite numbers, not negative).
+pub fn read(dir: &Path) -> Result<(Vec<ManifestRobot>, Option<[f64; 2]>)> {
     let path = dir.join(MANIFEST);
     if !path.is_file() {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), None));
     }
     let text = crate::input::read_text(&path, MAX_MANIFEST_FILE_SIZE, "the audit.toml size cap")?;
     let m: Manifest = toml::from_str(&text).map_err(|e| {
@@ -92,6 +101,16 @@ pub fn read(dir: &Path) -> Result<Vec<ManifestRobot>> {
             None => err,
         }
     })?;
+    let fleet = match m.fleet_tolerance.as_deref() {
+        None => None,
+        Some(&[mm, deg]) if [mm, deg].iter().all(|x| x.is_finite() && *x >= 0.0) => Some([mm, deg]),
+        Some(v) => {
+            return Err(Error::usage(format!(
+                "audit.toml: fleet_tolerance: expected [MM, DEG], two numbers not negative, found {v:?}"
+            ))
+            .in_file(&path))
+        }
+    };
     let mut out = Vec::new();
     let mut seen: Vec<PathBuf> = Vec::new();
     for r in m.robot {
@@ -139,5 +158,5 @@ pub fn read(dir: &Path) -> Result<Vec<ManifestRobot>> {
             pairs,
         });
     }
-    Ok(out)
+    Ok((out, fleet))
 }

@@ -217,6 +217,18 @@ fn outliers_json(s: &Spread, names: &[String]) -> OutliersJson {
     }
 }
 
+/// `-1` when the calibration's screw axis points against the mean's (`e .
+/// e_mean < 0`), else `1`: its `h` is then said along the axis oriented
+/// with the mean's, so that the signs of a set compare. On a small rotation
+/// the axis is set by calibration noise and flips from one calibration to
+/// the next; `h = e . t` flips with it while the screw is the same.
+fn axis_sign(t: &Transform, s: &Spread) -> f64 {
+    match (t.rotation_angle_axis().1, s.mean.rotation_angle_axis().1) {
+        (Some(e), Some(e0)) if e.dot(&e0) < 0.0 => -1.0,
+        _ => 1.0,
+    }
+}
+
 fn calibration_json(
     i: usize,
     r: &Read,
@@ -246,7 +258,11 @@ fn calibration_json(
         exceeds: tol
             .is_some_and(|t| d.distance_mm > t.translation_mm || d.angle_deg > t.rotation_deg),
         lever_arm_m: r.report.lever_arm_m,
-        h_m: r.report.screw.translation_along_axis_m,
+        h_m: r
+            .report
+            .screw
+            .translation_along_axis_m
+            .map(|h| h * axis_sign(&r.transform, s)),
         h_uncertainty_m: r.report.screw.translation_along_axis_uncertainty_m,
         pitch_verdict: r.report.screw.pitch_verdict,
         bands: r.report.certificate.iter().map(|c| c.band).collect(),

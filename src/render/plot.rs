@@ -5,7 +5,7 @@
 //! bidirectional characters as visible escapes; plotters escapes it for XML.
 
 use crate::diagnostic::{Code, Error, Result};
-use crate::document::plot::{Colour, Corner, Mark, Panel, Plot, Point, Series};
+use crate::document::plot::{Axis, Colour, Corner, Mark, Panel, Plot, Point, Series};
 use crate::sanitize;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
@@ -79,8 +79,8 @@ where
         .configure_mesh()
         .x_desc(shown(&p.x.label))
         .y_desc(shown(&p.y.label))
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
+        .x_label_formatter(&|v| tick(on_step(*v, &p.x)))
+        .y_label_formatter(&|v| tick(on_step(*v, &p.y)))
         .light_line_style(WHITE.mix(0.0))
         .draw()
         .map_err(plot_err)?;
@@ -100,6 +100,20 @@ where
         .draw()
         .map_err(plot_err)?;
     Ok(())
+}
+
+/// A linear axis's tick value rounded to a millionth of the axis span, far
+/// below its tick step (a tenth of the span or so): plotters accumulates the
+/// ticks in floating point, so the tick at zero arrives as `-6.94e-18`. Log
+/// axes are left alone (their ticks are powers of ten).
+fn on_step(v: f64, axis: &Axis) -> f64 {
+    let span = (axis.range.1 - axis.range.0).abs();
+    if axis.log || !(span.is_finite() && span > 0.0) || !v.is_finite() {
+        return v;
+    }
+    let q = 10f64.powf((span.log10() - 6.0).floor());
+    // `+ 0.0` turns `-0.0` into `0`.
+    (v / q).round() * q + 0.0
 }
 
 /// A tick label with at most three significant digits: plain between 1e-3
@@ -262,5 +276,27 @@ mod tests {
         for (v, want) in cases {
             assert_eq!(super::tick(v), want, "{v}");
         }
+    }
+
+    #[test]
+    fn a_tick_at_zero_is_zero_on_a_linear_axis() {
+        let mut axis = super::Axis {
+            label: String::new(),
+            range: (-0.15, 0.1),
+            log: false,
+        };
+        // A tick at zero reached by steps of 0.05 from -0.15, in floating point.
+        let zero: f64 = -0.15 + 0.05 + 0.05 + 0.05;
+        assert!(zero != 0.0 && zero.abs() < 1e-16, "{zero:e}");
+        let label = |v: f64, a: &super::Axis| super::tick(super::on_step(v, a));
+        assert_eq!(label(zero, &axis), "0");
+        assert_eq!(label(-6.938893903907228e-18, &axis), "0");
+        for (v, want) in [(0.05, "0.05"), (-0.1, "-0.1"), (0.025, "0.025")] {
+            assert_eq!(label(v, &axis), want);
+        }
+        // A log axis keeps its values (1e-5 is a tick there, not a zero).
+        axis.log = true;
+        axis.range = (1e-6, 1.0);
+        assert_eq!(label(1e-5, &axis), "1e-5");
     }
 }

@@ -602,28 +602,79 @@ impl RigReport {
         format!("h = {h}{u}, {verdict}")
     }
 
-    /// The closing "what to do" sentence: which detector metric to use on
-    /// this rig, and when the adapted metric M0 can be used.
+    /// The closing "what to do" sentence, in this rig's numbers: which metric
+    /// to use, what the pitch verdict allows (the adapted metric M0 or not,
+    /// with `h`), and how far an eigenvalue threshold tuned in `to` moves in
+    /// `from` (the certificate band at `l = 1 m`, else at the first length
+    /// given, with the lever arm); with the user's detector
+    /// ([`RigReport::detector`]), that detector's concrete step instead of
+    /// the generic band clause.
     pub fn advice(&self) -> String {
-        let pd = "use the point-displacement metric (frame-invariant on every rig)";
-        match (self.screw.kind, self.screw.pitch_verdict) {
-            (ScrewKind::Identity, _) => "Every metric is frame-invariant here: use any.".into(),
+        let pd = "the point-displacement metric (frame-invariant on every rig)";
+        if self.screw.kind == ScrewKind::Identity {
+            return "Every metric is frame-invariant here: use any.".into();
+        }
+        let m0 = self.m0_clause();
+        match &self.detector {
+            Some(a) => format!("To do ({}): {}; {m0}.", a.detector.label, a.step),
+            None if self.screw.pitch_verdict == Some(PitchVerdict::Zero)
+                && self.screw.kind != ScrewKind::PureTranslation =>
+            {
+                format!("To do: use {pd} or {m0}; {}.", self.band_clause())
+            }
+            None => format!("To do: use {pd}: {m0}, and {}.", self.band_clause()),
+        }
+    }
+
+    /// What the pitch verdict allows of the adapted metric M0, with `h`.
+    fn m0_clause(&self) -> String {
+        let sc = &self.screw;
+        let h = short(sc.translation_along_axis_m.unwrap_or(0.0));
+        match (sc.kind, sc.pitch_verdict) {
             (ScrewKind::PureTranslation, _) => format!(
-                "To do: {pd}; no constant metric is invariant under a pure translation."
+                "no constant metric is invariant under a pure translation of {} m",
+                fixed(self.lever_arm_m, 3)
             ),
             (_, Some(PitchVerdict::Zero)) => format!(
-                "To do: {pd}, or the adapted metric M0 printed below (invariant on this rig at its written precision, residual {})",
+                "the adapted metric M0 printed below (h = {h} m: invariant on this rig at its written precision, residual {})",
                 self.adapted_metric
                     .invariance_residual
                     .map(short)
                     .unwrap_or_else(|| "-".into())
-            ) + ".",
-            (_, Some(PitchVerdict::Undecidable)) => format!(
-                "To do: {pd}; M0 can be used once h is known to {} m (standard uncertainty).",
-                short(self.screw.deciding_uncertainty_m.unwrap_or(0.0))
             ),
-            _ => format!("To do: {pd}; no adapted metric M0 exists for this rig."),
+            (_, Some(PitchVerdict::Undecidable)) => format!(
+                "M0 can be used once h (now {h} m) is known to {} m (standard uncertainty)",
+                short(sc.deciding_uncertainty_m.unwrap_or(0.0))
+            ),
+            _ => format!("h = {h} m rules out an adapted metric M0"),
         }
+    }
+
+    /// How an eigenvalue threshold tuned in `to` acts in `from`: the
+    /// certificate band at `l = 1 m` (else the first length), or unchanged
+    /// at zero lever arm.
+    fn band_clause(&self) -> String {
+        let (from, to) = (&self.from, &self.to);
+        let Some(c) = self
+            .certificate
+            .iter()
+            .find(|c| c.ell_m == 1.0)
+            .or(self.certificate.first())
+        else {
+            return format!("thresholds tuned in {to} need re-tuning in {from}");
+        };
+        if self.lever_arm_m == 0.0 {
+            return format!(
+                "an eigenvalue threshold tuned in {to} carries to {from} unchanged (zero lever arm)"
+            );
+        }
+        format!(
+            "an eigenvalue threshold tuned in {to} acts in {from} as {} to {} times itself (lever arm {} m, l = {} m)",
+            ratio(c.band[0]),
+            ratio(c.band[1]),
+            fixed(self.lever_arm_m, 3),
+            short(c.ell_m)
+        )
     }
 
     fn transform_section(&self, doc: &mut Document) {
@@ -865,10 +916,8 @@ impl Report for RigReport {
         self.families_section(&mut doc);
         if let Some(a) = &self.detector {
             doc.section(format!("Your detector: {}", a.detector.label));
-            doc.text(format!(
-                "{}.\nSource: {}.\nTo do ({}): {}.",
-                a.statement, a.detector.source, a.detector.label, a.step
-            ));
+            // Its step is the headline's "To do".
+            doc.text(format!("{}.\nSource: {}.", a.statement, a.detector.source));
         }
         doc.push(Block::Scene(self.scene()));
         doc

@@ -184,7 +184,9 @@ pub struct CalibrationJson {
     pub exceeds: bool,
     /// `|t|` (m).
     pub lever_arm_m: f64,
-    /// `h = e . t` (m); null without a rotation.
+    /// `h = e . t` (m), `e` the calibration's screw axis oriented with the
+    /// mean's (`e . e_mean >= 0`: on a small rotation the axis, and the sign
+    /// of `h`, otherwise follow the noise); null without a rotation.
     pub h_m: Option<f64>,
     /// Its standard uncertainty from the rounding of the numbers (m).
     pub h_uncertainty_m: Option<f64>,

@@ -105,3 +105,123 @@ fn a_fast_lio_config_reveals_its_odometry() {
     assert_eq!(code, 2);
     assert!(err.contains("expected one of lio-sam, lego-loam"), "{err}");
 }
+
+/// The headline's "To do" in markdown (one line, the report's first).
+fn to_do(args: &[&str]) -> String {
+    let mut a = args.to_vec();
+    a.extend(["--format", "markdown"]);
+    let (code, out, err) = run_cli(&a);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    let first = out.lines().next().unwrap();
+    first[first.find("To do").expect(first)..]
+        .trim_end_matches("**")
+        .to_string()
+}
+
+/// The "To do" says this rig's numbers: the certificate band at l = 1 m (as
+/// the JSON has it), the lever arm, and h when the pitch rules out M0; so no
+/// two shipped rigs with different numbers share a sentence (it was one
+/// sentence on 37 of 38).
+#[test]
+fn the_to_do_line_names_this_rigs_band_lever_arm_and_pitch() {
+    let mut sentences = std::collections::HashSet::new();
+    let mut rigs = std::collections::HashSet::new();
+    for entry in std::fs::read_dir("calibrations").unwrap() {
+        let p = entry.unwrap().path();
+        if p.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let path = p.to_str().unwrap();
+        let v = report(&[path, "--format", "json"]);
+        if v["screw"]["kind"] == "identity" {
+            continue; // "Every metric is frame-invariant here: use any."
+        }
+        let line = to_do(&[path]);
+        let lever = v["lever_arm_m"].as_f64().unwrap();
+        let c = v["certificate"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["ell_m"] == 1.0)
+            .unwrap();
+        let band = [
+            c["band"][0].as_f64().unwrap(),
+            c["band"][1].as_f64().unwrap(),
+        ];
+        if lever > 0.0 {
+            // ratio(): four significant digits.
+            let sig4 = |x: f64| format!("{:.*}", (3 - x.log10().floor() as i32).max(0) as usize, x);
+            assert!(
+                line.contains(&format!(
+                    "{} to {} times itself (lever arm {lever:.3} m, l = 1 m)",
+                    sig4(band[0]),
+                    sig4(band[1])
+                )),
+                "{path}: {line} ({band:?})"
+            );
+        } else {
+            assert!(
+                line.contains("unchanged (zero lever arm)"),
+                "{path}: {line}"
+            );
+        }
+        if v["screw"]["pitch_verdict"] == "nonzero" {
+            let h = v["screw"]["translation_along_axis_m"].as_f64().unwrap();
+            assert!(
+                line.contains("rules out an adapted metric M0"),
+                "{path}: {line}"
+            );
+            let said: f64 = line
+                .split("h = ")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert!((said - h).abs() <= 1e-3 * h.abs(), "{path}: {line} ({h})");
+        }
+        rigs.insert(format!(
+            "{} {} {lever:.3} {band:?} {}",
+            v["from"], v["to"], v["screw"]["translation_along_axis_m"]
+        ));
+        sentences.insert(line);
+    }
+    assert!(rigs.len() >= 30, "{} rigs", rigs.len());
+    assert_eq!(sentences.len(), rigs.len());
+}
+
+/// A LiDAR 1 m above the IMU, level: the band at |d| / l = 1 is [1 / phi^2,
+/// phi^2] (closed form, phi the golden ratio); with `--detector lio-sam` the
+/// "To do" is LIO-SAM's step, its threshold 100 scaled into [38.20, 261.80].
+#[test]
+fn the_to_do_line_takes_the_detectors_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let rig = dir.path().join("up.toml");
+    std::fs::write(
+        &rig,
+        "[rig]\nid = \"up\"\nsensor = \"s\"\nplatform = \"p\"\ndataset = \"d\"\n\
+         category = \"cad-or-nominal\"\nlicence = \"authored\"\ndirection = \"x\"\nfrom = \"imu\"\nto = \"lidar\"\n\n\
+         [rig.source]\nrepo = \"a/b\"\npath = \"p\"\ncommit = \"0000000000000000000000000000000000000000\"\n\n\
+         [[transform]]\nparent = \"imu\"\nchild = \"lidar\"\nunit = \"m\"\nsource_key = \"k\"\n\
+         translation = [0.0, 0.0, 1.0]\nrpy = [0.0, 0.0, 0.0]\n",
+    )
+    .unwrap();
+    let path = rig.to_str().unwrap();
+    let phi2 = ((1.0 + 5f64.sqrt()) / 2.0).powi(2);
+    assert_eq!(format!("{:.4} {:.3}", 1.0 / phi2, phi2), "0.3820 2.618");
+    assert_eq!(
+        to_do(&[path]),
+        "To do: use the point-displacement metric (frame-invariant on every rig): no constant metric is invariant under a pure translation of 1.000 m, and an eigenvalue threshold tuned in lidar acts in imu as 0.3820 to 2.618 times itself (lever arm 1.000 m, l = 1 m)."
+    );
+    let line = to_do(&[path, "--detector", "lio-sam"]);
+    assert!(
+        line.starts_with("To do (LIO-SAM): do not carry the threshold 100 to a detector in imu (or the IMU) on this rig without scaling it into [38.20, 261.80]"),
+        "{line}"
+    );
+    assert!(
+        line.ends_with("no constant metric is invariant under a pure translation of 1.000 m."),
+        "{line}"
+    );
+}

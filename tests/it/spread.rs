@@ -420,3 +420,77 @@ fn spread_plot_names_the_outlier() {
     assert_eq!(code, 2);
     assert!(err.contains("expected a file name ending in .svg"), "{err}");
 }
+
+/// Each calibration's `h` is said along its screw axis oriented with the
+/// mean's: on KITTI's 0.6 deg rotation the planted outlier's own axis points
+/// the other way (its rig report says h = +0.818 m, the others -0.77 to
+/// -0.86 m); in the set it is -0.818 m, the same magnitude, the set's sign.
+#[test]
+fn h_per_calibration_is_oriented_with_the_mean_axis() {
+    for label in ["kitti-repeat", "halfturn"] {
+        let v = set_json(label);
+        let set_h = v["pitch"]["h_m"].as_f64().unwrap();
+        let mut flipped = 0;
+        for c in v["calibrations"].as_array().unwrap() {
+            let file = c["file"].as_str().unwrap();
+            let (code, out, err) = run_cli(&[file, "--format", "json"]);
+            assert_eq!(code, 0, "{err}");
+            let own: Value = serde_json::from_str(&out).unwrap();
+            let own_h = own["screw"]["translation_along_axis_m"].as_f64().unwrap();
+            let h = c["h_m"].as_f64().unwrap();
+            assert_eq!(h.abs(), own_h.abs(), "{file}");
+            assert!(h * set_h > 0.0, "{file}: h {h} against the set's {set_h}");
+            flipped += usize::from(h != own_h);
+        }
+        assert!(flipped >= 1, "{label}: no calibration's axis was flipped");
+    }
+}
+
+/// `fleet_tolerance = [MM, DEG]` in the fleet's `audit.toml` gates as the
+/// flag does; the flag wins; a malformed value or two manifests that
+/// disagree is an error (exit 2).
+#[test]
+fn audit_toml_sets_the_fleet_tolerance() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = fleet(dir.path(), 12, 7);
+    let r = root.to_str().unwrap();
+    let pair = ["--pair", "base_link:velodyne_top"];
+    let manifest = root.join("audit.toml");
+    std::fs::write(&manifest, "fleet_tolerance = [5.0, 0.5]\n").unwrap();
+    let (code, out, err) = run_cli(&[&["check", r][..], &pair].concat());
+    assert_eq!(code, 1, "{out}{err}");
+    let found: Vec<&str> = out
+        .lines()
+        .filter(|l| l.contains("fleet-deviation"))
+        .collect();
+    assert_eq!(found.len(), 1, "{out}");
+    assert!(
+        found[0].contains("v007/sensors_calibration.yaml")
+            && found[0].contains("(tolerance 5 mm, 0.5 deg)"),
+        "{out}"
+    );
+    // The flag wins over the manifest.
+    let (code, out, _) =
+        run_cli(&[&["check", r, "--fleet-tolerance", "10,0.5"][..], &pair].concat());
+    assert_eq!(code, 0, "{out}");
+    // Without it, no fleet gate.
+    std::fs::write(&manifest, "").unwrap();
+    let (code, out, _) = run_cli(&[&["check", r][..], &pair].concat());
+    assert_eq!(code, 0, "{out}");
+    for bad in [
+        "fleet_tolerance = [5.0]\n",
+        "fleet_tolerance = [5.0, -1.0]\n",
+    ] {
+        std::fs::write(&manifest, bad).unwrap();
+        let (code, _, err) = run_cli(&[&["check", r][..], &pair].concat());
+        assert_eq!(code, 2, "{bad}");
+        assert!(err.contains("fleet_tolerance: expected [MM, DEG]"), "{err}");
+    }
+    // Two checked fleets whose manifests disagree.
+    let other = fleet(&dir.path().join("b"), 3, 0);
+    std::fs::write(&manifest, "fleet_tolerance = [5.0, 0.5]\n").unwrap();
+    std::fs::write(other.join("audit.toml"), "fleet_tolerance = [4.0, 0.5]\n").unwrap();
+    let (code, _, err) = run_cli(&[&["check", r, other.to_str().unwrap()][..], &pair].concat());
+    assert_eq!(code, 2);
+    assert!(err.contains("expected one fleet tolerance"), "{err}");
+}
