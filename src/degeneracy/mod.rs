@@ -24,8 +24,10 @@
 
 mod accumulate;
 mod analysis;
+mod cells;
 mod classify;
 mod eigen;
+mod grid;
 pub mod normals;
 pub mod pairs;
 pub mod points;

@@ -24,6 +24,7 @@
 //! documented algorithm with a fixed output for a given seed on every platform);
 //! uniform doubles take the top 53 bits; normal deviates use Box-Muller.
 
+use super::cells::{floor_i64, order_by_key};
 use crate::diagnostic::{Error, Result};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Matrix3, Matrix6, SymmetricEigen, UnitQuaternion, Vector3};
@@ -475,22 +476,16 @@ pub fn voxel_downsample_weighted(
     origin: [f64; 3],
 ) -> (Vec<[f64; 3]>, Option<Vec<f64>>) {
     // Sort (voxel key, point index) and average runs of equal keys: faster than
-    // a hash map at these sizes and deterministic by construction.
-    let mut keyed: Vec<((i64, i64, i64), usize)> = points
+    // a hash map at these sizes and deterministic by construction (cells.rs).
+    let keys: Vec<[i64; 3]> = points
         .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            (
-                (
-                    ((p[0] - origin[0]) / voxel).floor() as i64,
-                    ((p[1] - origin[1]) / voxel).floor() as i64,
-                    ((p[2] - origin[2]) / voxel).floor() as i64,
-                ),
-                i,
-            )
-        })
+        .map(|p| std::array::from_fn(|a| floor_i64((p[a] - origin[a]) / voxel)))
         .collect();
-    keyed.sort_unstable();
+    let keyed: Vec<([i64; 3], usize)> = order_by_key(&keys)
+        .into_iter()
+        .map(|i| (keys[i], i))
+        .collect();
+    drop(keys);
     let mut out = Vec::new();
     let mut wout = Vec::new();
     let mut i = 0;

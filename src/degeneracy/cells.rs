@@ -1,0 +1,124 @@
+//! Integer cell keys of points and their order: what the voxel grid
+//! (scene.rs), the duplicate grid and the neighbour grid (grid.rs) share.
+//!
+//! The order is (key x, key y, key z, input index) ascending, so runs of one
+//! cell come out in input order and the result is deterministic. When every
+//! key range fits 32 bits and there are fewer than 2^32 points (always, for
+//! a LiDAR scan: 2^32 cells of 1 mm is 4,300 km), the four numbers are packed
+//! into one `u128` whose order is theirs, and sorted as plain integers:
+//! about a third of the instructions of sorting the tuples.
+
+/// `x.floor() as i64`, without the libm call `floor` is on x86-64 without
+/// SSE4.1 (this was 4 % of a run's instructions). Same results for every
+/// `f64`: NaN gives 0, values beyond the `i64` range saturate.
+#[inline]
+pub(crate) fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if (t as f64) > x {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
+}
+
+/// The indices of `keys` in (key, index) order (see the module notes).
+pub(crate) fn order_by_key(keys: &[[i64; 3]]) -> Vec<usize> {
+    let n = keys.len();
+    let mut lo = [i64::MAX; 3];
+    let mut hi = [i64::MIN; 3];
+    for k in keys {
+        for a in 0..3 {
+            lo[a] = lo[a].min(k[a]);
+            hi[a] = hi[a].max(k[a]);
+        }
+    }
+    let fits = n > 0
+        && n <= u32::MAX as usize
+        && (0..3).all(|a| (hi[a] as i128 - lo[a] as i128) <= u32::MAX as i128);
+    if fits {
+        let mut packed: Vec<u128> = keys
+            .iter()
+            .enumerate()
+            .map(|(i, k)| {
+                let o = |a: usize| (k[a] as i128 - lo[a] as i128) as u128;
+                (o(0) << 96) | (o(1) << 64) | (o(2) << 32) | i as u128
+            })
+            .collect();
+        packed.sort_unstable();
+        packed.iter().map(|&v| (v as u32) as usize).collect()
+    } else {
+        let mut keyed: Vec<([i64; 3], usize)> =
+            keys.iter().enumerate().map(|(i, k)| (*k, i)).collect();
+        keyed.sort_unstable();
+        keyed.into_iter().map(|(_, i)| i).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floor_i64_is_floor_as_i64_everywhere() {
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.5,
+            -2.5,
+            1e-300,
+            -1e-300,
+            4503599627370495.5,
+            -4503599627370495.5,
+            9007199254740993.0,
+            9.2e18,
+            -9.2e18,
+            9.3e18,
+            -9.3e18,
+            1e300,
+            -1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MIN_POSITIVE,
+            i64::MAX as f64,
+            i64::MIN as f64,
+        ];
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..10_000 {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            xs.push(f64::from_bits(s));
+            xs.push((s >> 11) as f64 / 1024.0 - 4e12);
+        }
+        for x in xs {
+            assert_eq!(floor_i64(x), x.floor() as i64, "{x:e}");
+        }
+    }
+
+    #[test]
+    fn packed_and_tuple_orders_agree() {
+        let keys: Vec<[i64; 3]> = (0..500)
+            .map(|i: i64| [(i * 7919) % 13 - 6, (i * 104729) % 5, -(i % 3)])
+            .collect();
+        let mut want: Vec<([i64; 3], usize)> =
+            keys.iter().enumerate().map(|(i, k)| (*k, i)).collect();
+        want.sort_unstable();
+        let want: Vec<usize> = want.into_iter().map(|(_, i)| i).collect();
+        assert_eq!(order_by_key(&keys), want);
+        // A range past 32 bits takes the tuple sort, with the same order.
+        let mut wide = keys.clone();
+        wide.push([i64::MIN, 0, i64::MAX]);
+        wide.push([i64::MAX, 0, i64::MIN]);
+        let mut want: Vec<([i64; 3], usize)> =
+            wide.iter().enumerate().map(|(i, k)| (*k, i)).collect();
+        want.sort_unstable();
+        let want: Vec<usize> = want.into_iter().map(|(_, i)| i).collect();
+        assert_eq!(order_by_key(&wide), want);
+        assert!(order_by_key(&[]).is_empty());
+    }
+}
