@@ -21,6 +21,11 @@ use crate::tolerances::{
 };
 use std::time::Instant;
 
+/// The bytes one item of a list, tuple or dict is charged: the size of a
+/// `value::Value` (asserted there at compile time, so a change of `Value`
+/// that would make the charge wrong fails the build).
+pub const VALUE_BYTES: u64 = 24;
+
 /// The work of evaluation: steps, bytes created, time. See the module doc.
 #[derive(Debug)]
 pub struct Meter {
@@ -119,7 +124,7 @@ impl Meter {
                 "a list of {len} items: above the {XACRO_MAX_LIST_ITEMS}-item cap on one value"
             )));
         }
-        self.alloc((len * std::mem::size_of::<super::value::Value>()) as u64)?;
+        self.alloc((len as u64).saturating_mul(VALUE_BYTES))?;
         self.work(1 + len as u64)
     }
 
