@@ -6,84 +6,27 @@
 //! Keys: a file's path relative to the baseline's directory, normalised (no
 //! `.`, no doubled `/`, symlinks resolved while they stay inside the checked
 //! root), `/`-separated; bytes that are not UTF-8 and `%` itself are written
-//! `%XX` ([`encode_key`]), so that every file name has its own key and the key
-//! gives the path back ([`decode_key`]).
+//! `%XX` ([`encode_key`](key::encode_key)), so that every file name has its
+//! own key and the key gives the path back ([`decode_key`]).
 //!
 //! Drift: the translation difference `||d_now - d_base||` (m) and the angle of
 //! `R_base^T R_now` (deg, from the quaternions) against the tolerances given.
 
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result};
-use crate::frames::Edge;
-use crate::geometry::Transform;
 use crate::tolerances::{DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT};
-use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::path::{Component, Path, PathBuf};
+use std::path::Path;
 
+mod key;
 mod lock;
+mod record;
 pub mod store;
 pub mod stream;
 
+pub use key::{decode_key, key_in};
 pub use lock::{lock_for_write, WriteLock};
+pub use record::{BaselineFile, BaselinePair, BaselineTransform};
 pub use store::Store;
-
-/// A baseline: per file (key: [`encode_key`] of its normalised path relative
-/// to the baseline's directory), its record.
-#[cfg(test)]
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Default)]
-pub struct Baseline {
-    /// Version of this JSON layout; [`read_store`] accepts only 1.
-    pub schema_version: u32,
-    /// One record per calibration file that loaded, keyed by its normalised
-    /// path relative to the baseline's directory (see the module doc), sorted.
-    pub files: BTreeMap<String, BaselineFile>,
-}
-
-/// One file's record.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Default)]
-pub struct BaselineFile {
-    /// Every edge the file yields, each as stored (pose of child in parent).
-    pub edges: Vec<BaselineTransform>,
-    /// The frame pairs checked in this file: the rig file's `[rig] from -> to`
-    /// and each `--pair FROM:TO` whose frames the file has.
-    pub pairs: Vec<BaselinePair>,
-}
-
-/// A transform as stored: pose of `child` in `parent`.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct BaselineTransform {
-    /// The frame the pose is expressed in (`from` for a pair).
-    pub parent: String,
-    /// The frame whose pose it is (`to` for a pair).
-    pub child: String,
-    /// `d` (m): the origin of `child` in `parent` coordinates.
-    pub translation_m: [f64; 3],
-    /// `R` as a unit quaternion `[x, y, z, w]`, `w >= 0`.
-    pub quaternion_xyzw: [f64; 4],
-}
-
-/// A checked frame pair: its transform and verdicts.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct BaselinePair {
-    #[serde(flatten)]
-    /// The composed transform `from -> to` (flattened into this object:
-    /// `parent` is `from`, `child` is `to`).
-    pub transform: BaselineTransform,
-    /// `||d||` (m) of the composed transform.
-    pub lever_arm_m: f64,
-    /// The screw kind's JSON name (`identity`, `pure_translation`,
-    /// `zero_pitch`, `general`; [`ScrewKind::name`](crate::geometry::se3::ScrewKind::name)).
-    pub screw_kind: String,
-    /// The screw kind is `zero_pitch` (a rotation with `|h|` within the pitch
-    /// tolerance; the identity does not count).
-    pub zero_pitch: bool,
-    /// An adapted constant metric exists for this pair (identity or zero pitch).
-    pub adapted_metric_exists: bool,
-    /// The pair is the one the file declares (a rig file's `[rig] from -> to`),
-    /// not a `--pair`; absent in older baselines (false).
-    #[serde(default)]
-    pub declared: bool,
-}
 
 /// How far a transform may drift from its baseline before `check` reports
 /// it. `Default`: [`DEFAULT_MAX_TRANSLATION_DRIFT`] and
@@ -102,23 +45,6 @@ impl Default for DriftTolerances {
             translation_m: DEFAULT_MAX_TRANSLATION_DRIFT,
             rotation_deg: DEFAULT_MAX_ROTATION_DRIFT_DEG,
         }
-    }
-}
-
-impl BaselineTransform {
-    /// The stored form of `t` between `parent` and `child`.
-    pub fn new(parent: &str, child: &str, t: &Transform) -> Self {
-        let d = t.translation();
-        BaselineTransform {
-            parent: parent.to_string(),
-            child: child.to_string(),
-            translation_m: [d.x, d.y, d.z],
-            quaternion_xyzw: t.quaternion_xyzw(),
-        }
-    }
-    /// The stored form of an edge.
-    pub fn of_edge(e: &Edge) -> Self {
-        Self::new(&e.parent, &e.child, &e.transform)
     }
 }
 
@@ -144,132 +70,6 @@ pub fn is_baseline_file(path: &Path) -> bool {
     stream::looks_like_baseline(path)
 }
 
-/// The key of a relative path: components joined by `/`; `%` and every byte
-/// that is not part of valid UTF-8 written `%XX` (upper-case hex). Reversible
-/// by [`decode_key`].
-pub fn encode_key(rel: &Path) -> String {
-    let mut out = String::new();
-    for (i, c) in rel.components().enumerate() {
-        if i > 0 {
-            out.push('/');
-        }
-        let part = match c {
-            Component::ParentDir => "..".as_ref(),
-            Component::CurDir => ".".as_ref(),
-            other => other.as_os_str(),
-        };
-        for chunk in os_bytes(part).utf8_chunks() {
-            for ch in chunk.valid().chars() {
-                if ch == '%' {
-                    out.push_str("%25");
-                } else {
-                    out.push(ch);
-                }
-            }
-            for b in chunk.invalid() {
-                out.push_str(&format!("%{b:02X}"));
-            }
-        }
-    }
-    out
-}
-
-#[cfg(unix)]
-fn os_bytes(s: &std::ffi::OsStr) -> &[u8] {
-    std::os::unix::ffi::OsStrExt::as_bytes(s)
-}
-#[cfg(not(unix))]
-fn os_bytes(s: &std::ffi::OsStr) -> &[u8] {
-    // Elsewhere file names are Unicode (lossy only for unpaired surrogates).
-    s.as_encoded_bytes()
-}
-
-/// The relative path a key names (the inverse of [`encode_key`]); `None` when
-/// the key is not one [`encode_key`] writes (a `%` not followed by two hex
-/// digits).
-pub fn decode_key(key: &str) -> Option<PathBuf> {
-    let b = key.as_bytes();
-    let mut out = Vec::with_capacity(b.len());
-    let mut i = 0;
-    while i < b.len() {
-        if b[i] == b'%' {
-            let hex = std::str::from_utf8(b.get(i + 1..i + 3)?).ok()?;
-            out.push(u8::from_str_radix(hex, 16).ok()?);
-            i += 3;
-        } else {
-            out.push(b[i]);
-            i += 1;
-        }
-    }
-    #[cfg(unix)]
-    {
-        Some(PathBuf::from(
-            <std::ffi::OsString as std::os::unix::ffi::OsStringExt>::from_vec(out),
-        ))
-    }
-    #[cfg(not(unix))]
-    {
-        String::from_utf8(out).ok().map(PathBuf::from)
-    }
-}
-
-/// `target` relative to `dir` (both absolute and normalised): `..` for each
-/// component of `dir` past their common prefix.
-pub fn relative_to(target: &Path, dir: &Path) -> PathBuf {
-    let t: Vec<Component> = target.components().collect();
-    let d: Vec<Component> = dir.components().collect();
-    let common = t.iter().zip(&d).take_while(|(a, b)| a == b).count();
-    let mut out = PathBuf::new();
-    for _ in common..d.len() {
-        out.push("..");
-    }
-    for c in &t[common..] {
-        out.push(c.as_os_str());
-    }
-    out
-}
-
-/// Lexical normalisation of an absolute path: `.` dropped, `..` pops.
-pub fn normalise(p: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            Component::CurDir => {}
-            Component::ParentDir => {
-                out.pop();
-            }
-            other => out.push(other.as_os_str()),
-        }
-    }
-    out
-}
-
-fn absolute(p: &Path) -> Result<PathBuf> {
-    std::path::absolute(p).map_err(|e| Error::io(p, &e))
-}
-
-/// The key of `file` in a baseline kept in the directory whose real path is
-/// `canon_dir`. `root` is the checked path `file` was found under
-/// (`canon_root` its real path): symlinks are resolved when the file they
-/// lead to stays inside it; otherwise the file keeps its place in the tree
-/// (a link out of the checked root is keyed where it is found).
-pub fn key_in(file: &Path, root: &Path, canon_root: &Path, canon_dir: &Path) -> Result<String> {
-    let (canon_root, dir) = (canon_root.to_path_buf(), canon_dir);
-    let canon = file.canonicalize().map_err(|e| Error::io(file, &e))?;
-    let place = if canon.starts_with(&canon_root) {
-        canon
-    } else {
-        // The link leaves the root: keep the path as found under the root.
-        let rel = normalise(&absolute(file)?);
-        let abs_root = normalise(&absolute(root)?);
-        match rel.strip_prefix(&abs_root) {
-            Ok(tail) => canon_root.join(tail),
-            Err(_) => canon,
-        }
-    };
-    Ok(encode_key(&relative_to(&place, dir)))
-}
-
 /// Read a baseline written by `audit check --write-baseline` into a compact
 /// [`Store`] (a fleet's baseline held at about 200 bytes per file). Refused
 /// (an error naming the entry, exit 2): not JSON, a `schema_version` other
@@ -293,46 +93,6 @@ fn refuse_twice(path: &Path, key: Option<String>) -> Result<()> {
         .in_file(path)),
         None => Ok(()),
     }
-}
-
-/// Largest `| ||q|| - 1 |` of a stored quaternion (written as unit to ~1e-16).
-const STORED_UNIT_TOL: f64 = 1e-6;
-
-fn validate_transform(entry: &str, t: &BaselineTransform) -> std::result::Result<(), String> {
-    let name = format!("{entry} ({} -> {})", t.parent, t.child);
-    if let Some(x) = t
-        .translation_m
-        .iter()
-        .chain(&t.quaternion_xyzw)
-        .find(|x| !x.is_finite())
-    {
-        return Err(format!(
-            "baseline entry {name}: expected finite numbers, found {x}"
-        ));
-    }
-    let n = t.quaternion_xyzw.iter().map(|x| x * x).sum::<f64>().sqrt();
-    if (n - 1.0).abs() > STORED_UNIT_TOL {
-        return Err(format!(
-            "baseline entry {name}: expected a unit quaternion_xyzw, found norm {n:e} (rewrite the baseline with --write-baseline)"
-        ));
-    }
-    Ok(())
-}
-
-pub(crate) fn validate_file(key: &str, rec: &BaselineFile) -> std::result::Result<(), String> {
-    for (i, e) in rec.edges.iter().enumerate() {
-        validate_transform(&format!("files[{key:?}].edges[{i}]"), e)?;
-    }
-    for (i, p) in rec.pairs.iter().enumerate() {
-        validate_transform(&format!("files[{key:?}].pairs[{i}]"), &p.transform)?;
-        if !p.lever_arm_m.is_finite() {
-            return Err(format!(
-                "baseline entry files[{key:?}].pairs[{i}]: expected a finite lever_arm_m, found {}",
-                p.lever_arm_m
-            ));
-        }
-    }
-    Ok(())
 }
 
 /// Where each edge and pair of a checked file is written: `(parent, child)`

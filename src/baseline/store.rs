@@ -8,7 +8,7 @@
 //! no allocation per file but its key. A record is rebuilt as a
 //! [`BaselineFile`] only where a comparison needs its names.
 
-use super::{BaselineFile, BaselinePair, BaselineTransform};
+use super::record::{BaselineFile, BaselinePair, BaselineTransform};
 use std::collections::HashMap;
 use std::sync::Arc;
 

@@ -7,9 +7,10 @@
 //! Both sides keep to `MAX_BASELINE_FILE_SIZE`: what the tool writes, it
 //! reads (a write that would pass the cap is an error, nothing written).
 
+use super::key::decode_key;
 #[cfg(test)]
-use super::Baseline;
-use super::{decode_key, validate_file, BaselineFile};
+use super::record::Baseline;
+use super::record::{validate_file, BaselineFile};
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::MAX_BASELINE_FILE_SIZE;
 use serde::de::{self, DeserializeSeed, IgnoredAny, MapAccess, Visitor};

@@ -785,18 +785,6 @@ pub const LAUNCH_YAML: FormatSpec = FormatSpec {
     checked: true,
 };
 
-/// ROS 2 Python launch.
-pub const LAUNCH_PY: FormatSpec = FormatSpec {
-    id: "launch-py",
-    description: "ROS 2 Python launch, read statically (never run): static_transform_publisher Nodes wherever the file builds them (its helper functions, `for` loops over lists it writes), `arguments` from literals, f-strings, `+`, `LaunchConfiguration` / `PythonExpression` of a `DeclareLaunchArgument` or `--arg`; `IfCondition`/`UnlessCondition` decided; anything else is refused naming its line",
-    extensions: &["py", "launch.py"],
-    walk: &[".launch.py"],
-    magic: &[],
-    sniff: |i| i.text_head().contains("LaunchDescription").then_some(Confidence::Names),
-    parse: |i, o| super::launch_py::parse_launch_py(i.text()?, i.path(), o),
-    checked: true,
-};
-
 /// Command lines saved as text.
 pub const STATIC_TF_COMMANDS: FormatSpec = FormatSpec {
     id: "static-tf-commands",

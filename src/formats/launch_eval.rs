@@ -29,7 +29,6 @@
 //! with `math`'s names (and the module `math`) and the builtins; bare names
 //! are not launch args.
 
-use super::launch_subst::LaunchArgs;
 use super::pyexpr::eval::{math_constant, BUILTINS, MATH};
 use super::pyexpr::{expression, Eval, Expr, Func, Host, Value};
 use crate::diagnostic::{Error, Location, Result};
@@ -73,13 +72,23 @@ fn common_name(n: &str) -> Option<Value> {
         .map(|m| Value::Func(Func::Builtin(m)))
 }
 
-struct Ros1<'a, 'g> {
-    args: &'a LaunchArgs<'g>,
+/// The launch args as `$(eval ...)` reads them (`launch_subst::LaunchArgs`,
+/// whose substitutions call this evaluator in turn).
+pub(crate) trait ArgSource {
+    /// Whether the file declares arg `name` or `--arg` gives it.
+    fn declares(&self, name: &str) -> bool;
+    /// The value of arg `name`, its own substitutions resolved (`depth`:
+    /// the nesting so far, capped by the resolver).
+    fn arg_value(&self, name: &str, loc: &Location, depth: usize) -> Result<String>;
+}
+
+struct Ros1<'a> {
+    args: &'a dyn ArgSource,
     loc: &'a Location,
     depth: usize,
 }
 
-impl Ros1<'_, '_> {
+impl Ros1<'_> {
     fn arg(&self, name: &str) -> Value {
         match self.args.arg_value(name, self.loc, self.depth) {
             Ok(v) => convert_auto(&v),
@@ -88,7 +97,7 @@ impl Ros1<'_, '_> {
     }
 }
 
-impl Host for Ros1<'_, '_> {
+impl Host for Ros1<'_> {
     fn name(&mut self, n: &str) -> Option<Value> {
         match n {
             "true" | "True" => return Some(Value::Bool(true)),
@@ -119,9 +128,9 @@ impl Host for Ros1<'_, '_> {
     ) -> Result<Value> {
         match (f, args.as_slice()) {
             (Func::Host(h), [Value::Str(name)]) if h == "arg" => Ok(self.arg(name)),
-            (Func::Host(h), _) if h == "arg" => super::pyexpr::eval::fail(at, "arg() takes one string, the arg's name"),
-            (Func::Host(h), _) => super::pyexpr::eval::fail(at, format!("{h}() depends on the machine that launches (environment, packages): not evaluated; pass the value with --arg NAME=VALUE")),
-            _ => super::pyexpr::eval::fail(at, "a call of a function the launch file does not define"),
+            (Func::Host(h), _) if h == "arg" => super::pyexpr::ops::fail(at, "arg() takes one string, the arg's name"),
+            (Func::Host(h), _) => super::pyexpr::ops::fail(at, format!("{h}() depends on the machine that launches (environment, packages): not evaluated; pass the value with --arg NAME=VALUE")),
+            _ => super::pyexpr::ops::fail(at, "a call of a function the launch file does not define"),
         }
     }
 }
@@ -142,7 +151,7 @@ impl Host for Ros2 {
         _: Vec<(String, Value)>,
         at: &Expr,
     ) -> Result<Value> {
-        super::pyexpr::eval::fail(at, "a call of a function ROS 2's $(eval) does not define")
+        super::pyexpr::ops::fail(at, "a call of a function ROS 2's $(eval) does not define")
     }
 }
 
@@ -165,7 +174,7 @@ fn run(text: &str, host: &mut dyn Host, loc: &Location) -> Result<String> {
 /// ROS 1: the text inside `$(eval ...)` (the whole attribute value).
 pub(crate) fn eval_ros1(
     text: &str,
-    args: &LaunchArgs,
+    args: &dyn ArgSource,
     loc: &Location,
     depth: usize,
 ) -> Result<String> {

@@ -23,9 +23,10 @@
 use super::launch::parse_stp_args;
 use super::launch_subst::{ArgDecl, Condition, LaunchArgs};
 use super::pyexpr::budget::Budget;
-use super::pyexpr::eval::{bind, fail, iterate, BUILTINS};
+use super::pyexpr::eval::{bind, BUILTINS};
+use super::pyexpr::ops::{fail, iterate};
 use super::pyexpr::{module, Eval, Expr, ExprKind, Func, Host, Record, Stmt, Value};
-use super::spec::{LoadOptions, Parsed};
+use super::spec::{Confidence, FormatSpec, LoadOptions, Parsed};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use std::collections::HashMap;
 use std::path::Path;
@@ -640,7 +641,7 @@ pub fn parse_launch_py(text: &str, path: &Path, opts: &LoadOptions) -> Result<Pa
         out.edges.push(parse_stp_args(
             &toks,
             &loc,
-            super::launch::LAUNCH_PY.id,
+            LAUNCH_PY.id,
             "Node(arguments=[...]) ",
             &mut out.warnings,
         )?);
@@ -688,3 +689,15 @@ fn arguments(r: &Record, args: &LaunchArgs, loc: &Location) -> Result<Vec<String
     }
     Ok(toks)
 }
+
+/// ROS 2 Python launch.
+pub const LAUNCH_PY: FormatSpec = FormatSpec {
+    id: "launch-py",
+    description: "ROS 2 Python launch, read statically (never run): static_transform_publisher Nodes wherever the file builds them (its helper functions, `for` loops over lists it writes), `arguments` from literals, f-strings, `+`, `LaunchConfiguration` / `PythonExpression` of a `DeclareLaunchArgument` or `--arg`; `IfCondition`/`UnlessCondition` decided; anything else is refused naming its line",
+    extensions: &["py", "launch.py"],
+    walk: &[".launch.py"],
+    magic: &[],
+    sniff: |i| i.text_head().contains("LaunchDescription").then_some(Confidence::Names),
+    parse: |i, o| parse_launch_py(i.text()?, i.path(), o),
+    checked: true,
+};

@@ -23,7 +23,7 @@
 //! A value that cannot be known from the file is refused, naming the
 //! `--arg` to pass.
 
-use super::launch_eval::{closing, eval_ros1, eval_ros2};
+use super::launch_eval::{closing, eval_ros1, eval_ros2, ArgSource};
 use crate::diagnostic::{Error, Location, Result};
 use crate::sanitize::quote;
 use std::collections::BTreeMap;
@@ -117,17 +117,6 @@ impl<'a> LaunchArgs<'a> {
             given,
             ros2: true,
         }
-    }
-
-    /// Whether the file declares arg `name` or `--arg` gives it.
-    pub(crate) fn declares(&self, name: &str) -> bool {
-        self.declared.contains_key(name) || self.given.contains_key(name)
-    }
-
-    /// The value of arg `name`, its own substitutions resolved.
-    pub(crate) fn arg_value(&self, name: &str, loc: &Location, depth: usize) -> Result<String> {
-        let v = self.value(name, loc)?;
-        self.resolve_depth(&v, loc, depth + 1)
     }
 
     /// `s` with every `$(arg x)` / `$(var x)` replaced by its value.
@@ -265,5 +254,19 @@ impl<'a> LaunchArgs<'a> {
             ))
             .at(loc)),
         }
+    }
+}
+
+/// What `$(eval ...)` reads of the args (ROS 1 names them bare).
+impl ArgSource for LaunchArgs<'_> {
+    /// Whether the file declares arg `name` or `--arg` gives it.
+    fn declares(&self, name: &str) -> bool {
+        self.declared.contains_key(name) || self.given.contains_key(name)
+    }
+
+    /// The value of arg `name`, its own substitutions resolved.
+    fn arg_value(&self, name: &str, loc: &Location, depth: usize) -> Result<String> {
+        let v = self.value(name, loc)?;
+        self.resolve_depth(&v, loc, depth + 1)
     }
 }

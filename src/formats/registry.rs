@@ -20,7 +20,7 @@ pub const FORMATS: &[&FormatSpec] = &[
     &super::xacro::SPEC,
     &super::launch::LAUNCH_XML,
     &super::launch::LIO_LIVOX_LAUNCH,
-    &super::launch::LAUNCH_PY,
+    &super::launch_py::LAUNCH_PY,
     &super::launch::STATIC_TF_COMMANDS,
     &super::yaml_dialects::TF_STATIC_ECHO,
     &super::launch::LAUNCH_YAML,

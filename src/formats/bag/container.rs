@@ -1,104 +1,19 @@
-//! Which container a bag is, and the wanted messages streamed from it: an
-//! MCAP file, a rosbag2 sqlite3 `.db3`, a ROS 1 `.bag` (each read through its
-//! own index: [`super::mcap_file`], [`super::db3`], [`super::ros1`]), or a
-//! rosbag2 folder ([`super::folder`]).
+//! The wanted messages streamed from a bag, whichever container it is
+//! ([`super::kind`]): an MCAP file, a rosbag2 sqlite3 `.db3`, a ROS 1 `.bag`
+//! (each read through its own index: [`super::mcap_file`], [`super::db3`],
+//! [`super::ros1`]), or a rosbag2 folder ([`super::folder`]).
 //!
-//! A container is recognised by its magic bytes, else by its extension; a
-//! folder by its `metadata.yaml`. Messages come one at a time, in file order;
-//! the transform reader collects those of its few topics ([`read`]), a run
-//! streams its clouds ([`stream`]).
+//! Messages come one at a time, in file order; the transform reader collects
+//! those of its few topics ([`read`]), a run streams its clouds ([`stream`]).
 
-use super::contents::{Contents, Flow, RawMessage, TopicInfo};
+use super::contents::{Ask, Contents, Flow, Listing, RawMessage};
 use super::inflate::{BagLimits, Budget};
+use super::kind::{container, Container};
 use super::{db3, folder, mcap_file, ros1};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::spec::Input;
 use crate::tolerances::MAX_BAG_KEPT_BYTES;
 use std::io::Write;
-use std::path::Path;
-
-/// The first bytes of a ROS 1 bag, whatever its version (`#ROSBAG V2.0`).
-pub(super) const ROS1_MAGIC: &[u8] = b"#ROSBAG";
-
-/// The magic bytes of the containers.
-pub(super) const MAGIC: &[&[u8]] = &[mcap_file::MAGIC, db3::MAGIC, ROS1_MAGIC];
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum Container {
-    Mcap,
-    Db3,
-    Ros1,
-    Folder,
-}
-
-pub(super) fn magic_of(head: &[u8]) -> Option<Container> {
-    if head.starts_with(mcap_file::MAGIC) {
-        Some(Container::Mcap)
-    } else if head.starts_with(db3::MAGIC) {
-        Some(Container::Db3)
-    } else if head.starts_with(ROS1_MAGIC) {
-        Some(Container::Ros1)
-    } else {
-        None
-    }
-}
-
-fn by_extension(ext: &str) -> Option<Container> {
-    match ext {
-        "mcap" => Some(Container::Mcap),
-        "db3" => Some(Container::Db3),
-        "bag" => Some(Container::Ros1),
-        _ => None,
-    }
-}
-
-/// The container `input` is: a folder with `metadata.yaml`, a file by its
-/// magic bytes, else by its extension.
-pub(super) fn container(input: &Input) -> Option<Container> {
-    if input.is_folder() {
-        return input
-            .folder_holds("metadata.yaml")
-            .then_some(Container::Folder);
-    }
-    magic_of(input.head()).or_else(|| by_extension(input.ext()))
-}
-
-/// [`container`] of the file or folder at `path` (one that cannot be opened
-/// by its extension alone).
-pub(super) fn container_at(path: &Path) -> Option<Container> {
-    match Input::peek(path) {
-        Some(input) => container(&input),
-        None => by_extension(
-            &path
-                .extension()
-                .map(|e| e.to_string_lossy().to_ascii_lowercase())
-                .unwrap_or_default(),
-        ),
-    }
-}
-
-/// How a streamed read went: every topic of the container, and the named
-/// warnings of what it worked around (a ROS 1 bag without an index read
-/// from the start).
-#[derive(Debug, Clone, Default)]
-pub struct Listing {
-    /// Every topic, sorted by name.
-    pub topics: Vec<TopicInfo>,
-    /// What the read worked around.
-    pub warnings: Vec<Warning>,
-}
-
-/// How a read is asked for.
-#[derive(Clone, Copy)]
-pub struct Ask<'a> {
-    /// Which topics' messages are handed out.
-    pub wanted: &'a dyn Fn(&str) -> bool,
-    /// The decompression caps.
-    pub limits: BagLimits,
-    /// Read a ROS 1 bag without a usable index from the start instead of
-    /// refusing it.
-    pub recover: bool,
-}
 
 /// The messages of the topics `wanted` accepts, from the container `input`
 /// is, collected (at most [`MAX_BAG_KEPT_BYTES`] of them).

@@ -3,6 +3,8 @@
 //! ([`Flow`] says whether to go on) or collected ([`Contents`]).
 
 use super::decode::Encoding;
+use super::inflate::BagLimits;
+use crate::diagnostic::Warning;
 use std::path::PathBuf;
 
 /// One message of a wanted topic, as a container yields it.
@@ -69,3 +71,26 @@ pub(super) fn add_topic(topics: &mut Vec<TopicInfo>, t: TopicInfo) {
 
 /// Which topics a reader hands out.
 pub(super) type Wanted<'a> = &'a dyn Fn(&str) -> bool;
+
+/// How a streamed read went: every topic of the container, and the named
+/// warnings of what it worked around (a ROS 1 bag without an index read
+/// from the start).
+#[derive(Debug, Clone, Default)]
+pub struct Listing {
+    /// Every topic, sorted by name.
+    pub topics: Vec<TopicInfo>,
+    /// What the read worked around.
+    pub warnings: Vec<Warning>,
+}
+
+/// How a read is asked for.
+#[derive(Clone, Copy)]
+pub struct Ask<'a> {
+    /// Which topics' messages are handed out.
+    pub wanted: &'a dyn Fn(&str) -> bool,
+    /// The decompression caps.
+    pub limits: BagLimits,
+    /// Read a ROS 1 bag without a usable index from the start instead of
+    /// refusing it.
+    pub recover: bool,
+}

@@ -17,9 +17,9 @@
 //! directory; every later decompression first removes the
 //! `audit-bag-<pid>-*` directories of processes that no longer run.
 
-use super::container::{container_at, magic_of, Ask, Container, Listing};
-use super::contents::{add_topic, Flow, RawMessage};
+use super::contents::{add_topic, Ask, Flow, Listing, RawMessage};
 use super::inflate::Budget;
+use super::kind::{container_at, magic_of, Container};
 use super::{db3, mcap_file};
 use crate::diagnostic::{Error, Result};
 use crate::formats::spec::HEAD_BYTES;

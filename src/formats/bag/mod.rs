@@ -46,14 +46,14 @@ mod db3;
 pub mod decode;
 mod folder;
 mod inflate;
+mod kind;
 mod mcap_file;
 pub mod pointcloud2;
 mod progress;
 mod ros1;
 
 pub use crate::formats::spec::BagOptions;
-pub use container::Listing;
-pub use contents::{Contents, Flow, RawMessage, TopicInfo};
+pub use contents::{Contents, Flow, Listing, RawMessage, TopicInfo};
 pub use inflate::BagLimits;
 pub use progress::Progress;
 
@@ -78,7 +78,7 @@ pub const SPEC: FormatSpec = FormatSpec {
     description: "ROS bags (MCAP, rosbag2 .db3 or folder with metadata.yaml, ROS 1 .bag), read through their index: /tf_static (child_frame_id pose in header.frame_id, the latest per child), on request /tf transforms that never change, and the URDF on /robot_description",
     extensions: &["bag", "mcap", "db3"],
     walk: &[".bag", ".db3", ".mcap"],
-    magic: container::MAGIC,
+    magic: kind::MAGIC,
     sniff: |i| i.folder_holds("metadata.yaml").then_some(Confidence::Certain),
     parse: |i, o| {
         refuse_invert(i.path(), o)?;
@@ -106,7 +106,7 @@ fn refuse_invert(path: &Path, o: &LoadOptions) -> Result<()> {
 /// Whether `path` is a bag: a `.mcap`, `.db3` or `.bag` file, a file starting
 /// with one of their magic bytes, or a folder holding `metadata.yaml`.
 pub fn is_bag(path: &Path) -> bool {
-    container::container_at(path).is_some()
+    kind::container_at(path).is_some()
 }
 
 /// Read a bag's transform and description topics as `opts.bag` chooses
@@ -169,7 +169,7 @@ pub fn stream(
     each: &mut dyn FnMut(RawMessage) -> Result<Flow>,
 ) -> Result<Listing> {
     let input = Input::open(path, 0)?;
-    let ask = container::Ask {
+    let ask = contents::Ask {
         wanted,
         limits,
         recover: true,

@@ -20,10 +20,11 @@
 
 use std::cell::{Cell, RefCell};
 
+use super::caps::limit;
 use super::parse::Expr;
 use super::value::{Func, Value};
 use crate::diagnostic::{Code, Error, Result};
-use crate::tolerances::{MAX_PY_ITEMS, MAX_PY_STR_BYTES, MAX_PY_VALUE_DEPTH, MAX_PY_WORK_BYTES};
+use crate::tolerances::{MAX_PY_VALUE_DEPTH, MAX_PY_WORK_BYTES};
 
 /// The bytes charged so far, and the first refusal (a lenient host turns
 /// errors into unknown values; the refusal is still the file's).
@@ -101,35 +102,6 @@ impl Budget {
     pub fn refused(&self) -> Option<Error> {
         self.refused.borrow().clone()
     }
-}
-
-/// A [`Code::Limit`] error at `e`.
-pub fn limit(e: &Expr, msg: impl Into<String>) -> Error {
-    Error::limit(msg.into()).at_line(e.line, Some(e.col))
-}
-
-/// Refuse a string of `bytes` (`what` makes it) past [`MAX_PY_STR_BYTES`].
-pub fn str_fits(bytes: usize, what: &str, at: &Expr) -> Result<()> {
-    if bytes > MAX_PY_STR_BYTES {
-        return Err(limit(
-            at,
-            format!(
-                "{what} would make a string of {bytes} bytes, more than {MAX_PY_STR_BYTES}: not evaluated"
-            ),
-        ));
-    }
-    Ok(())
-}
-
-/// Refuse a list, tuple or dict of `n` items past [`MAX_PY_ITEMS`].
-pub fn items_fit(n: usize, what: &str, at: &Expr) -> Result<()> {
-    if n > MAX_PY_ITEMS {
-        return Err(limit(
-            at,
-            format!("{what} would make {n} items, more than {MAX_PY_ITEMS}: not evaluated"),
-        ));
-    }
-    Ok(())
 }
 
 /// How deep `v` nests (a scalar 0, `[]` 1, `[[1]]` 2), counted up to one

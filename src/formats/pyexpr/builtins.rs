@@ -4,8 +4,8 @@
 //! formatting does), `int()` truncating, `float()`/`int()` of text as Python
 //! parses it, `math.floor`/`ceil` returning ints.
 
-use super::budget::items_fit;
-use super::eval::{equal, fail, iterate};
+use super::caps::items_fit;
+use super::ops::{equal, fail, iterate};
 use super::parse::Expr;
 use super::value::Value;
 use crate::diagnostic::Result;
@@ -161,7 +161,7 @@ fn sum(start: Value, items: Vec<Value>, at: &Expr) -> Result<Value> {
     let Some(mut out) = joined else {
         let mut acc = start;
         for v in items {
-            acc = super::eval::binary("+", &acc, &v, at)?;
+            acc = super::ops::binary("+", &acc, &v, at)?;
         }
         return Ok(acc);
     };

@@ -3,9 +3,9 @@
 //! `split()` without a separator splits on runs of blanks, `format` fills
 //! `{}`, `{0}` and `{name}` fields). Any other method is refused by name.
 
-use super::budget::{items_fit, str_fits};
 use super::builtins::position;
-use super::eval::{fail, format_spec, iterate};
+use super::caps::{items_fit, str_fits};
+use super::ops::{fail, format_spec, iterate};
 use super::parse::Expr;
 use super::value::Value;
 use crate::diagnostic::Result;
@@ -70,7 +70,7 @@ pub fn call(
         Value::Dict(d) => match (name, args) {
             ("get", [k]) | ("get", [k, _]) => Ok(d
                 .iter()
-                .find(|(x, _)| super::eval::equal(x, k))
+                .find(|(x, _)| super::ops::equal(x, k))
                 .map(|(_, v)| v.clone())
                 .unwrap_or_else(|| args.get(1).cloned().unwrap_or(Value::None))),
             ("keys", []) => Ok(Value::list(d.iter().map(|(k, _)| k.clone()).collect())),
@@ -87,7 +87,7 @@ pub fn call(
                 .map(|i| Value::Int(i as i64))
                 .map_or_else(|| fail(at, "tuple.index(x): x not in tuple"), Ok),
             ("count", [v]) => Ok(Value::Int(
-                t.iter().filter(|x| super::eval::equal(x, v)).count() as i64,
+                t.iter().filter(|x| super::ops::equal(x, v)).count() as i64,
             )),
             _ => fail(at, format!("tuple.{name}() is not evaluated")),
         },
@@ -141,7 +141,7 @@ fn list_method(
         ("count", [v]) => Ok(Value::Int(
             l.borrow()
                 .iter()
-                .filter(|x| super::eval::equal(x, v))
+                .filter(|x| super::ops::equal(x, v))
                 .count() as i64,
         )),
         _ => fail(at, format!("list.{name}() is not evaluated")),

@@ -11,9 +11,11 @@
 
 pub mod budget;
 pub mod builtins;
+mod caps;
 pub mod eval;
 pub mod lex;
 pub mod methods;
+pub mod ops;
 pub mod parse;
 pub mod value;
 

@@ -7,7 +7,7 @@
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use super::budget::str_fits;
+use super::caps::str_fits;
 use super::parse::Expr;
 use crate::diagnostic::Result;
 use crate::tolerances::MAX_PY_STR_BYTES;

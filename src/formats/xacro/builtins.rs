@@ -12,10 +12,14 @@
 //! holds a memory address); the `math` functions beyond those listed in
 //! [`MATH_FUNCS`] are refused.
 
+use super::kwargs::{kwarg, no_kw, only_kw};
 use super::limits::Meter;
 use super::methods;
-use super::ops::{binary, float_pow, order, overflow};
-use super::value::{float_repr, parse_py_float, parse_py_int, Builtin, Res, Value, TYPES};
+use super::ops::{binary, float_pow, order};
+use super::subscript::dict_insert;
+use super::value::{
+    float_to_int, overflow, parse_py_float, parse_py_int, Builtin, Res, Value, TYPES,
+};
 use std::cmp::Ordering;
 use std::rc::Rc;
 
@@ -169,7 +173,19 @@ pub(super) fn apply(f: &Value, a: &[Value], kw: &[(String, Value)], m: &mut Mete
             }
             call_builtin(name, a, kw, m)
         }
-        Value::Method(b) => methods::call(&b.0, b.1, a, kw, m),
+        // `list.sort(key=...)` calls back into `apply`: kept here, not in
+        // `methods`, so that the methods never call the builtins.
+        Value::Method(b) => match (&b.0, b.1) {
+            (Value::List(l), "sort") => {
+                if !a.is_empty() {
+                    return Err("sort() takes no positional arguments".into());
+                }
+                let v = sorted(l.items().clone(), kw, m)?;
+                *l.items_mut() = v;
+                Ok(Value::None)
+            }
+            _ => methods::call(&b.0, b.1, a, kw, m),
+        },
         other => Err(format!("'{}' object is not callable", other.type_name())),
     }
 }
@@ -194,40 +210,6 @@ fn range_checked(r: f64, x: f64) -> Res<Value> {
         Err("math range error".into())
     } else {
         Ok(Value::Float(r))
-    }
-}
-
-pub(super) fn float_to_int(f: f64, what: &str) -> Res<Value> {
-    if !f.is_finite() {
-        return Err(format!(
-            "{what}: cannot convert {} to an integer",
-            float_repr(f)
-        ));
-    }
-    if f.abs() >= 9.2e18 {
-        return Err(overflow());
-    }
-    Ok(Value::Int(f as i64))
-}
-
-/// No keyword arguments allowed.
-fn no_kw(name: &str, kw: &[(String, Value)]) -> Res<()> {
-    match kw.first() {
-        None => Ok(()),
-        Some((k, _)) => Err(format!("{name}() got an unexpected keyword argument '{k}'")),
-    }
-}
-
-/// The keyword `key` of `kw`, and whether any other was given.
-fn kwarg<'a>(kw: &'a [(String, Value)], key: &str) -> Option<&'a Value> {
-    kw.iter().find(|(k, _)| k == key).map(|(_, v)| v)
-}
-
-/// Only the keywords in `allowed`.
-pub(super) fn only_kw(name: &str, kw: &[(String, Value)], allowed: &[&str]) -> Res<()> {
-    match kw.iter().find(|(k, _)| !allowed.contains(&k.as_str())) {
-        None => Ok(()),
-        Some((k, _)) => Err(format!("{name}() got an unexpected keyword argument '{k}'")),
     }
 }
 
@@ -538,26 +520,6 @@ pub(super) fn int_of_float(a: &[Value], r: f64, name: &str) -> Res<Value> {
         return Ok(Value::Int(i));
     }
     float_to_int(r, name)
-}
-
-/// Insert into dict entries, an equal key keeping its place (Python's dict).
-pub(super) fn dict_insert(
-    pairs: &mut Vec<(Value, Value)>,
-    k: Value,
-    v: Value,
-    m: &mut Meter,
-) -> Res<()> {
-    if !k.hashable() {
-        return Err(format!("unhashable type: '{}'", k.type_name()));
-    }
-    for (key, slot) in pairs.iter_mut() {
-        if key.py_eq(&k, m)? {
-            *slot = v;
-            return Ok(());
-        }
-    }
-    pairs.push((k, v));
-    Ok(())
 }
 
 /// The items of an iterable argument.

@@ -7,8 +7,9 @@ use super::builtins::{self, global, module_member};
 use super::expr::{parse, Kind, Node, Trailer};
 use super::limits::Meter;
 use super::methods;
-use super::ops::{binary, compare, index, int_binary, overflow, slice};
-use super::value::{Builtin, Res, Scope, Value};
+use super::ops::{binary, compare, int_binary};
+use super::subscript::{dict_insert, index, slice};
+use super::value::{overflow, Builtin, Res, Scope, Value};
 
 /// What evaluation needs from the expander: names, files, messages, the
 /// meter.
@@ -119,7 +120,7 @@ impl Evaluator<'_> {
                 let mut pairs = Vec::new();
                 for (k, x) in items {
                     let (k, x) = (self.eval(k)?, self.eval(x)?);
-                    builtins::dict_insert(&mut pairs, k, x, self.m())?;
+                    dict_insert(&mut pairs, k, x, self.m())?;
                 }
                 self.m().list(pairs.len())?;
                 Ok(Value::dict(pairs))

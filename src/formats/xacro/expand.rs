@@ -6,7 +6,7 @@
 //! they were made from (in the file that wrote them), which becomes the edge's
 //! location.
 
-use super::expr::{self, Env};
+use super::eval::{self, Env};
 use super::limits::Budget;
 use super::scope::{MacroEntry, MacroScope, MacroTable};
 use super::subst::{self, Subst};
@@ -187,7 +187,7 @@ impl<'o> Expander<'o> {
             src: src2,
             failure: None,
         };
-        match expr::eval(&code, &mut env) {
+        match eval::eval(&code, &mut env) {
             Ok(v) => Ok(v),
             Err(msg) => {
                 if let Some(e) = env.failure.take() {

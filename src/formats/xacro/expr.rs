@@ -20,8 +20,6 @@
 use super::value::{float_repr, Value};
 use crate::tolerances::XACRO_MAX_EXPR_DEPTH;
 
-pub use super::eval::{eval, Env};
-
 #[derive(Debug, Clone, PartialEq)]
 pub(super) enum Tok {
     Int(i64),

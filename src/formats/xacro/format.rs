@@ -8,7 +8,7 @@
 //! Widths and precisions count against the string cap before text is made.
 
 use super::limits::Meter;
-use super::ops::index;
+use super::subscript::index;
 use super::value::{float_repr, Res, Value};
 
 /// One parsed format spec.
@@ -584,7 +584,7 @@ fn convert(conv: &Conv, v: &Value, m: &mut Meter) -> Res<String> {
         'd' | 'i' | 'u' | 'x' | 'X' | 'o' | 'c' => {
             let i = match v {
                 Value::Float(x) if matches!(conv.ty, 'd' | 'i' | 'u') && x.is_finite() => {
-                    super::builtins::float_to_int(x.trunc(), "%d")?
+                    super::value::float_to_int(x.trunc(), "%d")?
                         .as_int()
                         .unwrap_or(0)
                 }

@@ -27,7 +27,7 @@ const YAML_UNIT_TAGS: &[(&str, f64)] = &[
 /// ...); the expansion's meter.
 struct NoNames<'m>(&'m mut Meter);
 
-impl super::expr::Env for NoNames<'_> {
+impl super::eval::Env for NoNames<'_> {
     fn lookup(&mut self, _: &str) -> Res<Option<Value>> {
         Ok(None)
     }
@@ -71,7 +71,7 @@ fn convert_unit_tags(text: &str, m: &mut Meter) -> Res<String> {
             .unwrap_or(after.len());
         let expr = after[..end].trim().trim_matches(['"', '\'']);
         let v =
-            super::expr::eval(expr, &mut NoNames(m)).map_err(|e| format!("{tag} {expr}: {e}"))?;
+            super::eval::eval(expr, &mut NoNames(m)).map_err(|e| format!("{tag} {expr}: {e}"))?;
         let x = v
             .as_f64()
             .ok_or_else(|| format!("{tag} {expr}: expected a number, found a {}", v.type_name()))?;

@@ -26,6 +26,11 @@ use crate::tolerances::{
     XACRO_MAX_PROPERTY_DEPTH, XACRO_MAX_STEPS, XACRO_MAX_STRING_BYTES,
 };
 
+/// The bytes one item of a list, tuple or dict is charged: the size of a
+/// `value::Value` (asserted there at compile time, so a change of `Value`
+/// that would make the charge wrong fails the build).
+pub const VALUE_BYTES: u64 = 24;
+
 /// The work of evaluation: steps, bytes created. See the module doc.
 #[derive(Debug)]
 pub struct Meter {
@@ -125,7 +130,7 @@ impl Meter {
                 "a list of {len} items: above the {XACRO_MAX_LIST_ITEMS}-item cap on one value"
             )));
         }
-        self.alloc((len * std::mem::size_of::<super::value::Value>()) as u64)?;
+        self.alloc((len as u64).saturating_mul(VALUE_BYTES))?;
         self.work(1 + len as u64)
     }
 

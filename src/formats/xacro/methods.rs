@@ -16,10 +16,10 @@
 //! shared as Python shares them; a mutation that would put a container
 //! inside itself is refused, so values stay acyclic (see `value`).
 
-use super::builtins::{dict_insert, only_kw, sorted};
 use super::format::str_format;
+use super::kwargs::only_kw;
 use super::limits::Meter;
-use super::ops::{dict_get, seq_index, slice_indices};
+use super::subscript::{dict_get, dict_insert, seq_index, slice_indices};
 use super::value::{range_len, too_deep, Builtin, Res, Value};
 use crate::tolerances::XACRO_MAX_VALUE_DEPTH;
 use std::rc::Rc;
@@ -1023,14 +1023,6 @@ fn list_method(
             let v = l.items().clone();
             m.list(v.len())?;
             Ok(Value::list(v))
-        }
-        "sort" => {
-            if !a.is_empty() {
-                return Err("sort() takes no positional arguments".into());
-            }
-            let v = sorted(l.items().clone(), kw, m)?;
-            *l.items_mut() = v;
-            Ok(Value::None)
         }
         _ => {
             let items = l.items().clone();

@@ -11,7 +11,7 @@
 //! ordering, `in`) counts its depth against `XACRO_MAX_VALUE_DEPTH` and its
 //! work against the [`Meter`].
 
-use super::limits::Meter;
+use super::limits::{Meter, VALUE_BYTES};
 use super::scope;
 use super::tree::Elem;
 use crate::tolerances::XACRO_MAX_VALUE_DEPTH;
@@ -77,6 +77,9 @@ pub enum Value {
     /// A block parameter or block property (`*name`, `**name`).
     Block(Rc<Elem>),
 }
+
+// The meter charges each item of a list this size (`limits::VALUE_BYTES`).
+const _: () = assert!(std::mem::size_of::<Value>() as u64 == VALUE_BYTES);
 
 impl List {
     pub fn items(&self) -> Ref<'_, Vec<Value>> {
@@ -160,6 +163,25 @@ impl Drop for Dict {
 /// The error of a value nested too deep to walk.
 pub fn too_deep() -> String {
     format!("a value nested deeper than {XACRO_MAX_VALUE_DEPTH} levels (lists in lists)")
+}
+
+/// The error of an int result past 64 bits.
+pub(super) fn overflow() -> String {
+    "integer result beyond 64 bits: not supported".into()
+}
+
+/// `int()` of a finite float within 64 bits (`what` names the caller).
+pub(super) fn float_to_int(f: f64, what: &str) -> Res<Value> {
+    if !f.is_finite() {
+        return Err(format!(
+            "{what}: cannot convert {} to an integer",
+            float_repr(f)
+        ));
+    }
+    if f.abs() >= 9.2e18 {
+        return Err(overflow());
+    }
+    Ok(Value::Int(f as i64))
 }
 
 impl Value {
