@@ -146,6 +146,13 @@ pub use api::{Detector, PairOptions, ScanFile};
 pub use pipeline::detector::{Coords, DetectorOptions, InitialGuess, NormalOptions, Points};
 pub use progress::{NoProgress, Progress, ProgressFactory};
 
+// A recorded run.
+pub use api::{Run, ScanResult};
+pub use pipeline::{RunDetector, RunFrames, RunOptions, RunPairs, RunScans};
+pub use report::run::RunReport;
+pub use run::poses::PoseFormat;
+pub use run::source::{ScanBound, ScanWindow};
+
 // Reports and their output.
 pub use api::{render, render_bytes, render_to, RenderOptions};
 pub use document::Report;

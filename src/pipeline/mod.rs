@@ -14,6 +14,7 @@ mod output;
 mod parallel;
 mod rig;
 pub mod run;
+mod run_options;
 mod survey;
 pub mod walk;
 
@@ -23,4 +24,5 @@ pub use files::write_atomic;
 pub use load::{load, Loaded};
 pub use output::{check_output_target, check_plot_target, write_survey_plot};
 pub use rig::{report, RigOptions};
+pub use run_options::{RunDetector, RunFrames, RunOptions, RunPairs, RunScans};
 pub use survey::{survey, SortColumn, SurveyOptions};
