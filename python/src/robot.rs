@@ -87,10 +87,7 @@ impl PyRobot {
         }
         opts.pitch_tol = self::pitch_tol(pitch_tol).py()?;
         opts.kappa_lambda = kappa_lambda;
-        opts.sigma = sigma
-            .map(|(t, r)| UserSigma::new(t, r))
-            .transpose()
-            .py()?;
+        opts.sigma = sigma.map(|(t, r)| UserSigma::new(t, r)).transpose().py()?;
         let robot = &self.robot;
         py.detach(|| {
             let (report, chain_warnings) = robot.report(frm, to, &opts)?;

@@ -6,7 +6,6 @@
 //! naming the field at fault.
 
 use super::detector::{check_tau_ells, NormalOptions};
-use crate::degeneracy::normals::NormalParams;
 use crate::degeneracy::MetricRule;
 use crate::diagnostic::{Error, Result};
 use crate::formats::LoadOptions;
@@ -173,13 +172,7 @@ impl RunOptions {
             rules: MetricRule::default_set(&d.ells, None),
             tau: d.tau,
             voxel: n.voxel,
-            normals: NormalParams {
-                radius: n.radius,
-                knn: n.knn,
-                min_neighbours: n.min_neighbours,
-                min_planarity: n.min_planarity,
-                viewpoint: n.viewpoint.unwrap_or([0.0; 3]),
-            },
+            normals: n.params(),
             estimate: d.estimate_normals,
             gate,
             max_cells: MAX_SCAN_CELLS,

@@ -3,6 +3,7 @@
 //! lengths, the frame `H` and `M` are expressed in, how normals are estimated
 //! for points that have none, and whether the report carries the matrices.
 
+use crate::degeneracy::normals::NormalParams;
 use crate::diagnostic::{Error, Result};
 use crate::geometry::Transform;
 use crate::tolerances::{
@@ -80,6 +81,18 @@ impl Default for NormalOptions {
 }
 
 impl NormalOptions {
+    /// The estimation's parameters (the viewpoint defaults to the sensor
+    /// origin); the voxel grid is applied before, by the caller.
+    pub(crate) fn params(&self) -> NormalParams {
+        NormalParams {
+            radius: self.radius,
+            knn: self.knn,
+            min_neighbours: self.min_neighbours,
+            min_planarity: self.min_planarity,
+            viewpoint: self.viewpoint.unwrap_or([0.0; 3]),
+        }
+    }
+
     /// Whether any option of the estimation is set (they apply only to points
     /// without normals).
     pub(crate) fn estimation_asked(&self) -> bool {
