@@ -103,7 +103,7 @@ impl Default for RunDetector {
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct RunPairs {
-    /// Pair each scan with the `step`-th before it (1 to [`MAX_PAIR_STEP`]).
+    /// Pair each scan with the `step`-th before it (1 to `MAX_PAIR_STEP`).
     pub step: usize,
     /// Correspondence gate (m), default [`PAIR_GATE_M`].
     pub gate: f64,
