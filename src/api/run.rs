@@ -32,10 +32,13 @@ const RESULTS_AHEAD: usize = 16;
 /// What the reader's thread hands over.
 enum Message {
     /// The plan is read: the header, the frames and the transforms.
-    Begin(Arc<RunHeader>, Vec<RunFrame>, Option<FrameGraph>),
+    Begin(Box<Plan>),
     /// One scan's (or pair's) outcome, in run order.
     Scan(Box<Outcome>),
 }
+
+/// The header, the frames and the transforms.
+type Plan = (Arc<RunHeader>, Vec<RunFrame>, Option<FrameGraph>);
 
 /// What the reader's thread returns: the summary and the warnings.
 type Summary = Result<(RunReport, Vec<Warning>)>;
@@ -64,7 +67,11 @@ impl RunSink for Announce {
 
     fn begin(&mut self, h: &RunHeader) -> Result<()> {
         let (frames, graph) = self.frames.take().unwrap_or_default();
-        self.send(Message::Begin(Arc::new(h.clone()), frames, graph))
+        self.send(Message::Begin(Box::new((
+            Arc::new(h.clone()),
+            frames,
+            graph,
+        ))))
     }
 
     fn outcome(&mut self, _: &RunHeader, o: &Outcome) -> Result<()> {
@@ -173,14 +180,17 @@ impl Run {
             })
             .map_err(|e| Error::new(Code::Io, format!("cannot start the run's reader: {e}")))?;
         match rx.recv() {
-            Ok(Message::Begin(header, frames, graph)) => Ok(Run {
-                header,
-                frames,
-                graph,
-                inbox: Some(rx),
-                thread: Some(thread),
-                end: None,
-            }),
+            Ok(Message::Begin(plan)) => {
+                let (header, frames, graph) = *plan;
+                Ok(Run {
+                    header,
+                    frames,
+                    graph,
+                    inbox: Some(rx),
+                    thread: Some(thread),
+                    end: None,
+                })
+            }
             // The plan failed (the thread is over), or a bug sent a scan
             // before the plan.
             _ => Err(join(thread)

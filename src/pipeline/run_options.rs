@@ -86,8 +86,10 @@ pub struct RunDetector {
 
 impl Default for RunDetector {
     fn default() -> Self {
-        let mut normals = NormalOptions::default();
-        normals.voxel = Some(RUN_VOXEL_M);
+        let normals = NormalOptions {
+            voxel: Some(RUN_VOXEL_M),
+            ..NormalOptions::default()
+        };
         RunDetector {
             tau: DEFAULT_TAU,
             ells: DEFAULT_ELLS.to_vec(),
