@@ -83,13 +83,8 @@ impl RunArgs {
                 .poses_format
                 .as_deref()
                 .map(|s| {
-                    PoseFormat::parse(s).ok_or_else(|| {
-                        let all: Vec<&str> = PoseFormat::ALL.iter().map(|f| f.name()).collect();
-                        Error::usage(format!(
-                            "poses_format: expected one of {}, found `{s}`",
-                            all.join(", ")
-                        ))
-                    })
+                    PoseFormat::parse(s)
+                        .map_err(|e| Error::usage(format!("poses_format: {}", e.message)))
                 })
                 .transpose()?;
             p.calib = self.calib.clone();

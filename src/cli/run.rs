@@ -151,10 +151,7 @@ pub struct RunArgs {
 }
 
 fn parse_pose_format(s: &str) -> std::result::Result<PoseFormat, String> {
-    PoseFormat::parse(s).ok_or_else(|| {
-        let all: Vec<&str> = PoseFormat::ALL.iter().map(|f| f.name()).collect();
-        format!("expected one of {}, found `{s}`", all.join(", "))
-    })
+    PoseFormat::parse(s).map_err(|e| e.message)
 }
 
 /// `--voxel`: 0 (none) or within [`RAW_VOXEL_RANGE_M`].
