@@ -9,6 +9,10 @@
 
 #![allow(missing_docs)]
 
+pub mod api {
+    pub use crate::api::{run_transforms, scan_record};
+}
+
 pub mod analysis {
     pub mod metric {
         pub use crate::analysis::metric::{
@@ -115,10 +119,6 @@ pub mod pipeline {
         pub use crate::pipeline::files::AtomicFile;
     }
 
-    pub mod run {
-        pub use crate::pipeline::run::{run, RunOptions};
-    }
-
     pub mod manifest {
         pub use crate::pipeline::manifest::parse_pair;
     }
@@ -168,7 +168,7 @@ pub mod run {
     }
 
     pub mod source {
-        pub use crate::run::source::{Bound, Window};
+        pub use crate::run::source::{ScanBound, ScanWindow};
     }
 }
 

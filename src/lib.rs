@@ -39,6 +39,12 @@
 //!   ([`Points`] of `f64` or `f32` rows, normals estimated when absent).
 //! - [`Detector::scan`] (and [`Detector::sweep`], the paper's frame sweep): the
 //!   same on a point file, or a scan pair ([`ScanFile`], [`PairOptions`]).
+//! - [`Run::open`]: the detector over a recorded run (a bag's PointCloud2
+//!   topic, a KITTI sequence, a folder of point files), an iterator of one
+//!   [`ScanResult`] per scan or scan pair in run order, in the scan frame
+//!   and the robot's body frames ([`RunOptions`]: [`RunScans`],
+//!   [`RunFrames`], [`RunDetector`], [`RunPairs`]); [`Run::finish`] the
+//!   summary ([`RunReport`]).
 //! - [`render`]: any report as text, markdown, JSON (its schema in
 //!   `docs/schemas`), CSV, SARIF or a picture ([`OutputFormat`],
 //!   [`RenderOptions`]); [`render_bytes`] and [`render_to`] the same as
@@ -112,10 +118,9 @@
 //! standard error (`render::Style`, `render::layout`, `sanitize`), the help
 //! text that lists the metric families, the survey and spread plots (`--plot`), `check`'s
 //! `--pair` syntax, the commands that reproduce the paper's experiments
-//! (`tunnel`, `simulate`, `calibrate-threshold`), and `audit run` (the
-//! detector on a recorded run: its options, record sinks and streamed
-//! outputs are not on the face yet, so the run reader is reached through
-//! `internals::pipeline::run` until it is).
+//! (`tunnel`, `simulate`, `calibrate-threshold`), and for `audit run` (which
+//! reads the run through [`Run`]) its record files: the atomic writer, the
+//! timeline picture and the MCAP file's transforms.
 
 #![deny(missing_docs)]
 
@@ -160,6 +165,13 @@ pub use report::diff::DiffToleranceJson;
 pub use api::{Detector, PairOptions, ScanFile};
 pub use pipeline::detector::{Coords, DetectorOptions, InitialGuess, NormalOptions, Points};
 pub use progress::{NoProgress, Progress, ProgressFactory};
+
+// A recorded run.
+pub use api::{Run, ScanResult};
+pub use pipeline::{RunDetector, RunFrames, RunOptions, RunPairs, RunScans};
+pub use report::run::RunReport;
+pub use run::poses::PoseFormat;
+pub use run::source::{ScanBound, ScanWindow};
 
 // Reports and their output.
 pub use api::{render, render_bytes, render_to, RenderOptions};

@@ -44,6 +44,8 @@ from ._reports import (
     PairReport,
     Report,
     RigReport,
+    RunReport,
+    ScanResult,
     Screw,
     SurveyReport,
 )
@@ -77,6 +79,9 @@ __all__ = [
     "Report",
     "RigReport",
     "Robot",
+    "RunReader",
+    "RunReport",
+    "ScanResult",
     "Screw",
     "SurveyReport",
     "UsageError",
@@ -85,6 +90,7 @@ __all__ = [
     "degeneracy_scan",
     "diff",
     "load",
+    "run",
     "survey",
 ]
 
@@ -112,9 +118,13 @@ def _rename(r) -> Tuple[Optional[str], str, str]:
 
 
 def _load_args(renames=None, joints=None, xacro_args=None, package_paths=None, key=None,
-               invert=False, input_format=None) -> dict:
+               invert=False, input_format=None, urdf_version=None, max_file_size=None,
+               xacro="native", xacro_path=None, tf_static_topics=(), tf_topics=(),
+               description_topics=()) -> dict:
     if isinstance(renames, Mapping):
         renames = list(renames.items())
+    if xacro_path is not None and not isinstance(xacro_path, str):
+        xacro_path = os.pathsep.join(os.fspath(p) for p in xacro_path)
     return {
         "renames": [_rename(r) for r in (renames or [])],
         "joints": {str(k): float(v) for k, v in (joints or {}).items()},
@@ -123,7 +133,24 @@ def _load_args(renames=None, joints=None, xacro_args=None, package_paths=None, k
         "key": key,
         "invert": bool(invert),
         "input_format": input_format,
+        "urdf_version": None if urdf_version is None else str(urdf_version),
+        "max_file_size": None if max_file_size is None else int(max_file_size),
+        "xacro": str(xacro),
+        "xacro_path": xacro_path,
+        "tf_static_topics": _topics(tf_static_topics, "tf_static_topics"),
+        "tf_topics": _topics(tf_topics, "tf_topics"),
+        "description_topics": _topics(description_topics, "description_topics"),
     }
+
+
+def _topics(topics, what: str) -> List[str]:
+    """One topic or a sequence of them."""
+    if isinstance(topics, str):
+        return [topics]
+    out = list(topics)
+    if not all(isinstance(t, str) for t in out):
+        raise UsageError(f"{what}: expected topic names, found {out!r}")
+    return out
 
 
 def _pitch_tol(v: Union[None, str, float]) -> Optional[str]:
@@ -133,8 +160,10 @@ def _pitch_tol(v: Union[None, str, float]) -> Optional[str]:
 class Robot:
     """A robot's frames, loaded from its files into one tree (see :func:`load`)."""
 
-    def __init__(self, native: "_native.Robot"):
+    def __init__(self, native: "_native.Robot",
+                 sigma: Optional[Tuple[float, float]] = None):
         self._robot = native
+        self._sigma = sigma
 
     def frames(self) -> List[str]:
         """Every frame, sorted."""
@@ -173,13 +202,14 @@ class Robot:
         """The rig report of ``frm -> to`` (lever arm, screw, adjoint bands,
         adapted metric, every detector family's verdict), as the CLI's
         ``audit FILES --from FRM --to TO`` (``ells`` its ``--ell``,
-        ``pitch_tol`` ``--pitch-tol``, ``kappa``/``lam`` ``--kappa``/``--lambda``)."""
+        ``pitch_tol`` ``--pitch-tol``, ``kappa``/``lam`` ``--kappa``/``--lambda``;
+        the uncertainty ``load``'s ``sigma_t``/``sigma_r``)."""
         frm, to = self.frame_pair(frm, to)
         if (kappa is None) != (lam is None):
             raise UsageError("kappa and lam: give both or neither")
         kl = None if kappa is None else (float(kappa), float(lam))
         ells_ = None if ells is None else [float(e) for e in ells]
-        text, ws = self._robot.report(frm, to, ells_, _pitch_tol(pitch_tol), kl)
+        text, ws = self._robot.report(frm, to, ells_, _pitch_tol(pitch_tol), kl, self._sigma)
         if ws:
             warn_all(ws)
         return RigReport._from_json(text)
@@ -197,20 +227,39 @@ def load(paths: Union[PathLike, Sequence[PathLike]], *, renames: Optional[Rename
          joints: Optional[Mapping[str, float]] = None,
          xacro_args: Optional[Mapping[str, str]] = None,
          package_paths: Optional[Sequence[PathLike]] = None, key: Optional[str] = None,
-         invert: bool = False, input_format: Optional[str] = None) -> Robot:
+         invert: bool = False, input_format: Optional[str] = None,
+         sigma_t: Optional[float] = None, sigma_r: Optional[float] = None,
+         urdf_version: Optional[str] = None, max_file_size: Optional[int] = None,
+         xacro: str = "native", xacro_path: Union[None, str, Sequence[PathLike]] = None,
+         tf_static_topics: Union[str, Sequence[str]] = (),
+         tf_topics: Union[str, Sequence[str]] = (),
+         description_topics: Union[str, Sequence[str]] = ()) -> Robot:
     """Load calibration files (URDF, xacro, launch files, TF dumps, bags,
     LIO/Kalibr YAML, rig TOML, ...) into one frame tree, as the CLI reads
     them: ``renames`` (``{"old": "new"}``, ``"[FILE:]OLD=NEW"`` strings or
     tuples: ``--rename``), ``joints`` (``--joint``, radians or metres; movable
     joints not named are at 0), ``xacro_args`` (``--arg``), ``package_paths``
     (``--package-path``), ``key`` and ``invert`` (``--key``, ``--invert``),
-    ``input_format`` (``--input-format``). The files' warnings are emitted."""
-    native = _native.load(_paths(paths), _load_args(renames, joints, xacro_args, package_paths,
-                                                    key, invert, input_format))
+    ``input_format`` (``--input-format``), ``urdf_version`` (``--urdf-version``,
+    ``"1.0"`` to ``"1.2"``), ``max_file_size`` (``--max-file-size``, bytes),
+    ``xacro`` (``--xacro``: ``"native"`` or ``"external"``, the ROS ``xacro``
+    program, looked for on ``xacro_path``, a ``PATH``-style string or a list
+    of folders, default the process's ``PATH``), a bag's topics
+    (``tf_static_topics``, ``tf_topics``, ``description_topics``:
+    ``--tf-static-topic``, ``--tf-topic``, ``--description-topic``). ``sigma_t``
+    (m) and ``sigma_r`` (degrees) are the calibration's uncertainty per edge
+    that :meth:`Robot.report` propagates (``--sigma-t``, ``--sigma-r``). The
+    files' warnings are emitted."""
+    sigma = None
+    if sigma_t is not None or sigma_r is not None:
+        sigma = (float(sigma_t or 0.0), float(sigma_r or 0.0))
+    native = _native.load(_paths(paths), _load_args(
+        renames, joints, xacro_args, package_paths, key, invert, input_format, urdf_version,
+        max_file_size, xacro, xacro_path, tf_static_topics, tf_topics, description_topics))
     ws = native.warnings()
     if ws:
         warn_all(ws)
-    return Robot(native)
+    return Robot(native, sigma)
 
 
 def check(paths: Union[PathLike, Sequence[PathLike]], *, baseline: Optional[PathLike] = None,
@@ -355,3 +404,102 @@ def degeneracy_scan(path: PathLike, *, estimate_normals: bool = False,
                           min_planarity, viewpoint)
     return DegeneracyReport._from_json(
         _native.degeneracy_scan(os.fspath(path), bool(estimate_normals), args))
+
+
+def _bound(b, what: str) -> Optional[str]:
+    """A scan index (int) or seconds after the first scan (``"12.5s"``)."""
+    if b is None:
+        return None
+    if isinstance(b, bool) or not isinstance(b, (int, str)):
+        raise UsageError(f"{what}: expected a scan index (int) or seconds (\"12.5s\"), found {b!r}")
+    return str(b)
+
+
+class RunReader:
+    """A recorded run being read (see :func:`run`): iterate for one
+    :class:`ScanResult` per scan (or pair) in run order, then call
+    :meth:`finish` for the summary."""
+
+    def __init__(self, native: "_native.Run"):
+        self._run = native
+
+    @property
+    def frames(self) -> List[str]:
+        """The frames every result is reported in, ``scan`` (the scan's own) first."""
+        return self._run.frames
+
+    @property
+    def families(self) -> List[str]:
+        """The families' keys (``point_displacement``, ``characteristic_length@1m``, ...)."""
+        return self._run.families
+
+    @property
+    def pairs(self) -> bool:
+        """Whether the results are scan pairs."""
+        return self._run.pairs
+
+    def __iter__(self) -> "RunReader":
+        return self
+
+    def __next__(self) -> ScanResult:
+        return ScanResult._from_json(next(self._run))
+
+    def finish(self) -> RunReport:
+        """The summary (``audit run --format json``): scans read and skipped,
+        degenerate intervals, label changes between frames. The scans not yet
+        taken are read first; the run's warnings (skipped scans, damage) are
+        emitted."""
+        text, ws = self._run.finish()
+        if ws:
+            warn_all(ws)
+        return RunReport._from_json(text)
+
+    def __repr__(self) -> str:
+        return f"<RunReader {'pairs' if self.pairs else 'scans'} in {len(self.frames)} frames>"
+
+
+def run(paths: Union[PathLike, Sequence[PathLike]], *, topic: Optional[str] = None,
+        start: Union[None, int, str] = None, end: Union[None, int, str] = None, every: int = 1,
+        lidar_frame: Optional[str] = None, frames: Sequence[str] = (), all_frames: bool = False,
+        extrinsics: Sequence[PathLike] = (), rig_frames: Sequence[PathLike] = (),
+        tau: Optional[float] = None, ells: Optional[Sequence[float]] = None,
+        voxel: Optional[float] = None, radius: Optional[float] = None,
+        knn: Optional[int] = None, min_neighbours: Optional[int] = None, viewpoint=None,
+        estimate_normals: bool = False, pairs: bool = False, pair_step: int = 1,
+        gate: Optional[float] = None, poses: Optional[PathLike] = None,
+        poses_format: Optional[str] = None, calib: Optional[PathLike] = None,
+        poses_topic: Optional[str] = None, poses_frame: Optional[str] = None,
+        threads: int = 0, xacro_args: Optional[Mapping[str, str]] = None,
+        package_paths: Optional[Sequence[PathLike]] = None,
+        tf_static_topics: Union[str, Sequence[str]] = (),
+        tf_topics: Union[str, Sequence[str]] = (),
+        description_topics: Union[str, Sequence[str]] = ()) -> RunReader:
+    """``audit run PATHS``: every scan of a bag's PointCloud2 ``topic``, of a
+    KITTI sequence or of a folder of point files through the detector, in the
+    scan frame and the body frames of the run's transforms (``frames``,
+    ``all_frames``, ``extrinsics``) or of rig files (``rig_frames``). Scans
+    from ``start`` to ``end`` (an index, or ``"12.5s"`` after the first
+    scan), every ``every``-th. Normals from the scans' fields, or estimated
+    (``voxel`` grid, default 0.1 m, 0 for none; ``radius``, ``knn``,
+    ``min_neighbours``, ``viewpoint``). With ``pairs``, each scan against the
+    ``pair_step``-th before it at their relative pose (``poses`` file and
+    ``poses_format``, ``calib``, ``poses_topic``, ``poses_frame``, ``gate``).
+    Returns a :class:`RunReader`; each scan is read when the iteration asks
+    for it (GIL released), so a long run streams."""
+    args = {
+        "topic": topic, "start": _bound(start, "start"), "end": _bound(end, "end"),
+        "every": int(every), "lidar_frame": lidar_frame, "frames": list(frames),
+        "all_frames": bool(all_frames), "extrinsics": _paths(extrinsics),
+        "rig_frames": _paths(rig_frames), "tau": tau,
+        "ells": None if ells is None else [float(e) for e in ells], "voxel": voxel,
+        "radius": radius, "knn": knn, "min_neighbours": min_neighbours,
+        "viewpoint": None if viewpoint is None else [float(v) for v in viewpoint],
+        "estimate_normals": bool(estimate_normals), "pairs": bool(pairs),
+        "pair_step": int(pair_step), "gate": gate,
+        "poses": None if poses is None else os.fspath(poses), "poses_format": poses_format,
+        "calib": None if calib is None else os.fspath(calib), "poses_topic": poses_topic,
+        "poses_frame": poses_frame, "threads": int(threads),
+    }
+    load = _load_args(None, None, xacro_args, package_paths, tf_static_topics=tf_static_topics,
+                      tf_topics=tf_topics, description_topics=description_topics)
+    return RunReader(_native.run(_paths(paths), args, load))

@@ -245,3 +245,65 @@ class DegeneracyReport(Report):
     def _summary(self) -> str:
         axes = [a for a, f in zip(AXES, self._data["footprint"]) if f]
         return f"{self.points} points, degenerate along {axes or 'nothing'}"
+
+
+class ScanResult(Report):
+    """One scan's (or pair's) result of a run: its JSON line
+    (``audit run --jsonl``, ``docs/schemas/run-scan.schema.json``)."""
+
+    @property
+    def index(self) -> int:
+        """The scan's place in the run (a pair's source's)."""
+        return self._data["index"]
+
+    @property
+    def time_s(self) -> Optional[float]:
+        """Seconds after the run's first scan."""
+        return self._data["time_s"]
+
+    @property
+    def skipped(self) -> Optional[str]:
+        """Why the scan was skipped (``empty``, ``invalid-cloud``, ...), or ``None``."""
+        return self._data["reason"]
+
+    @property
+    def points(self) -> Optional[int]:
+        """Points in ``H`` (a pair's correspondences)."""
+        return self._data["points"]
+
+    def family(self, frame: str, family: str) -> Optional[Dict[str, Any]]:
+        """``family`` (a key of :attr:`RunReader.families`) in ``frame``, or
+        ``None`` where the scan's transforms do not reach the frame."""
+        for f in self._data["frames"]:
+            if f["frame"] == frame:
+                for x in f["families"] or []:
+                    if x["family"] == family:
+                        return x
+                return None
+        raise KeyError(f"no frame {frame!r} in this run")
+
+    def eigenvalues(self, frame: str, family: str = "point_displacement") -> Optional[np.ndarray]:
+        """The six generalized eigenvalues of ``H v = lambda M v``, ascending."""
+        x = self.family(frame, family)
+        ev = None if x is None else x["eigenvalues"]
+        return None if ev is None else np.array(ev)
+
+    def _summary(self) -> str:
+        return f"scan {self.index}" + (f" skipped ({self.skipped})" if self.skipped else "")
+
+
+class RunReport(Report):
+    """A run's summary (``audit run --format json``, ``docs/schemas/run.schema.json``)."""
+
+    @property
+    def read(self) -> int:
+        """Scans (or pairs) read."""
+        return self._data["read"]
+
+    @property
+    def analysed(self) -> int:
+        """Scans (or pairs) analysed."""
+        return self._data["analysed"]
+
+    def _summary(self) -> str:
+        return f"{self.analysed} of {self.read} {self._data['unit']} analysed"

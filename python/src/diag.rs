@@ -4,7 +4,7 @@
 //! `warnings.warn` (`_errors.warn_all`); the options every loader shares
 //! read from one dict.
 
-use extrinsic_audit::{Diagnostic, Error, Format, LoadOptions, Rename};
+use extrinsic_audit::{Diagnostic, Error, Format, LoadOptions, Rename, UrdfVersion};
 use pyo3::prelude::*;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -82,6 +82,21 @@ pub struct LoadArgs {
     pub key: Option<String>,
     pub invert: bool,
     pub input_format: Option<String>,
+    /// `--urdf-version X.Y`.
+    pub urdf_version: Option<String>,
+    /// `--max-file-size BYTES` (`None`: the default).
+    pub max_file_size: Option<u64>,
+    /// `--xacro native|external`.
+    pub xacro: String,
+    /// Where the external `xacro` program is looked for (a `PATH`-style
+    /// list; `None`: the process's `PATH`).
+    pub xacro_path: Option<std::ffi::OsString>,
+    /// `--tf-static-topic` (empty: `/tf_static`).
+    pub tf_static_topics: Vec<String>,
+    /// `--tf-topic`.
+    pub tf_topics: Vec<String>,
+    /// `--description-topic` (empty: `/robot_description`).
+    pub description_topics: Vec<String>,
 }
 
 impl LoadArgs {
@@ -107,6 +122,31 @@ impl LoadArgs {
             .as_deref()
             .map(Format::from_name)
             .transpose()?;
+        o.urdf_version = self
+            .urdf_version
+            .as_deref()
+            .map(|v| UrdfVersion::parse(v).map_err(|e| Error::usage(format!("urdf_version: {e}"))))
+            .transpose()?;
+        if let Some(n) = self.max_file_size {
+            o.max_file_size = n;
+        }
+        o.xacro_external = match self.xacro.as_str() {
+            "native" => false,
+            "external" => true,
+            x => {
+                return Err(Error::usage(format!(
+                    "xacro: expected \"native\" or \"external\", found `{x}`"
+                )))
+            }
+        };
+        o.xacro_search_path = self.xacro_path.clone();
+        if !self.tf_static_topics.is_empty() {
+            o.bag.static_topics = self.tf_static_topics.clone();
+        }
+        o.bag.tf_topics = self.tf_topics.clone();
+        if !self.description_topics.is_empty() {
+            o.bag.description_topics = self.description_topics.clone();
+        }
         Ok(o)
     }
 }

@@ -5,7 +5,9 @@
 use crate::diag::{json, pitch_tol, tuples, DiagTuple, IntoPy, LoadArgs};
 use clap::ValueEnum;
 use extrinsic_audit::SurveyOptions;
-use extrinsic_audit::{CheckOptions, Code, DiffOptions, DriftTolerances, Error, SortColumn};
+use extrinsic_audit::{
+    CheckOptions, Code, DiffOptions, DriftTolerances, Error, LoadOptions, SortColumn,
+};
 use pyo3::prelude::*;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -43,26 +45,25 @@ fn codes(names: &[String], what: &str) -> extrinsic_audit::Result<Vec<Code>> {
 
 impl CheckArgs {
     fn options(&self, paths: Vec<PathBuf>) -> extrinsic_audit::Result<CheckOptions> {
-        let mut o = CheckOptions::default();
-        o.paths = paths;
-        o.baseline = self.baseline.clone();
-        o.write_baseline = self.write_baseline.clone();
-        o.prune = self.prune;
-        o.exclude = self.exclude.clone();
-        o.pairs = self.pairs.clone();
-        o.max_lever_arm = self.max_lever_arm;
-        o.require_zero_pitch = self.require_zero_pitch;
         let d = DriftTolerances::default();
-        o.drift = DriftTolerances {
+        let drift = DriftTolerances {
             translation_m: self.max_translation_drift.unwrap_or(d.translation_m),
             rotation_deg: self.max_rotation_drift.unwrap_or(d.rotation_deg),
         };
-        o.pitch_tol = pitch_tol(self.pitch_tol.as_deref())?;
-        o.load.joints = self.joints.clone();
-        o.allow = codes(&self.allow, "allow")?;
-        o.deny = codes(&self.deny, "deny")?;
-        o.deny_warnings = self.deny_warnings;
-        Ok(o)
+        let mut load = LoadOptions::default();
+        load.joints = self.joints.clone();
+        let pitch = pitch_tol(self.pitch_tol.as_deref())?;
+        let (allow, deny) = (codes(&self.allow, "allow")?, codes(&self.deny, "deny")?);
+        Ok(CheckOptions::new(paths)
+            .baseline(
+                self.baseline.clone(),
+                self.write_baseline.clone(),
+                self.prune,
+            )
+            .walk(self.exclude.clone(), self.pairs.clone())
+            .gate(self.max_lever_arm, self.require_zero_pitch, drift, pitch)
+            .policy(allow, deny, self.deny_warnings)
+            .load(load))
     }
 }
 

@@ -12,20 +12,24 @@ mod detector;
 mod diag;
 mod files;
 mod robot;
+mod run;
 
 use pyo3::prelude::*;
 
-/// The native module: one class (`Robot`) and the functions of the face.
+/// The native module: two classes (`Robot`, `Run`) and the functions of the
+/// face.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<robot::PyRobot>()?;
+    m.add_class::<run::PyRun>()?;
     m.add_function(wrap_pyfunction!(robot::load, m)?)?;
     m.add_function(wrap_pyfunction!(files::check, m)?)?;
     m.add_function(wrap_pyfunction!(files::diff, m)?)?;
     m.add_function(wrap_pyfunction!(files::survey, m)?)?;
     m.add_function(wrap_pyfunction!(detector::degeneracy, m)?)?;
     m.add_function(wrap_pyfunction!(detector::degeneracy_scan, m)?)?;
+    m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(cli::cli_main, m)?)?;
     Ok(())
 }

@@ -2,7 +2,7 @@
 //! rig reports and the frame tree.
 
 use crate::diag::{json, pitch_tol, tuples, DiagTuple, IntoPy, LoadArgs};
-use extrinsic_audit::{RigOptions, Robot, Transform};
+use extrinsic_audit::{RigOptions, Robot, Transform, UserSigma};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
 use pyo3::prelude::*;
@@ -69,7 +69,8 @@ impl PyRobot {
 
     /// The rig report's JSON (the CLI's, the robot's warnings and the
     /// chain's in it) and the chain's warnings; GIL released.
-    #[pyo3(signature = (frm, to, ells, pitch_tol=None, kappa_lambda=None))]
+    #[pyo3(signature = (frm, to, ells, pitch_tol=None, kappa_lambda=None, sigma=None))]
+    #[allow(clippy::too_many_arguments)]
     fn report(
         &self,
         py: Python<'_>,
@@ -78,6 +79,7 @@ impl PyRobot {
         ells: Option<Vec<f64>>,
         pitch_tol: Option<&str>,
         kappa_lambda: Option<(f64, f64)>,
+        sigma: Option<(f64, f64)>,
     ) -> PyResult<(String, Vec<DiagTuple>)> {
         let mut opts = RigOptions::default();
         if let Some(ells) = ells {
@@ -85,6 +87,7 @@ impl PyRobot {
         }
         opts.pitch_tol = self::pitch_tol(pitch_tol).py()?;
         opts.kappa_lambda = kappa_lambda;
+        opts.sigma = sigma.map(|(t, r)| UserSigma::new(t, r)).transpose().py()?;
         let robot = &self.robot;
         py.detach(|| {
             let (report, chain_warnings) = robot.report(frm, to, &opts)?;

@@ -2,14 +2,15 @@
 //! on each input, points held in memory ([`Detector::points`]) or a scan file
 //! ([`Detector::scan`], a scan pair included), each giving one report.
 
-use crate::diagnostic::{Error, Result};
+use crate::diagnostic::Result;
 use crate::geometry::Transform;
 use crate::pipeline::detector::{
-    self as det, DegeneracyOptions, DetectorOptions, InitialGuess, Points, ScanOptions,
+    self as det, check_tau_ells, DegeneracyOptions, DetectorOptions, InitialGuess, Points,
+    ScanOptions,
 };
 use crate::progress::{NoProgress, ProgressFactory};
 use crate::report::detector::{DegeneracyReport, SweepReport};
-use crate::tolerances::{MAX_ELLS, PAIR_GATE_M};
+use crate::tolerances::PAIR_GATE_M;
 use std::path::PathBuf;
 
 /// A point file for the detector (CSV, PLY, PCD with normals; any of them or
@@ -79,21 +80,7 @@ impl Detector {
     /// A detector with these options, checked: a positive finite `tau`, 1 to
     /// `MAX_ELLS` finite positive lengths.
     pub fn new(opts: DetectorOptions) -> Result<Detector> {
-        if !(opts.tau.is_finite() && opts.tau > 0.0) {
-            return Err(Error::usage(format!(
-                "tau: expected a positive number, found {}",
-                opts.tau
-            )));
-        }
-        if opts.ells.is_empty()
-            || opts.ells.len() > MAX_ELLS
-            || opts.ells.iter().any(|l| !(l.is_finite() && *l > 0.0))
-        {
-            return Err(Error::usage(format!(
-                "ells: expected 1 to {MAX_ELLS} positive lengths (m), found {:?}",
-                opts.ells
-            )));
-        }
+        check_tau_ells(opts.tau, &opts.ells)?;
         Ok(Detector { opts })
     }
 

@@ -7,7 +7,9 @@
 mod detector;
 mod output;
 mod robot;
+mod run;
 
 pub use detector::{Detector, PairOptions, ScanFile};
 pub use output::{render, render_bytes, render_to, RenderOptions};
 pub use robot::Robot;
+pub use run::{run_transforms, scan_record, Run, ScanResult};

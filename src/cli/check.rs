@@ -9,7 +9,7 @@ use extrinsic_audit::internals::pipeline::manifest;
 use extrinsic_audit::internals::tolerances::{
     DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT,
 };
-use extrinsic_audit::{check_with, CheckOptions, Code, DriftTolerances, Result};
+use extrinsic_audit::{check_with, CheckOptions, Code, DriftTolerances, LoadOptions, Result};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -114,26 +114,29 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
         .collect();
     super::check_output(&args.output, &inputs)?;
     let progress = super::display::TermProgress::new();
-    let mut opts = CheckOptions::default();
-    opts.paths = args.paths.clone();
-    opts.baseline = args.baseline.clone();
-    opts.write_baseline = args.write_baseline.clone();
-    opts.prune = args.prune;
-    opts.exclude = args.exclude.clone();
-    opts.pairs = args.pairs.clone();
-    opts.max_lever_arm = args.max_lever_arm;
-    opts.require_zero_pitch = args.require_zero_pitch;
-    opts.drift = DriftTolerances {
+    let mut load = LoadOptions::default();
+    load.joints = args.joints.positions();
+    load.max_file_size = args.size.max_file_size;
+    args.xacro.apply(&mut load);
+    let drift = DriftTolerances {
         translation_m: args.max_translation_drift,
         rotation_deg: args.max_rotation_drift,
     };
-    opts.pitch_tol = args.pitch.pitch_tol;
-    opts.load.joints = args.joints.positions();
-    opts.load.max_file_size = args.size.max_file_size;
-    args.xacro.apply(&mut opts.load);
-    opts.allow = args.allow.clone();
-    opts.deny = args.deny.clone();
-    opts.deny_warnings = args.deny_warnings;
+    let mut opts = CheckOptions::new(args.paths.clone())
+        .baseline(
+            args.baseline.clone(),
+            args.write_baseline.clone(),
+            args.prune,
+        )
+        .walk(args.exclude.clone(), args.pairs.clone())
+        .gate(
+            args.max_lever_arm,
+            args.require_zero_pitch,
+            drift,
+            args.pitch.pitch_tol,
+        )
+        .policy(args.allow.clone(), args.deny.clone(), args.deny_warnings)
+        .load(load);
     if let Some(v) = &args.fleet_tolerance {
         let t = super::spread::tolerance("--fleet-tolerance", v)?;
         opts.fleet = Some(DriftTolerances {

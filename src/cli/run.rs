@@ -1,34 +1,26 @@
 //! `audit run`: degeneracy over a recorded run. Arguments here, made into
-//! `extrinsic_audit::pipeline::run::RunOptions`; the per-scan records go to
-//! their files (or standard output) as the scans finish, then the summary is
-//! emitted.
+//! `extrinsic_audit::RunOptions`; the face's `Run` reads the run and each
+//! result goes to its files (or standard output) as the scans finish, then
+//! the summary is emitted.
 
 use super::args::{parse_positive, BagArgs, EllArgs, OutputArgs, TauArgs, XacroArgs};
 use super::display::TermBars;
 use super::{emit_warned, print_warnings};
-use extrinsic_audit::internals::degeneracy::normals::NormalParams;
-use extrinsic_audit::internals::degeneracy::MetricRule;
-use extrinsic_audit::internals::formats::bag::BagLimits;
-use extrinsic_audit::internals::frames::FrameGraph;
+use extrinsic_audit::internals::api::{run_transforms, scan_record};
 use extrinsic_audit::internals::pipeline::detector::parse_triple;
 use extrinsic_audit::internals::pipeline::files::AtomicFile;
-use extrinsic_audit::internals::pipeline::run::{self as pr, RunOptions};
 use extrinsic_audit::internals::pipeline::{check_output_target, write_atomic};
 use extrinsic_audit::internals::render;
 use extrinsic_audit::internals::render::mcap::{RunMcap, RUN_TOPIC};
-use extrinsic_audit::internals::report::run::{RunHeader, RunReport, RunSink};
 use extrinsic_audit::internals::report::run_scene::RunTransforms;
-use extrinsic_audit::internals::run::frames::RunFrame;
-use extrinsic_audit::internals::run::poses::PoseFormat;
-use extrinsic_audit::internals::run::scan::{Outcome, Settings};
-use extrinsic_audit::internals::run::source::{Bound, Window};
 use extrinsic_audit::internals::tolerances::{
-    MAX_SCAN_CELLS, PAIR_GATE_M, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M,
-    RUN_VOXEL_M,
+    PAIR_GATE_M, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M, RAW_VOXEL_RANGE_M, RUN_VOXEL_M,
 };
-use extrinsic_audit::{Code, Error, LoadOptions, OutputFormat, Result, Warning};
+use extrinsic_audit::{Code, Error, OutputFormat, Result, Warning};
+use extrinsic_audit::{PoseFormat, Run, RunOptions, RunPairs, RunReport, ScanBound, ScanResult};
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 #[derive(clap::Args, Debug, Clone)]
 #[command(
@@ -159,10 +151,7 @@ pub struct RunArgs {
 }
 
 fn parse_pose_format(s: &str) -> std::result::Result<PoseFormat, String> {
-    PoseFormat::parse(s).ok_or_else(|| {
-        let all: Vec<&str> = PoseFormat::ALL.iter().map(|f| f.name()).collect();
-        format!("expected one of {}, found `{s}`", all.join(", "))
-    })
+    PoseFormat::parse(s).map_err(|e| e.message)
 }
 
 /// `--voxel`: 0 (none) or within [`RAW_VOXEL_RANGE_M`].
@@ -187,60 +176,45 @@ impl RunArgs {
         if !self.pairs && (self.poses.is_some() || self.poses_topic.is_some()) {
             return Err(Error::usage("--poses and --poses-topic apply with --pairs"));
         }
-        let window = Window {
-            start: self
-                .start
-                .as_deref()
-                .map(|s| Bound::parse(s, "--start"))
-                .transpose()?,
-            end: self
-                .end
-                .as_deref()
-                .map(|s| Bound::parse(s, "--end"))
-                .transpose()?,
-            every: self.every,
-        };
-        let viewpoint = match &self.viewpoint {
-            Some(s) => parse_triple(s, "--viewpoint")?,
-            None => [0.0; 3],
-        };
-        let settings = Settings {
-            rules: MetricRule::default_set(&self.ell.ell, None),
-            tau: self.tau.tau,
-            voxel: (self.voxel > 0.0).then_some(self.voxel),
-            normals: NormalParams {
-                radius: self.normal_radius,
-                knn: self.knn,
-                min_neighbours: self.min_neighbours,
-                min_planarity: None,
-                viewpoint,
-            },
-            estimate: self.estimate_normals,
-            gate: self.gate,
-            max_cells: MAX_SCAN_CELLS,
-        };
-        let mut load = LoadOptions::default();
-        load.bag = self.bag.bag_options();
-        self.xacro.apply(&mut load);
-        Ok(RunOptions {
-            inputs: self.run.clone(),
-            topic: self.topic.clone(),
-            window,
-            pairs: self.pairs.then_some(self.pair_step),
-            poses: self.poses.clone().map(|p| (p, self.poses_format)),
-            calib: self.calib.clone(),
-            poses_topic: self.poses_topic.clone(),
-            poses_frame: self.poses_frame.clone(),
-            lidar_frame: self.lidar_frame.clone(),
-            frames: self.frames.clone(),
-            all_frames: self.all_frames,
-            extrinsics: self.extrinsics.clone(),
-            rig_frames: self.rig_frames.clone(),
-            settings,
-            threads: self.threads,
-            load,
-            limits: BagLimits::default(),
-        })
+        let bound = |v: &Option<String>, flag| v.as_deref().map(|s| ScanBound::parse(s, flag));
+        let mut o = RunOptions::default();
+        o.scans.topic = self.topic.clone();
+        o.scans.window.start = bound(&self.start, "--start").transpose()?;
+        o.scans.window.end = bound(&self.end, "--end").transpose()?;
+        o.scans.window.every = self.every;
+        o.scans.lidar_frame = self.lidar_frame.clone();
+        o.frames.names = self.frames.clone();
+        o.frames.all = self.all_frames;
+        o.frames.extrinsics = self.extrinsics.clone();
+        o.frames.rig_files = self.rig_frames.clone();
+        let d = &mut o.detector;
+        d.tau = self.tau.tau;
+        d.ells = self.ell.ell.clone();
+        d.normals.voxel = (self.voxel > 0.0).then_some(self.voxel);
+        d.normals.radius = self.normal_radius;
+        d.normals.knn = self.knn;
+        d.normals.min_neighbours = self.min_neighbours;
+        d.normals.viewpoint = self
+            .viewpoint
+            .as_deref()
+            .map(|s| parse_triple(s, "--viewpoint"))
+            .transpose()?;
+        d.estimate_normals = self.estimate_normals;
+        if self.pairs {
+            let mut p = RunPairs::default();
+            p.step = self.pair_step;
+            p.gate = self.gate;
+            p.poses = self.poses.clone();
+            p.poses_format = self.poses_format;
+            p.calib = self.calib.clone();
+            p.poses_topic = self.poses_topic.clone();
+            p.poses_frame = self.poses_frame.clone();
+            o.pairs = Some(p);
+        }
+        o.threads = self.threads;
+        o.load.bag = self.bag.bag_options();
+        self.xacro.apply(&mut o.load);
+        Ok(o)
     }
 }
 
@@ -305,16 +279,14 @@ struct Sinks<'a> {
     tf: Option<RunTransforms>,
 }
 
-impl RunSink for Sinks<'_> {
-    fn frames(&mut self, frames: &[RunFrame], graph: Option<&FrameGraph>) -> Result<()> {
+impl Sinks<'_> {
+    /// Before the first record: the CSV header, the MCAP's transforms.
+    fn begin(&mut self, run: &Run) -> Result<()> {
         if self.mcap.is_some() {
+            let (frames, graph) = run_transforms(run);
             self.tf = Some(RunTransforms::new(frames, graph));
         }
-        Ok(())
-    }
-
-    fn begin(&mut self, h: &RunHeader) -> Result<()> {
-        let head = render::csv_line(&h.csv_header());
+        let head = render::csv_line(&run.csv_header());
         if let Some(c) = self.csv.as_mut() {
             c.line(&head)?;
         }
@@ -324,9 +296,10 @@ impl RunSink for Sinks<'_> {
         Ok(())
     }
 
-    fn outcome(&mut self, h: &RunHeader, o: &Outcome) -> Result<()> {
+    /// One record, in run order.
+    fn record(&mut self, r: &ScanResult) -> Result<()> {
         if self.csv.is_some() || self.stdout_csv.is_some() {
-            let row = render::csv_line(&h.csv_row(o));
+            let row = render::csv_line(&r.csv_row());
             if let Some(c) = self.csv.as_mut() {
                 c.line(&row)?;
             }
@@ -334,20 +307,14 @@ impl RunSink for Sinks<'_> {
                 stdout_line(*out, &row)?;
             }
         }
-        if self.jsonl.is_none() && self.mcap.is_none() {
-            return Ok(());
-        }
-        let line = h.json_line(o);
         if let Some(j) = self.jsonl.as_mut() {
-            let v = serde_json::to_string(&line)
-                .map_err(|e| Error::new(Code::Io, format!("cannot write the JSON line: {e}")))?;
-            j.line(&v)?;
+            j.line(&r.to_json())?;
         }
         if let Some(m) = self.mcap.as_mut() {
             if let Some(tf) = self.tf.take() {
-                m.transforms(tf.resolve(o.scan.frame_id.as_deref()));
+                m.transforms(tf.resolve(r.frame_id()));
             }
-            m.record(&line)?;
+            m.record(scan_record(r))?;
         }
         Ok(())
     }
@@ -438,7 +405,12 @@ pub fn run(args: &RunArgs, out: &mut dyn Write) -> Result<i32> {
             .transpose()?,
         tf: None,
     };
-    let (report, warnings) = pr::run(&opts, &mut sinks, &TermBars)?;
+    let mut run = Run::open_with(&args.run, &opts, Arc::new(TermBars))?;
+    sinks.begin(&run)?;
+    for r in &mut run {
+        sinks.record(&r?)?;
+    }
+    let (report, warnings) = run.finish()?;
     let Sinks {
         csv, jsonl, mcap, ..
     } = sinks;

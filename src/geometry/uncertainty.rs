@@ -42,7 +42,8 @@
 use super::se3::{QuatOrder, Transform};
 use crate::diagnostic::Result;
 use crate::tolerances::{
-    EXACT_SIGNIFICANT_DIGITS, PITCH_FLOAT_FLOOR_M, PITCH_K, PITCH_RESOLUTION_M, UNCERTAINTY_STEP,
+    EXACT_SIGNIFICANT_DIGITS, MAX_SIGMA_R_DEG, MAX_SIGMA_T_M, PITCH_FLOAT_FLOOR_M, PITCH_K,
+    PITCH_RESOLUTION_M, UNCERTAINTY_STEP,
 };
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 use serde::Serialize;
@@ -336,6 +337,36 @@ pub struct UserSigma {
 }
 
 impl UserSigma {
+    /// `sigma_t_m` (m, 0 to [`MAX_SIGMA_T_M`]) and `sigma_r_deg` (degrees,
+    /// 0 to [`MAX_SIGMA_R_DEG`]), checked: the ranges of `--sigma-t` and
+    /// `--sigma-r`.
+    ///
+    /// ```
+    /// use extrinsic_audit::UserSigma;
+    ///
+    /// let s = UserSigma::new(0.002, 0.5).unwrap();
+    /// assert_eq!(s.sigma_r_rad, 0.5_f64.to_radians());
+    /// assert!(UserSigma::new(-0.001, 0.0).is_err());
+    /// assert!(UserSigma::new(0.0, 11.0).is_err());
+    /// ```
+    pub fn new(sigma_t_m: f64, sigma_r_deg: f64) -> Result<UserSigma> {
+        let check = |v: f64, max: f64, what: &str, unit: &str| {
+            if (0.0..=max).contains(&v) {
+                Ok(())
+            } else {
+                Err(crate::diagnostic::Error::usage(format!(
+                    "{what}: expected 0 to {max} {unit}, found {v}"
+                )))
+            }
+        };
+        check(sigma_t_m, MAX_SIGMA_T_M, "sigma_t", "m")?;
+        check(sigma_r_deg, MAX_SIGMA_R_DEG, "sigma_r", "deg")?;
+        Ok(UserSigma {
+            sigma_t_m,
+            sigma_r_rad: sigma_r_deg.to_radians(),
+        })
+    }
+
     /// `diag(sigma_r^2 I3, sigma_t^2 I3)`.
     pub fn covariance(&self) -> Matrix6<f64> {
         let (r2, t2) = (self.sigma_r_rad.powi(2), self.sigma_t_m.powi(2));

@@ -75,6 +75,88 @@ pub struct CheckOptions {
 }
 
 impl CheckOptions {
+    /// Check `paths` (files or directories) with the command's defaults;
+    /// the methods below set the rest group by group, as `audit check`'s
+    /// flags and the Python package's `check` both do.
+    ///
+    /// ```
+    /// use extrinsic_audit::{check, CheckOptions, DriftTolerances, PitchTol};
+    ///
+    /// # fn main() -> extrinsic_audit::Result<()> {
+    /// let urdf = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/urdf/anymal_c_lidar.urdf");
+    /// // ANYmal C's LiDAR sits 0.3908 m from its base (pytransform3d): a
+    /// // 0.3 m limit is a problem (exit 1), a 0.4 m one is not.
+    /// let gate = |max| {
+    ///     CheckOptions::new(vec![urdf.into()])
+    ///         .walk(Vec::new(), vec![("base".into(), "lidar".into())])
+    ///         .gate(Some(max), false, DriftTolerances::default(), PitchTol::Auto)
+    /// };
+    /// assert_eq!(check(&gate(0.3))?.exit_code(), 1);
+    /// assert_eq!(check(&gate(0.4))?.exit_code(), 0);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn new(paths: Vec<PathBuf>) -> Self {
+        CheckOptions {
+            paths,
+            ..CheckOptions::default()
+        }
+    }
+
+    /// Compare against `baseline`; write the current state to `write`
+    /// (with `prune`, dropping the entries of files not checked).
+    pub fn baseline(
+        mut self,
+        baseline: Option<PathBuf>,
+        write: Option<PathBuf>,
+        prune: bool,
+    ) -> Self {
+        self.baseline = baseline;
+        self.write_baseline = write;
+        self.prune = prune;
+        self
+    }
+
+    /// What the walk skips (`exclude` globs) and the frame pairs checked
+    /// wherever both frames exist (`pairs`).
+    pub fn walk(mut self, exclude: Vec<String>, pairs: Vec<(String, String)>) -> Self {
+        self.exclude = exclude;
+        self.pairs = pairs;
+        self
+    }
+
+    /// The gate on each checked pair: its lever arm at most `max_lever_arm`
+    /// (m), zero screw pitch if `require_zero_pitch` (judged with
+    /// `pitch_tol`), and the drift against the baseline within `drift`.
+    pub fn gate(
+        mut self,
+        max_lever_arm: Option<f64>,
+        require_zero_pitch: bool,
+        drift: DriftTolerances,
+        pitch_tol: PitchTol,
+    ) -> Self {
+        self.max_lever_arm = max_lever_arm;
+        self.require_zero_pitch = require_zero_pitch;
+        self.drift = drift;
+        self.pitch_tol = pitch_tol;
+        self
+    }
+
+    /// The severity policy: codes accepted (`allow`), refused (`deny`),
+    /// and every warning a problem (`deny_warnings`).
+    pub fn policy(mut self, allow: Vec<Code>, deny: Vec<Code>, deny_warnings: bool) -> Self {
+        self.allow = allow;
+        self.deny = deny;
+        self.deny_warnings = deny_warnings;
+        self
+    }
+
+    /// How the files are read (joint values, the size cap, xacro).
+    pub fn load(mut self, load: LoadOptions) -> Self {
+        self.load = load;
+        self
+    }
+
     /// The severity policy (docs/check.md): `--allow CODE` makes a warning,
     /// `--deny CODE` and `--deny-warnings` make an error; otherwise the
     /// diagnostic's own severity (a reader's warning raised to an error beyond

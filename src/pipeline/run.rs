@@ -4,18 +4,19 @@
 //! to the caller's sinks (CSV, JSON lines) in order and folded into the
 //! summary report.
 
+use super::run_options::{RunOptions, RunPairs};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
+use crate::formats;
 use crate::formats::bag::{self, BagLimits, Flow, TopicInfo};
-use crate::formats::{self, LoadOptions};
 use crate::frames::FrameGraph;
 use crate::geometry::Transform;
 use crate::progress::ProgressFactory;
-use crate::report::run::{RunHeader, RunReport, RunSink, Unit};
+use crate::report::run::{RunHeader, RunReport, RunSink, RunUnit};
 use crate::run::frames::{FrameGroup, Frames, RunFrame};
-use crate::run::poses::{self, PoseFormat, PoseTrack, ScanKey};
+use crate::run::poses::{self, PoseTrack, ScanKey};
 use crate::run::scan::{self, Job, Outcome, ScanMeta, Settings, Skip};
 use crate::run::source::{
-    self, BagScans, FileScans, ScanItem, ScanSource, SourceEnd, Window, POINTCLOUD2_TYPES,
+    self, BagScans, FileScans, ScanItem, ScanSource, SourceEnd, POINTCLOUD2_TYPES,
 };
 use crate::run::summary::{Shape, Summary};
 use crate::run::work::{self, Limits, Submit};
@@ -25,47 +26,6 @@ use crate::tolerances::{
 use std::collections::{BTreeMap, VecDeque};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-
-/// What `audit run` is asked for.
-#[derive(Debug, Clone)]
-pub struct RunOptions {
-    /// A bag (or the parts of one), a KITTI sequence, a folder of point
-    /// files, point files or a pattern.
-    pub inputs: Vec<PathBuf>,
-    /// The `PointCloud2` topic (default: the bag's only one).
-    pub topic: Option<String>,
-    /// Which scans.
-    pub window: Window,
-    /// Pairs of scans (`step` apart) instead of single scans.
-    pub pairs: Option<usize>,
-    /// A poses file and its format (`None`: the 8-column and named layouts).
-    pub poses: Option<(PathBuf, Option<PoseFormat>)>,
-    /// KITTI `calib.txt` for camera poses.
-    pub calib: Option<PathBuf>,
-    /// A bag topic with poses (`nav_msgs/Odometry`, `/tf`).
-    pub poses_topic: Option<String>,
-    /// The frame the poses are of (default: the scan frame; a bag's `/tf`:
-    /// the root of the scan frame's tree).
-    pub poses_frame: Option<String>,
-    /// The scan frame of files that name none.
-    pub lidar_frame: Option<String>,
-    /// Body frames by name (default: the root of the scan frame's tree).
-    pub frames: Vec<String>,
-    /// Every frame of the run's transforms but the scan frame.
-    pub all_frames: bool,
-    /// Calibration files whose transforms join the run's.
-    pub extrinsics: Vec<PathBuf>,
-    /// Rig files (or folders of them): each a body frame, and its lever arm.
-    pub rig_frames: Vec<PathBuf>,
-    /// How each scan is processed.
-    pub settings: Settings,
-    /// Worker threads (0: one per core).
-    pub threads: usize,
-    /// How calibration files (and the bag's transforms) are read.
-    pub load: LoadOptions,
-    /// Decompression caps of the bag readers.
-    pub limits: BagLimits,
-}
 
 /// Where the scans come from, and what is known before reading them.
 struct Plan {
@@ -143,42 +103,41 @@ fn first_frame(bags: &[PathBuf], topic: &str, limits: BagLimits) -> Option<Strin
     frame
 }
 
-fn plan(opts: &RunOptions) -> Result<Plan> {
-    if opts.inputs.is_empty() {
+fn plan(inputs: &[PathBuf], opts: &RunOptions) -> Result<Plan> {
+    let limits = BagLimits::default();
+    let scans = &opts.scans;
+    if inputs.is_empty() {
         return Err(Error::usage(
             "expected a run: a bag, a KITTI sequence, a folder or a list of point files",
         ));
     }
-    let all_bags = opts
-        .inputs
-        .iter()
-        .all(|p| bag::is_bag(p) && !is_sequence_dir(p));
+    let all_bags = inputs.iter().all(|p| bag::is_bag(p) && !is_sequence_dir(p));
     if all_bags {
-        let listing = bag::topics(&opts.inputs[0])?;
-        let t = choose_topic(&opts.inputs[0], &listing.topics, opts.topic.as_deref())?;
-        let first = first_frame(&opts.inputs, &t.name, opts.limits);
+        let listing = bag::topics(&inputs[0])?;
+        let t = choose_topic(&inputs[0], &listing.topics, scans.topic.as_deref())?;
+        let first = first_frame(inputs, &t.name, limits);
         let source = BagScans {
-            bags: opts.inputs.clone(),
+            bags: inputs.to_vec(),
             topic: t.name.clone(),
-            window: opts.window,
-            limits: opts.limits,
+            window: scans.window,
+            limits,
         };
         return Ok(Plan {
             source: Box::new(source),
-            bags: opts.inputs.clone(),
+            bags: inputs.to_vec(),
             topic: Some(t.name),
             topics: listing.topics,
-            total: t.count.filter(|_| opts.inputs.len() == 1),
+            total: t.count.filter(|_| inputs.len() == 1),
             first_frame: first,
             warnings: listing.warnings,
         });
     }
-    if opts.topic.is_some() {
+    if scans.topic.is_some() {
         return Err(Error::usage(
             "--topic applies to bags; these inputs are a sequence of files",
         ));
     }
-    let files = source::sequence_files(&opts.inputs)?;
+    let files = source::sequence_files(inputs)?;
     let times = source::kitti_times(&files)?;
     let mut warnings = Vec::new();
     let times = match times {
@@ -199,18 +158,18 @@ fn plan(opts: &RunOptions) -> Result<Plan> {
         Some((_, t)) => Some(t),
         None => None,
     };
-    if opts.window.needs_times() && times.is_none() {
+    if scans.window.needs_times() && times.is_none() {
         return Err(Error::usage(
             "--start/--end in seconds need the scans' times (a KITTI times.txt); give scan indices instead",
         ));
     }
     let total = Some(files.len() as u64);
     let source = FileScans {
-        what: describe_files(&opts.inputs, files.len()),
+        what: describe_files(inputs, files.len()),
         files,
         times,
-        frame_id: opts.lidar_frame.clone(),
-        window: opts.window,
+        frame_id: scans.lidar_frame.clone(),
+        window: scans.window,
     };
     Ok(Plan {
         source: Box::new(source),
@@ -218,7 +177,7 @@ fn plan(opts: &RunOptions) -> Result<Plan> {
         topic: None,
         topics: Vec::new(),
         total,
-        first_frame: opts.lidar_frame.clone(),
+        first_frame: scans.lidar_frame.clone(),
         warnings,
     })
 }
@@ -265,7 +224,7 @@ fn transforms(
             Err(e) => return Err(e),
         }
     }
-    for f in &opts.extrinsics {
+    for f in &opts.frames.extrinsics {
         graph.add(formats::load_file(f, &opts.load)?)?;
         any = true;
     }
@@ -287,8 +246,8 @@ fn frame_list(
         source: "the scan's own frame (header.frame_id)".into(),
     }];
     let named: Vec<String> = match (graph, first) {
-        _ if !opts.frames.is_empty() => opts.frames.clone(),
-        (Some(g), Some(f)) if opts.all_frames => {
+        _ if !opts.frames.names.is_empty() => opts.frames.names.clone(),
+        (Some(g), Some(f)) if opts.frames.all => {
             g.frames().into_iter().filter(|n| n != f).collect()
         }
         (Some(g), Some(f)) => g
@@ -328,14 +287,14 @@ fn frame_list(
 /// placeholder, not a duplicate) gives its body frame `T^-1` and its lever
 /// arm alone.
 fn rig_frames(opts: &RunOptions) -> Result<Vec<RunFrame>> {
-    if opts.rig_frames.is_empty() {
+    if opts.frames.rig_files.is_empty() {
         return Ok(Vec::new());
     }
     let is_rig = |p: &Path| {
         p.extension().is_some_and(|e| e == "toml")
             && p.file_name().is_some_and(|n| n != "audit.toml")
     };
-    let files = super::files::expand_paths(&opts.rig_frames, is_rig)?;
+    let files = super::files::expand_paths(&opts.frames.rig_files, is_rig)?;
     let mut out = Vec::new();
     for f in files {
         let loaded = formats::load_file(&f, &opts.load)?;
@@ -377,13 +336,14 @@ fn rig_frames(opts: &RunOptions) -> Result<Vec<RunFrame>> {
 /// The poses of a pair run: a file, a bag topic, or the bag's `/tf` (or its
 /// only Odometry topic) when none is named.
 fn pose_track(
-    opts: &RunOptions,
+    opts: &RunPairs,
     plan: &Plan,
     frames: &Frames,
     warnings: &mut Vec<Warning>,
 ) -> Result<PoseTrack> {
-    if let Some((path, format)) = &opts.poses {
-        let mut t = poses::read_file(path, *format, opts.calib.as_deref(), warnings)?;
+    if let Some(path) = &opts.poses {
+        let calib = opts.calib.as_deref();
+        let mut t = poses::read_file(path, opts.poses_format, calib, warnings)?;
         t.frame = opts.poses_frame.clone();
         return Ok(t);
     }
@@ -418,7 +378,8 @@ fn pose_track(
         (None, true) => Some(tree_root(frames, plan.first_frame.as_deref())),
         (None, false) => None,
     };
-    poses::read_bag(&plan.bags, &topic, child.as_deref(), opts.limits, warnings)
+    let limits = BagLimits::default();
+    poses::read_bag(&plan.bags, &topic, child.as_deref(), limits, warnings)
 }
 
 /// The root of the scan frame's static tree (the frame `/tf` moves), or the
@@ -514,7 +475,7 @@ struct ScanWarnings {
 }
 
 impl ScanWarnings {
-    fn add(&mut self, o: &Outcome, unit: Unit) {
+    fn add(&mut self, o: &Outcome, unit: RunUnit) {
         let at = o.scan.index;
         if let Some((why, msg)) = &o.skipped {
             let n = self.skips.entry(*why).or_default();
@@ -574,16 +535,18 @@ impl ScanWarnings {
 /// Run `opts`: every outcome to `sink` in run order; the summary report and
 /// the warnings (for standard error).
 pub fn run(
+    inputs: &[PathBuf],
     opts: &RunOptions,
     sink: &mut dyn RunSink,
     bars: &dyn ProgressFactory,
 ) -> Result<(RunReport, Vec<Warning>)> {
-    let plan = plan(opts)?;
+    let settings = &opts.settings()?;
+    let plan = plan(inputs, opts)?;
     let mut warnings = plan.warnings.clone();
     let graph = transforms(opts, &plan.bags, &mut warnings)?;
     let list = frame_list(opts, graph.as_ref(), plan.first_frame.as_deref())?;
     let frames = Frames::new(list, graph);
-    let step = match opts.pairs {
+    let step = match opts.pairs.as_ref().map(|p| p.step) {
         Some(s) if !(1..=MAX_PAIR_STEP).contains(&s) => {
             return Err(Error::usage(format!(
                 "--pair-step {s}: expected 1 to {MAX_PAIR_STEP}"
@@ -591,20 +554,20 @@ pub fn run(
         }
         other => other,
     };
-    let track = match step {
-        Some(_) => Some(pose_track(opts, &plan, &frames, &mut warnings)?),
+    let track = match &opts.pairs {
+        Some(p) => Some(pose_track(p, &plan, &frames, &mut warnings)?),
         None => None,
     };
     let unit = if step.is_some() {
-        Unit::Pairs
+        RunUnit::Pairs
     } else {
-        Unit::Scans
+        RunUnit::Scans
     };
-    let header = RunHeader::new(unit, &frames.list, &opts.settings.rules);
+    let header = RunHeader::new(unit, &frames.list, &settings.rules);
     let mut summary = Summary::new(Shape {
         frames: frames.list.len(),
         drawn: header.drawn_frames(),
-        families: opts.settings.rules.len(),
+        families: settings.rules.len(),
         point_displacement: header.point_displacement(),
     });
     sink.frames(&frames.list, frames.graph())?;
@@ -629,7 +592,6 @@ pub fn run(
         },
     );
     let mut sw = ScanWarnings::default();
-    let settings = &opts.settings;
     let what = plan.source.describe();
     let pairs = step.zip(track.as_ref());
     let produced = work::ordered(
@@ -668,7 +630,7 @@ pub fn run(
             poses: track.as_ref().map(|t| t.what.clone()),
             settings,
             pair_step: step,
-            window: opts.window,
+            window: opts.scans.window,
             damage: produced.end.damage.map(|d| d.to_string()),
         },
     );

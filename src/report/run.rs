@@ -21,26 +21,26 @@ use crate::document::{Block, Document, Report, Table};
 use crate::geometry::Transform;
 use crate::run::frames::{FrameGroup, RunFrame};
 use crate::run::scan::{FamilyResult, Outcome, ScanMeta, Settings};
-use crate::run::source::{Bound, Window};
+use crate::run::source::{ScanBound, ScanWindow};
 use crate::run::summary::{Interval, Summary, Timeline};
 use serde::Serialize;
 
 /// What a run's records are.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Unit {
+pub enum RunUnit {
     /// One record per scan.
     Scans,
     /// One record per pair of scans.
     Pairs,
 }
 
-impl Unit {
+impl RunUnit {
     /// `scans` or `scan pairs`.
     pub fn name(self) -> &'static str {
         match self {
-            Unit::Scans => "scans",
-            Unit::Pairs => "scan pairs",
+            RunUnit::Scans => "scans",
+            RunUnit::Pairs => "scan pairs",
         }
     }
 
@@ -51,7 +51,7 @@ impl Unit {
             .map(|t| format!(" (t = {t:.3} s)"))
             .unwrap_or_default();
         match (self, target) {
-            (Unit::Pairs, Some(tg)) => {
+            (RunUnit::Pairs, Some(tg)) => {
                 format!("pair: scan {} against scan {}{t}", scan.index, tg.index)
             }
             _ => format!("scan {}{t}", scan.index),
@@ -100,7 +100,7 @@ pub struct FrameHead {
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct RunHeader {
     /// Scans or pairs.
-    pub unit: Unit,
+    pub unit: RunUnit,
     /// The frames (the scan frame first).
     pub frames: Vec<FrameHead>,
     /// The families, in report order.
@@ -117,7 +117,7 @@ fn pose_json(t: &Transform) -> PoseJson {
 
 impl RunHeader {
     /// The header of a run over `frames` with the families `rules`.
-    pub fn new(unit: Unit, frames: &[RunFrame], rules: &[MetricRule]) -> Self {
+    pub fn new(unit: RunUnit, frames: &[RunFrame], rules: &[MetricRule]) -> Self {
         RunHeader {
             unit,
             frames: frames
@@ -160,7 +160,7 @@ impl RunHeader {
     /// The CSV header (see the module docs).
     pub fn csv_header(&self) -> Vec<String> {
         let mut h: Vec<String> = COMMON.iter().map(|s| s.to_string()).collect();
-        if self.unit == Unit::Pairs {
+        if self.unit == RunUnit::Pairs {
             h.extend(PAIR.iter().map(|s| s.to_string()));
         }
         for f in &self.frames {
@@ -199,7 +199,7 @@ impl RunHeader {
             },
             opt(o.normals.map(|n| format!("{n:?}").to_lowercase())),
         ];
-        if self.unit == Unit::Pairs {
+        if self.unit == RunUnit::Pairs {
             let t = o.target.as_ref();
             r.push(opt(t.map(|t| t.index.to_string())));
             r.push(opt(t.and_then(|t| t.time_s).map(num)));
@@ -347,7 +347,7 @@ pub struct ScanRecord {
     /// Version of this layout (1).
     pub schema_version: u32,
     /// Scans or pairs.
-    pub unit: Unit,
+    pub unit: RunUnit,
     /// The scan's place in the run (a pair's source).
     pub index: usize,
     /// Seconds after the run's first scan.
@@ -451,7 +451,7 @@ pub struct RunContext<'a> {
     /// Pairs `step` apart.
     pub pair_step: Option<usize>,
     /// Which scans.
-    pub window: Window,
+    pub window: ScanWindow,
     /// What stopped the read.
     pub damage: Option<String>,
 }
@@ -579,7 +579,7 @@ pub struct RunReport {
     /// The topic (bags).
     pub topic: Option<String>,
     /// Scans or pairs.
-    pub unit: Unit,
+    pub unit: RunUnit,
     /// Where the pairs' poses came from.
     pub poses: Option<String>,
     /// How the scans were processed.
@@ -620,10 +620,10 @@ pub struct RunReport {
     pub drawn: Vec<usize>,
 }
 
-fn bound(b: Option<Bound>) -> Option<String> {
+fn bound(b: Option<ScanBound>) -> Option<String> {
     b.map(|b| match b {
-        Bound::Index(i) => i.to_string(),
-        Bound::Seconds(s) => format!("{s}s"),
+        ScanBound::Index(i) => i.to_string(),
+        ScanBound::Seconds(s) => format!("{s}s"),
     })
 }
 

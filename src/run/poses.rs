@@ -84,9 +84,16 @@ impl PoseFormat {
         PoseFormat::Relative,
     ];
 
-    /// The format named `s`.
-    pub fn parse(s: &str) -> Option<PoseFormat> {
-        Self::ALL.into_iter().find(|f| f.name() == s)
+    /// The format named `s` (one of [`PoseFormat::name`]'s); a usage error
+    /// listing the names otherwise.
+    pub fn parse(s: &str) -> Result<PoseFormat> {
+        Self::ALL
+            .into_iter()
+            .find(|f| f.name() == s)
+            .ok_or_else(|| {
+                let all: Vec<&str> = Self::ALL.iter().map(|f| f.name()).collect();
+                Error::usage(format!("expected one of {}, found `{s}`", all.join(", ")))
+            })
     }
 }
 

@@ -5,7 +5,7 @@
 //!
 //! A scan's `index` is its place in the run before any selection (the
 //! message's index within the topic in file order, the file's in name
-//! order); `--start`/`--end` ([`Window`]) and `--every` select among them.
+//! order); `--start`/`--end` ([`ScanWindow`]) and `--every` select among them.
 //! Times are seconds after the run's first scan: a message's `header.stamp`
 //! (the time of the sweep, as drivers set it), a KITTI sequence's
 //! `times.txt`; a file sequence without either has no times.
@@ -58,26 +58,26 @@ pub enum Payload {
 
 /// `--start` / `--end`: a scan index or seconds after the first scan.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Bound {
+pub enum ScanBound {
     /// A scan index (its place in the run).
     Index(usize),
     /// Seconds after the run's first scan.
     Seconds(f64),
 }
 
-impl Bound {
+impl ScanBound {
     /// `12` (an index) or `12.5s` (seconds).
-    pub fn parse(s: &str, flag: &str) -> Result<Bound> {
+    pub fn parse(s: &str, flag: &str) -> Result<ScanBound> {
         let t = s.trim();
         if let Some(sec) = t.strip_suffix('s') {
             let v: f64 = sec.trim().parse().map_err(|_| bad(flag, s))?;
             if v.is_finite() && v >= 0.0 {
-                return Ok(Bound::Seconds(v));
+                return Ok(ScanBound::Seconds(v));
             }
             return Err(bad(flag, s));
         }
         t.parse::<usize>()
-            .map(Bound::Index)
+            .map(ScanBound::Index)
             .map_err(|_| bad(flag, s))
     }
 }
@@ -91,18 +91,18 @@ fn bad(flag: &str, s: &str) -> Error {
 /// Which scans of a run are analysed: from `start` (kept) to `end` (the first
 /// one no longer kept), every `every`-th of those.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Window {
+pub struct ScanWindow {
     /// The first scan kept.
-    pub start: Option<Bound>,
+    pub start: Option<ScanBound>,
     /// The first scan no longer kept.
-    pub end: Option<Bound>,
+    pub end: Option<ScanBound>,
     /// Keep every `every`-th scan from the start (1: all).
     pub every: usize,
 }
 
-impl Default for Window {
+impl Default for ScanWindow {
     fn default() -> Self {
-        Window {
+        ScanWindow {
             start: None,
             end: None,
             every: 1,
@@ -121,13 +121,13 @@ pub enum Place {
     Past,
 }
 
-impl Window {
+impl ScanWindow {
     /// Where the scan `index` at `time_s` stands; `kept` scans are counted
     /// from the start for `every`.
     pub fn place(&self, index: usize, time_s: Option<f64>, started: &mut Option<usize>) -> Place {
-        let reached = |b: Bound| match b {
-            Bound::Index(i) => index >= i,
-            Bound::Seconds(s) => time_s.is_some_and(|t| t >= s),
+        let reached = |b: ScanBound| match b {
+            ScanBound::Index(i) => index >= i,
+            ScanBound::Seconds(s) => time_s.is_some_and(|t| t >= s),
         };
         if self.end.is_some_and(reached) {
             return Place::Past;
@@ -145,7 +145,8 @@ impl Window {
 
     /// A window given in seconds needs times.
     pub fn needs_times(&self) -> bool {
-        matches!(self.start, Some(Bound::Seconds(_))) || matches!(self.end, Some(Bound::Seconds(_)))
+        matches!(self.start, Some(ScanBound::Seconds(_)))
+            || matches!(self.end, Some(ScanBound::Seconds(_)))
     }
 }
 
@@ -176,7 +177,7 @@ pub struct BagScans {
     /// The topic.
     pub topic: String,
     /// Which scans.
-    pub window: Window,
+    pub window: ScanWindow,
     /// Decompression caps.
     pub limits: BagLimits,
 }
@@ -275,7 +276,7 @@ pub struct FileScans {
     /// The scan frame, when named (`--lidar-frame`).
     pub frame_id: Option<String>,
     /// Which scans.
-    pub window: Window,
+    pub window: ScanWindow,
     /// What the folder or pattern was, for messages.
     pub what: String,
 }
@@ -433,9 +434,9 @@ mod tests {
 
     #[test]
     fn windows_select_by_index_time_and_step() {
-        let w = Window {
-            start: Some(Bound::Index(2)),
-            end: Some(Bound::Seconds(0.65)),
+        let w = ScanWindow {
+            start: Some(ScanBound::Index(2)),
+            end: Some(ScanBound::Seconds(0.65)),
             every: 2,
         };
         let mut started = None;
@@ -445,11 +446,11 @@ mod tests {
         use Place::*;
         assert_eq!(got, [Skip, Skip, Keep, Skip, Keep, Skip, Keep, Past]);
         assert_eq!(
-            Bound::parse("12.5s", "--start").unwrap(),
-            Bound::Seconds(12.5)
+            ScanBound::parse("12.5s", "--start").unwrap(),
+            ScanBound::Seconds(12.5)
         );
-        assert_eq!(Bound::parse("7", "--end").unwrap(), Bound::Index(7));
-        assert!(Bound::parse("-1s", "--end").is_err());
+        assert_eq!(ScanBound::parse("7", "--end").unwrap(), ScanBound::Index(7));
+        assert!(ScanBound::parse("-1s", "--end").is_err());
     }
 
     #[test]

@@ -9,6 +9,7 @@ mod points;
 mod scan;
 mod values;
 
+pub(crate) use options::check_tau_ells;
 pub use options::{DetectorOptions, NormalOptions};
 pub use points::{Coords, Points};
 pub use scan::{read_scan, InitialGuess, KeptCloud, ScanOptions, ScanPair};

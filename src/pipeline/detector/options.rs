@@ -3,8 +3,12 @@
 //! lengths, the frame `H` and `M` are expressed in, how normals are estimated
 //! for points that have none, and whether the report carries the matrices.
 
+use crate::degeneracy::normals::NormalParams;
+use crate::diagnostic::{Error, Result};
 use crate::geometry::Transform;
-use crate::tolerances::{DEFAULT_ELLS, DEFAULT_TAU, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M};
+use crate::tolerances::{
+    DEFAULT_ELLS, DEFAULT_TAU, MAX_ELLS, RAW_MIN_NEIGHBOURS, RAW_NORMAL_RADIUS_M,
+};
 
 /// How the detector decides (the options of `audit degeneracy` that do not
 /// name its input). `Default` gives the command's defaults.
@@ -77,9 +81,39 @@ impl Default for NormalOptions {
 }
 
 impl NormalOptions {
+    /// The estimation's parameters (the viewpoint defaults to the sensor
+    /// origin); the voxel grid is applied before, by the caller.
+    pub(crate) fn params(&self) -> NormalParams {
+        NormalParams {
+            radius: self.radius,
+            knn: self.knn,
+            min_neighbours: self.min_neighbours,
+            min_planarity: self.min_planarity,
+            viewpoint: self.viewpoint.unwrap_or([0.0; 3]),
+        }
+    }
+
     /// Whether any option of the estimation is set (they apply only to points
     /// without normals).
     pub(crate) fn estimation_asked(&self) -> bool {
         self.voxel.is_some() || self.viewpoint.is_some() || self.knn.is_some()
     }
+}
+
+/// The detector's numbers, checked once for every entry point (the
+/// detector, the run reader): a positive finite `tau`, 1 to [`MAX_ELLS`]
+/// finite positive lengths.
+pub(crate) fn check_tau_ells(tau: f64, ells: &[f64]) -> Result<()> {
+    if !(tau.is_finite() && tau > 0.0) {
+        return Err(Error::usage(format!(
+            "tau: expected a positive number, found {tau}"
+        )));
+    }
+    if ells.is_empty() || ells.len() > MAX_ELLS || ells.iter().any(|l| !(l.is_finite() && *l > 0.0))
+    {
+        return Err(Error::usage(format!(
+            "ells: expected 1 to {MAX_ELLS} positive lengths (m), found {ells:?}"
+        )));
+    }
+    Ok(())
 }

@@ -239,13 +239,7 @@ impl RawScan {
     pub(super) fn new(n: &NormalOptions) -> Self {
         RawScan {
             voxel: n.voxel,
-            normals: NormalParams {
-                radius: n.radius,
-                knn: n.knn,
-                min_neighbours: n.min_neighbours,
-                min_planarity: n.min_planarity,
-                viewpoint: n.viewpoint.unwrap_or([0.0; 3]),
-            },
+            normals: n.params(),
             threads: 0,
         }
     }

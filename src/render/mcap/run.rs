@@ -184,12 +184,12 @@ fn finite(t: &SceneTransform) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::run::Unit;
+    use crate::report::run::RunUnit;
 
     fn record(index: usize, time_s: Option<f64>, stamp_ns: Option<i64>) -> ScanRecord {
         ScanRecord {
             schema_version: 1,
-            unit: Unit::Scans,
+            unit: RunUnit::Scans,
             index,
             time_s,
             stamp_ns,
