@@ -350,7 +350,10 @@ fn pre_commit_pattern_covers_every_walk_extension() {
         .collect();
     exts.sort();
     exts.dedup();
-    let walked: Vec<String> = exts.iter().map(|e| format!("calibration/robot{e}")).collect();
+    let walked: Vec<String> = exts
+        .iter()
+        .map(|e| format!("calibration/robot{e}"))
+        .collect();
     let mut paths: Vec<&str> = walked.iter().map(String::as_str).collect();
     let anywhere = [
         "urdf/robot.urdf.xacro",
@@ -381,7 +384,10 @@ fn pre_commit_pattern_covers_every_walk_extension() {
         .zip(got.iter().zip(&expected))
         .filter(|(_, (g, e))| g != e)
         .collect();
-    assert!(wrong.is_empty(), "path, (hook gets it, expected): {wrong:?}");
+    assert!(
+        wrong.is_empty(),
+        "path, (hook gets it, expected): {wrong:?}"
+    );
 }
 
 /// action.yml: a composite action whose inputs are the ones its script reads,
@@ -411,7 +417,10 @@ fn github_action_is_a_composite_of_its_script() {
         // A composite step's `run` needs its `shell` (GitHub's schema).
         assert_eq!(s["shell"], "bash", "{s}");
         let run = s["run"].as_str().unwrap();
-        assert!(run.contains("$GITHUB_ACTION_PATH/tools/action-check"), "{run}");
+        assert!(
+            run.contains("$GITHUB_ACTION_PATH/tools/action-check"),
+            "{run}"
+        );
     }
     let env = &steps[1]["env"];
     for name in &names {
@@ -537,8 +546,9 @@ fn github_action_script_dry_run_and_real_run() {
     );
     let o = real("sarif");
     assert_eq!(o.status.code(), Some(1), "{}", ok(&o));
-    let sarif: Value =
-        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("audit-check.sarif")).unwrap())
-            .unwrap();
+    let sarif: Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("audit-check.sarif")).unwrap(),
+    )
+    .unwrap();
     assert_eq!(sarif["version"], "2.1.0");
 }

@@ -1,0 +1,144 @@
+//! Issue 33, what a new user meets in the first hour: mistakes that get a
+//! named answer (a mistyped command, a point cloud or a robot description
+//! where the other is expected, an unknown frame on a robot whose root is not
+//! `base_link`), each seen on a pseudo-terminal of 80 and 120 columns
+//! (snapshots in tests/it/snapshots/, `first_hour_*`).
+
+use crate::common::run_cli;
+use crate::widths::{have_pty, pty_run};
+
+const PLY: &str = "tests/fixtures/detector/tunnel_small_ascii.ply";
+const PCD: &str = "tests/fixtures/detector/tunnel_small_ascii.pcd";
+const CSV: &str = "tests/fixtures/detector/tunnel_small.csv";
+const URDF: &str = "tests/fixtures/urdf/husky_kinematics.urdf";
+
+/// A humanoid's frames: root `pelvis`, no `base_link`.
+const HUMANOID: &str = r#"<robot name="h1">
+  <link name="pelvis"/><link name="left_hip_yaw_link"/><link name="right_hip_yaw_link"/>
+  <link name="torso_link"/><link name="mid360_link"/><link name="imu_link"/>
+  <joint name="left_hip" type="fixed"><parent link="pelvis"/><child link="left_hip_yaw_link"/><origin xyz="0 0.09 0"/></joint>
+  <joint name="right_hip" type="fixed"><parent link="pelvis"/><child link="right_hip_yaw_link"/><origin xyz="0 -0.09 0"/></joint>
+  <joint name="torso" type="fixed"><parent link="pelvis"/><child link="torso_link"/><origin xyz="0 0 0.1"/></joint>
+  <joint name="imu" type="fixed"><parent link="pelvis"/><child link="imu_link"/><origin xyz="0 0 0.05"/></joint>
+  <joint name="lidar" type="fixed"><parent link="torso_link"/><child link="mid360_link"/><origin xyz="0.0 0 0.4" rpy="0 0.8 0"/></joint>
+</robot>
+"#;
+
+#[test]
+fn a_mistyped_command_is_suggested() {
+    for (typo, meant) in [
+        ("surveyy", "survey"),
+        ("degenracy", "degeneracy"),
+        ("chek", "check"),
+        ("calibrate", "calibrate-threshold"),
+    ] {
+        let (code, out, err) = run_cli(&[typo, "calibrations/"]);
+        assert_eq!(code, 2, "{typo}: {err}");
+        assert!(out.is_empty(), "{out}");
+        assert!(
+            err.contains(&format!("unrecognized subcommand '{typo}'"))
+                && err.contains(&format!("a similar subcommand exists: '{meant}'")),
+            "{typo}: {err}"
+        );
+        assert!(!err.contains("cannot read"), "{err}");
+    }
+    // A word far from every command stays a file that cannot be read; a file
+    // of that name is read as a file.
+    let (code, _, err) = run_cli(&["robotfile"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("robotfile: cannot read"), "{err}");
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy("calibrations/fastlio-avia.toml", dir.path().join("survey")).unwrap();
+    let o = crate::common::audit()
+        .current_dir(dir.path())
+        .args(["survey", "--frames"])
+        .output()
+        .unwrap();
+    // `survey` is the command (clap's own parse), never the file: its usage.
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn point_clouds_given_as_extrinsics_are_named() {
+    for (file, kind) in [
+        (PLY, "a PLY point cloud (magic `ply`)"),
+        (PCD, "a PCD point cloud"),
+        (CSV, "a CSV point cloud"),
+    ] {
+        let (code, _, err) = run_cli(&[file, "--frames"]);
+        assert_eq!(code, 2, "{file}: {err}");
+        assert!(err.contains(file), "names the file: {err}");
+        assert!(err.contains(kind), "{file}: {err}");
+        assert!(err.contains("audit degeneracy FILE"), "{file}: {err}");
+    }
+    // By content alone: a PCD and a PLY without their extensions.
+    let dir = tempfile::tempdir().unwrap();
+    for (file, kind) in [(PLY, "PLY"), (PCD, "PCD")] {
+        let to = dir.path().join("scan");
+        std::fs::copy(file, &to).unwrap();
+        let (code, _, err) = run_cli(&[to.to_str().unwrap()]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(&format!("a {kind} point cloud")), "{err}");
+    }
+}
+
+#[test]
+fn a_robot_description_given_to_degeneracy_is_named() {
+    let (code, _, err) = run_cli(&["degeneracy", URDF]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("expected a point cloud") && err.contains("a robot description (URDF"),
+        "{err}"
+    );
+    assert!(err.contains("audit FILE --from A --to B"), "{err}");
+    assert!(!err.contains("CSV header"), "{err}");
+    let (code, _, err) = run_cli(&["degeneracy", "calibrations/fastlio-avia.toml"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("a calibration or configuration file"), "{err}");
+    // A CSV of points is still read.
+    let (code, _, err) = run_cli(&["degeneracy", CSV]);
+    assert_eq!(code, 0, "{err}");
+}
+
+#[test]
+fn an_unknown_frame_names_the_root_and_the_frames_below_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let urdf = dir.path().join("h1.urdf");
+    std::fs::write(&urdf, HUMANOID).unwrap();
+    let (code, _, err) = run_cli(&[
+        urdf.to_str().unwrap(),
+        "--from",
+        "base_link",
+        "--to",
+        "mid360_link",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("unknown frame 'base_link'"), "{err}");
+    assert!(
+        err.contains(
+            "the tree's root: 'pelvis' (one edge below it: 'imu_link', 'left_hip_yaw_link', 'right_hip_yaw_link')"
+        ),
+        "{err}"
+    );
+}
+
+/// The mistakes as a person sees them, at 80 and 120 columns.
+#[test]
+fn mistakes_on_a_terminal() {
+    if !have_pty() {
+        eprintln!("skipped: no `script` for a pseudo-terminal");
+        return;
+    }
+    let cases: &[(&str, &[&str])] = &[
+        ("typo", &["surveyy", "calibrations/"]),
+        ("ply", &[PLY]),
+        ("urdf_to_degeneracy", &["degeneracy", URDF]),
+        ("unknown_frame", &[URDF, "--from", "base", "--to", "lidar"]),
+    ];
+    for cols in [80, 120] {
+        for (name, args) in cases {
+            let args = [args, &["--color", "never"][..]].concat();
+            insta::assert_snapshot!(format!("first_hour_{name}_{cols}"), pty_run(cols, &args));
+        }
+    }
+}
