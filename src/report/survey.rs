@@ -43,7 +43,8 @@ pub struct SurveyRigJson {
     pub zero_pitch: bool,
     /// First-order standard uncertainty of `h` (m); null without a rotation.
     pub screw_translation_uncertainty_m: Option<f64>,
-    /// `zero`, `nonzero` or `undecidable`; null without a rotation.
+    /// `zero`, `nonzero` or `undecidable` (the identity: `zero`; a pure
+    /// translation: `nonzero`, infinite pitch).
     pub pitch_verdict: Option<PitchVerdict>,
     /// `none`, `rounding`, `user` or `both`.
     pub uncertainty_source: UncertaintySource,

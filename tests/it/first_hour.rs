@@ -142,3 +142,61 @@ fn mistakes_on_a_terminal() {
         }
     }
 }
+
+/// The README's first command: the four rigs whose rotations are rounded as
+/// published are one note, not four warnings; `--format json` keeps each.
+#[test]
+fn survey_says_rounded_rotations_in_one_note() {
+    let (code, _, err) = run_cli(&["survey", "calibrations/"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("warning[non-orthonormal-rotation]"), "{err}");
+    let notes: Vec<&str> = err.lines().filter(|l| l.starts_with("note: ")).collect();
+    assert_eq!(notes.len(), 1, "{err}");
+    assert!(
+        notes[0].starts_with("note: 4 rigs: rotation rounded as published")
+            && notes[0].contains("1.1e-6 to 1.3e-4")
+            && notes[0].ends_with(
+                "geode-alpha-vlp16, geode-beta-os1-64, geode-gamma-avia, m3dgr-avia-d435i-imu"
+            ),
+        "{err}"
+    );
+    let (_, out, _) = run_cli(&["survey", "calibrations/", "--format", "json"]);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let w = j["warnings"].as_array().unwrap();
+    assert_eq!(w.len(), 4, "{w:?}");
+    // One rig alone keeps its warning.
+    let (_, _, err) = run_cli(&["survey", "calibrations/geode-alpha-vlp16.toml"]);
+    assert!(err.contains("warning[non-orthonormal-rotation]"), "{err}");
+}
+
+/// A pure translation has the verdict `nonzero` (infinite pitch, no adapted
+/// metric: the paper), in the rig report and in every survey row, so the
+/// survey's counts cover every rig.
+#[test]
+fn a_pure_translation_has_a_pitch_verdict() {
+    let (_, out, _) = run_cli(&["calibrations/fastlio-avia.toml", "--format", "json"]);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["screw"]["kind"], "pure_translation");
+    assert_eq!(j["screw"]["pitch_verdict"], "nonzero");
+    assert_eq!(j["adapted_metric"]["exists"], false);
+    // Rounded as written (six decimals), still definite.
+    let (_, out, _) = run_cli(&["calibrations/m2dgr-vlp32c-xsens.toml", "--format", "json"]);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(j["rotation"]["angle_uncertainty_rad"].as_f64().unwrap() > 0.0);
+    assert_eq!(j["screw"]["pitch_verdict"], "nonzero");
+    let (_, text, _) = run_cli(&["calibrations/fastlio-avia.toml"]);
+    assert!(
+        text.contains("infinite (no rotation), pitch nonzero"),
+        "{text}"
+    );
+    let (_, out, _) = run_cli(&["survey", "calibrations/", "--format", "json"]);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let rigs = j["rigs"].as_array().unwrap();
+    let pure: Vec<_> = rigs.iter().filter(|r| r["angle_deg"] == 0.0).collect();
+    assert_eq!(pure.len(), 8);
+    assert!(
+        pure.iter().all(|r| r["pitch_verdict"] == "nonzero"),
+        "{pure:?}"
+    );
+    assert!(rigs.iter().all(|r| r["pitch_verdict"].is_string()));
+}
