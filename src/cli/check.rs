@@ -1,7 +1,8 @@
 //! `audit check PATHS...`: CI checks on calibration files.
 
 use super::args::{
-    parse_nonneg, parse_positive, FileSizeArgs, JointArgs, OutputArgs, PitchTolArgs, XacroArgs,
+    parse_angle_deg, parse_length_m, parse_positive_length_m, FileSizeArgs, JointArgs, OutputArgs,
+    PitchTolArgs, Tolerance, XacroArgs,
 };
 use super::emit;
 use clap::Args;
@@ -48,18 +49,21 @@ pub struct CheckArgs {
     /// Also check this frame pair wherever both frames exist (FROM:TO); repeatable
     #[arg(long = "pair", value_parser = parse_pair, value_name = "FROM:TO")]
     pub pairs: Vec<(String, String)>,
-    /// A problem when a checked pair's lever arm exceeds this (m)
-    #[arg(long, value_parser = parse_positive, value_name = "M")]
+    /// A problem when a checked pair's lever arm exceeds this (a length:
+    /// `0.5m`, `500mm`; a bare number is metres)
+    #[arg(long, value_parser = parse_positive_length_m, value_name = "LENGTH")]
     pub max_lever_arm: Option<f64>,
     /// A problem when a checked pair does not have zero screw pitch
     #[arg(long)]
     pub require_zero_pitch: bool,
-    /// Drift tolerance on translations against the baseline (m)
-    #[arg(long, default_value_t = DEFAULT_MAX_TRANSLATION_DRIFT, value_parser = parse_nonneg, value_name = "M")]
-    pub max_translation_drift: f64,
-    /// Drift tolerance on rotations against the baseline (deg)
-    #[arg(long, default_value_t = DEFAULT_MAX_ROTATION_DRIFT_DEG, value_parser = parse_nonneg, value_name = "DEG")]
-    pub max_rotation_drift: f64,
+    /// Drift tolerance on translations against the baseline (a length: `1mm`,
+    /// `0.1cm`, `0.001m`; a bare number is metres)
+    #[arg(long, default_value_t = Tolerance::Length(DEFAULT_MAX_TRANSLATION_DRIFT), value_parser = parse_length_m, value_name = "LENGTH")]
+    pub max_translation_drift: Tolerance,
+    /// Drift tolerance on rotations against the baseline (an angle: `0.05deg`,
+    /// `1mrad`; a bare number is degrees)
+    #[arg(long, default_value_t = Tolerance::Angle(DEFAULT_MAX_ROTATION_DRIFT_DEG), value_parser = parse_angle_deg, value_name = "ANGLE")]
+    pub max_rotation_drift: Tolerance,
     #[command(flatten)]
     pub pitch: PitchTolArgs,
     #[command(flatten)]
@@ -119,8 +123,8 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
     opts.max_lever_arm = args.max_lever_arm;
     opts.require_zero_pitch = args.require_zero_pitch;
     opts.drift = DriftTolerances {
-        translation_m: args.max_translation_drift,
-        rotation_deg: args.max_rotation_drift,
+        translation_m: args.max_translation_drift.value(),
+        rotation_deg: args.max_rotation_drift.value(),
     };
     opts.pitch_tol = args.pitch.pitch_tol;
     opts.load.joints = args.joints.positions();

@@ -200,3 +200,96 @@ fn a_pure_translation_has_a_pitch_verdict() {
     );
     assert!(rigs.iter().all(|r| r["pitch_verdict"].is_string()));
 }
+
+fn fast_lio(x: f64) -> String {
+    format!("mapping:\n  extrinsic_T: [ {x}, 0.02326, -0.0284 ]\n  extrinsic_R: [ 1, 0, 0,\n                 0, 1, 0,\n                 0, 0, 1 ]\n")
+}
+
+/// One tolerance convention in check and diff: units written (`5mm`,
+/// `0.5deg`, `1mrad`), the bare number's unit each option's help states.
+#[test]
+fn check_and_diff_tolerances_take_units() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |p: &str| dir.path().join(p).to_str().unwrap().to_string();
+    std::fs::create_dir(dir.path().join("cal")).unwrap();
+    std::fs::write(d("cal/fast_lio.yaml"), fast_lio(0.04165)).unwrap();
+    std::fs::write(d("old.yaml"), fast_lio(0.04165)).unwrap();
+    let (code, _, err) = run_cli(&["check", &d("cal"), "--write-baseline", &d("base.json")]);
+    assert_eq!(code, 0, "{err}");
+    // A 2 mm recalibration.
+    std::fs::write(d("cal/fast_lio.yaml"), fast_lio(0.04365)).unwrap();
+    let check = |tol: &str| {
+        let (code, _, err) = run_cli(&[
+            "check",
+            &d("cal"),
+            "--baseline",
+            &d("base.json"),
+            "--max-translation-drift",
+            tol,
+        ]);
+        (code, err)
+    };
+    for (tol, code) in [
+        ("3mm", 0),
+        ("0.3cm", 0),
+        ("0.003", 0),
+        ("0.003m", 0),
+        ("1mm", 1),
+        ("0.001", 1),
+    ] {
+        assert_eq!(check(tol).0, code, "--max-translation-drift {tol}");
+    }
+    let (code, err) = check("1deg");
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("expected a length (m, cm, mm), found an angle"),
+        "{err}"
+    );
+    let diff = |tol: &str| {
+        let (code, _, err) = run_cli(&[
+            "diff",
+            &d("old.yaml"),
+            &d("cal/fast_lio.yaml"),
+            "--from",
+            "imu",
+            "--to",
+            "lidar",
+            "--tolerance",
+            tol,
+        ]);
+        (code, err)
+    };
+    for (tol, code) in [
+        ("3mm,0.05deg", 0),
+        ("3,0.05", 0),
+        ("0.003m,1mrad", 0),
+        ("0.3cm,0.05", 0),
+        ("1mm,0.05deg", 1),
+        ("1,0.05", 1),
+    ] {
+        assert_eq!(diff(tol).0, code, "--tolerance {tol}: {}", diff(tol).1);
+    }
+    let (code, err) = diff("0.05deg,3mm");
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--tolerance translation: expected a length"),
+        "{err}"
+    );
+    // The help states the units and the bare number's.
+    let flat = |s: String| s.split_whitespace().collect::<Vec<_>>().join(" ");
+    let help = flat(run_cli(&["check", "--help"]).1);
+    assert!(
+        help.contains("a bare number is metres") && help.contains("[default: 1mm]"),
+        "{help}"
+    );
+    assert!(
+        help.contains("a bare number is degrees") && help.contains("[default: 0.05deg]"),
+        "{help}"
+    );
+    let help = flat(run_cli(&["diff", "--help"]).1);
+    assert!(
+        help.contains("a bare translation is millimetres, a bare rotation degrees")
+            && help.contains("[default: 1mm 0.05deg]"),
+        "{help}"
+    );
+}
