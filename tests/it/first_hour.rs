@@ -293,3 +293,52 @@ fn check_and_diff_tolerances_take_units() {
         "{help}"
     );
 }
+
+/// docs/urdf-differences.md, "Versions and empty axes": what urdfdom's code
+/// does with each (lines cited there), and what `audit` does.
+#[test]
+fn urdf_versions_and_empty_axes_as_urdfdom_reads_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let robot = |version: &str, joint: &str| {
+        let p = dir.path().join("r.urdf");
+        std::fs::write(
+            &p,
+            format!(
+                "<robot name=\"r\" version=\"{version}\"><link name=\"a\"/><link name=\"b\"/>{joint}</robot>\n"
+            ),
+        )
+        .unwrap();
+        let (code, _, err) = run_cli(&[p.to_str().unwrap(), "--frames"]);
+        (code, err)
+    };
+    let fixed = "<joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/><origin xyz=\"1 0 0\"/></joint>";
+    for (v, needle) in [
+        (" 1.2 ", "extra characters after the number in field \"2 \""),
+        ("2.0", "URDF version 2.0"),
+        ("1.10", "URDF version 1.10"),
+    ] {
+        let (code, err) = robot(v, fixed);
+        assert_eq!(code, 2, "{v:?}: {err}");
+        assert!(
+            err.contains(needle) && err.contains("ROS (urdfdom) refuses this file"),
+            "{v:?}: {err}"
+        );
+    }
+    for v in [" 1.0", "01.01", "1.2"] {
+        let (code, err) = robot(v, fixed);
+        assert_eq!(code, 0, "{v:?}: {err}");
+    }
+    let axis = |t: &str| {
+        format!("<joint name=\"j\" type=\"{t}\"><parent link=\"a\"/><child link=\"b\"/><axis/><limit effort=\"1\" velocity=\"1\" lower=\"-1\" upper=\"1\"/></joint>")
+    };
+    for t in ["revolute", "continuous", "prismatic"] {
+        let (code, err) = robot("1.0", &axis(t));
+        assert_eq!(code, 2, "{t}: {err}");
+        assert!(
+            err.contains("<axis> without xyz, which urdfdom reads as 0 0 0"),
+            "{t}: {err}"
+        );
+    }
+    let (code, err) = robot("1.0", &axis("fixed"));
+    assert_eq!(code, 0, "{err}");
+}
