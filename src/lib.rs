@@ -31,7 +31,7 @@
 //!   ([`Points`] of `f64` or `f32` rows, normals estimated when absent).
 //! - [`Detector::scan`] (and [`Detector::sweep`], the paper's frame sweep): the
 //!   same on a point file, or a scan pair ([`ScanFile`], [`PairOptions`]).
-//! - [`render`]: any report as text, markdown, JSON (its schema in
+//! - [`render()`]: any report as text, markdown, JSON (its schema in
 //!   `docs/schemas`), CSV, SARIF or a picture ([`OutputFormat`],
 //!   [`RenderOptions`]); [`render_bytes`] and [`render_to`] the same as
 //!   bytes or to a writer, MCAP (the 3D scene for Foxglove) included;

@@ -992,7 +992,7 @@ impl FrameGraph {
     /// The frame tree as text, one frame a line, children indented under their
     /// parent (like `check_urdf`), each with the place its edge came from; a
     /// frame declared without any edge is a root with a note saying so.
-    /// Levels deeper than [`TREE_MAX_INDENT`] are written `[depth N]` instead of
+    /// Levels deeper than `TREE_MAX_INDENT` are written `[depth N]` instead of
     /// being indented further, so the text stays linear in the number of frames.
     pub fn tree(&self) -> String {
         let mut out = String::new();
