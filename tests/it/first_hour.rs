@@ -342,3 +342,29 @@ fn urdf_versions_and_empty_axes_as_urdfdom_reads_them() {
     let (code, err) = robot("1.0", &axis("fixed"));
     assert_eq!(code, 0, "{err}");
 }
+
+/// At 80 columns a header wraps at its words, never inside one (issue 33:
+/// "equivarian / t rule"), and the frame tree's wrapped lines stay under
+/// their branch.
+#[test]
+fn headers_and_the_tree_wrap_at_words_at_80_columns() {
+    if !have_pty() {
+        eprintln!("skipped: no `script` for a pseudo-terminal");
+        return;
+    }
+    let out = pty_run(
+        80,
+        &["calibrations/geode-alpha-vlp16.toml", "--color", "never"],
+    );
+    assert!(out.contains("┆ equivariant ┆"), "{out}");
+    assert!(!out.contains("equivarian ┆"), "{out}");
+    let tree = pty_run(80, &[URDF, "--frames", "--color", "never"]);
+    // A wrapped place line starts with the tree's rails or spaces, never at
+    // column 0 with text.
+    for l in tree.lines().skip(1).filter(|l| !l.is_empty()) {
+        assert!(
+            l.starts_with(['│', '├', '└', ' ']),
+            "a tree line restarts at column 0: {l:?}\n{tree}"
+        );
+    }
+}
