@@ -274,10 +274,18 @@ fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
         id.push_str(&format!(" (duplicate of {d})"));
     }
     let small = small_rotation(j.angle_deg);
+    // A file that is not a rig file names no sensor or platform: a dash.
+    let or_dash = |s: &str| {
+        if s.is_empty() {
+            "-".to_string()
+        } else {
+            s.to_string()
+        }
+    };
     vec![
         id,
-        j.sensor.clone(),
-        j.platform.clone(),
+        or_dash(&j.sensor),
+        or_dash(&j.platform),
         metres(j.lever_arm_m),
         format!("{}{}", degrees(j.angle_deg), if small { "*" } else { "" }),
         match j.screw_translation_m {

@@ -368,3 +368,32 @@ fn headers_and_the_tree_wrap_at_words_at_80_columns() {
         );
     }
 }
+
+/// One file, two pairs: two ids (path and pair); a file surveyed once keeps
+/// its path; a file that names no sensor or platform shows a dash.
+#[test]
+fn survey_ids_are_unique_per_pair() {
+    let a = format!("{URDF}:base_link:velodyne");
+    let b = format!("{URDF}:base_link:imu_link");
+    let (code, out, err) = run_cli(&["survey", &a, &b, "--format", "json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let mut ids: Vec<&str> = j["rigs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["id"].as_str().unwrap())
+        .collect();
+    ids.sort();
+    assert_eq!(ids, [b.as_str(), a.as_str()]);
+    let (_, out, _) = run_cli(&["survey", &a, "--format", "json"]);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["rigs"][0]["id"], URDF);
+    assert_eq!(j["rigs"][0]["sensor"], "");
+    let (_, out, _) = run_cli(&["survey", &a, "--format", "markdown"]);
+    let row = out
+        .lines()
+        .find(|l| l.starts_with(&format!("| {URDF}")))
+        .unwrap();
+    assert!(row.starts_with(&format!("| {URDF} | - | - | ")), "{row}");
+}
