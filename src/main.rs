@@ -63,9 +63,10 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// The survey table over a directory of rig files (one row per rig)
+    // about/long_about come from the Args struct (a doc comment here would
+    // hide the long_about from `audit survey --help`).
     Survey(survey::SurveyArgs),
-    /// CI check of calibration files: validation, drift against a baseline
+    // about/long_about come from the Args struct.
     Check(check::CheckArgs),
     // about/long_about come from the Args struct.
     Tunnel(detector::TunnelArgs),

@@ -16,6 +16,7 @@ use std::path::PathBuf;
 
 #[derive(Debug, Args, Clone)]
 #[command(
+    about = "CI check of calibration files: validation, drift against a baseline",
     long_about = "Checks calibration files in CI: every file parses; rotations are orthonormal and \
 quaternions unit (rounding of published digits is a warning, beyond it an error); units are \
 plausible (no millimetres in a metre field); the frames each rig declares, and every --pair, \

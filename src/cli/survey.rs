@@ -10,11 +10,14 @@ use std::path::PathBuf;
 
 #[derive(Debug, Args, Clone)]
 #[command(
+    about = "The survey table over a directory of rig files (one row per rig)",
     long_about = "One row per rig (id, sensor, platform, lever arm, rotation angle, screw \
 translation, zero pitch, s_max, band at l = 1, adapted metric), then a summary: count, \
 lever-arm min / median / max, and how many rigs have nonzero pitch (general screws and pure \
-translations: no adapted constant metric exists for them).\n\nRotations below 1 degree are \
-marked `*`: their screw axis is set by calibration noise, so read h with the angle beside it.",
+translations: no adapted constant metric exists for them).\n\nRotations below 5 degrees are \
+marked `*`: their screw axis is set by calibration noise, so read h with the angle beside it. \
+Rotations rounded as published (orthonormal only to their printed digits) are listed in one \
+note before the table.",
     after_long_help = "Examples:\n  audit survey calibrations/\n  audit survey calibrations/ --sort lever-arm --format markdown\n  audit survey calibrations/geode-*.toml --format csv > geode.csv\n  audit survey robots/ --from base_link --to lidar\n  audit survey robot.urdf:base_link:velodyne other.urdf.xacro:base:os_sensor\n  audit survey calibrations/ --plot survey.svg\n  audit survey kalibr/camchain-imucam.yaml:cam0:cam1 --key cam1 --invert"
 )]
 pub struct SurveyArgs {

@@ -397,3 +397,29 @@ fn survey_ids_are_unique_per_pair() {
         .unwrap();
     assert!(row.starts_with(&format!("| {URDF} | - | - | ")), "{row}");
 }
+
+/// `--help` of survey and check shows their long description (a doc comment
+/// on the command variant hid it), and says what the table marks.
+#[test]
+fn survey_and_check_help_show_their_description() {
+    let flat = |s: String| s.split_whitespace().collect::<Vec<_>>().join(" ");
+    let survey = flat(run_cli(&["survey", "--help"]).1);
+    assert!(
+        survey.contains("Rotations below 5 degrees are marked `*`"),
+        "{survey}"
+    );
+    assert!(
+        survey.contains("listed in one note before the table"),
+        "{survey}"
+    );
+    let check = flat(run_cli(&["check", "--help"]).1);
+    assert!(
+        check.contains("Exit codes: 0 clean (warnings allowed)"),
+        "{check}"
+    );
+    let top = flat(run_cli(&["--help"]).1);
+    assert!(
+        top.contains("survey The survey table over a directory of rig files"),
+        "{top}"
+    );
+}
