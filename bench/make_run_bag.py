@@ -34,7 +34,8 @@ from pathlib import Path
 import numpy as np
 from rosbags.typesys import Stores, get_typestore
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+# scenes.py is shared with the run fixtures (tests/fixtures/run/).
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "fixtures" / "run"))
 import scenes as sc  # noqa: E402
 
 PC2, TF = "sensor_msgs/msg/PointCloud2", "tf2_msgs/msg/TFMessage"
