@@ -11,7 +11,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 venv=target/py-venv
 stamp="$venv/.requirements.sha256"
-want=$(sha256sum python-tests/requirements.txt | cut -d' ' -f1)
+# The stamp also names the checkout's path: a venv's scripts (pip, maturin)
+# start with the absolute path of its python, so a moved checkout needs a new
+# venv (a moved worktree once stopped CI at target/py-venv/bin/pip).
+want="$(sha256sum python-tests/requirements.txt | cut -d' ' -f1) $PWD"
 if [ ! -x "$venv/bin/python" ] || [ "$(cat "$stamp" 2> /dev/null)" != "$want" ]; then
     rm -rf "$venv"
     python3 -m venv "$venv"

@@ -217,6 +217,9 @@ codes! {
     LeverArm = "lever-arm", Error;
     /// A checked pair does not have zero screw pitch (`--require-zero-pitch`).
     NonzeroPitch = "nonzero-pitch", Error;
+    /// A checked pair deviates from the mean of the same pair over the
+    /// checked files beyond `--fleet-tolerance` (one calibration per vehicle).
+    FleetDeviation = "fleet-deviation", Error;
 }
 
 impl Code {

@@ -107,7 +107,8 @@ pub mod geometry {
 
 pub mod pipeline {
     pub use crate::pipeline::{
-        check_output_target, check_plot_target, load, write_atomic, write_survey_plot,
+        check_output_target, check_plot_target, check_spread_plot_target, load, write_atomic,
+        write_spread_plot, write_survey_plot,
     };
 
     pub mod files {

@@ -27,6 +27,14 @@
 //!   [`DiffReport`]).
 //! - [`survey`]: one row per rig over many files ([`SurveyOptions`],
 //!   [`SurveyReport`]).
+//! - [`spread`]: many calibrations of one frame pair (repeated runs, a
+//!   fleet): the mean on SE(3), each one's deviation, the spread per axis,
+//!   the outliers, the pitch verdict of the set ([`SpreadOptions`],
+//!   [`SpreadReport`]; a tolerance as [`DiffToleranceJson`]).
+//! - [`OdometryDetector`]: the user's own odometry's detector (LIO-SAM,
+//!   LeGO-LOAM, DCReg, X-ICP, FAST-LIO, ...) on a rig, cited from its source:
+//!   [`OdometryDetector::advise`] is the [`DetectorAdvice`] a rig report
+//!   carries in [`RigReport::detector`].
 //! - [`Detector::points`]: every detector family on points held in memory
 //!   ([`Points`] of `f64` or `f32` rows, normals estimated when absent).
 //! - [`Detector::scan`] (and [`Detector::sweep`], the paper's frame sweep): the
@@ -100,7 +108,7 @@
 //! the defaults and ranges of its flags (`tolerances`) for clap's value
 //! parsers, its colours and the wrapping and escaping of what it prints on
 //! standard error (`render::Style`, `render::layout`, `sanitize`), the help
-//! text that lists the metric families, the survey plot (`--plot`), `check`'s
+//! text that lists the metric families, the survey and spread plots (`--plot`), `check`'s
 //! `--pair` syntax, the commands that reproduce the paper's experiments
 //! (`tunnel`, `simulate`, `calibrate-threshold`), and `audit run` (the
 //! detector on a recorded run: its options, record sinks and streamed
@@ -136,10 +144,15 @@ pub use frames::{Chain, ChainStep, Edge, JointState, JointType, Provenance};
 pub use geometry::{PitchTol, QuatOrder, Screw, ScrewKind, Transform, UserSigma};
 pub use pipeline::RigOptions;
 
+// The user's own odometry's detector on a rig (`RigReport::detector`).
+pub use analysis::detectors::{Dependence, DetectorAdvice, OdometryDetector};
+
 // Calibration files: the CI check, the diff, the survey.
 pub use baseline::DriftTolerances;
 pub use pipeline::{check, check_with, diff, survey, CheckOptions, DiffOptions, SideRead};
+pub use pipeline::{spread, SpreadOptions};
 pub use pipeline::{SortColumn, SurveyOptions};
+pub use report::diff::DiffToleranceJson;
 
 // The detector.
 pub use api::{Detector, PairOptions, ScanFile};
@@ -153,6 +166,7 @@ pub use render::OutputFormat;
 pub use report::detector::{DegeneracyReport, SweepReport};
 pub use report::diff::DiffReport;
 pub use report::frames::FramesReport;
+pub use report::spread::SpreadReport;
 pub use report::{CheckReport, RigReport, SurveyReport};
 
 // Diagnostics.

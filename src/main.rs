@@ -11,7 +11,7 @@
 mod cli;
 
 use clap::{Parser, Subcommand};
-use cli::{audit, check, detector, diff, display, run, survey};
+use cli::{audit, check, detector, diff, display, run, spread, survey};
 use extrinsic_audit::Result;
 use std::io::Write;
 use std::process::ExitCode;
@@ -78,6 +78,8 @@ enum Command {
     CalibrateThreshold(detector::CalibrateThresholdArgs),
     // about/long_about come from the Args struct.
     Diff(diff::DiffArgs),
+    // about/long_about come from the Args struct.
+    Spread(spread::SpreadArgs),
     Sweep(detector::SweepArgs),
     // about/long_about come from the Args struct.
     Run(run::RunArgs),
@@ -176,6 +178,7 @@ fn run(cli: Cli, out: &mut dyn Write) -> Result<i32> {
         Some(Command::Degeneracy(args)) => detector::degeneracy(&args, out),
         Some(Command::CalibrateThreshold(args)) => detector::calibrate_threshold(&args, out),
         Some(Command::Diff(args)) => diff::run(&args, out),
+        Some(Command::Spread(args)) => spread::run(&args, out),
         Some(Command::Sweep(args)) => detector::sweep(&args, out),
         Some(Command::Run(args)) => run::run(&args, out),
         Some(Command::Completions { shell }) => {

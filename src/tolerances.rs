@@ -477,6 +477,48 @@ pub const DEFAULT_DIFF_TRANSLATION_TOL_MM: f64 = 1.0;
 pub const DEFAULT_DIFF_ROTATION_TOL_DEG: f64 = 0.05;
 
 // ---------------------------------------------------------------------------
+// Many calibrations of one frame pair (`audit spread`, `analysis::spread`)
+// ---------------------------------------------------------------------------
+
+/// Relative gap `(w4 - w3) / w4` of the top two eigenvalues of `K = sum q q^T`
+/// below which the chordal rotation mean is not unique (rotations spread over
+/// a great circle): an error rather than an arbitrary answer. Repeated
+/// calibrations have a gap near 1 (0.99998 for 0.05 deg scatter).
+pub const SPREAD_MEAN_MIN_GAP: f64 = 1e-6;
+
+/// Fewest calibrations the outlier rule is applied to: with two, the median
+/// lies midway and neither can be told from the other.
+pub const OUTLIER_MIN_COUNT: usize = 3;
+
+/// Below this many calibrations the robust scale (the MAD of a handful of
+/// numbers) is itself uncertain, and the report says so: the rule flags 7.6 %
+/// of clean calibrations at N = 5 and 1.9 % at N = 10 (simulation in
+/// tests/fixtures/spread/outlier_rule_simulation.txt).
+pub const OUTLIER_FEW: usize = 10;
+
+/// The normal consistency constant of the MAD: `sigma = MAD / 0.6745` for
+/// normal data (Iglewicz and Hoaglin, 1993; NIST/SEMATECH e-Handbook 1.3.5.17).
+pub const MAD_NORMAL_CONSTANT: f64 = 0.6745;
+
+/// Floor of the MAD of the translation deviations (m): 0.01 mm, so identical
+/// values (a copied file) do not divide by zero.
+pub const MAD_FLOOR_M: f64 = 1e-5;
+
+/// Floor of the MAD of the rotation deviations (deg): 0.001 deg.
+pub const MAD_FLOOR_DEG: f64 = 1e-3;
+
+/// The chi(3) radius whose tail equals the two-sided normal tail of Iglewicz
+/// and Hoaglin's `|M| > 3.5` (`2 Phi(-3.5) = 4.65e-4`): a standardised 3-D
+/// distance beyond it flags a calibration (`sqrt(chi2.isf(2 norm.sf(3.5), 3))`
+/// in scipy).
+pub const OUTLIER_RADIUS: f64 = 4.228678646349064;
+
+/// [`OUTLIER_RADIUS`] over the median of chi(3) (1.5382): the limit also
+/// grows with the median distance, `max(ratio * median d, radius)`, so a
+/// noisy robust scale from few calibrations does not flag half of them.
+pub const OUTLIER_RATIO: f64 = 2.7491580569740623;
+
+// ---------------------------------------------------------------------------
 // Degeneracy detector (`degeneracy`)
 // ---------------------------------------------------------------------------
 

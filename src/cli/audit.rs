@@ -6,7 +6,9 @@ use super::args::{
 };
 use super::{deny_warnings, emit_warned, print_notes, print_warnings};
 use clap::Args;
-use extrinsic_audit::{Format, LoadOptions, OutputFormat, Result, RigOptions, Robot, UrdfVersion};
+use extrinsic_audit::{
+    Format, LoadOptions, OdometryDetector, OutputFormat, Result, RigOptions, Robot, UrdfVersion,
+};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -64,6 +66,18 @@ pub struct AuditArgs {
     pub strict: bool,
     #[command(flatten)]
     pub bag: BagArgs,
+    /// Your odometry's detector: what it does on this rig (lio-sam,
+    /// lego-loam, loam, dcreg, x-icp, fast-lio, point-lio, dlio); a LIO-SAM,
+    /// FAST-LIO or DLIO config among the files says it without the flag
+    #[arg(long, value_name = "NAME", value_parser = parse_detector)]
+    pub detector: Option<&'static OdometryDetector>,
+}
+
+fn parse_detector(s: &str) -> std::result::Result<&'static OdometryDetector, String> {
+    OdometryDetector::find(s).ok_or_else(|| {
+        let names: Vec<&str> = OdometryDetector::all().iter().map(|d| d.name).collect();
+        format!("expected one of {}, found `{s}`", names.join(", "))
+    })
 }
 
 impl AuditArgs {
@@ -122,6 +136,15 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
         .cloned()
         .collect();
     let mut report = report;
+    let revealed = || {
+        report
+            .sources
+            .iter()
+            .find_map(|s| OdometryDetector::revealed_by(&s.format))
+    };
+    if let Some(d) = args.detector.or_else(revealed) {
+        report.detector = Some(d.advise(&chain.transform, &from, &to));
+    }
     // The 3D scene draws the whole tree, the chain marked (built only for
     // it: a large tree's document costs seconds).
     if args.output.format == OutputFormat::Mcap {

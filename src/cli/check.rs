@@ -79,6 +79,11 @@ pub struct CheckArgs {
     /// Every warning is a problem (exit 1)
     #[arg(long)]
     pub deny_warnings: bool,
+    /// One calibration per vehicle: a finding (exit 1) for each checked pair
+    /// further than this from the mean of the same pair over the checked
+    /// files: translation (mm), rotation (deg); `audit spread` shows the fleet
+    #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_nonneg, value_name = "MM,DEG")]
+    pub fleet_tolerance: Option<Vec<f64>>,
     #[command(flatten)]
     pub size: FileSizeArgs,
     #[command(flatten)]
@@ -134,6 +139,13 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
     opts.allow = args.allow.clone();
     opts.deny = args.deny.clone();
     opts.deny_warnings = args.deny_warnings;
+    if let Some(v) = &args.fleet_tolerance {
+        let t = super::spread::tolerance("--fleet-tolerance", v)?;
+        opts.fleet = Some(DriftTolerances {
+            translation_m: t.translation_mm * 1e-3,
+            rotation_deg: t.rotation_deg,
+        });
+    }
     let report = check_with(&opts, &progress)?;
     emit(&report, &args.output, &inputs, out)?;
     Ok(report.exit_code())

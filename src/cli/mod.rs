@@ -12,6 +12,7 @@ pub mod diff;
 pub mod display;
 mod frames;
 pub mod run;
+pub mod spread;
 pub mod survey;
 
 use args::OutputArgs;

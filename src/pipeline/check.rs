@@ -16,6 +16,7 @@ use super::files::{dir_of, same_file, unsafe_target};
 use super::load::apply_renames;
 use super::manifest;
 use super::walk::{file_id, walk, FileId, Found};
+use crate::analysis::mistakes::MistakeTol;
 use crate::baseline::{
     self, BaselineFile, BaselinePair, BaselineTransform, CheckedFile, DriftTolerances, Locations,
     Store, WriteLock,
@@ -67,6 +68,10 @@ pub struct CheckOptions {
     pub deny: Vec<Code>,
     /// Every warning is a problem (`--deny-warnings`).
     pub deny_warnings: bool,
+    /// `--fleet-tolerance`: one calibration per vehicle; a `fleet-deviation`
+    /// finding for each checked pair further than this from the mean of the
+    /// same pair over all checked files (`None`: no fleet comparison).
+    pub fleet: Option<DriftTolerances>,
 }
 
 impl CheckOptions {
@@ -260,7 +265,19 @@ impl Checker<'_> {
         // Edge by edge: a conflict (the same edge with other values in another
         // file, a cycle, two parents) is a finding naming both places; the
         // file's other edges still load.
+        let tol = MistakeTol {
+            translation_mm: self.opts.drift.translation_m * 1e3,
+            rotation_deg: self.opts.drift.rotation_deg,
+        };
         for e in loaded.edges {
+            match super::mistakes::second_source(&acc.graph, &e, &tol) {
+                Some(Some(finding)) => {
+                    self.findings.push(finding);
+                    continue;
+                }
+                Some(None) => continue,
+                None => {}
+            }
             if let Err(err) = acc.graph.add_edge(e) {
                 self.error(&f.path, &err);
             }
@@ -628,6 +645,8 @@ struct Gathered<'a> {
     base: Option<(&'a Store, Vec<bool>)>,
     /// Baseline findings by key (sorted by key at the end, as a baseline is).
     compared: Vec<(String, Diagnostic)>,
+    /// With `--fleet-tolerance`: every checked pair, in the walk's order.
+    fleet: Vec<super::fleet::Member>,
     /// The checked files' records for `--write-baseline`.
     written: Store,
 }
@@ -640,6 +659,15 @@ impl Gathered<'_> {
             *f |= now;
         }
         for st in out.states {
+            if self.opts.fleet.is_some() {
+                for p in &st.record.pairs {
+                    let at = st
+                        .locations
+                        .get(&(p.transform.parent.clone(), p.transform.child.clone()));
+                    self.fleet
+                        .extend(super::fleet::member(&st.found.path, at, p));
+                }
+            }
             if let (Some((base, seen)), Some(key)) = (&mut self.base, &st.base_key) {
                 let now = CheckedFile {
                     path: &st.found.path,
@@ -852,6 +880,7 @@ pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckR
         base: base.as_ref().map(|b| (b, vec![false; b.len()])),
         compared: Vec::new(),
         written: Store::new(),
+        fleet: Vec::new(),
     };
     let total: usize = jobs
         .iter()
@@ -922,6 +951,9 @@ fn finish(
     if let Some(path) = &opts.baseline {
         let found = all.baseline_findings(&dir_of(path));
         all.findings.extend(found);
+    }
+    if let Some(tol) = &opts.fleet {
+        all.findings.extend(super::fleet::findings(&all.fleet, tol));
     }
     let mut changes = None;
     if let Some(path) = &opts.write_baseline {

@@ -379,6 +379,8 @@ pub fn diff(opts: &DiffOptions) -> Result<(DiffReport, Vec<Warning>)> {
         .map(|s| (s.edge.parent.as_str(), s.edge.child.as_str()))
         .collect();
     let edges = edge_diffs(&old.graph, &new.graph, &opts.tolerance, &on);
+    let mistakes =
+        super::mistakes::in_diff(&old.graph, &new.graph, &co, &cn, &edges, &opts.tolerance);
     let mut warnings: Vec<Warning> = old.graph.warnings().to_vec();
     warnings.extend(new.graph.warnings().iter().cloned());
     warnings.extend(co.warnings.iter().cloned());
@@ -395,6 +397,7 @@ pub fn diff(opts: &DiffOptions) -> Result<(DiffReport, Vec<Warning>)> {
         exceeded: exceeded(&chain, &edges),
         chain,
         edges,
+        mistakes,
     };
     Ok((report, warnings))
 }

@@ -56,6 +56,11 @@ pub fn check_output_target(
 /// an existing directory that is none of the survey's inputs (checked before
 /// the survey runs, so that nothing is read or written in vain).
 pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
+    plot_target("survey", target, inputs)
+}
+
+/// [`check_plot_target`] for `command`'s plot.
+pub(super) fn plot_target(command: &str, target: &Path, inputs: &[PathBuf]) -> Result<()> {
     if !target
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
@@ -65,15 +70,26 @@ pub fn check_plot_target(target: &Path, inputs: &[PathBuf]) -> Result<()> {
             target.display()
         )));
     }
-    check_output_target("--plot", "survey", target, inputs)
+    check_output_target("--plot", command, target, inputs)
 }
 
 /// Draw the survey plot to `target` after [`check_plot_target`] (again: the
 /// inputs must still not include it).
 pub fn write_survey_plot(target: &Path, inputs: &[PathBuf], report: &SurveyReport) -> Result<()> {
-    check_plot_target(target, inputs)?;
+    write_plot("survey", target, inputs, &report.plot())
+}
+
+/// Draw `plot` (a document of one plot block) as SVG to `target`, checked
+/// again as [`plot_target`] checks it.
+pub(super) fn write_plot(
+    command: &str,
+    target: &Path,
+    inputs: &[PathBuf],
+    plot: &crate::document::Document,
+) -> Result<()> {
+    plot_target(command, target, inputs)?;
     let svg = crate::render::draw(
-        &report.plot(),
+        plot,
         crate::render::OutputFormat::Svg,
         crate::render::Style::plain(),
         &crate::render::Layout::default(),

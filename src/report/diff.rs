@@ -169,6 +169,9 @@ pub struct DiffReport {
     /// Why the diff exceeds its tolerance, one sentence each; empty when it
     /// does not (exit 0; otherwise exit 1).
     pub exceeded: Vec<String>,
+    /// The convention mistakes that reconcile the chain or a changed edge
+    /// (`crate::analysis::mistakes`); empty when none does.
+    pub mistakes: Vec<crate::report::mistakes::MistakeJson>,
 }
 
 /// How one file of a diff was read beyond its format's own rules.
@@ -404,6 +407,10 @@ impl Report for DiffReport {
         ));
         doc.section(format!("Chain {} -> {}", self.from, self.to));
         doc.table(self.chain_table());
+        if !self.mistakes.is_empty() {
+            doc.section("Convention mistake");
+            doc.text(crate::report::mistakes::lines(&self.mistakes).join("\n"));
+        }
         doc.section("Detector families");
         doc.table(self.family_table());
         doc.section("Edges");

@@ -10,12 +10,15 @@ pub mod check;
 pub mod detector;
 pub mod diff;
 pub mod frames;
+pub mod mistakes;
 pub mod rig;
 mod rig_scene;
 pub mod run;
 pub mod run_scene;
 mod run_timeline;
 pub mod scan_scene;
+pub mod spread;
+mod spread_plot;
 pub mod survey;
 mod survey_plot;
 

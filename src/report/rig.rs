@@ -222,6 +222,12 @@ pub struct RigReport {
     /// of the graph); `None`: the scene has the one `from -> to` transform.
     #[serde(skip)]
     pub tree: Option<super::frames::FramesReport>,
+    /// What the user's own detector does on this rig (`--detector NAME`, or
+    /// the odometry an input reveals): set it to
+    /// [`OdometryDetector::advise`](crate::OdometryDetector::advise) of the
+    /// chain's transform; `None` (absent from the JSON) otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub detector: Option<crate::analysis::detectors::DetectorAdvice>,
 }
 
 /// One edge of the chain as the report's table shows it.
@@ -478,6 +484,7 @@ pub fn report_from_analysis(an: &RigAnalysis, chain: &Chain) -> RigReport {
         kappa_check: None,
         chain: chain_rows(chain),
         tree: None,
+        detector: None,
     }
 }
 
@@ -860,6 +867,13 @@ impl Report for RigReport {
         self.certificate_section(&mut doc);
         self.adapted_section(&mut doc);
         self.families_section(&mut doc);
+        if let Some(a) = &self.detector {
+            doc.section(format!("Your detector: {}", a.detector.label));
+            doc.text(format!(
+                "{}.\nSource: {}.\nTo do ({}): {}.",
+                a.statement, a.detector.source, a.detector.label, a.step
+            ));
+        }
         doc.push(Block::Scene(self.scene()));
         doc
     }

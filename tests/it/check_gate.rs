@@ -800,13 +800,17 @@ fn a_manifest_loads_each_robots_files_together() {
     assert_eq!(
         (f["code"].as_str(), f["file"].as_str()),
         (
-            Some("frames"),
+            Some("redundant-edge-disagrees"),
             Some(&*format!("{}", d.join("b.yaml").display()))
         )
     );
     let msg = f["message"].as_str().unwrap();
     let (a, b) = (d.join("a.yaml"), d.join("b.yaml"));
-    assert!(msg.contains("given twice with different values"), "{msg}");
+    // Issue 30: two sources of one edge are a disagreement with both values.
+    assert!(
+        msg.contains("two sources that disagree by 100.000 mm"),
+        "{msg}"
+    );
     assert!(
         msg.contains(&format!("{}:2:3", a.display()))
             && msg.contains(&format!("{}:2:3", b.display())),
@@ -825,7 +829,7 @@ fn a_manifest_loads_each_robots_files_together() {
         j["findings"][0]["message"]
             .as_str()
             .unwrap()
-            .contains("cycle"),
+            .contains("closes a cycle"),
         "{j}"
     );
 

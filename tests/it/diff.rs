@@ -543,3 +543,79 @@ fn invert_new_reads_the_other_direction() {
         1e-12,
     );
 }
+
+/// A rig TOML `imu -> lidar` whose transform is `body` (its rotation form,
+/// unit and flags), for the convention-mistake pairs.
+fn mistake_rig(dir: &std::path::Path, name: &str, body: &str) -> String {
+    let text = format!(
+        "[rig]\nid = \"{name}\"\nsensor = \"s\"\nplatform = \"p\"\ndataset = \"d\"\n\
+         category = \"cad-or-nominal\"\nlicence = \"authored\"\ndirection = \"pose of lidar in imu\"\n\
+         from = \"imu\"\nto = \"lidar\"\n\n[rig.source]\nrepo = \"a/b\"\npath = \"p\"\n\
+         commit = \"0000000000000000000000000000000000000000\"\n\n[[transform]]\n\
+         parent = \"imu\"\nchild = \"lidar\"\nsource_key = \"k\"\n{body}\n"
+    );
+    let p = dir.join(format!("{name}.toml"));
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+/// The same numbers read under two conventions (each file's own rule, as
+/// its reader applies it): the diff names the mistake that maps one onto the
+/// other, and none on a genuine recalibration.
+#[test]
+fn diff_names_the_convention_mistake_between_two_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = "unit = \"m\"\ntranslation = [0.215, -0.043, 0.318]\n";
+    let old = mistake_rig(
+        dir.path(),
+        "old",
+        &format!("{base}rpy = [0.12, -0.35, 1.1]"),
+    );
+    let cases = [
+        (
+            "inverse",
+            format!("{base}rpy = [0.12, -0.35, 1.1]\ninvert = true"),
+            "new equals old inverted",
+        ),
+        (
+            "rpy_as_ypr",
+            format!("{base}ypr = [0.12, -0.35, 1.1]"),
+            "with its roll, pitch, yaw read as yaw, pitch, roll",
+        ),
+        (
+            "mm",
+            "unit = \"mm\"\ntranslation = [0.215, -0.043, 0.318]\nrpy = [0.12, -0.35, 1.1]"
+                .to_string(),
+            "new equals old with its translation in metres read as millimetres",
+        ),
+        (
+            "degrees",
+            format!("{base}rpy = [0.0020944, -0.0061087, 0.0191986]"),
+            "with its angles in degrees read as radians",
+        ),
+    ];
+    for (name, body, says) in cases {
+        let new = mistake_rig(dir.path(), name, &body);
+        let (code, out, err) = run_cli(&["diff", &old, &new]);
+        assert_eq!(code, 1, "{name}: {err}");
+        assert!(out.contains(says), "{name}: {out}");
+        let (_, json, _) = run_cli(&["diff", &old, &new, "--format", "json"]);
+        let v: Value = serde_json::from_str(&json).unwrap();
+        assert!(validator().is_valid(&v), "{name}");
+        let m = v["mistakes"].as_array().unwrap();
+        assert!(
+            !m.is_empty() && m.iter().all(|m| m["residual_mm"].as_f64().unwrap() <= 1.0),
+            "{name}: {m:?}"
+        );
+    }
+    // A 3 mm, 0.2 deg recalibration: a change, no mistake named.
+    let new = mistake_rig(
+        dir.path(),
+        "recal",
+        "unit = \"m\"\ntranslation = [0.218, -0.045, 0.319]\nrpy = [0.123, -0.352, 1.102]",
+    );
+    let (code, json, _) = run_cli(&["diff", &old, &new, "--format", "json"]);
+    assert_eq!(code, 1);
+    let v: Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["mistakes"], serde_json::json!([]));
+}

@@ -41,11 +41,24 @@ fn json_outputs_match_the_committed_schemas() {
     assert_valid("rig-report", &ANYMAL_JSON);
     let kappa = [&ANYMAL_JSON[..], &["--kappa", "0.01", "--lambda", "0.004"]].concat();
     assert_valid("rig-report", &kappa);
+    for d in ["lio-sam", "dcreg", "fast-lio"] {
+        assert_valid(
+            "rig-report",
+            &[&ANYMAL_JSON[..], &["--detector", d]].concat(),
+        );
+    }
     assert_valid(
         "survey",
         &["survey", "calibrations/", "--all", "--format", "json"],
     );
     assert_valid("check", &["check", "calibrations/", "--format", "json"]);
+    for set in ["kitti-repeat", "pure-translation"] {
+        let dir = format!("tests/fixtures/spread/{set}");
+        assert_valid(
+            "spread",
+            &["spread", &dir, "--tolerance", "5,0.5", "--format", "json"],
+        );
+    }
     assert_valid(
         "degeneracy",
         &[

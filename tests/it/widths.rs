@@ -8,7 +8,7 @@ use crate::common::run_cli;
 use std::process::Command;
 
 /// The commands a person runs, with arguments that finish in seconds.
-pub const COMMANDS: [(&str, &[&str]); 11] = [
+pub const COMMANDS: [(&str, &[&str]); 12] = [
     (
         "rig-report",
         &[
@@ -94,6 +94,7 @@ pub const COMMANDS: [(&str, &[&str]); 11] = [
             "0.004",
         ],
     ),
+    ("spread", &["spread", "tests/fixtures/spread/kitti-repeat"]),
 ];
 
 /// `script` is there (util-linux; every Debian-based machine has it).
