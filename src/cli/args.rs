@@ -430,6 +430,27 @@ impl std::fmt::Display for Tolerance {
     }
 }
 
+/// `LENGTH,ANGLE` (`5mm,0.5deg`; a bare length is millimetres, a bare
+/// angle degrees) as (mm, deg): `diff --tolerance`, `spread --tolerance`,
+/// `check --fleet-tolerance`.
+pub fn length_angle(flag: &str, v: &[Tolerance]) -> extrinsic_audit::Result<(f64, f64)> {
+    let usage = |e: String| extrinsic_audit::Error::usage(format!("{flag}{e}"));
+    let [length, angle] = v[..] else {
+        return Err(usage(format!(
+            ": expected LENGTH,ANGLE (two values, e.g. 1mm,0.05deg), found {} value(s)",
+            v.len()
+        )));
+    };
+    let mm = length
+        .metres(1e-3)
+        .map_err(|e| usage(format!(" translation: {e}")))?
+        * 1e3;
+    let deg = angle
+        .degrees()
+        .map_err(|e| usage(format!(" rotation: {e}")))?;
+    Ok((mm, deg))
+}
+
 /// A length tolerance whose bare number is metres (`check`): always a
 /// [`Tolerance::Length`], so that `--help` shows its default with its unit.
 pub fn parse_length_m(s: &str) -> Result<Tolerance, String> {

@@ -1,8 +1,8 @@
 //! `audit check PATHS...`: CI checks on calibration files.
 
 use super::args::{
-    parse_angle_deg, parse_length_m, parse_positive_length_m, FileSizeArgs, JointArgs, OutputArgs,
-    PitchTolArgs, Tolerance, XacroArgs,
+    parse_angle_deg, parse_length_m, parse_positive_length_m, parse_tolerance, FileSizeArgs,
+    JointArgs, OutputArgs, PitchTolArgs, Tolerance, XacroArgs,
 };
 use super::emit;
 use clap::Args;
@@ -81,9 +81,11 @@ pub struct CheckArgs {
     pub deny_warnings: bool,
     /// One calibration per vehicle: a finding (exit 1) for each checked pair
     /// further than this from the mean of the same pair over the checked
-    /// files: translation (mm), rotation (deg); `audit spread` shows the fleet
-    #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_nonneg, value_name = "MM,DEG")]
-    pub fleet_tolerance: Option<Vec<f64>>,
+    /// files: a translation and a rotation with their units (`5mm,0.5deg`; a
+    /// bare translation is millimetres, a bare rotation degrees); `audit
+    /// spread` shows the fleet
+    #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_tolerance, value_name = "LENGTH,ANGLE")]
+    pub fleet_tolerance: Option<Vec<Tolerance>>,
     #[command(flatten)]
     pub size: FileSizeArgs,
     #[command(flatten)]

@@ -2,15 +2,15 @@
 //! calibrations. Exit 1 when a change exceeds `--tolerance`, 0 otherwise.
 
 use super::args::{
-    parse_tolerance, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs, RenameArgs, Tolerance,
-    XacroArgs,
+    length_angle, parse_tolerance, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs,
+    RenameArgs, Tolerance, XacroArgs,
 };
 use super::{emit, print_warnings};
 use clap::Args;
 use extrinsic_audit::internals::tolerances::{
     DEFAULT_DIFF_ROTATION_TOL_DEG, DEFAULT_DIFF_TRANSLATION_TOL_MM,
 };
-use extrinsic_audit::{diff, DiffOptions, Error, Result};
+use extrinsic_audit::{diff, DiffOptions, Result};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -79,18 +79,7 @@ pub struct DiffArgs {
 }
 
 pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
-    let [translation, rotation] = args.tolerance[..] else {
-        return Err(Error::usage(format!(
-            "--tolerance: expected LENGTH,ANGLE (two values, e.g. 1mm,0.05deg), found {} value(s)",
-            args.tolerance.len()
-        )));
-    };
-    let usage = |what: &str, e: String| Error::usage(format!("--tolerance {what}: {e}"));
-    let translation_mm = translation
-        .metres(1e-3)
-        .map_err(|e| usage("translation", e))?
-        * 1e3;
-    let rotation_deg = rotation.degrees().map_err(|e| usage("rotation", e))?;
+    let (translation_mm, rotation_deg) = length_angle("--tolerance", &args.tolerance)?;
     let inputs = [args.old.clone(), args.new.clone()];
     super::check_output(&args.output, &inputs)?;
     let mut opts = DiffOptions::new(&args.old, &args.new);
