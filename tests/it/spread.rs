@@ -390,7 +390,10 @@ fn a_fleet_names_the_vehicle_that_deviates() {
     assert_eq!(code, 0, "{out}");
     let (code, _, err) = run_cli(&["check", r, "--fleet-tolerance", "5"]);
     assert_eq!(code, 2);
-    assert!(err.contains("--fleet-tolerance: expected LENGTH,ANGLE"), "{err}");
+    assert!(
+        err.contains("--fleet-tolerance: expected LENGTH,ANGLE"),
+        "{err}"
+    );
 }
 
 /// `--plot`: six strip plots as SVG, the outlier named; a target that is
