@@ -11,11 +11,36 @@
 //! fields).
 //!
 //! Magic bytes that more than one module tests for live here too
-//! ([`LAS_MAGIC`]): the point readers decode LAS, the formats refuse it.
+//! ([`LAS_MAGIC`], [`PLY_MAGICS`], [`looks_like_pcd`]): the point readers
+//! decode point clouds, the formats refuse them naming the command that reads
+//! them.
 
 /// The first bytes of every LAS and LAZ file (ASPRS LAS 1.0 to 1.4, "File
 /// Signature").
 pub const LAS_MAGIC: &[u8; 4] = b"LASF";
+
+/// The first line of every PLY file (the magic `ply`, with a Unix or DOS line
+/// end; Paul Bourke's PLY description).
+pub const PLY_MAGICS: [&[u8]; 2] = [b"ply\n", b"ply\r\n"];
+
+/// Whether a text head is a PCD header: its first line that is not blank or
+/// a plain comment is `# .PCD ...`, or starts with `VERSION` or `FIELDS` (PCL's
+/// PCD file format: the header's first entries).
+pub fn looks_like_pcd(head: &[u8]) -> bool {
+    let s = String::from_utf8_lossy(head);
+    for line in s.lines() {
+        let t = line.trim();
+        if t.is_empty() || (t.starts_with('#') && !t.contains(".PCD")) {
+            continue;
+        }
+        if t.starts_with("# .PCD") {
+            return true;
+        }
+        let first = t.split_whitespace().next().unwrap_or("");
+        return matches!(first, "VERSION" | "FIELDS");
+    }
+    false
+}
 
 /// The byte order of multi-byte fields.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

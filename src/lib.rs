@@ -45,7 +45,7 @@
 //!   and the robot's body frames ([`RunOptions`]: [`RunScans`],
 //!   [`RunFrames`], [`RunDetector`], [`RunPairs`]); [`Run::finish`] the
 //!   summary ([`RunReport`]).
-//! - [`render`]: any report as text, markdown, JSON (its schema in
+//! - [`render()`]: any report as text, markdown, JSON (its schema in
 //!   `docs/schemas`), CSV, SARIF or a picture ([`OutputFormat`],
 //!   [`RenderOptions`]); [`render_bytes`] and [`render_to`] the same as
 //!   bytes or to a writer, MCAP (the 3D scene for Foxglove) included;

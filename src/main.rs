@@ -63,9 +63,10 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// The survey table over a directory of rig files (one row per rig)
+    // about/long_about come from the Args struct (a doc comment here would
+    // hide the long_about from `audit survey --help`).
     Survey(survey::SurveyArgs),
-    /// CI check of calibration files: validation, drift against a baseline
+    // about/long_about come from the Args struct.
     Check(check::CheckArgs),
     // about/long_about come from the Args struct.
     Tunnel(detector::TunnelArgs),
@@ -114,6 +115,10 @@ where
         }
     };
     display::set(cli.display.clone());
+    if let Some(e) = mistyped_command(&cli) {
+        let _ = e.print();
+        return 2;
+    }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let code = match run(cli, &mut out) {
@@ -126,6 +131,41 @@ where
     };
     let _ = out.flush();
     code.clamp(0, 255) as u8
+}
+
+/// A first file that does not exist, is a bare word (no `/`, no `.`) and is
+/// close to a command's name (`surveyy`, `degenracy`, `calibrate`): a usage
+/// error naming the command, as clap words its own suggestions, rather than
+/// "cannot read". The rig report takes files as its positionals, so clap
+/// cannot tell a mistyped command from a file name itself.
+fn mistyped_command(cli: &Cli) -> Option<clap::Error> {
+    if cli.command.is_some() {
+        return None;
+    }
+    let word = cli.audit.files.first()?.to_str()?;
+    if word.is_empty() || word.contains(['/', '\\', '.']) || std::path::Path::new(word).exists() {
+        return None;
+    }
+    let colour = match display::stderr_style().color {
+        true => clap::ColorChoice::Always,
+        false => clap::ColorChoice::Never,
+    };
+    let mut cmd = <Cli as clap::CommandFactory>::command().color(colour);
+    let lower = word.to_lowercase();
+    let best = cmd
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .filter(|n| n != "help")
+        .map(|n| (strsim::jaro_winkler(&lower, &n), n))
+        .filter(|(score, n)| *score > 0.8 || n.starts_with(&lower))
+        .max_by(|a, b| a.0.total_cmp(&b.0))?;
+    Some(cmd.error(
+        clap::error::ErrorKind::InvalidSubcommand,
+        format!(
+            "unrecognized subcommand '{word}' (and no file of that name)\n\n  tip: a similar subcommand exists: '{}'",
+            best.1
+        ),
+    ))
 }
 
 /// Run a parsed command line, writing the report to `out`; returns the exit code.

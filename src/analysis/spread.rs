@@ -38,7 +38,7 @@
 //!   `d_i = |(delta_i - c) / sigma|`; flagged when `d_i > max(`[`OUTLIER_RATIO`]
 //!   ` * median d, `[`OUTLIER_RADIUS`]`)`: Iglewicz and Hoaglin's `|M| > 3.5`
 //!   carried to three dimensions. Not applied below [`OUTLIER_MIN_COUNT`]
-//!   calibrations; below [`OUTLIER_FEW`] the robust scale is uncertain.
+//!   calibrations; below [`OUTLIER_FEW`](crate::tolerances::OUTLIER_FEW) the robust scale is uncertain.
 
 use crate::diagnostic::{Error, Result};
 use crate::geometry::Transform;

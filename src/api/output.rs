@@ -63,7 +63,7 @@ pub fn render<R: Report>(report: &R, format: OutputFormat, opts: &RenderOptions)
     render::render(report, &opts.warnings, format, style, &layout)
 }
 
-/// `report` in `format` as bytes: what [`render`] gives, and the binary
+/// `report` in `format` as bytes: what [`render()`] gives, and the binary
 /// formats too (MCAP: the 3D scene as Foxglove's JSON-schema messages on
 /// `/tf`, `/audit/scene`, `/audit/points`).
 ///

@@ -349,6 +349,137 @@ pub fn parse_nonneg(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
+/// A tolerance as written on the command line: a number with its unit, or a
+/// bare number (its option says which unit a bare number is in).
+///
+/// One convention for every tolerance of `check` and `diff` (issue 33:
+/// `check` took metres, `diff` millimetres, and neither said it in the
+/// value): lengths `m`, `cm`, `mm`; angles `deg`, `rad`, `mrad`; no space
+/// needed (`5mm`, `0.5 deg`). Kept in the units the options hold: metres and
+/// degrees.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Tolerance {
+    /// A length (m).
+    Length(f64),
+    /// An angle (deg).
+    Angle(f64),
+    /// No unit written.
+    Bare(f64),
+}
+
+/// The units a tolerance may carry, with their factor to metres or degrees.
+const LENGTH_UNITS: [(&str, f64); 3] = [("mm", 1e-3), ("cm", 1e-2), ("m", 1.0)];
+const ANGLE_UNITS: [(&str, f64); 3] = [
+    ("mrad", 0.180 / std::f64::consts::PI),
+    ("rad", 180.0 / std::f64::consts::PI),
+    ("deg", 1.0),
+];
+
+/// `5mm`, `0.05deg`, `1e-3 m`, `2`: a non-negative finite tolerance.
+pub fn parse_tolerance(s: &str) -> Result<Tolerance, String> {
+    let t = s.trim();
+    let split = |units: &[(&'static str, f64)]| {
+        units.iter().find_map(|&(u, f)| {
+            let num = t.strip_suffix(u)?.trim_end();
+            (!num.is_empty() && !num.ends_with(|c: char| c.is_alphabetic())).then_some((num, f))
+        })
+    };
+    let (kind, num, f) = if let Some((n, f)) = split(&LENGTH_UNITS) {
+        (Tolerance::Length as fn(f64) -> Tolerance, n, f)
+    } else if let Some((n, f)) = split(&ANGLE_UNITS) {
+        (Tolerance::Angle as fn(f64) -> Tolerance, n, f)
+    } else {
+        (Tolerance::Bare as fn(f64) -> Tolerance, t, 1.0)
+    };
+    let v = parse_nonneg(num).map_err(|_| {
+        format!("expected a non-negative number with an optional unit (m, cm, mm; deg, rad, mrad), found `{s}`")
+    })?;
+    Ok(kind(v * f))
+}
+
+impl Tolerance {
+    /// As a length in metres; a bare number is in `bare_unit` metres (1 for
+    /// metres, 1e-3 for millimetres).
+    pub fn metres(self, bare_unit: f64) -> Result<f64, String> {
+        match self {
+            Tolerance::Length(m) => Ok(m),
+            Tolerance::Bare(v) => Ok(v * bare_unit),
+            Tolerance::Angle(_) => Err("expected a length (m, cm, mm), found an angle".into()),
+        }
+    }
+    /// As an angle in degrees (a bare number is degrees).
+    pub fn degrees(self) -> Result<f64, String> {
+        match self {
+            Tolerance::Angle(d) | Tolerance::Bare(d) => Ok(d),
+            Tolerance::Length(_) => {
+                Err("expected an angle (deg, rad, mrad), found a length".into())
+            }
+        }
+    }
+}
+
+/// As written back (clap's defaults in `--help`): lengths in millimetres,
+/// angles in degrees; [`parse_tolerance`] reads it back to the same value.
+impl std::fmt::Display for Tolerance {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Tolerance::Length(m) => write!(f, "{}mm", m * 1e3),
+            Tolerance::Angle(d) => write!(f, "{d}deg"),
+            Tolerance::Bare(v) => write!(f, "{v}"),
+        }
+    }
+}
+
+/// `LENGTH,ANGLE` (`5mm,0.5deg`; a bare length is millimetres, a bare
+/// angle degrees) as (mm, deg): `diff --tolerance`, `spread --tolerance`,
+/// `check --fleet-tolerance`.
+pub fn length_angle(flag: &str, v: &[Tolerance]) -> extrinsic_audit::Result<(f64, f64)> {
+    let usage = |e: String| extrinsic_audit::Error::usage(format!("{flag}{e}"));
+    let [length, angle] = v[..] else {
+        return Err(usage(format!(
+            ": expected LENGTH,ANGLE (two values, e.g. 1mm,0.05deg), found {} value(s)",
+            v.len()
+        )));
+    };
+    let mm = length
+        .metres(1e-3)
+        .map_err(|e| usage(format!(" translation: {e}")))?
+        * 1e3;
+    let deg = angle
+        .degrees()
+        .map_err(|e| usage(format!(" rotation: {e}")))?;
+    Ok((mm, deg))
+}
+
+/// A length tolerance whose bare number is metres (`check`): always a
+/// [`Tolerance::Length`], so that `--help` shows its default with its unit.
+pub fn parse_length_m(s: &str) -> Result<Tolerance, String> {
+    parse_tolerance(s)?.metres(1.0).map(Tolerance::Length)
+}
+
+/// A positive length whose bare number is metres (`check --max-lever-arm`).
+pub fn parse_positive_length_m(s: &str) -> Result<f64, String> {
+    match parse_length_m(s)? {
+        Tolerance::Length(v) if v > 0.0 => Ok(v),
+        _ => Err(format!("expected a positive length, found `{s}`")),
+    }
+}
+
+/// An angle tolerance whose bare number is degrees: always a
+/// [`Tolerance::Angle`].
+pub fn parse_angle_deg(s: &str) -> Result<Tolerance, String> {
+    parse_tolerance(s)?.degrees().map(Tolerance::Angle)
+}
+
+impl Tolerance {
+    /// The number in the unit its kind is kept in (metres, degrees).
+    pub fn value(self) -> f64 {
+        match self {
+            Tolerance::Length(v) | Tolerance::Angle(v) | Tolerance::Bare(v) => v,
+        }
+    }
+}
+
 /// `--sigma-t M`: a calibration's standard uncertainty per edge (m).
 fn parse_sigma_t(s: &str) -> Result<f64, String> {
     let v = parse_nonneg(s)?;
@@ -367,4 +498,37 @@ fn parse_sigma_r(s: &str) -> Result<f64, String> {
         ));
     }
     Ok(v)
+}
+
+#[cfg(test)]
+mod tolerance_tests {
+    use super::*;
+
+    #[test]
+    fn tolerances_read_their_units() {
+        let t = |s| parse_tolerance(s).unwrap();
+        assert_eq!(t("5mm"), Tolerance::Length(5e-3));
+        assert_eq!(t(" 0.5 cm"), Tolerance::Length(5e-3));
+        assert_eq!(t("0.001m"), Tolerance::Length(1e-3));
+        assert_eq!(t("0.05deg"), Tolerance::Angle(0.05));
+        assert_eq!(t("2"), Tolerance::Bare(2.0));
+        for one_mrad in ["1mrad", "1e-3rad", "0.001 rad"] {
+            let Tolerance::Angle(d) = t(one_mrad) else {
+                panic!("{one_mrad}")
+            };
+            assert!((d - 0.057_295_779_5).abs() < 1e-9, "{one_mrad}: {d}");
+        }
+        assert_eq!(parse_length_m("1mm"), Ok(Tolerance::Length(1e-3)));
+        assert_eq!(parse_length_m("0.001"), Ok(Tolerance::Length(1e-3)));
+        assert_eq!(parse_angle_deg("0.05"), Ok(Tolerance::Angle(0.05)));
+        // Each default is shown with its unit and reads back to itself.
+        for t in [Tolerance::Length(1e-3), Tolerance::Angle(0.05)] {
+            assert_eq!(parse_tolerance(&t.to_string()), Ok(t), "{t}");
+        }
+        assert!(parse_length_m("1deg").is_err());
+        assert!(parse_angle_deg("5mm").is_err());
+        for bad in ["", "mm", "-1mm", "1 km", "1mmm", "inf", "1e400m", "nan deg"] {
+            assert!(parse_tolerance(bad).is_err(), "{bad:?}");
+        }
+    }
 }

@@ -1,7 +1,8 @@
 //! `audit check PATHS...`: CI checks on calibration files.
 
 use super::args::{
-    parse_nonneg, parse_positive, FileSizeArgs, JointArgs, OutputArgs, PitchTolArgs, XacroArgs,
+    parse_angle_deg, parse_length_m, parse_positive_length_m, parse_tolerance, FileSizeArgs,
+    JointArgs, OutputArgs, PitchTolArgs, Tolerance, XacroArgs,
 };
 use super::emit;
 use clap::Args;
@@ -15,6 +16,7 @@ use std::path::PathBuf;
 
 #[derive(Debug, Args, Clone)]
 #[command(
+    about = "CI check of calibration files: validation, drift against a baseline",
     long_about = "Checks calibration files in CI: every file parses; rotations are orthonormal and \
 quaternions unit (rounding of published digits is a warning, beyond it an error); units are \
 plausible (no millimetres in a metre field); the frames each rig declares, and every --pair, \
@@ -48,18 +50,21 @@ pub struct CheckArgs {
     /// Also check this frame pair wherever both frames exist (FROM:TO); repeatable
     #[arg(long = "pair", value_parser = parse_pair, value_name = "FROM:TO")]
     pub pairs: Vec<(String, String)>,
-    /// A problem when a checked pair's lever arm exceeds this (m)
-    #[arg(long, value_parser = parse_positive, value_name = "M")]
+    /// A problem when a checked pair's lever arm exceeds this (a length:
+    /// `0.5m`, `500mm`; a bare number is metres)
+    #[arg(long, value_parser = parse_positive_length_m, value_name = "LENGTH")]
     pub max_lever_arm: Option<f64>,
     /// A problem when a checked pair does not have zero screw pitch
     #[arg(long)]
     pub require_zero_pitch: bool,
-    /// Drift tolerance on translations against the baseline (m)
-    #[arg(long, default_value_t = DEFAULT_MAX_TRANSLATION_DRIFT, value_parser = parse_nonneg, value_name = "M")]
-    pub max_translation_drift: f64,
-    /// Drift tolerance on rotations against the baseline (deg)
-    #[arg(long, default_value_t = DEFAULT_MAX_ROTATION_DRIFT_DEG, value_parser = parse_nonneg, value_name = "DEG")]
-    pub max_rotation_drift: f64,
+    /// Drift tolerance on translations against the baseline (a length: `1mm`,
+    /// `0.1cm`, `0.001m`; a bare number is metres)
+    #[arg(long, default_value_t = Tolerance::Length(DEFAULT_MAX_TRANSLATION_DRIFT), value_parser = parse_length_m, value_name = "LENGTH")]
+    pub max_translation_drift: Tolerance,
+    /// Drift tolerance on rotations against the baseline (an angle: `0.05deg`,
+    /// `1mrad`; a bare number is degrees)
+    #[arg(long, default_value_t = Tolerance::Angle(DEFAULT_MAX_ROTATION_DRIFT_DEG), value_parser = parse_angle_deg, value_name = "ANGLE")]
+    pub max_rotation_drift: Tolerance,
     #[command(flatten)]
     pub pitch: PitchTolArgs,
     #[command(flatten)]
@@ -76,9 +81,11 @@ pub struct CheckArgs {
     pub deny_warnings: bool,
     /// One calibration per vehicle: a finding (exit 1) for each checked pair
     /// further than this from the mean of the same pair over the checked
-    /// files: translation (mm), rotation (deg); `audit spread` shows the fleet
-    #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_nonneg, value_name = "MM,DEG")]
-    pub fleet_tolerance: Option<Vec<f64>>,
+    /// files: a translation and a rotation with their units (`5mm,0.5deg`; a
+    /// bare translation is millimetres, a bare rotation degrees); `audit
+    /// spread` shows the fleet
+    #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_tolerance, value_name = "LENGTH,ANGLE")]
+    pub fleet_tolerance: Option<Vec<Tolerance>>,
     #[command(flatten)]
     pub size: FileSizeArgs,
     #[command(flatten)]
@@ -119,8 +126,8 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
     load.max_file_size = args.size.max_file_size;
     args.xacro.apply(&mut load);
     let drift = DriftTolerances {
-        translation_m: args.max_translation_drift,
-        rotation_deg: args.max_rotation_drift,
+        translation_m: args.max_translation_drift.value(),
+        rotation_deg: args.max_rotation_drift.value(),
     };
     let mut opts = CheckOptions::new(args.paths.clone())
         .baseline(

@@ -2,14 +2,15 @@
 //! calibrations. Exit 1 when a change exceeds `--tolerance`, 0 otherwise.
 
 use super::args::{
-    parse_nonneg, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs, RenameArgs, XacroArgs,
+    length_angle, parse_tolerance, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs,
+    RenameArgs, Tolerance, XacroArgs,
 };
 use super::{emit, print_warnings};
 use clap::Args;
 use extrinsic_audit::internals::tolerances::{
     DEFAULT_DIFF_ROTATION_TOL_DEG, DEFAULT_DIFF_TRANSLATION_TOL_MM,
 };
-use extrinsic_audit::{diff, DiffOptions, Error, Result};
+use extrinsic_audit::{diff, DiffOptions, Result};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -27,7 +28,7 @@ input. Edges in only one file are listed but do not by themselves fail.\n\nEach 
 read as the rig report reads it; per side, --key-old/--key-new pick one key of a YAML/JSON \
 file with several transforms (--key: the same key in both), and --invert-old/--invert-new \
 (--invert: both) read a file whose numbers are the pose of the parent in the child.",
-    after_long_help = "Examples:\n  audit diff old/robot.urdf new/robot.urdf --from base_link --to lidar\n  audit diff robot.urdf kalibr.yaml --from imu_link --to lidar --rename kalibr.yaml:imu0=imu_link --rename kalibr.yaml:lidar0=lidar\n  audit diff calibrations/anymal-d.urdf calibrations/anymal-d-lidar-imu.toml --format markdown\n  audit diff a.urdf b.urdf --from base --to lidar --tolerance 0.5,0.01\n  audit diff calibrations/geode-gamma-avia.toml gamma_config.yaml --key-new T_IMU_LiDAR\n  audit diff run1/camchain-imucam.yaml run2/camchain-imucam.yaml --key cam0 --from imu --to cam0"
+    after_long_help = "Examples:\n  audit diff old/robot.urdf new/robot.urdf --from base_link --to lidar\n  audit diff robot.urdf kalibr.yaml --from imu_link --to lidar --rename kalibr.yaml:imu0=imu_link --rename kalibr.yaml:lidar0=lidar\n  audit diff calibrations/anymal-d.urdf calibrations/anymal-d-lidar-imu.toml --format markdown\n  audit diff a.urdf b.urdf --from base --to lidar --tolerance 0.5mm,0.01deg\n  audit diff calibrations/geode-gamma-avia.toml gamma_config.yaml --key-new T_IMU_LiDAR\n  audit diff run1/camchain-imucam.yaml run2/camchain-imucam.yaml --key cam0 --from imu --to cam0"
 )]
 pub struct DiffArgs {
     /// The old calibration file
@@ -44,9 +45,11 @@ pub struct DiffArgs {
     pub to: Option<String>,
     #[command(flatten)]
     pub renames: RenameArgs,
-    /// Largest change that passes: translation (mm), rotation (deg)
-    #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_nonneg, value_name = "MM,DEG", default_values_t = [DEFAULT_DIFF_TRANSLATION_TOL_MM, DEFAULT_DIFF_ROTATION_TOL_DEG])]
-    pub tolerance: Vec<f64>,
+    /// Largest change that passes: a translation and a rotation, with their
+    /// units (`1mm,0.05deg`, `0.002m,1mrad`); a bare translation is
+    /// millimetres, a bare rotation degrees
+    #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_tolerance, value_name = "LENGTH,ANGLE", default_values_t = [Tolerance::Length(DEFAULT_DIFF_TRANSLATION_TOL_MM * 1e-3), Tolerance::Angle(DEFAULT_DIFF_ROTATION_TOL_DEG)])]
+    pub tolerance: Vec<Tolerance>,
     #[command(flatten)]
     pub ell: EllArgs,
     #[command(flatten)]
@@ -76,12 +79,7 @@ pub struct DiffArgs {
 }
 
 pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
-    let [translation_mm, rotation_deg] = args.tolerance[..] else {
-        return Err(Error::usage(format!(
-            "--tolerance: expected MM,DEG (two numbers), found {} number(s)",
-            args.tolerance.len()
-        )));
-    };
+    let (translation_mm, rotation_deg) = length_angle("--tolerance", &args.tolerance)?;
     let inputs = [args.old.clone(), args.new.clone()];
     super::check_output(&args.output, &inputs)?;
     let mut opts = DiffOptions::new(&args.old, &args.new);

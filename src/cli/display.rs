@@ -100,25 +100,27 @@ pub fn stderr_fit(line: &str) -> String {
 }
 
 /// A progress bar on standard error, drawn only when standard error is a
-/// terminal (a pipe, a file or CI logs get nothing).
+/// terminal (a pipe, a file or CI logs get nothing), and only from `start`,
+/// when its length is known: a bar made visible before would first draw a
+/// full `0/0` (issue 33).
 pub struct TermProgress {
     bar: indicatif::ProgressBar,
+    terminal: bool,
 }
 
 impl TermProgress {
     pub fn new() -> Self {
-        let bar = if std::io::stderr().is_terminal() {
-            indicatif::ProgressBar::new(0)
-        } else {
-            indicatif::ProgressBar::hidden()
-        };
+        let bar = indicatif::ProgressBar::hidden();
         let style =
             indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} ({eta} left)")
                 .map(|s| s.progress_chars("=> "));
         if let Ok(style) = style {
             bar.set_style(style);
         }
-        TermProgress { bar }
+        TermProgress {
+            bar,
+            terminal: std::io::stderr().is_terminal(),
+        }
     }
 }
 
@@ -126,6 +128,10 @@ impl Progress for TermProgress {
     fn start(&self, total: u64, what: &str) {
         self.bar.set_message(what.to_string());
         self.bar.set_length(total);
+        if self.terminal {
+            self.bar
+                .set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        }
     }
     fn advance(&self, n: u64) {
         self.bar.inc(n);

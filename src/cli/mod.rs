@@ -144,7 +144,10 @@ pub fn print_warnings(warnings: &[Warning]) {
 /// Notes (a redundant edge that agrees, the path a chain used) to stderr.
 pub fn print_notes(notes: &[String]) {
     for n in notes {
-        to_stderr(&format!("note: {}", sanitize::line(n)));
+        to_stderr(&display::stderr_fit(&format!(
+            "note: {}",
+            sanitize::line(n)
+        )));
     }
 }
 

@@ -2,12 +2,13 @@
 //! pair. Exit 1 when `--tolerance` is given and a calibration lies beyond it.
 
 use super::args::{
-    parse_nonneg, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs, XacroArgs,
+    length_angle, parse_tolerance, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs,
+    Tolerance, XacroArgs,
 };
 use super::{emit_warned, print_warnings};
 use clap::Args;
 use extrinsic_audit::internals::pipeline::{check_spread_plot_target, write_spread_plot};
-use extrinsic_audit::{spread, DiffToleranceJson, Error, Result, SpreadOptions};
+use extrinsic_audit::{spread, DiffToleranceJson, Result, SpreadOptions};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -39,10 +40,11 @@ pub struct SpreadArgs {
     /// Child frame
     #[arg(long, value_name = "FRAME", requires = "from")]
     pub to: Option<String>,
-    /// Largest deviation from the mean that passes: translation (mm), rotation
-    /// (deg); a calibration beyond it exits 1
-    #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_nonneg, value_name = "MM,DEG")]
-    pub tolerance: Option<Vec<f64>>,
+    /// Largest deviation from the mean that passes: a translation and a
+    /// rotation with their units (`5mm,0.5deg`; a bare translation is
+    /// millimetres, a bare rotation degrees); a calibration beyond it exits 1
+    #[arg(long, value_delimiter = ',', num_args = 1, value_parser = parse_tolerance, value_name = "LENGTH,ANGLE")]
+    pub tolerance: Option<Vec<Tolerance>>,
     /// Also draw the spread plot (each calibration's deviation per axis, the
     /// outliers named) to this SVG file
     #[arg(long, value_name = "FILE.svg")]
@@ -61,18 +63,13 @@ pub struct SpreadArgs {
     pub output: OutputArgs,
 }
 
-/// `MM,DEG` as the library's tolerance.
-pub fn tolerance(flag: &str, v: &[f64]) -> Result<DiffToleranceJson> {
-    match v {
-        [translation_mm, rotation_deg] => Ok(DiffToleranceJson {
-            translation_mm: *translation_mm,
-            rotation_deg: *rotation_deg,
-        }),
-        _ => Err(Error::usage(format!(
-            "{flag}: expected MM,DEG (two numbers), found {} number(s)",
-            v.len()
-        ))),
-    }
+/// `LENGTH,ANGLE` as the library's tolerance.
+pub fn tolerance(flag: &str, v: &[Tolerance]) -> Result<DiffToleranceJson> {
+    let (translation_mm, rotation_deg) = length_angle(flag, v)?;
+    Ok(DiffToleranceJson {
+        translation_mm,
+        rotation_deg,
+    })
 }
 
 pub fn run(args: &SpreadArgs, out: &mut dyn Write) -> Result<i32> {

@@ -1,20 +1,23 @@
 //! `audit survey PATHS...`: one row per rig file, then a summary.
 
 use super::args::{OutputArgs, PitchTolArgs, ReadArgs, SigmaArgs, XacroArgs};
-use super::{emit_warned, print_warnings};
+use super::{emit_warned, print_notes, print_warnings};
 use clap::Args;
 use extrinsic_audit::internals::pipeline::{check_plot_target, write_survey_plot};
-use extrinsic_audit::{survey, Result, SortColumn, SurveyOptions};
+use extrinsic_audit::{survey, Code, Result, Severity, SortColumn, SurveyOptions, Warning};
 use std::io::Write;
 use std::path::PathBuf;
 
 #[derive(Debug, Args, Clone)]
 #[command(
+    about = "The survey table over a directory of rig files (one row per rig)",
     long_about = "One row per rig (id, sensor, platform, lever arm, rotation angle, screw \
 translation, zero pitch, s_max, band at l = 1, adapted metric), then a summary: count, \
 lever-arm min / median / max, and how many rigs have nonzero pitch (general screws and pure \
-translations: no adapted constant metric exists for them).\n\nRotations below 1 degree are \
-marked `*`: their screw axis is set by calibration noise, so read h with the angle beside it.",
+translations: no adapted constant metric exists for them).\n\nRotations below 5 degrees are \
+marked `*`: their screw axis is set by calibration noise, so read h with the angle beside it. \
+Rotations rounded as published (orthonormal only to their printed digits) are listed in one \
+note before the table.",
     after_long_help = "Examples:\n  audit survey calibrations/\n  audit survey calibrations/ --sort lever-arm --format markdown\n  audit survey calibrations/geode-*.toml --format csv > geode.csv\n  audit survey robots/ --from base_link --to lidar\n  audit survey robot.urdf:base_link:velodyne other.urdf.xacro:base:os_sensor\n  audit survey calibrations/ --plot survey.svg\n  audit survey kalibr/camchain-imucam.yaml:cam0:cam1 --key cam1 --invert"
 )]
 pub struct SurveyArgs {
@@ -66,10 +69,59 @@ pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
     args.read.apply(&mut opts.load);
     args.xacro.apply(&mut opts.load);
     let (report, warnings) = survey(&opts)?;
-    print_warnings(&warnings);
+    let (rounded, rest): (Vec<Warning>, Vec<Warning>) =
+        warnings.iter().cloned().partition(rounded_rotation);
+    print_warnings(&rest);
+    match rounded.len() {
+        0 => {}
+        1 => print_warnings(&rounded),
+        _ => print_notes(&[rounded_rotations_note(&rounded)]),
+    }
     if let Some(plot) = &args.plot {
         write_survey_plot(plot, &args.paths, &report)?;
     }
     emit_warned(&report, &warnings, &args.output, &args.paths, out)?;
     Ok(0)
+}
+
+/// A rotation matrix orthonormal only to the rounding of its published
+/// digits: a `non-orthonormal-rotation` of severity warning (beyond the
+/// rounding tolerance it is an error, and listed on its own).
+fn rounded_rotation(w: &Warning) -> bool {
+    w.code == Code::NonOrthonormalRotation && w.severity == Severity::Warning
+}
+
+/// One line for several rigs whose rotations are rounded as published
+/// (issue 33: four warnings were a newcomer's first sight of the survey): how
+/// many, how far from orthonormal (the measure each warning states), which
+/// files. Every warning stays in `--format json` and in `audit FILE`.
+fn rounded_rotations_note(rounded: &[Warning]) -> String {
+    // The measure as se3's message states it: `||R^T R - I||_F = 1.272e-4 (`.
+    let measure = |w: &Warning| {
+        let (_, rest) = w.message.split_once("||_F = ")?;
+        rest.split_whitespace().next()?.parse::<f64>().ok()
+    };
+    let values: Vec<f64> = rounded.iter().filter_map(measure).collect();
+    let (lo, hi) = values.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| {
+        (lo.min(v), hi.max(v))
+    });
+    let mut files: Vec<String> = rounded
+        .iter()
+        .filter_map(|w| w.location.file.as_ref())
+        .map(|f| {
+            f.file_stem()
+                .map_or_else(|| f.display().to_string(), |s| s.to_string_lossy().into())
+        })
+        .collect();
+    files.dedup();
+    let range = if values.is_empty() {
+        String::new()
+    } else {
+        format!(" (||R^T R - I||_F {lo:.1e} to {hi:.1e})")
+    };
+    format!(
+        "{} rigs: rotation rounded as published, orthonormal only to that rounding{range}, projected to the nearest rotation (non-orthonormal-rotation; `audit FILE` shows each): {}",
+        rounded.len(),
+        files.join(", ")
+    )
 }

@@ -88,7 +88,7 @@ impl Analysis {
 
     /// Per-axis footprint (frame-dependent): axis `k` flagged when the `k`-th
     /// diagonal entry of the Euclidean projector onto the degenerate subspace
-    /// is at least [`FOOTPRINT_SCORE_TOL`](crate::tolerances::FOOTPRINT_SCORE_TOL)
+    /// is at least `tolerances::FOOTPRINT_SCORE_TOL`
     /// (an absolute 1e-6 flagged every axis on noisy data).
     pub fn footprint(&self) -> [bool; 6] {
         footprint(&self.degenerate_vectors())

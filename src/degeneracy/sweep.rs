@@ -130,7 +130,7 @@ pub struct SweepRow {
 }
 
 impl Arm {
-    /// The five arms in the order of the per-arm arrays of [`SweepRow`].
+    /// The five arms in the order of the per-arm arrays of `SweepRow`.
     pub const ALL: [Arm; 5] = [
         Arm::Identity,
         Arm::PureRotation,

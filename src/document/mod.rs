@@ -1,6 +1,6 @@
 //! The document layer: what a report says, without how a format draws it.
 //! Below both [`crate::report`] (which builds documents) and
-//! [`crate::render`] (which draws them); it imports neither.
+//! `crate::render` (which draws them); it imports neither.
 //!
 //! A [`Report`] is a typed, `Serialize` value (its JSON, with
 //! [`SCHEMA_VERSION`]) that lays itself out as a [`Document`]: blocks in

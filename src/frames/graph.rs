@@ -766,14 +766,50 @@ impl FrameGraph {
         }
         let close = self.closest_frames(name, 3);
         Err(Error::frame(format!(
-            "unknown frame '{name}': expected one of the {} loaded frames; closest: {}",
+            "unknown frame '{name}': expected one of the {} loaded frames; closest: {}{}",
             self.names.len(),
-            close
-                .iter()
-                .map(|s| format!("'{s}'"))
-                .collect::<Vec<_>>()
-                .join(", ")
+            quoted_list(&close),
+            self.root_hint()
         )))
+    }
+
+    /// Where the trees start, for an unknown frame: `base_link` on a robot
+    /// whose root is `pelvis` is most often meant as that root, so the roots
+    /// (up to three) are named with the frames one edge below each.
+    fn root_hint(&self) -> String {
+        let roots: Vec<usize> = (0..self.names.len())
+            .filter(|&i| self.parent[i].is_none() && !self.children[i].is_empty())
+            .collect();
+        let Some(&first) = roots.first() else {
+            return String::new();
+        };
+        let below = |r: usize| -> Vec<String> {
+            let mut kids: Vec<String> = self.children[r]
+                .iter()
+                .map(|&ei| self.edges[ei].child.clone())
+                .collect();
+            kids.sort();
+            kids.dedup();
+            kids.truncate(3);
+            kids
+        };
+        if roots.len() == 1 {
+            return format!(
+                "; the tree's root: '{}' (one edge below it: {})",
+                self.names[first],
+                quoted_list(&below(first))
+            );
+        }
+        let names: Vec<String> = roots
+            .iter()
+            .take(3)
+            .map(|&r| self.names[r].clone())
+            .collect();
+        format!(
+            "; the {} trees' roots: {}",
+            roots.len(),
+            quoted_list(&names)
+        )
     }
 
     /// The frames from `i` up to its root, with the edge leading to each parent.
@@ -956,7 +992,7 @@ impl FrameGraph {
     /// The frame tree as text, one frame a line, children indented under their
     /// parent (like `check_urdf`), each with the place its edge came from; a
     /// frame declared without any edge is a root with a note saying so.
-    /// Levels deeper than [`TREE_MAX_INDENT`] are written `[depth N]` instead of
+    /// Levels deeper than `TREE_MAX_INDENT` are written `[depth N]` instead of
     /// being indented further, so the text stays linear in the number of frames.
     pub fn tree(&self) -> String {
         let mut out = String::new();
@@ -1026,4 +1062,13 @@ impl FrameGraph {
         }
         out
     }
+}
+
+/// `'a', 'b', 'c'`.
+fn quoted_list(names: &[String]) -> String {
+    names
+        .iter()
+        .map(|s| format!("'{s}'"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }

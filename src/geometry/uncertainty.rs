@@ -39,7 +39,7 @@
 //!   numbers were written (a calibration printed to 6 digits from a solver
 //!   accurate to 3): the user's `--sigma-t`/`--sigma-r` carry those.
 
-use super::se3::{QuatOrder, Transform};
+use super::se3::{QuatOrder, ScrewKind, Transform};
 use crate::diagnostic::Result;
 use crate::tolerances::{
     EXACT_SIGNIFICANT_DIGITS, MAX_SIGMA_R_DEG, MAX_SIGMA_T_M, PITCH_FLOAT_FLOOR_M, PITCH_K,
@@ -889,6 +889,58 @@ pub fn pitch_decision(h: f64, sigma_h: f64, tol: PitchTol) -> PitchDecision {
                 }
             }
         }
+    }
+}
+
+/// The verdict of a transform without a rotation axis (`kind` identity or
+/// pure translation) under `tol`: the identity is `zero` (every metric is
+/// invariant), a pure translation `nonzero`, whatever the rounding.
+///
+/// The screw of a pure translation has infinite pitch, and no constant metric
+/// is invariant under it (the paper, on adapted metrics: "A pure translation
+/// admits no such metric"): a definite answer. Not `undecidable` when the
+/// rotation as written is rounded: a rotation hidden in the rounding of a
+/// written identity (at most `PITCH_K` standard uncertainties, 6e-6 rad at six
+/// decimals) about an axis across the lever arm `d` would have zero pitch,
+/// but its axis, where M0 is centred, would lie `|d| / angle` away (40 km for
+/// a 0.23 m lever arm at six decimals): a metric no detector can use, and an
+/// answer that changes with every digit printed. The rotation is taken as
+/// published (no rotation), as the paper's survey takes it; a rig whose
+/// rotation is not written as the identity gets the three-way verdict on its
+/// `h` ([`pitch_decision`]).
+pub fn no_axis_decision(kind: ScrewKind, tol: PitchTol) -> PitchDecision {
+    let screw_tol = match tol {
+        PitchTol::Fixed(t) => t,
+        PitchTol::Auto => PITCH_FLOAT_FLOOR_M,
+    };
+    let verdict = match kind {
+        ScrewKind::Identity => PitchVerdict::Zero,
+        _ => PitchVerdict::Nonzero,
+    };
+    PitchDecision {
+        verdict,
+        screw_tol,
+        deciding_sigma_m: None,
+    }
+}
+
+#[cfg(test)]
+mod no_axis_tests {
+    use super::*;
+
+    /// Issue 33: a pure translation has a verdict; the identity is zero.
+    #[test]
+    fn pure_translation_verdicts() {
+        let pt = ScrewKind::PureTranslation;
+        let v = |k, t| no_axis_decision(k, t).verdict;
+        assert_eq!(v(pt, PitchTol::Auto), PitchVerdict::Nonzero);
+        assert_eq!(v(pt, PitchTol::Fixed(1e-3)), PitchVerdict::Nonzero);
+        assert_eq!(v(ScrewKind::Identity, PitchTol::Auto), PitchVerdict::Zero);
+        assert_eq!(no_axis_decision(pt, PitchTol::Fixed(0.01)).screw_tol, 0.01);
+        assert_eq!(
+            no_axis_decision(pt, PitchTol::Auto).screw_tol,
+            PITCH_FLOAT_FLOOR_M
+        );
     }
 }
 

@@ -40,7 +40,7 @@ pub struct DiffOptions {
     pub new_read: SideRead,
     /// Lengths of the bands, zero-pitch tolerance.
     pub rig: RigOptions,
-    /// `--tolerance MM,DEG`.
+    /// `--tolerance LENGTH,ANGLE`.
     pub tolerance: DiffToleranceJson,
 }
 

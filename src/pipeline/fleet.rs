@@ -1,4 +1,4 @@
-//! `audit check --fleet-tolerance MM,DEG`: the checked frame pairs of many
+//! `audit check --fleet-tolerance LENGTH,ANGLE`: the checked frame pairs of many
 //! robots (one calibration file per vehicle) compared with their fleet mean
 //! ([`crate::analysis::spread`]: the chordal rotation mean, the arithmetic
 //! translation mean); a finding per vehicle whose pair deviates from it

@@ -3,7 +3,7 @@
 //! same file by device and inode, or by its real path, symlinks and `./`
 //! resolved) and that no directory walk of the command would read. Checked
 //! before the work and again just before the write; the write itself is
-//! [`write_atomic`](super::write_atomic)'s.
+//! [`super::write_atomic`]'s.
 
 use super::files::{same_file, unsafe_target, write_atomic};
 use super::survey::{is_any_input, split_pair};

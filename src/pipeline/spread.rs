@@ -40,7 +40,7 @@ pub struct SpreadOptions {
     pub load: LoadOptions,
     /// Lengths of the bands, pitch tolerance.
     pub rig: RigOptions,
-    /// `--tolerance MM,DEG`: a calibration further than this from the mean
+    /// `--tolerance LENGTH,ANGLE`: a calibration further than this from the mean
     /// is beyond it (the fleet gate).
     pub tolerance: Option<DiffToleranceJson>,
 }

@@ -70,6 +70,20 @@ struct Input {
     pair: Option<(String, String)>,
     /// Found by a directory walk (skipped with a warning when unusable).
     walked: bool,
+    /// The same file is surveyed more than once (several pairs of it): its
+    /// rows' ids carry the pair.
+    shared: bool,
+}
+
+/// Mark the inputs whose file appears more than once.
+fn mark_shared(files: &mut [Input]) {
+    let mut count: std::collections::HashMap<PathBuf, usize> = Default::default();
+    for f in files.iter() {
+        *count.entry(f.path.clone()).or_default() += 1;
+    }
+    for f in files.iter_mut() {
+        f.shared = count[&f.path] > 1;
+    }
 }
 
 /// `FILE:FROM:TO` split, when `p` is not itself an existing path.
@@ -109,6 +123,7 @@ fn inputs(opts: &SurveyOptions) -> Result<Vec<Input>> {
                 path,
                 pair,
                 walked: false,
+                shared: false,
             });
             continue;
         }
@@ -119,6 +134,7 @@ fn inputs(opts: &SurveyOptions) -> Result<Vec<Input>> {
                 path: f,
                 pair: pair.clone(),
                 walked: true,
+                shared: false,
             });
         }
     }
@@ -174,9 +190,15 @@ fn survey_one(
     warnings.extend(graph.warnings().iter().cloned());
     let chain = graph.transform(&from, &to).map_err(|e| e.in_file(path))?;
     let rep = rig_report(&chain, &[1.0], how).map_err(|e| e.in_file(path))?;
-    // A file that is not a rig file is named by its path.
+    // A file that is not a rig file is named by its path, and by its pair
+    // too when the survey reads several pairs of it (issue 33: two rows of
+    // one URDF had the same id).
     let meta = meta.unwrap_or_else(|| RigMeta {
-        id: path.display().to_string(),
+        id: if input.shared {
+            format!("{}:{from}:{to}", path.display())
+        } else {
+            path.display().to_string()
+        },
         ..RigMeta::default()
     });
     let json = SurveyRigJson {
@@ -263,6 +285,8 @@ pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
         pitch_tol: opts.pitch_tol,
         user: opts.sigma,
     };
+    let mut files = files;
+    mark_shared(&mut files);
     let mut warnings = Vec::new();
     let mut rows = Vec::new();
     let mut failed = None;

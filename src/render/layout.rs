@@ -269,12 +269,29 @@ fn column_max(t: &Table, c: usize) -> usize {
         .max(head)
 }
 
+/// A column's narrowest: no cell word cut below [`word_min`], and no header
+/// word cut at all (issue 33: "equivarian / t rule" at 80 columns), except a
+/// hyphenated name, after a hyphen.
 fn column_min(t: &Table, c: usize) -> usize {
-    cells(t, c)
-        .flat_map(|s| s.split(['\n', ' ']))
+    let header = t.header.get(c).map_or("", String::as_str);
+    let head = header
+        .split(['\n', ' '])
+        .map(|w| {
+            if hyphen_breakable(w) {
+                word_min(w)
+            } else {
+                width_of(w)
+            }
+        })
+        .max()
+        .unwrap_or(0);
+    t.rows
+        .iter()
+        .flat_map(|r| r.get(c).map_or("", String::as_str).split(['\n', ' ']))
         .map(word_min)
         .max()
         .unwrap_or(0)
+        .max(head)
         .max(1)
 }
 

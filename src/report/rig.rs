@@ -357,14 +357,11 @@ pub fn rig_report(chain: &Chain, ells: &[f64], how: &Judgement) -> Result<RigRep
         .collect();
     let nominal = chain.transform.screw(PITCH_FLOAT_FLOOR_M);
     let unc = uncertainty::propagate(&steps, nominal.axis.as_ref())?;
-    let decision = nominal
-        .translation_along_axis
-        .map(|h| uncertainty::pitch_decision(h, unc.h_m.unwrap_or(0.0), how.pitch_tol));
-    let tol = match (decision, how.pitch_tol) {
-        (Some(d), _) => d.screw_tol,
-        (None, PitchTol::Fixed(t)) => t,
-        (None, PitchTol::Auto) => PITCH_FLOAT_FLOOR_M,
-    };
+    let decision = Some(match nominal.translation_along_axis {
+        Some(h) => uncertainty::pitch_decision(h, unc.h_m.unwrap_or(0.0), how.pitch_tol),
+        None => uncertainty::no_axis_decision(nominal.kind, how.pitch_tol),
+    });
+    let tol = decision.map_or(PITCH_FLOAT_FLOOR_M, |d| d.screw_tol);
     let an = metric::analyze(&chain.transform, ells, tol)?;
     let mut rep = report_from_analysis(&an, chain);
     rep.lever_arm_uncertainty_m = unc.lever_arm_m;
@@ -772,6 +769,13 @@ impl RigReport {
                 "screw translation h = e.d".into(),
                 // The label names h: the value alone (one line at 80 columns).
                 self.h_with_verdict().trim_start_matches("h = ").to_string(),
+            ]);
+        }
+        if sc.kind == ScrewKind::PureTranslation {
+            // No axis, no h: the pitch is infinite, and its verdict definite.
+            rows.push(vec![
+                "screw pitch h/phi".into(),
+                "infinite (no rotation), pitch nonzero".into(),
             ]);
         }
         if let Some(p) = sc.pitch_m_per_rad {

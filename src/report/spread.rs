@@ -221,7 +221,7 @@ pub struct SpreadReport {
     pub without_outliers: Option<SubsetJson>,
     /// The range of the certificate bands.
     pub bands: Vec<BandRangeJson>,
-    /// The fleet tolerance (`--tolerance MM,DEG`), when given.
+    /// The fleet tolerance (`--tolerance LENGTH,ANGLE`), when given.
     pub tolerance: Option<DiffToleranceJson>,
     /// The calibrations beyond it.
     pub exceeded: Vec<String>,

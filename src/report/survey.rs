@@ -43,7 +43,8 @@ pub struct SurveyRigJson {
     pub zero_pitch: bool,
     /// First-order standard uncertainty of `h` (m); null without a rotation.
     pub screw_translation_uncertainty_m: Option<f64>,
-    /// `zero`, `nonzero` or `undecidable`; null without a rotation.
+    /// `zero`, `nonzero` or `undecidable` (the identity: `zero`; a pure
+    /// translation: `nonzero`, infinite pitch).
     pub pitch_verdict: Option<PitchVerdict>,
     /// `none`, `rounding`, `user` or `both`.
     pub uncertainty_source: UncertaintySource,
@@ -273,10 +274,18 @@ fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
         id.push_str(&format!(" (duplicate of {d})"));
     }
     let small = small_rotation(j.angle_deg);
+    // A file that is not a rig file names no sensor or platform: a dash.
+    let or_dash = |s: &str| {
+        if s.is_empty() {
+            "-".to_string()
+        } else {
+            s.to_string()
+        }
+    };
     vec![
         id,
-        j.sensor.clone(),
-        j.platform.clone(),
+        or_dash(&j.sensor),
+        or_dash(&j.platform),
         metres(j.lever_arm_m),
         format!("{}{}", degrees(j.angle_deg), if small { "*" } else { "" }),
         match j.screw_translation_m {

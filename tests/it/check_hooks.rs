@@ -309,3 +309,246 @@ fn pre_commit_hook_in_a_ros_repository() {
         .arg(root().join("docs/ci/extrinsics.yml")));
     assert!(o.status.success(), "{}", ok(&o));
 }
+
+/// The hook's `files` and `exclude` patterns, as pre-commit reads them (Python
+/// `re.search` on the path relative to the repository), applied to `paths`:
+/// for each, whether the hook gets the file. `None` without python3.
+fn hook_matches(paths: &[&str]) -> Option<Vec<bool>> {
+    let hooks: Value = serde_saphyr::from_str(
+        &std::fs::read_to_string(root().join(".pre-commit-hooks.yaml")).unwrap(),
+    )
+    .expect("valid YAML");
+    let hook = &hooks[0];
+    let script = "import json, re, sys\nf, x, paths = json.load(sys.stdin)\nprint(json.dumps([bool(re.search(f, p)) and not re.search(x, p) for p in paths]))";
+    let mut child = Command::new("python3")
+        .args(["-c", script])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .ok()?;
+    let input = serde_json::json!([hook["files"], hook["exclude"], paths]).to_string();
+    use std::io::Write as _;
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    let o = child.wait_with_output().unwrap();
+    assert!(o.status.success(), "{}", ok(&o));
+    Some(serde_json::from_slice(&o.stdout).unwrap())
+}
+
+/// Every extension `audit check` walks (the format registry's) reaches the
+/// hook under a calibration folder, xacro files anywhere (issue 33: `.xacro`
+/// was skipped), and the ROS package's own files never.
+#[test]
+fn pre_commit_pattern_covers_every_walk_extension() {
+    let mut exts: Vec<&str> = extrinsic_audit::internals::formats::FORMATS
+        .iter()
+        .flat_map(|f| f.walk.iter().copied())
+        .collect();
+    exts.sort();
+    exts.dedup();
+    let walked: Vec<String> = exts
+        .iter()
+        .map(|e| format!("calibration/robot{e}"))
+        .collect();
+    let mut paths: Vec<&str> = walked.iter().map(String::as_str).collect();
+    let anywhere = [
+        "urdf/robot.urdf.xacro",
+        "description/urdf/sensors.xacro",
+        "robot.urdf",
+        "launch/static_tf.launch.py",
+    ];
+    let never = [
+        "package.xml",
+        "calibration/package.xml",
+        "CMakeLists.txt",
+        "config/nav2_params.yaml",
+        ".pre-commit-config.yaml",
+        "audit.toml",
+    ];
+    paths.extend(anywhere);
+    paths.extend(never);
+    let Some(got) = hook_matches(&paths) else {
+        eprintln!("SKIPPED pre_commit_pattern_covers_every_walk_extension: no python3");
+        return;
+    };
+    let expected: Vec<bool> = (0..walked.len() + anywhere.len())
+        .map(|_| true)
+        .chain(never.iter().map(|_| false))
+        .collect();
+    let wrong: Vec<_> = paths
+        .iter()
+        .zip(got.iter().zip(&expected))
+        .filter(|(_, (g, e))| g != e)
+        .collect();
+    assert!(
+        wrong.is_empty(),
+        "path, (hook gets it, expected): {wrong:?}"
+    );
+}
+
+/// action.yml: a composite action whose inputs are the ones its script reads,
+/// each step running tools/action-check through bash.
+#[test]
+fn github_action_is_a_composite_of_its_script() {
+    let text = std::fs::read_to_string(root().join("action.yml")).unwrap();
+    let a: Value = serde_saphyr::from_str(&text).expect("valid YAML");
+    for key in ["name", "description"] {
+        assert!(a[key].as_str().is_some_and(|s| !s.is_empty()), "{key}");
+    }
+    assert_eq!(a["runs"]["using"], "composite");
+    let inputs = a["inputs"].as_object().expect("inputs");
+    let names: Vec<&str> = inputs.keys().map(String::as_str).collect();
+    assert_eq!(
+        names,
+        ["args", "baseline", "format", "paths", "sarif-file"],
+        "inputs (sorted)"
+    );
+    for (name, i) in inputs {
+        assert!(i["description"].is_string(), "{name}: description");
+        assert!(i["default"].is_string(), "{name}: default");
+    }
+    let steps = a["runs"]["steps"].as_array().expect("steps");
+    assert_eq!(steps.len(), 2);
+    for s in steps {
+        // A composite step's `run` needs its `shell` (GitHub's schema).
+        assert_eq!(s["shell"], "bash", "{s}");
+        let run = s["run"].as_str().unwrap();
+        assert!(
+            run.contains("$GITHUB_ACTION_PATH/tools/action-check"),
+            "{run}"
+        );
+    }
+    let env = &steps[1]["env"];
+    for name in &names {
+        let var = format!("INPUT_{}", name.to_uppercase().replace('-', "_"));
+        assert_eq!(
+            env[var.as_str()],
+            format!("${{{{ inputs.{name} }}}}"),
+            "{var}"
+        );
+    }
+    assert_eq!(
+        a["outputs"]["sarif-file"]["value"],
+        "${{ steps.check.outputs.sarif-file }}"
+    );
+    assert_eq!(steps[1]["id"], "check");
+}
+
+/// The action's script: a dry run prints the commands it would run (the
+/// install from the action's checkout, the check with every input), and a real
+/// run with AUDIT_BIN gates a drift (exit 1) and writes the SARIF file.
+#[test]
+fn github_action_script_dry_run_and_real_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let script = root().join("tools/action-check");
+    let audit = assert_cmd::cargo::cargo_bin("audit");
+    let run = |args: &[&str], env: &[(&str, &str)]| {
+        let mut c = Command::new("bash");
+        c.arg(&script).args(args).current_dir(tmp.path());
+        for k in ["AUDIT_BIN", "GITHUB_WORKSPACE", "GITHUB_OUTPUT"] {
+            c.env_remove(k);
+        }
+        c.env("AUDIT_ACTION_ROOT", tmp.path().join("root"));
+        for (k, v) in env {
+            c.env(k, v);
+        }
+        sh(&mut c)
+    };
+    let o = run(&["install"], &[("AUDIT_ACTION_DRY_RUN", "1")]);
+    assert!(o.status.success(), "{}", ok(&o));
+    let printed = String::from_utf8_lossy(&o.stdout).to_string();
+    let root_dir = tmp.path().join("root");
+    let expected = format!(
+        "cargo\ninstall\n--locked\n--quiet\n--path\n{}\n--root\n{}\n--bin\naudit\n---\n",
+        root().display(),
+        root_dir.display()
+    );
+    assert_eq!(printed, expected);
+    let o = run(
+        &["check"],
+        &[
+            ("AUDIT_ACTION_DRY_RUN", "1"),
+            ("INPUT_PATHS", "calibration\nlaunch/tf.launch.py"),
+            ("INPUT_BASELINE", "calibration/baseline.json"),
+            ("INPUT_FORMAT", "sarif"),
+            ("INPUT_SARIF_FILE", "out.sarif"),
+            ("INPUT_ARGS", "--deny-warnings --max-lever-arm 0.5"),
+            ("GITHUB_WORKSPACE", "/ws"),
+        ],
+    );
+    assert!(o.status.success(), "{}", ok(&o));
+    let lines: Vec<String> = String::from_utf8_lossy(&o.stdout)
+        .lines()
+        .map(String::from)
+        .collect();
+    let bin = root_dir.join("bin/audit").display().to_string();
+    assert_eq!(
+        lines,
+        [
+            bin.as_str(),
+            "check",
+            "calibration",
+            "launch/tf.launch.py",
+            "--baseline",
+            "calibration/baseline.json",
+            "--confine",
+            "/ws",
+            "--deny-warnings",
+            "--max-lever-arm",
+            "0.5",
+            "--format",
+            "sarif",
+            "--output",
+            "out.sarif",
+            "---"
+        ]
+    );
+    let o = run(&["check"], &[("INPUT_FORMAT", "json")]);
+    assert_eq!(o.status.code(), Some(2), "{}", ok(&o));
+    assert!(ok(&o).contains("expected github or sarif, found 'json'"));
+
+    // The real run: a baseline, then a drift of 5 mm.
+    write(tmp.path(), "calibration/fast_lio.yaml", &fast_lio(0.04165));
+    let o = sh(Command::new(&audit).current_dir(tmp.path()).args([
+        "check",
+        "calibration",
+        "--write-baseline",
+        "calibration/baseline.json",
+    ]));
+    assert!(o.status.success(), "{}", ok(&o));
+    let audit_s = audit.display().to_string();
+    let real = |format: &str| {
+        run(
+            &["check"],
+            &[
+                ("AUDIT_BIN", audit_s.as_str()),
+                ("INPUT_PATHS", "calibration"),
+                ("INPUT_BASELINE", "calibration/baseline.json"),
+                ("INPUT_FORMAT", format),
+            ],
+        )
+    };
+    assert!(real("github").status.success());
+    assert!(run(&["install"], &[("AUDIT_BIN", audit_s.as_str())])
+        .status
+        .success());
+    write(tmp.path(), "calibration/fast_lio.yaml", &fast_lio(0.04665));
+    let o = real("github");
+    assert_eq!(o.status.code(), Some(1), "{}", ok(&o));
+    assert!(
+        String::from_utf8_lossy(&o.stdout).contains("::error file=calibration/fast_lio.yaml"),
+        "{}",
+        ok(&o)
+    );
+    let o = real("sarif");
+    assert_eq!(o.status.code(), Some(1), "{}", ok(&o));
+    let sarif: Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("audit-check.sarif")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(sarif["version"], "2.1.0");
+}

@@ -287,7 +287,7 @@ fn bad_input_exits_2_with_a_message() {
                 "--tolerance",
                 "1",
             ],
-            "MM,DEG",
+            "LENGTH,ANGLE",
         ),
         (
             &[

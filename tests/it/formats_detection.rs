@@ -108,8 +108,14 @@ const TABLE: &[(At, &str, By)] = &[
     (Own("tests/fixtures/bags/updates_mcapdir"), "bag", Name),
     (Own("tests/fixtures/extrinsics/av2/av2_test_log_egovehicle_SE3_sensor.uncompressed.feather"), "av2-feather", Name),
     (Own("tests/fixtures/extrinsics/av2/av2_test_log_egovehicle_SE3_sensor.uncompressed.feather"), "av2-feather", Content),
-    (Shared("gadomski__las-rs/tests/data/autzen.las"), "las", Name),
-    (Shared("gadomski__las-rs/tests/data/autzen.laz"), "las", Content),
+    (Shared("gadomski__las-rs/tests/data/autzen.las"), "point-cloud", Name),
+    (Shared("gadomski__las-rs/tests/data/autzen.laz"), "point-cloud", Content),
+    (Own("tests/fixtures/detector/tunnel_small_ascii.ply"), "point-cloud", Name),
+    (Own("tests/fixtures/detector/tunnel_small_le.ply"), "point-cloud", Content),
+    (Own("tests/fixtures/detector/tunnel_small_ascii.pcd"), "point-cloud", Name),
+    (Own("tests/fixtures/detector/tunnel_small_ascii.pcd"), "point-cloud", Content),
+    (Own("tests/fixtures/detector/tunnel_small_bin.pcd"), "point-cloud", Content),
+    (Own("tests/fixtures/detector/tunnel_small.csv"), "point-cloud", Name),
     (Own("tests/fixtures/formats/calib_imu_to_velo.txt"), "kitti-calib", Name),
     (Own("tests/fixtures/extrinsics/kitti_object_000000.txt"), "kitti-object", Name),
     (Shared("SJTU-ViSYS__M2DGR/calibration_results.txt"), "m2dgr-txt", Name),
@@ -211,8 +217,8 @@ fn input_format_names_every_format() {
             Ok(l) => assert!(!l.edges.is_empty(), "{id}: {}", name_of(at)),
             // No direction can be traced: refused without --assume, naming it.
             Err(e) if id == "matrix4-text" => assert!(e.message.contains("--assume"), "{e}"),
-            Err(e) if id == "las" => {
-                assert!(e.message.contains("LAS/LAZ point cloud"), "{e}");
+            Err(e) if id == "point-cloud" => {
+                assert!(e.message.contains("point cloud"), "{e}");
                 assert!(
                     e.message
                         .contains("audit degeneracy FILE --estimate-normals"),

@@ -23,6 +23,7 @@ mod detector_core;
 mod detector_scans;
 mod detector_threshold;
 mod diff;
+mod first_hour;
 mod formats_bad_inputs;
 mod formats_bags;
 mod formats_calib;

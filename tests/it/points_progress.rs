@@ -159,6 +159,18 @@ fn a_big_file_draws_a_bar_on_a_terminal_and_nothing_in_a_pipe() {
     }
     let shown = pty_run(80, &args);
     assert!(shown.contains("bytes read ["), "{shown}");
+    // Never a bar of nothing first (issue 33: a full `0/0` bar was drawn
+    // before the length was known), and every bar drawn has the file's length.
+    assert!(!shown.contains(" 0/0 "), "{shown}");
+    let len = std::fs::metadata(&path).unwrap().len();
+    let bars: Vec<&str> = shown
+        .lines()
+        .filter(|l| l.contains("bytes read ["))
+        .collect();
+    assert!(
+        bars.iter().all(|l| l.contains(&format!("/{len} "))),
+        "{len}: {bars:?}"
+    );
     assert!(!pty_run_stdout(80, &args).contains("bytes read ["));
     let quiet = pty_run(
         80,

@@ -291,7 +291,7 @@ fn spread_tolerance_gates_each_calibration() {
     assert_eq!(code, 0);
     let (code, _, err) = run_cli(&["spread", &dir, "--tolerance", "25"]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("expected MM,DEG"), "{err}");
+    assert!(err.contains("expected LENGTH,ANGLE"), "{err}");
 }
 
 #[test]
@@ -390,7 +390,10 @@ fn a_fleet_names_the_vehicle_that_deviates() {
     assert_eq!(code, 0, "{out}");
     let (code, _, err) = run_cli(&["check", r, "--fleet-tolerance", "5"]);
     assert_eq!(code, 2);
-    assert!(err.contains("--fleet-tolerance: expected MM,DEG"), "{err}");
+    assert!(
+        err.contains("--fleet-tolerance: expected LENGTH,ANGLE"),
+        "{err}"
+    );
 }
 
 /// `--plot`: six strip plots as SVG, the outlier named; a target that is

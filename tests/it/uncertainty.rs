@@ -330,10 +330,17 @@ fn verdict_table() -> String {
         survey(&[]),
         survey(&["--sigma-t", "0.002", "--sigma-r", "0.1"]),
     );
-    let verdict = |r: &serde_json::Value| match r["pitch_verdict"].as_str() {
-        Some(v) => v.to_string(),
-        None if r["lever_arm_m"].as_f64() == Some(0.0) => "zero (identity)".into(),
-        None => "nonzero (pure translation)".into(),
+    // Without a rotation the verdict is definite (issue 33): the identity's
+    // `zero`, a pure translation's `nonzero`; the table says which.
+    let verdict = |r: &serde_json::Value| {
+        let v = r["pitch_verdict"]
+            .as_str()
+            .expect("every rig has a verdict");
+        match (r["screw_translation_m"].is_null(), v) {
+            (true, "zero") => "zero (identity)".to_string(),
+            (true, _) => format!("{v} (pure translation)"),
+            _ => v.to_string(),
+        }
     };
     let mut t = String::from(
         "| id | h ± σ_h (m), as written | verdict | h ± σ_h (m), + 2 mm, 0.1° per edge | verdict |\n|---|---|---|---|---|\n",

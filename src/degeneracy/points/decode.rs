@@ -5,7 +5,7 @@ use super::check::Stats;
 use super::record::{PointFormat, Sink};
 use super::source::Source;
 use super::{csv, pcd, ply};
-use crate::bytes::LAS_MAGIC;
+use crate::bytes::{looks_like_pcd, LAS_MAGIC, PLY_MAGICS};
 use crate::diagnostic::{Error, Result};
 use std::io::Read;
 
@@ -26,17 +26,48 @@ pub(super) fn detect<R: Read>(src: &mut Source<R>) -> Result<Kind> {
     }
     let head = src.data();
     let head = &head[..head.len().min(4096)];
-    Ok(
-        if head.starts_with(b"ply\n") || head.starts_with(b"ply\r\n") {
-            Kind::Ply
-        } else if head.starts_with(LAS_MAGIC) {
-            Kind::Las
-        } else if looks_like_pcd(head) {
-            Kind::Pcd
+    Ok(if PLY_MAGICS.iter().any(|m| head.starts_with(m)) {
+        Kind::Ply
+    } else if head.starts_with(LAS_MAGIC) {
+        Kind::Las
+    } else if looks_like_pcd(head) {
+        Kind::Pcd
+    } else if let Some(what) = not_points(head) {
+        return Err(Error::parse(format!(
+            "expected a point cloud (PLY, PCD, CSV x,y,z[,nx,ny,nz], LAS/LAZ), found {what}"
+        )));
+    } else {
+        Kind::Csv
+    })
+}
+
+/// What a head that is no point file holds, for the refusal: XML (a URDF's
+/// `<robot>` named as a robot description), or a YAML/TOML key line (a
+/// calibration or configuration file). A CSV of points starts with a header
+/// of names or with numbers, never `<`, `key:` or `[table]`.
+fn not_points(head: &[u8]) -> Option<&'static str> {
+    let s = String::from_utf8_lossy(head);
+    let first = s
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty() && !l.starts_with('#'))?;
+    if first.starts_with('<') {
+        let robot = s.contains("<robot");
+        return Some(if robot {
+            "a robot description (URDF, `<robot>`): its frames and extrinsics are read by `audit FILE --frames` and `audit FILE --from A --to B`"
         } else {
-            Kind::Csv
-        },
-    )
+            "XML (a launch file or robot description?): its extrinsics are read by `audit FILE --frames`"
+        });
+    }
+    let key = first.split_once([':', '=']).is_some_and(|(k, _)| {
+        !k.is_empty()
+            && !k.contains(',')
+            && k.trim()
+                .chars()
+                .all(|c| c.is_alphanumeric() || "_-. /\"".contains(c))
+    });
+    (key || (first.starts_with('[') && !first.contains(',')))
+        .then_some("a calibration or configuration file (YAML/TOML keys): its extrinsics are read by `audit FILE`")
 }
 
 /// Decode a whole stream into `sink` on this thread. `xyz_only`: normals are
@@ -60,22 +91,6 @@ pub(super) fn decode<R: Read, S: Sink>(
         Kind::Las => Err(las_without_normals()),
         Kind::Csv => csv::decode(src, sink, xyz_only),
     }
-}
-
-fn looks_like_pcd(head: &[u8]) -> bool {
-    let s = String::from_utf8_lossy(head);
-    for line in s.lines() {
-        let t = line.trim();
-        if t.is_empty() || (t.starts_with('#') && !t.contains(".PCD")) {
-            continue;
-        }
-        if t.starts_with("# .PCD") {
-            return true;
-        }
-        let first = t.split_whitespace().next().unwrap_or("");
-        return matches!(first, "VERSION" | "FIELDS");
-    }
-    false
 }
 
 /// LAS records have no normals: the same refusal as a PCD without them.

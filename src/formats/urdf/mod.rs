@@ -5,7 +5,7 @@
 //! fixed-axis roll-pitch-yaw, `R = Rz(yaw) Ry(pitch) Rx(roll)`, then the joint's
 //! motion. A missing `<origin>` is the identity; a missing `rpy` or `xyz` is zero.
 //!
-//! Versions, as ROS (urdfdom 6.0) reads them ([`UrdfVersion`]): `<robot version>` is
+//! Versions, as ROS (urdfdom 6.0) reads them ([`UrdfVersion`](crate::formats::spec::UrdfVersion)): `<robot version>` is
 //! 1.0 when absent, must be `x.y` and 1.0 to 1.2, else the file is refused at
 //! the `<robot>` line. URDF 1.1's `quat_xyzw` (x y z w order) is applied only
 //! from 1.1 (or with `--urdf-version 1.1`); in a 1.0 file ROS ignores it,

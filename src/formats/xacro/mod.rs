@@ -171,7 +171,7 @@ fn include_kind(text: &str, path: &Path) -> Option<IncludeOnly> {
     (doc.root.name == "robot" && doc.root.attr("name").is_none()).then_some(IncludeOnly::Nameless)
 }
 
-/// Whether `e`'s children only define things (see [`macro_only`]), the
+/// Whether `e`'s children only define things (see `macro_only`), the
 /// macro names collected.
 fn library_body(e: &tree::Elem, macros: &mut Vec<String>) -> bool {
     e.children.iter().all(|n| match n {

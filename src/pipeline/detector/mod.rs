@@ -535,7 +535,7 @@ pub fn simulate_transform(rig: &SimulateRig) -> Result<Transform> {
     }
 }
 
-/// [`calibrate_threshold`], reporting the sweep's progress.
+/// `calibrate_threshold`, reporting the sweep's progress.
 pub fn calibrate_threshold_with(
     c: &Calibration,
     progress: &dyn crate::progress::Progress,
