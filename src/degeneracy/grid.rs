@@ -48,7 +48,11 @@ impl Grid {
     /// not finite or too far from the origin for exact cells, or there are
     /// more points than a `u32` indexes (the caller keeps the k-d tree then).
     pub(crate) fn new(points: &[[f64; 3]], radius: f64) -> Option<Grid> {
-        if points.is_empty() || points.len() >= u32::MAX as usize || !(radius > 0.0) {
+        if points.is_empty()
+            || points.len() >= u32::MAX as usize
+            || radius.is_nan()
+            || radius <= 0.0
+        {
             return None;
         }
         let cell = radius * (1.0 + CELL_MARGIN);
@@ -60,8 +64,8 @@ impl Grid {
             let mut key = [0i64; 3];
             for k in 0..3 {
                 let c = p[k] / cell;
-                if !(c.abs() < MAX_CELL_INDEX) {
-                    return None; // also NaN
+                if c.is_nan() || c.abs() >= MAX_CELL_INDEX {
+                    return None;
                 }
                 key[k] = floor_i64(c);
             }
