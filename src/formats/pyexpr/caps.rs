@@ -7,7 +7,7 @@ use super::parse::Expr;
 use crate::diagnostic::{Error, Result};
 use crate::tolerances::{MAX_PY_ITEMS, MAX_PY_STR_BYTES};
 
-/// A [`Code::Limit`] error at `e`.
+/// A [`Code::Limit`](crate::diagnostic::Code::Limit) error at `e`.
 pub fn limit(e: &Expr, msg: impl Into<String>) -> Error {
     Error::limit(msg.into()).at_line(e.line, Some(e.col))
 }
