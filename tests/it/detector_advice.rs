@@ -165,7 +165,16 @@ fn the_to_do_line_names_this_rigs_band_lever_arm_and_pitch() {
                 "{path}: {line}"
             );
         }
-        if v["screw"]["pitch_verdict"] == "nonzero" {
+        if v["screw"]["kind"] == "pure_translation" {
+            // No screw axis and no h: the verdict is "nonzero" (infinite
+            // pitch, issue 33) and the line says why in the lever arm's terms.
+            assert!(
+                line.contains(&format!(
+                    "no constant metric is invariant under a pure translation of {lever:.3} m"
+                )),
+                "{path}: {line}"
+            );
+        } else if v["screw"]["pitch_verdict"] == "nonzero" {
             let h = v["screw"]["translation_along_axis_m"].as_f64().unwrap();
             assert!(
                 line.contains("rules out an adapted metric M0"),
