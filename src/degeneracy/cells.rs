@@ -21,8 +21,17 @@ pub(crate) fn floor_i64(x: f64) -> i64 {
     }
 }
 
+/// Each key with its index, in (key, index) order (see the module notes):
+/// what the three grids walk, runs of one cell together.
+pub(crate) fn sorted_by_key(keys: &[[i64; 3]]) -> Vec<([i64; 3], usize)> {
+    order_by_key(keys)
+        .into_iter()
+        .map(|i| (keys[i], i))
+        .collect()
+}
+
 /// The indices of `keys` in (key, index) order (see the module notes).
-pub(crate) fn order_by_key(keys: &[[i64; 3]]) -> Vec<usize> {
+fn order_by_key(keys: &[[i64; 3]]) -> Vec<usize> {
     let n = keys.len();
     let mut lo = [i64::MAX; 3];
     let mut hi = [i64::MIN; 3];

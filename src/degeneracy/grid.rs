@@ -18,7 +18,7 @@
 //! points within a cell in input order), so the result does not depend on
 //! threads.
 
-use super::cells::{floor_i64, order_by_key};
+use super::cells::{floor_i64, sorted_by_key};
 use foldhash::HashMap;
 
 /// Relative widening of a cell over the search radius (see the module notes).
@@ -72,10 +72,7 @@ impl Grid {
             keys.push(key);
         }
         // (key, index) order keeps input order within a cell.
-        let keyed: Vec<([i64; 3], u32)> = order_by_key(&keys)
-            .into_iter()
-            .map(|i| (keys[i], i as u32))
-            .collect();
+        let keyed = sorted_by_key(&keys);
         drop(keys);
         let mut sorted = Vec::with_capacity(points.len());
         let mut start = Vec::new();
@@ -86,8 +83,8 @@ impl Grid {
                 keys.push(key);
                 start.push(j as u32);
             }
-            cell_of[i as usize] = (keys.len() - 1) as u32;
-            sorted.push(points[i as usize]);
+            cell_of[i] = (keys.len() - 1) as u32;
+            sorted.push(points[i]);
         }
         start.push(points.len() as u32);
         drop(keyed);

@@ -18,7 +18,7 @@
 //! threads by contiguous point ranges; the output keeps the input order, so it
 //! does not depend on the thread count.
 
-use super::cells::{floor_i64, order_by_key};
+use super::cells::{floor_i64, sorted_by_key};
 use super::grid::Grid;
 use super::scene::Cloud;
 use crate::diagnostic::{Error, Result};
@@ -248,10 +248,7 @@ pub fn merge_duplicates(points: &[[f64; 3]], weights: Option<&[f64]>) -> Option<
         .iter()
         .map(|p| p.map(|c| floor_i64(c / cell)))
         .collect();
-    let order: Vec<([i64; 3], usize)> = order_by_key(&keys)
-        .into_iter()
-        .map(|i| (keys[i], i))
-        .collect();
+    let order = sorted_by_key(&keys);
     drop(keys);
     // Each group: its first point (input order), its weights' sum, its size.
     let mut firsts: Vec<(usize, f64, usize)> = Vec::new();

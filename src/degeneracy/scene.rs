@@ -24,7 +24,7 @@
 //! documented algorithm with a fixed output for a given seed on every platform);
 //! uniform doubles take the top 53 bits; normal deviates use Box-Muller.
 
-use super::cells::{floor_i64, order_by_key};
+use super::cells::{floor_i64, sorted_by_key};
 use crate::diagnostic::{Error, Result};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Matrix3, Matrix6, SymmetricEigen, UnitQuaternion, Vector3};
@@ -481,10 +481,7 @@ pub fn voxel_downsample_weighted(
         .iter()
         .map(|p| std::array::from_fn(|a| floor_i64((p[a] - origin[a]) / voxel)))
         .collect();
-    let keyed: Vec<([i64; 3], usize)> = order_by_key(&keys)
-        .into_iter()
-        .map(|i| (keys[i], i))
-        .collect();
+    let keyed = sorted_by_key(&keys);
     drop(keys);
     let mut out = Vec::new();
     let mut wout = Vec::new();
