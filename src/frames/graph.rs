@@ -186,7 +186,8 @@ fn quat(t: &Transform) -> String {
 }
 
 /// The frames a chain passes, `a <- b -> c` (arrows point from parent to child).
-fn path_text(chain: &Chain) -> String {
+/// A chain as `from -> child <- parent ...`, for messages.
+pub(crate) fn path_text(chain: &Chain) -> String {
     let mut out = chain.from.clone();
     for s in &chain.steps {
         if s.inverted {

@@ -6,7 +6,7 @@
 
 use crate::analysis::mistakes::{explain, MistakeTol};
 use crate::diagnostic::{Code, Diagnostic, Severity};
-use crate::frames::{Chain, Edge, FrameGraph};
+use crate::frames::{path_text, Chain, Edge, FrameGraph};
 use crate::geometry::Transform;
 use crate::report::diff::{DiffToleranceJson, EdgeDiffJson, EdgeStatus};
 use crate::report::mistakes::{entries, MistakeJson};
@@ -58,19 +58,6 @@ pub(super) fn in_diff(
                 "old",
                 "new",
             ));
-        }
-    }
-    out
-}
-
-/// The frames a chain passes, `a -> b <- c` (arrows from parent to child).
-fn path_text(chain: &Chain) -> String {
-    let mut out = chain.from.clone();
-    for s in &chain.steps {
-        if s.inverted {
-            out.push_str(&format!(" <- {}", s.edge.parent));
-        } else {
-            out.push_str(&format!(" -> {}", s.edge.child));
         }
     }
     out
