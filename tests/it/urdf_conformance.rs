@@ -1,9 +1,11 @@
-//! URDF as ROS computes it: the peers' URDF test cases (urdfdom, urdf-rs,
-//! pytransform3d; tests/fixtures/urdf_conformance/SOURCES.md) run through the
-//! binary and compared with what urdfdom 6.0.0 makes of them (measured by
-//! generate.py) and with the pose each peer test asserts. Every case that
-//! differs must be listed in docs/urdf-differences.md, and every listed case
-//! must still differ.
+//! URDF as ROS computes it: the conformance cases authored in
+//! tests/fixtures/urdf_conformance (author.py; each tagged with the behaviour
+//! it tests and citing the upstream test of that behaviour, SOURCES.md) run
+//! through the binary and compared with what urdfdom 6.0.0 makes of them
+//! (measured by generate.py) and with the pose the case's numbers give in
+//! closed form where author.py writes one. Every case that differs must be
+//! listed in docs/urdf-differences.md, and every listed case must still
+//! differ.
 //!
 //! Also here: the behaviour the suite led to (version handling, unattached
 //! links in `--frames`, `--joint` on a fixed joint, positions outside
@@ -19,29 +21,19 @@ const DIFFERENCES: &str = "docs/urdf-differences.md";
 /// Poses agree when every entry of the 4x4 matrices agrees to this: urdfdom
 /// prints 17 digits and both sides compose a few f64 products.
 const POSE_TOL: f64 = 1e-9;
+/// Marks a pose that differs from the one the case's numbers give by hand: no
+/// row of the table can excuse it.
+const OFF_CLOSED_FORM: &str = "pose differs from the closed form";
 /// Marks a case audit accepts although urdfdom refuses it, without saying so.
 const NO_WARNING: &str = "WITHOUT a refused-by-ros warning";
 
-/// The cases that are whole files of the peers, read in place from the
-/// test-data folder (docs/test-data.md); the test strings are in DIR/cases.
-const REAL: [(&str, &str); 3] = [
-    (
-        "cases/pytransform3d/robot_with_visuals.urdf",
-        "dfki-ric__pytransform3d/test/test_data/robot_with_visuals.urdf",
-    ),
-    (
-        "cases/pytransform3d/simple_mechanism.urdf",
-        "dfki-ric__pytransform3d/test/test_data/simple_mechanism.urdf",
-    ),
-    ("cases/urdf-rs/sample.urdf", "openrr__urdf-rs/sample.urdf"),
-];
-
-/// The file of `case` (`None`: a real file, absent).
+/// The file of `case` (`None`: a whole upstream file that the test-data
+/// folder, docs/test-data.md, does not have here); the authored cases are in
+/// DIR/cases.
 fn case_file(case: &Value) -> Option<PathBuf> {
-    let file = case["file"].as_str().expect("file");
-    match REAL.iter().find(|(f, _)| *f == file) {
-        Some((_, real)) => crate::common::testdata::file(real),
-        None => Some(PathBuf::from(DIR).join(file)),
+    match case.get("test_data").and_then(Value::as_str) {
+        Some(real) => crate::common::testdata::file(real),
+        None => Some(PathBuf::from(DIR).join(case["file"].as_str().expect("file"))),
     }
 }
 
@@ -71,16 +63,12 @@ fn max_diff(a: &[[f64; 4]; 4], b: &[[f64; 4]; 4]) -> f64 {
     d
 }
 
-/// What the tool makes of one case: `Ok((pose, stderr))` (`pose` is `None`
-/// without a query) or `Err(stderr)` when it refuses (exit 2; any other exit
-/// fails the test).
-type Pose = [[f64; 4]; 4];
-fn run_case(case: &Value) -> Result<(Option<Pose>, String), String> {
-    let file = case_file(case).expect("a case that is there");
+/// The command that runs one case: its query as `--from/--to/--joint` with a
+/// JSON report, or `--frames` without a query.
+fn case_command(case: &Value) -> assert_cmd::Command {
     let mut cmd = audit();
-    cmd.arg(&file);
-    let query = case.get("query");
-    match query {
+    cmd.arg(case_file(case).expect("a case that is there"));
+    match case.get("query") {
         Some(q) => {
             cmd.args(["--from", q["from"].as_str().expect("from")]);
             cmd.args(["--to", q["to"].as_str().expect("to")]);
@@ -95,39 +83,46 @@ fn run_case(case: &Value) -> Result<(Option<Pose>, String), String> {
             cmd.arg("--frames");
         }
     }
-    let out = cmd.output().expect("run");
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    match out.status.code() {
-        Some(0) => {}
-        Some(2) => return Err(stderr),
-        other => panic!(
-            "{}: exit {other:?} (a crash, not a refusal): {}",
-            case["id"],
-            String::from_utf8_lossy(&out.stderr)
-        ),
-    }
-    if query.is_none() {
-        return Ok((None, stderr));
-    }
-    let rep: Value = serde_json::from_slice(&out.stdout).expect("json report");
+    cmd
+}
+
+type Pose = [[f64; 4]; 4];
+
+/// The 4x4 pose of a JSON report's `transform`.
+fn report_pose(stdout: &[u8]) -> Pose {
+    let rep: Value = serde_json::from_slice(stdout).expect("json report");
     let r = &rep["transform"]["rotation_matrix"];
     let d = &rep["transform"]["translation_m"];
-    let mut m = [
-        [0.0, 0.0, 0.0, 0.0],
-        [0.0; 4],
-        [0.0; 4],
-        [0.0, 0.0, 0.0, 1.0],
-    ];
+    let mut m = [[0.0; 4]; 4];
+    m[3][3] = 1.0;
     for i in 0..3 {
         for j in 0..3 {
             m[i][j] = r[i][j].as_f64().expect("r");
         }
         m[i][3] = d[i].as_f64().expect("d");
     }
-    Ok((Some(m), stderr))
+    m
 }
 
-/// How the tool differs from urdfdom or from the peer's assertion, if it does.
+/// What the tool makes of one case: `Ok((pose, stderr))` (`pose` is `None`
+/// without a query) or `Err(stderr)` when it refuses (exit 2; any other exit
+/// fails the test).
+fn run_case(case: &Value) -> Result<(Option<Pose>, String), String> {
+    let out = case_command(case).output().expect("run");
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    match out.status.code() {
+        Some(0) => {}
+        Some(2) => return Err(stderr),
+        other => panic!(
+            "{}: exit {other:?} (a crash, not a refusal): {stderr}",
+            case["id"]
+        ),
+    }
+    let pose = case.get("query").map(|_| report_pose(&out.stdout));
+    Ok((pose, stderr))
+}
+
+/// How the tool differs from urdfdom or from the closed form, if it does.
 fn difference(case: &Value) -> Option<String> {
     let ros = &case["urdfdom"];
     let ros_accepts = ros["outcome"] == "accepted";
@@ -154,10 +149,10 @@ fn difference(case: &Value) -> Option<String> {
                 why.push(format!("pose differs from urdfdom's by {d:e}"));
             }
         }
-        if let Some(pp) = case.get("peer_pose") {
-            let d = max_diff(pose, &matrix(&pp["matrix"]));
-            if d > pp["tol"].as_f64().expect("tol") {
-                why.push(format!("pose differs from the peer test's by {d:e}"));
+        if let Some(cf) = case.get("closed_form") {
+            let d = max_diff(pose, &matrix(cf));
+            if d > POSE_TOL {
+                why.push(format!("{OFF_CLOSED_FORM} by {d:e}"));
             }
         }
     }
@@ -212,7 +207,7 @@ fn conformance_suite_matches_the_differences_table() {
         .collect();
     assert!(
         unlisted.is_empty() && stale.is_empty(),
-        "cases that differ from urdfdom or their peer but are not in {DIFFERENCES}:\n{}\nlisted cases that no longer differ (or do not exist):\n{stale:?}",
+        "cases that differ from urdfdom or their closed form but are not in {DIFFERENCES}:\n{}\nlisted cases that no longer differ (or do not exist):\n{stale:?}",
         unlisted.join("\n")
     );
     let silent: Vec<&String> = differing
@@ -224,28 +219,39 @@ fn conformance_suite_matches_the_differences_table() {
         silent.is_empty(),
         "urdfdom refuses, audit accepts silently: {silent:?}"
     );
+    let off: Vec<String> = differing
+        .iter()
+        .filter(|(_, d)| d.contains(OFF_CLOSED_FORM))
+        .map(|(id, d)| format!("{id}: {d}"))
+        .collect();
+    assert!(
+        off.is_empty(),
+        "audit's pose is not the closed form: {off:?}"
+    );
     for (id, reason) in &listed {
         assert!(!reason.is_empty(), "{id}: listed without a reason");
     }
 }
 
-/// urdfdom's own locale test runs its cases under `LC_ALL=nl_NL.UTF-8` (a
-/// decimal comma): the numbers must read the same.
+/// urdfdom's own locale test (urdf_unit_test.cpp) runs its cases under
+/// `LC_ALL=nl_NL.UTF-8` (a decimal comma): the decimal cases must give the
+/// pose urdfdom measured under that locale too.
 #[test]
 fn number_parsing_ignores_the_locale() {
-    for case in manifest()
-        .iter()
+    let decimal: Vec<Value> = manifest()
+        .into_iter()
         .filter(|c| c["id"].as_str().is_some_and(|id| id.ends_with("_doubles")))
-    {
-        let file = PathBuf::from(DIR).join(case["file"].as_str().expect("file"));
-        let out = audit()
-            .arg(&file)
-            .args(["--from", "l1", "--to", "l2", "--format", "json"])
+        .collect();
+    assert_eq!(decimal.len(), 3);
+    for case in &decimal {
+        let out = case_command(case)
             .env("LC_ALL", "nl_NL.UTF-8")
             .env("LANG", "nl_NL.UTF-8")
             .output()
             .expect("run");
         assert_eq!(out.status.code(), Some(0), "{}", case["id"]);
+        let d = max_diff(&report_pose(&out.stdout), &matrix(&case["urdfdom"]["pose"]));
+        assert!(d < POSE_TOL, "{}: {d:e} from urdfdom's pose", case["id"]);
     }
 }
 
