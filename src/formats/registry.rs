@@ -118,6 +118,15 @@ pub(crate) fn detect_text(input: &Input) -> Result<Format> {
             }
         }
     }
+    if let Some((Confidence::Fallback, _)) = best {
+        if let Some(kind) = prose_kind(input) {
+            return Err(Error::parse(format!(
+                "not a calibration file this tool reads: it looks like {kind}; \
+                 expected a URDF, launch file, calibration YAML/JSON or text"
+            ))
+            .in_file(input.path()));
+        }
+    }
     match best {
         Some((c, f)) if c >= Confidence::Claim || !input.looks_xml() => Ok(Format(f)),
         _ if input.looks_xml() => Err(xml::unknown_root(input.text()?).in_file(input.path())),
@@ -126,6 +135,39 @@ pub(crate) fn detect_text(input: &Input) -> Result<Format> {
         )
         .in_file(input.path())),
     }
+}
+
+/// What a file only the fallback YAML reader claims looks like, when it is
+/// a document rather than calibration data: a documentation extension names
+/// it (`.md`, `.rst`, `.html`, ...); a file with no YAML extension whose text
+/// is not YAML is Markdown when it has a `# ` heading or a ```` ``` ```` fence
+/// and plain text otherwise. A `.yaml`/`.yml` file is never prose: its parse
+/// error is the answer. `None`: read it as YAML.
+fn prose_kind(input: &Input) -> Option<String> {
+    const DOCS: &[(&str, &str)] = &[
+        ("md", "Markdown"),
+        ("markdown", "Markdown"),
+        ("rst", "reStructuredText"),
+        ("html", "HTML"),
+        ("htm", "HTML"),
+        ("adoc", "AsciiDoc"),
+        ("org", "an Org document"),
+        ("tex", "LaTeX"),
+    ];
+    let ext = input.ext();
+    if let Some((_, kind)) = DOCS.iter().find(|(e, _)| *e == ext) {
+        return Some(format!("{kind} (.{ext})"));
+    }
+    if matches!(ext, "yaml" | "yml") {
+        return None;
+    }
+    let text = input.text().ok()?;
+    crate::formats::yaml::parse_documents(text).err()?;
+    let markdown = text
+        .lines()
+        .any(|l| l.starts_with("```") || (l.starts_with("# ") && l.len() > 2));
+    let kind = if markdown { "Markdown" } else { "plain text" };
+    Some(format!("{kind}, not YAML"))
 }
 
 /// Whether a directory walk reads this file: a walk suffix of a format, or

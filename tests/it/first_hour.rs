@@ -82,6 +82,41 @@ fn point_clouds_given_as_extrinsics_are_named() {
     }
 }
 
+/// A document only the fallback YAML reader would claim is refused as not a
+/// calibration file, naming what it looks like (before: "not valid YAML:
+/// simple key expected ':'" on calibrations/README.md); a broken `.yaml` file
+/// keeps its YAML error with the line.
+#[test]
+fn documents_are_not_calibration_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let notes = dir.path().join("NOTES");
+    std::fs::write(&notes, "# Notes\n\nsee: the rig: it moved\n  badly\n").unwrap();
+    let prose = dir.path().join("notes");
+    std::fs::write(&prose, "hello world\nthis is: a: b\n  x\n").unwrap();
+    let broken = dir.path().join("broken.yaml");
+    std::fs::write(&broken, "a: [1,\n").unwrap();
+    let (n, p) = (notes.to_str().unwrap(), prose.to_str().unwrap());
+    for (file, kind) in [
+        ("calibrations/README.md", "Markdown (.md)"),
+        (n, "Markdown, not YAML"),
+        (p, "plain text, not YAML"),
+    ] {
+        let (code, out, err) = run_cli(&[file]);
+        assert_eq!(code, 2, "{file}: {err}");
+        assert!(out.is_empty(), "{out}");
+        assert!(
+            err.contains(&format!(
+                "{file}: not a calibration file this tool reads: it looks like {kind}"
+            )),
+            "{file}: {err}"
+        );
+        assert!(!err.contains("not valid YAML"), "{file}: {err}");
+    }
+    let (code, _, err) = run_cli(&[broken.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("broken.yaml:1:4: not valid YAML"), "{err}");
+}
+
 #[test]
 fn a_robot_description_given_to_degeneracy_is_named() {
     let (code, _, err) = run_cli(&["degeneracy", URDF]);
