@@ -141,6 +141,7 @@ mod render;
 mod report;
 mod run;
 mod sanitize;
+mod stack;
 mod tolerances;
 
 // Robots: load, compose, report.

@@ -127,10 +127,6 @@ pub fn strip_opencv_directive(text: &str) -> std::borrow::Cow<'_, str> {
     }
 }
 
-/// Stack for the thread that parses YAML: the parse recurses per nesting level,
-/// and callers may run on small thread stacks (2 MiB test threads).
-const YAML_STACK: usize = 64 * 1024 * 1024;
-
 fn options() -> serde_saphyr::options::Options {
     let mut o = serde_saphyr::options::Options::default();
     let mut budget = o.budget.clone().unwrap_or_default();
@@ -181,9 +177,8 @@ fn split_position(s: &str) -> (Option<usize>, Option<usize>, String) {
 
 /// Parse every document of a YAML stream.
 ///
-/// Runs on a thread of its own with a 64 MiB stack, so the nesting
-/// limits hold whatever stack the caller has (a stack overflow is an abort,
-/// not an error). If that thread cannot be started, parses on the caller's.
+/// Runs on a large stack ([`crate::stack::deep`]), so the nesting limits hold
+/// whatever stack the caller has.
 pub fn parse_documents(text: &str) -> Result<Vec<Node>> {
     let text = strip_opencv_directive(text);
     let parse = |t: &str| -> Result<Vec<Node>> {
@@ -191,16 +186,7 @@ pub fn parse_documents(text: &str) -> Result<Vec<Node>> {
             serde_saphyr::from_multiple_with_options(t, options()).map_err(yaml_error)?;
         Ok(docs.into_iter().map(node).collect())
     };
-    std::thread::scope(|s| {
-        match std::thread::Builder::new()
-            .name("yaml".into())
-            .stack_size(YAML_STACK)
-            .spawn_scoped(s, || parse(&text))
-        {
-            Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
-            Err(_) => parse(&text),
-        }
-    })
+    crate::stack::deep("yaml", || parse(&text))
 }
 
 impl Node {

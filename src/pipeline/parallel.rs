@@ -69,10 +69,9 @@ where
     let due = (Mutex::new((0usize, false)), Condvar::new());
     let (tx, rx) = mpsc::channel::<(usize, R)>();
     std::thread::scope(|s| {
-        for _ in 0..threads {
-            let tx = tx.clone();
-            let (next, due, work) = (&next, &due, &work);
-            s.spawn(move || loop {
+        let (next, due, work) = (&next, &due, &work);
+        let job = move |tx: mpsc::Sender<(usize, R)>| {
+            move || loop {
                 let i = next.fetch_add(1, Ordering::Relaxed);
                 if i >= items.len() {
                     return;
@@ -89,7 +88,14 @@ where
                 if tx.send((i, work(i, &items[i]))).is_err() {
                     return;
                 }
-            });
+            }
+        };
+        for _ in 0..threads {
+            // A large stack, so the parsers' deep-recursion guard runs inline;
+            // without one (it could not be had) they start their own.
+            if crate::stack::spawn_large(s, job(tx.clone())).is_none() {
+                s.spawn(job(tx.clone()));
+            }
         }
         drop(tx);
         let mut buffer: VecDeque<Option<R>> = VecDeque::new();

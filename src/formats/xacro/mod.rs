@@ -75,10 +75,6 @@ impl Expanded {
     }
 }
 
-/// Stack for the expansion thread: evaluation recurses per XML level and per
-/// macro call, and callers may run on small (2 MiB) test-thread stacks.
-const XACRO_STACK: usize = 64 * 1024 * 1024;
-
 /// Expand xacro `text` read from `path` into URDF text with a line map.
 pub fn expand(text: &str, path: &Path, opts: &LoadOptions) -> Result<Expanded> {
     let run = || -> Result<Expanded> {
@@ -102,16 +98,7 @@ pub fn expand(text: &str, path: &Path, opts: &LoadOptions) -> Result<Expanded> {
             warnings: ex.warnings,
         })
     };
-    std::thread::scope(|s| {
-        match std::thread::Builder::new()
-            .name("xacro".into())
-            .stack_size(XACRO_STACK)
-            .spawn_scoped(s, run)
-        {
-            Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
-            Err(_) => run(),
-        }
-    })
+    crate::stack::deep("xacro", run)
 }
 
 /// Why an xacro file is an include, not a robot of its own.
