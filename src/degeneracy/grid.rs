@@ -1,24 +1,16 @@
 //! Fixed-radius neighbour search on a uniform grid, for normal estimation.
 //!
 //! Every query of the normal estimation has the same radius `r`, so a grid of
-//! cubic cells of side `c >= r / 2` finds a point's neighbours in the 125
-//! cells around its own: `|q_x - p_x| <= r <= 2c` puts `q`'s cell index
-//! within two of `p`'s on every axis. This is what a k-d tree radius query
-//! returns (the same set: squared distance `<= r^2`, computed in the same x,
-//! y, z order), for about half the instructions on a LiDAR scan (the tree's
-//! backtracking is what a fixed radius does not need).
+//! cubic cells of side `c >= r` finds a point's neighbours in the 27 cells
+//! around its own: `|q_x - p_x| <= r <= c` puts `q`'s cell index within one
+//! of `p`'s on every axis. This is what a k-d tree radius query returns (the
+//! same set: squared distance `<= r^2`, computed in the same x, y, z order),
+//! for about half the instructions on a LiDAR scan (the tree's backtracking
+//! is what a fixed radius does not need).
 //!
-//! Cells of side `r / 2` rather than `r`: of the 5 x 5 x 5 cells around a
-//! point, those whose nearest corner is farther than `r` from the point are
-//! skipped before any of their points is distance-tested (the lower bound is
-//! computed from the point's place in its own cell, less a slack of
-//! `CELL_MARGIN` of a cell per axis, so a cell is only skipped when none of
-//! its points can be within `r`). On a surface this distance-tests about
-//! half the points that the 27 cells of side `r` held.
-//!
-//! `c = r (1 + CELL_MARGIN) / 2`: a cell index is `floor(x / c)` in floating
+//! `c = r (1 + CELL_MARGIN)`: a cell index is `floor(x / c)` in floating
 //! point, off by at most a few units in the last place of `x / c`; the margin
-//! keeps a neighbour at distance exactly `r` within two cells as long as
+//! keeps a neighbour at distance exactly `r` within one cell as long as
 //! `|x| / c < MAX_CELL_INDEX`. Beyond that (or with a non-finite coordinate)
 //! [`Grid::new`] returns `None` and the caller keeps the k-d tree.
 //!
@@ -37,12 +29,6 @@ const CELL_MARGIN: f64 = 1e-3;
 /// margin (`1e-3` of a cell), and the index fits an `i64` exactly.
 const MAX_CELL_INDEX: f64 = (1u64 << 40) as f64;
 
-/// Neighbour cells are searched this many cells away on each axis.
-const REACH: i64 = 2;
-
-/// Cells per axis of the searched block.
-const SPAN: usize = (2 * REACH + 1) as usize;
-
 /// Points sorted by cell, and each cell's neighbour cells.
 pub(crate) struct Grid {
     /// The points, sorted by cell (stable: input order within a cell).
@@ -51,16 +37,10 @@ pub(crate) struct Grid {
     start: Vec<u32>,
     /// For each input point, its cell.
     cell_of: Vec<u32>,
-    /// Each cell's integer key.
-    keys: Vec<[i64; 3]>,
-    /// Cell `k`'s occupied neighbour cells (itself included, x, y, z order)
-    /// with their offset from it, each axis's `d + REACH` packed as
-    /// `(dx * SPAN + dy) * SPAN + dz`:
+    /// Cell `k`'s occupied neighbour cells (itself included, x, y, z order):
     /// `around[around_start[k]..around_start[k + 1]]`.
-    around: Vec<(u32, u8)>,
+    around: Vec<u32>,
     around_start: Vec<u32>,
-    /// The side of a cell (m).
-    cell: f64,
 }
 
 impl Grid {
@@ -75,7 +55,7 @@ impl Grid {
         {
             return None;
         }
-        let cell = radius * (1.0 + CELL_MARGIN) / REACH as f64;
+        let cell = radius * (1.0 + CELL_MARGIN);
         if !cell.is_finite() {
             return None;
         }
@@ -119,15 +99,13 @@ impl Grid {
         let mut around_start = Vec::with_capacity(keys.len() + 1);
         for key in &keys {
             around_start.push(around.len() as u32);
-            let mut code = 0u8;
-            for dx in -REACH..=REACH {
-                for dy in -REACH..=REACH {
-                    for dz in -REACH..=REACH {
+            for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
                         let n = [key[0] + dx, key[1] + dy, key[2] + dz];
                         if let Some(&k) = index.get(&n) {
-                            around.push((k, code));
+                            around.push(k);
                         }
-                        code += 1;
                     }
                 }
             }
@@ -137,10 +115,8 @@ impl Grid {
             sorted,
             start,
             cell_of,
-            keys,
             around,
             around_start,
-            cell,
         })
     }
 
@@ -156,14 +132,8 @@ impl Grid {
         mut f: impl FnMut([f64; 3]),
     ) {
         let c = self.cell_of[i] as usize;
-        let gap = self.gaps(&self.keys[c], p);
         let cells = &self.around[self.around_start[c] as usize..self.around_start[c + 1] as usize];
-        for &(k, code) in cells {
-            let code = code as usize;
-            let (dx, dy, dz) = (code / (SPAN * SPAN), (code / SPAN) % SPAN, code % SPAN);
-            if gap[0][dx] + gap[1][dy] + gap[2][dz] > r2 {
-                continue;
-            }
+        for &k in cells {
             let k = k as usize;
             let run = &self.sorted[self.start[k] as usize..self.start[k + 1] as usize];
             for q in run {
@@ -175,30 +145,6 @@ impl Grid {
                 }
             }
         }
-    }
-
-    /// Per axis and offset `d` (index `d + REACH`), a lower bound on the
-    /// squared distance along that axis from `p` (in the cell `key`) to any
-    /// point of the cell `d` away: whole cells between them plus the part of
-    /// `p`'s own cell on that side, less `CELL_MARGIN` of a cell for the
-    /// rounding of `x / c` (see the module notes).
-    #[inline]
-    fn gaps(&self, key: &[i64; 3], p: &[f64; 3]) -> [[f64; SPAN]; 3] {
-        let mut g = [[0.0; SPAN]; 3];
-        for a in 0..3 {
-            // p's place in its cell, in cells: about [0, 1).
-            let t = (p[a] / self.cell - key[a] as f64).clamp(0.0, 1.0);
-            for (j, d) in (-REACH..=REACH).enumerate() {
-                let cells = match d {
-                    0 => 0.0,
-                    d if d > 0 => (d - 1) as f64 + (1.0 - t),
-                    d => (-d - 1) as f64 + t,
-                };
-                let lo = ((cells - CELL_MARGIN) * self.cell).max(0.0);
-                g[a][j] = lo * lo;
-            }
-        }
-        g
     }
 }
 
@@ -270,12 +216,11 @@ mod tests {
         }
     }
 
-    /// The cells skipped by their nearest corner: a lattice spaced by half
-    /// the radius puts points on every cell face and corner and at exactly
-    /// `r`, `r sqrt 2` and `r / 2 sqrt 3` from each other, where a bound that
-    /// is not a bound drops a neighbour.
+    /// A lattice spaced by half the radius puts points on cell faces and
+    /// corners and at exactly `r` from each other; points a hair inside and
+    /// outside `r` test the margin.
     #[test]
-    fn skipped_cells_hold_no_neighbour() {
+    fn lattice_points_at_the_radius_are_found() {
         for (r, offset) in [(0.3, 0.0), (0.3, -1e6), (0.25, 3e5), (1.0, 0.0)] {
             let h = r / 2.0;
             let mut pts = Vec::new();
