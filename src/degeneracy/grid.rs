@@ -216,6 +216,39 @@ mod tests {
         }
     }
 
+    /// A lattice spaced by half the radius puts points on cell faces and
+    /// corners and at exactly `r` from each other; points a hair inside and
+    /// outside `r` test the margin.
+    #[test]
+    fn lattice_points_at_the_radius_are_found() {
+        for (r, offset) in [(0.3, 0.0), (0.3, -1e6), (0.25, 3e5), (1.0, 0.0)] {
+            let h = r / 2.0;
+            let mut pts = Vec::new();
+            for i in -4..=4 {
+                for j in -4..=4 {
+                    for k in -3..=3 {
+                        pts.push([offset + i as f64 * h, j as f64 * h, k as f64 * h]);
+                    }
+                }
+            }
+            // Points a hair inside and outside `r` of the lattice's centre.
+            for s in [1.0 - 1e-12, 1.0, 1.0 + 1e-12] {
+                let d = r * s / 3f64.sqrt();
+                pts.push([offset + d, d, d]);
+                pts.push([offset - r * s, 0.0, 0.0]);
+            }
+            let tree = ImmutableKdTree::<f64, 3>::new_from_slice(&pts).unwrap();
+            let g = Grid::new(&pts, r).unwrap();
+            let r2 = r * r;
+            for (i, p) in pts.iter().enumerate() {
+                let mut got = Vec::new();
+                g.visit_within(i, p, r2, |q| got.push(bits(&q)));
+                got.sort_unstable();
+                assert_eq!(got, tree_set(&tree, p, r2), "point {i}, r {r}");
+            }
+        }
+    }
+
     #[test]
     fn far_or_non_finite_points_keep_the_tree() {
         assert!(Grid::new(&[[0.0; 3], [f64::NAN, 0.0, 0.0]], 0.3).is_none());
