@@ -13,6 +13,7 @@
 //! `R_base^T R_now` (deg, from the quaternions) against the tolerances given.
 
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result};
+use crate::frames::ValuesAt;
 use crate::tolerances::{DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -96,8 +97,15 @@ fn refuse_twice(path: &Path, key: Option<String>) -> Result<()> {
 }
 
 /// Where each edge and pair of a checked file is written: `(parent, child)`
-/// (`(from, to)` for a pair) to its location.
-pub type Locations = BTreeMap<(String, String), Location>;
+/// (`(from, to)` for a pair) to its location and where its numbers are (a
+/// pair's: its edge's, when it is one edge).
+pub type Locations = BTreeMap<(String, String), (Location, ValuesAt)>;
+
+/// An entry of [`Locations`]: where the translation's numbers
+/// (`translation`) or the rotation's are written, else the entry's location.
+pub fn value_location((at, values): &(Location, ValuesAt), translation: bool) -> Location {
+    values.locate(at, translation)
+}
 
 /// One checked file: how findings name it, its record, where its values are.
 #[derive(Debug, Clone)]
@@ -115,8 +123,19 @@ impl CheckedFile<'_> {
         let mut l = self
             .locations
             .get(&(a.to_string(), b.to_string()))
-            .cloned()
+            .map(|(l, _)| l.clone())
             .unwrap_or_default();
+        l.file = Some(self.path.to_path_buf());
+        l
+    }
+
+    /// Where the translation's numbers (`translation`) or the rotation's of
+    /// `a -> b` are written; the edge's own location where not known.
+    fn at_value(&self, a: &str, b: &str, translation: bool) -> Location {
+        let mut l = match self.locations.get(&(a.to_string(), b.to_string())) {
+            Some(w) => value_location(w, translation),
+            None => Location::default(),
+        };
         l.file = Some(self.path.to_path_buf());
         l
     }
@@ -137,13 +156,14 @@ fn vec_mm(v: [f64; 3]) -> String {
 
 /// The drift finding of one transform, if it moved beyond a tolerance: old ->
 /// new translation (mm) and the rotation angle between them (deg), each with
-/// its tolerance.
+/// its tolerance; located where the translation's numbers are written when
+/// the translation moved beyond its tolerance, else the rotation's.
 fn drift(
     what: String,
     now: &BaselineTransform,
     base: &BaselineTransform,
     tol: DriftTolerances,
-    at: Location,
+    file: &CheckedFile,
 ) -> Option<Diagnostic> {
     let dt = (0..3)
         .map(|k| (now.translation_m[k] - base.translation_m[k]).powi(2))
@@ -173,7 +193,7 @@ fn drift(
                 round6(now.quaternion_xyzw),
             ),
         )
-        .at(&at),
+        .at(&file.at_value(&now.parent, &now.child, over_t)),
     )
 }
 
@@ -216,7 +236,7 @@ fn compare_edges(
                 e,
                 b,
                 tol,
-                now.at(&b.parent, &b.child),
+                now,
             )),
             None => out.push(finding(
                 Code::MissingEdge,
@@ -300,7 +320,7 @@ pub fn compare_file(
             &p.transform,
             &b.transform,
             tol,
-            at.clone(),
+            now,
         ));
         if verdict(p) != verdict(b) {
             out.push(finding(

@@ -121,6 +121,9 @@ pub(super) fn second_source(
     Some(Some(
         Diagnostic::new(Code::RedundantEdgeDisagrees, message)
             .with_severity(Severity::Error)
-            .at(&edge.provenance.location),
+            // At the numbers that disagree: the translation's when it is off.
+            .at(&edge
+                .provenance
+                .value_location(e.translation_mm > tol.translation_mm)),
     ))
 }
