@@ -12,8 +12,10 @@
 //! Drift: the translation difference `||d_now - d_base||` (m) and the angle of
 //! `R_base^T R_now` (deg, from the quaternions) against the tolerances given.
 
+use crate::analysis::mistakes::{explain, MistakeTol};
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result};
 use crate::frames::ValuesAt;
+use crate::geometry::se3::{QuatOrder, Transform};
 use crate::tolerances::{DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -179,6 +181,7 @@ fn drift(
         (true, false) => "the translation tolerance",
         _ => "the rotation tolerance",
     };
+    let mistake = mistake(base, now, tol).map_or(String::new(), |s| format!("; {s}"));
     Some(
         Diagnostic::new(
             Code::Drift,
@@ -191,10 +194,34 @@ fn drift(
                 tol.rotation_deg,
                 round6(base.quaternion_xyzw),
                 round6(now.quaternion_xyzw),
-            ),
+            ) + &mistake,
         )
         .at(&file.at_value(&now.parent, &now.child, over_t)),
     )
+}
+
+/// The convention mistake that maps the baseline onto the file now within
+/// the drift tolerances (`crate::analysis::mistakes`, issue 30), as a
+/// sentence; `None` when none does (a recalibration, not a mistake).
+fn mistake(
+    base: &BaselineTransform,
+    now: &BaselineTransform,
+    tol: DriftTolerances,
+) -> Option<String> {
+    let read = |t: &BaselineTransform| {
+        Transform::from_quaternion(
+            t.quaternion_xyzw,
+            QuatOrder::Xyzw,
+            t.translation_m,
+            &mut Vec::new(),
+        )
+        .ok()
+    };
+    let tol = MistakeTol {
+        translation_mm: tol.translation_m * 1e3,
+        rotation_deg: tol.rotation_deg,
+    };
+    explain(&read(base)?, &read(now)?, &tol).sentence("the baseline", "the file")
 }
 
 fn round6(q: [f64; 4]) -> [f64; 4] {
