@@ -151,7 +151,7 @@ pub struct ChainDiffJson {
 /// The diff report.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct DiffReport {
-    /// Version of this JSON layout ([`DIFF_SCHEMA_VERSION`]).
+    /// Version of this JSON layout (2: `from`, `to` and `chain` may be null).
     pub schema_version: u32,
     /// OLD, as named on the command line.
     pub old: String,
