@@ -12,7 +12,10 @@
 //! Drift: the translation difference `||d_now - d_base||` (m) and the angle of
 //! `R_base^T R_now` (deg, from the quaternions) against the tolerances given.
 
+use crate::analysis::mistakes::{explain, MistakeTol};
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result};
+use crate::frames::ValuesAt;
+use crate::geometry::se3::{QuatOrder, Transform};
 use crate::tolerances::{DEFAULT_MAX_ROTATION_DRIFT_DEG, DEFAULT_MAX_TRANSLATION_DRIFT};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -96,8 +99,15 @@ fn refuse_twice(path: &Path, key: Option<String>) -> Result<()> {
 }
 
 /// Where each edge and pair of a checked file is written: `(parent, child)`
-/// (`(from, to)` for a pair) to its location.
-pub type Locations = BTreeMap<(String, String), Location>;
+/// (`(from, to)` for a pair) to its location and where its numbers are (a
+/// pair's: its edge's, when it is one edge).
+pub type Locations = BTreeMap<(String, String), (Location, ValuesAt)>;
+
+/// An entry of [`Locations`]: where the translation's numbers
+/// (`translation`) or the rotation's are written, else the entry's location.
+pub fn value_location((at, values): &(Location, ValuesAt), translation: bool) -> Location {
+    values.locate(at, translation)
+}
 
 /// One checked file: how findings name it, its record, where its values are.
 #[derive(Debug, Clone)]
@@ -115,8 +125,19 @@ impl CheckedFile<'_> {
         let mut l = self
             .locations
             .get(&(a.to_string(), b.to_string()))
-            .cloned()
+            .map(|(l, _)| l.clone())
             .unwrap_or_default();
+        l.file = Some(self.path.to_path_buf());
+        l
+    }
+
+    /// Where the translation's numbers (`translation`) or the rotation's of
+    /// `a -> b` are written; the edge's own location where not known.
+    fn at_value(&self, a: &str, b: &str, translation: bool) -> Location {
+        let mut l = match self.locations.get(&(a.to_string(), b.to_string())) {
+            Some(w) => value_location(w, translation),
+            None => Location::default(),
+        };
         l.file = Some(self.path.to_path_buf());
         l
     }
@@ -137,13 +158,14 @@ fn vec_mm(v: [f64; 3]) -> String {
 
 /// The drift finding of one transform, if it moved beyond a tolerance: old ->
 /// new translation (mm) and the rotation angle between them (deg), each with
-/// its tolerance.
+/// its tolerance; located where the translation's numbers are written when
+/// the translation moved beyond its tolerance, else the rotation's.
 fn drift(
     what: String,
     now: &BaselineTransform,
     base: &BaselineTransform,
     tol: DriftTolerances,
-    at: Location,
+    file: &CheckedFile,
 ) -> Option<Diagnostic> {
     let dt = (0..3)
         .map(|k| (now.translation_m[k] - base.translation_m[k]).powi(2))
@@ -159,6 +181,7 @@ fn drift(
         (true, false) => "the translation tolerance",
         _ => "the rotation tolerance",
     };
+    let mistake = mistake(base, now, tol).map_or(String::new(), |s| format!("; {s}"));
     Some(
         Diagnostic::new(
             Code::Drift,
@@ -171,10 +194,34 @@ fn drift(
                 tol.rotation_deg,
                 round6(base.quaternion_xyzw),
                 round6(now.quaternion_xyzw),
-            ),
+            ) + &mistake,
         )
-        .at(&at),
+        .at(&file.at_value(&now.parent, &now.child, over_t)),
     )
+}
+
+/// The convention mistake that maps the baseline onto the file now within
+/// the drift tolerances (`crate::analysis::mistakes`, issue 30), as a
+/// sentence; `None` when none does (a recalibration, not a mistake).
+fn mistake(
+    base: &BaselineTransform,
+    now: &BaselineTransform,
+    tol: DriftTolerances,
+) -> Option<String> {
+    let read = |t: &BaselineTransform| {
+        Transform::from_quaternion(
+            t.quaternion_xyzw,
+            QuatOrder::Xyzw,
+            t.translation_m,
+            &mut Vec::new(),
+        )
+        .ok()
+    };
+    let tol = MistakeTol {
+        translation_mm: tol.translation_m * 1e3,
+        rotation_deg: tol.rotation_deg,
+    };
+    explain(&read(base)?, &read(now)?, &tol).sentence("the baseline", "the file")
 }
 
 fn round6(q: [f64; 4]) -> [f64; 4] {
@@ -216,7 +263,7 @@ fn compare_edges(
                 e,
                 b,
                 tol,
-                now.at(&b.parent, &b.child),
+                now,
             )),
             None => out.push(finding(
                 Code::MissingEdge,
@@ -300,7 +347,7 @@ pub fn compare_file(
             &p.transform,
             &b.transform,
             tol,
-            at.clone(),
+            now,
         ));
         if verdict(p) != verdict(b) {
             out.push(finding(

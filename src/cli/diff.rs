@@ -1,5 +1,6 @@
 //! `audit diff OLD NEW [--from A --to B]`: what changed between two
-//! calibrations. Exit 1 when a change exceeds `--tolerance`, 0 otherwise.
+//! calibrations. Exit 1 when a change exceeds `--tolerance` (without a chain,
+//! also when an edge is in one file only), 0 otherwise.
 
 use super::args::{
     length_angle, parse_tolerance, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs,
@@ -20,15 +21,19 @@ use std::path::PathBuf;
     long_about = "Compares two calibration files, of the same format or not (a URDF \
 against a Kalibr YAML or a rig TOML, frames matched with --rename): for every edge in \
 both, the change of translation (mm, |d_new - d_old|) and of rotation (deg, the angle of \
-R_old^T R_new), the edges only in one file, and for the --from -> --to chain the change \
-of lever arm, screw translation, certificate bands and every detector family's \
-verdict.\n\nExit status: 1 when the chain or a common edge moved beyond --tolerance, \
-or a verdict changed (screw kind, adapted metric, a family); 0 otherwise; 2 on bad \
-input. Edges in only one file are listed but do not by themselves fail.\n\nEach file is \
+R_old^T R_new), the edges only in one file, and for the --from -> --to chain (or the \
+pair a rig file declares) the change of lever arm, screw translation, certificate bands \
+and every detector family's verdict. Without --from/--to on files that declare no pair \
+(two URDFs, two YAMLs), the whole files are compared, edge by edge.\n\nExit status, \
+whole files: 0 when every edge in both is within --tolerance and no edge is in one file \
+only, 1 otherwise. With a chain: 1 when the chain or a common edge moved beyond \
+--tolerance, or a verdict changed (screw kind, adapted metric, a family), 0 otherwise; \
+edges in only one file are listed but do not by themselves fail (two formats rarely \
+share edges). 2 on bad input.\n\nEach file is \
 read as the rig report reads it; per side, --key-old/--key-new pick one key of a YAML/JSON \
 file with several transforms (--key: the same key in both), and --invert-old/--invert-new \
 (--invert: both) read a file whose numbers are the pose of the parent in the child.",
-    after_long_help = "Examples:\n  audit diff old/robot.urdf new/robot.urdf --from base_link --to lidar\n  audit diff robot.urdf kalibr.yaml --from imu_link --to lidar --rename kalibr.yaml:imu0=imu_link --rename kalibr.yaml:lidar0=lidar\n  audit diff calibrations/anymal-d.urdf calibrations/anymal-d-lidar-imu.toml --format markdown\n  audit diff a.urdf b.urdf --from base --to lidar --tolerance 0.5mm,0.01deg\n  audit diff calibrations/geode-gamma-avia.toml gamma_config.yaml --key-new T_IMU_LiDAR\n  audit diff run1/camchain-imucam.yaml run2/camchain-imucam.yaml --key cam0 --from imu --to cam0"
+    after_long_help = "Examples:\n  audit diff old/robot.urdf new/robot.urdf\n  audit diff old/robot.urdf new/robot.urdf --from base_link --to lidar\n  audit diff robot.urdf kalibr.yaml --from imu_link --to lidar --rename kalibr.yaml:imu0=imu_link --rename kalibr.yaml:lidar0=lidar\n  audit diff calibrations/anymal-d.urdf calibrations/anymal-d-lidar-imu.toml --format markdown\n  audit diff a.urdf b.urdf --from base --to lidar --tolerance 0.5mm,0.01deg\n  audit diff calibrations/geode-gamma-avia.toml gamma_config.yaml --key-new T_IMU_LiDAR\n  audit diff run1/camchain-imucam.yaml run2/camchain-imucam.yaml --key cam0 --from imu --to cam0"
 )]
 pub struct DiffArgs {
     /// The old calibration file
@@ -37,7 +42,8 @@ pub struct DiffArgs {
     /// The new calibration file
     #[arg(value_name = "NEW")]
     pub new: PathBuf,
-    /// Parent frame of the chain compared (else the pair a rig file declares)
+    /// Parent frame of the chain compared (else the pair a rig file
+    /// declares; with neither, the whole files are compared)
     #[arg(long, value_name = "FRAME")]
     pub from: Option<String>,
     /// Child frame of the chain compared

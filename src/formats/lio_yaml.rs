@@ -28,7 +28,7 @@
 use super::spec::{check_metres, locate_warnings, Confidence, Input, Parsed};
 use super::yaml::Node;
 use super::yaml_keyed::{keys, yaml_dialect};
-use super::yaml_shapes::{err_at, exactly, key_node, loc_of, mat3, unique_map};
+use super::yaml_shapes::{err_at, exactly, key_node, key_values, loc_of, mat3, unique_map};
 use crate::diagnostic::{Error, Result};
 use crate::frames::Edge;
 use crate::geometry::se3::Transform;
@@ -85,14 +85,10 @@ fn rt_edge(
     })?;
     check_metres(&d, tkey, &loc, &mut ws);
     locate_warnings(ws, &loc, &mut out.warnings);
-    out.edges.push(Edge::new(
-        parent,
-        child,
-        t,
-        loc,
-        id,
-        format!("{tkey} + {rkey}"),
-    ));
+    out.edges.push(
+        Edge::new(parent, child, t, loc, id, format!("{tkey} + {rkey}"))
+            .with_values(key_values(m, tkey, rkey)),
+    );
     Ok(())
 }
 

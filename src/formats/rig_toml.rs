@@ -43,7 +43,7 @@
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::source::line_col;
 use crate::formats::spec::{FormatSpec, Includes, LoadOptions, Parsed, RigMeta};
-use crate::frames::{Edge, Provenance};
+use crate::frames::{Edge, Provenance, ValuesAt};
 use crate::geometry::se3::{QuatOrder, Transform};
 use crate::geometry::uncertainty::{rounding_covariance, tuple_half_units};
 use crate::geometry::{EdgePrecision, UserSigma};
@@ -246,9 +246,14 @@ fn read(
             .get(i)
             .map(|l| precision_of(i + 1, &def, l, text))
             .unwrap_or_default();
+        let values = literals
+            .get(i)
+            .map(|l| l.values_at(text))
+            .unwrap_or_default();
         let edge = build_edge(i + 1, def, &loc, &mut w)
             .map_err(|e| e.at(&loc))?
-            .with_precision(precision);
+            .with_precision(precision)
+            .with_values(values);
         warnings.extend(w.into_iter().map(|x| x.at(&loc)));
         edges.push(edge);
     }
@@ -416,6 +421,7 @@ fn build_edge(
             location: loc.clone(),
             format: SPEC.id,
             key,
+            values: Default::default(),
         },
         joint: None,
         precision: Default::default(),
@@ -668,6 +674,25 @@ struct AxisAngleSpans {
 }
 
 impl LiteralSpans {
+    /// Where the translation's and the rotation's first numbers are written
+    /// (a 4x4 or 3x4 matrix holds both: its first number for each).
+    fn values_at(&self, text: &str) -> ValuesAt {
+        let at = |s: &Spanned<f64>| line_col(text, s.span().start);
+        let rotation = self
+            .rotation_tuples()
+            .first()
+            .and_then(|t| t.first().map(|s| at(s)));
+        let translation = self
+            .translation
+            .as_ref()
+            .and_then(|t| t.first().map(at))
+            .or(rotation);
+        ValuesAt {
+            translation,
+            rotation,
+        }
+    }
+
     /// The rotation form's numbers as tuples (one per form; axis-angle two).
     fn rotation_tuples(&self) -> Vec<Vec<&Spanned<f64>>> {
         fn flat(m: &Option<Vec<Lits>>) -> Option<Vec<&Spanned<f64>>> {

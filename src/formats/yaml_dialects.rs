@@ -66,7 +66,9 @@
 use super::spec::{check_metres, locate_warnings, Confidence, Input, Parsed};
 use super::yaml::{Node, Value};
 use super::yaml_keyed::{keys, yaml_dialect};
-use super::yaml_shapes::{err_at, exactly, key_node, loc_of, mat3, rpy_map, unique_map};
+use super::yaml_shapes::{
+    err_at, exactly, key_node, key_values, loc_of, mat3, rpy_map, unique_map,
+};
 use crate::diagnostic::{Code, Error, Result, Warning};
 use crate::frames::Edge;
 use crate::geometry::se3::{QuatOrder, Transform};
@@ -247,7 +249,8 @@ pub(crate) fn parse_fast_lio(docs: &[Node], path: &Path, id: &'static str) -> Re
     locate_warnings(ws, &loc, &mut out.warnings);
     out.edges.push(
         Edge::new("imu", "lidar", t, loc, id, "extrinsic_T + extrinsic_R")
-            .with_precision(written_precision(Written::Matrix3(mat3(r)), d, 1.0)),
+            .with_precision(written_precision(Written::Matrix3(mat3(r)), d, 1.0))
+            .with_values(key_values(m, "extrinsic_T", "extrinsic_R")),
     );
     Ok(out)
 }

@@ -8,7 +8,7 @@
 use super::spec::{check_metres, locate_warnings};
 use super::yaml::{Node, Value};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::frames::Edge;
+use crate::frames::{Edge, ValuesAt};
 use crate::geometry::se3::{QuatOrder, Transform};
 use crate::geometry::uncertainty::{matrix4_precision, written_precision, Written};
 use crate::geometry::EdgePrecision;
@@ -101,6 +101,20 @@ pub(crate) fn unique_map<'a>(docs: &'a [Node], key: &str) -> Result<&'a Node> {
                     .join(", ")
             ),
         )),
+    }
+}
+
+/// Where the keys `tkey` (the translation) and `rkey` (the rotation) of `m`
+/// are written: a finding about a changed number points at its key's line.
+pub(crate) fn key_values(m: &Node, tkey: &str, rkey: &str) -> ValuesAt {
+    let at = |key: &str| {
+        key_node(m, key)
+            .filter(|k| k.line > 0)
+            .map(|k| (k.line, k.column.max(1)))
+    };
+    ValuesAt {
+        translation: at(tkey),
+        rotation: at(rkey),
     }
 }
 

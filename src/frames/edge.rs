@@ -16,6 +16,50 @@ pub struct Provenance {
     /// The key or element it came from, e.g. `joint "lidar_joint" <origin>` or
     /// `extrinsic_T + extrinsic_R`.
     pub key: String,
+    /// Where the translation's and the rotation's numbers are written, when
+    /// the format knows it (a finding about a changed number points there).
+    pub values: ValuesAt,
+}
+
+/// Line and column (1-based) in the edge's file where its translation and
+/// its rotation are written: a rig TOML's `translation = [...]` inside the
+/// `[[transform]]` table, a URDF `<origin>`'s `xyz` and `rpy` attributes, a
+/// YAML file's keys. `None`: the format gives only the edge's own location.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ValuesAt {
+    /// The translation's numbers.
+    pub translation: Option<(usize, usize)>,
+    /// The rotation's numbers.
+    pub rotation: Option<(usize, usize)>,
+}
+
+impl ValuesAt {
+    /// `at` moved to the translation's numbers (`translation`) or the
+    /// rotation's, where known; `at` itself otherwise.
+    pub fn locate(&self, at: &Location, translation: bool) -> Location {
+        let pos = if translation {
+            self.translation
+        } else {
+            self.rotation
+        };
+        match pos {
+            Some((line, column)) => Location {
+                line: Some(line),
+                column: Some(column),
+                ..at.clone()
+            },
+            None => at.clone(),
+        }
+    }
+}
+
+impl Provenance {
+    /// The location of the translation's numbers (`translation`) or of the
+    /// rotation's, falling back to the edge's own location where the format
+    /// does not say.
+    pub fn value_location(&self, translation: bool) -> Location {
+        self.values.locate(&self.location, translation)
+    }
 }
 
 /// The kind of a non-fixed joint (URDF `<joint type>`).
@@ -122,6 +166,7 @@ impl Edge {
                 location,
                 format: format.into(),
                 key: key.into(),
+                values: ValuesAt::default(),
             },
             joint: None,
             precision: Precision::default(),
@@ -132,6 +177,12 @@ impl Edge {
     /// [`crate::geometry::uncertainty::rounding_covariance`]).
     pub fn with_precision(mut self, precision: EdgePrecision) -> Self {
         self.precision = precision.into();
+        self
+    }
+
+    /// The same edge with where its numbers are written.
+    pub fn with_values(mut self, values: ValuesAt) -> Self {
+        self.provenance.values = values;
         self
     }
 

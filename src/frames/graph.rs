@@ -38,6 +38,7 @@
 //! that were not set make the path an error.
 
 use super::names::{Likeness, Resemblance};
+use crate::analysis::mistakes::{explain, MistakeTol};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::frames::edge::{Edge, JointType};
 
@@ -471,11 +472,24 @@ impl FrameGraph {
         if r.agrees() {
             self.notes.push(r.summary());
         } else {
+            // The convention mistake that reconciles the two, under the
+            // redundant-edge tolerances (issue 30).
+            let tol = MistakeTol {
+                translation_mm: REDUNDANT_TRANSLATION_TOL * 1e3,
+                rotation_deg: REDUNDANT_ROTATION_TOL.to_degrees(),
+            };
+            let mistake = explain(&r.tree, &r.edge.transform, &tol)
+                .sentence("the tree", "the file")
+                .unwrap_or_else(|| "no usual convention mistake reconciles them".into());
+            let at = r
+                .edge
+                .provenance
+                .value_location(r.translation_gap > REDUNDANT_TRANSLATION_TOL);
             self.warnings.push(
                 Warning::new(
                     Code::RedundantEdgeDisagrees,
                     format!(
-                        "{}: the file gives translation {} and rotation (quaternion xyzw) {}, the tree {} and {}",
+                        "{}: the file gives translation {} and rotation (quaternion xyzw) {}, the tree {} and {}; {mistake}",
                         r.summary(),
                         vec3(r.edge.transform.translation()),
                         quat(&r.edge.transform),
@@ -483,7 +497,7 @@ impl FrameGraph {
                         quat(&r.tree)
                     ),
                 )
-                .at(&r.edge.provenance.location),
+                .at(&at),
             );
         }
         self.redundant.push(r);

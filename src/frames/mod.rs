@@ -5,5 +5,5 @@ mod edge;
 mod graph;
 mod names;
 
-pub use edge::{Edge, JointState, JointType, Provenance};
+pub use edge::{Edge, JointState, JointType, Provenance, ValuesAt};
 pub use graph::*;

@@ -633,6 +633,17 @@ impl ScrewKind {
             ScrewKind::General => "general",
         }
     }
+
+    /// The name in text and markdown (`pure translation`): [`Self::name`]
+    /// with spaces, one name across the rig report and the diff.
+    pub fn label(self) -> &'static str {
+        match self {
+            ScrewKind::Identity => "identity",
+            ScrewKind::PureTranslation => "pure translation",
+            ScrewKind::ZeroPitch => "zero pitch",
+            ScrewKind::General => "general",
+        }
+    }
 }
 
 /// Screw decomposition of a transform.

@@ -23,7 +23,7 @@ use crate::baseline::{
 };
 use crate::diagnostic::{Code, Diagnostic, Error, Location, Result, Severity, Warning};
 use crate::formats::{self, LoadOptions, Rename};
-use crate::frames::FrameGraph;
+use crate::frames::{FrameGraph, ValuesAt};
 use crate::geometry::{PitchTol, PitchVerdict, ScrewKind};
 use crate::progress::{NoProgress, Progress};
 use crate::report::check::BaselineChanges;
@@ -330,7 +330,7 @@ impl Checker<'_> {
         for e in &loaded.edges {
             locations.insert(
                 (e.parent.clone(), e.child.clone()),
-                loc_of(&e.provenance.location),
+                (loc_of(&e.provenance.location), e.provenance.values),
             );
         }
         let record = BaselineFile {
@@ -447,7 +447,7 @@ impl Checker<'_> {
         from: &str,
         to: &str,
         declared: bool,
-    ) -> Option<(BaselinePair, Location)> {
+    ) -> Option<(BaselinePair, (Location, ValuesAt))> {
         let chain = match graph.transform(from, to) {
             Ok(c) => c,
             Err(mut e) => {
@@ -524,7 +524,12 @@ impl Checker<'_> {
             adapted_metric_exists: rep.adapted_metric.exists,
             declared,
         };
-        Some((pair, at))
+        // One edge: the pair's numbers are that edge's.
+        let values = match chain.steps.as_slice() {
+            [one] => one.edge.provenance.values,
+            _ => ValuesAt::default(),
+        };
+        Some((pair, (at, values)))
     }
 }
 
@@ -766,9 +771,10 @@ impl Gathered<'_> {
                 for p in &st.record.pairs {
                     let at = st
                         .locations
-                        .get(&(p.transform.parent.clone(), p.transform.child.clone()));
+                        .get(&(p.transform.parent.clone(), p.transform.child.clone()))
+                        .map(|w| baseline::value_location(w, true));
                     self.fleet
-                        .extend(super::fleet::member(&st.found.path, at, p));
+                        .extend(super::fleet::member(&st.found.path, at.as_ref(), p));
                 }
             }
             if let (Some((base, seen)), Some(key)) = (&mut self.base, &st.base_key) {

@@ -1,20 +1,20 @@
 //! `audit diff OLD NEW`: each file loaded into its own frame graph (renames
-//! applied where they match), the same frame pair composed in both, and the
-//! edges and the two rig reports compared (what counts as a change: see
+//! applied where they match), every edge compared, and when a frame pair is
+//! named (or a rig file declares one) that chain composed in both and the two
+//! rig reports compared (what counts as a change: see
 //! [`crate::report::diff`]).
 
 use super::load::apply_renames;
 use super::rig::{self, RigOptions};
 use crate::diagnostic::{Error, Result, Warning};
 use crate::formats::{self, LoadOptions};
-use crate::frames::{Edge, FrameGraph};
+use crate::frames::{Chain, Edge, FrameGraph};
 use crate::geometry::Transform;
 use crate::report::diff::{
     BandDiffJson, ChainDiffJson, DiffReport, DiffToleranceJson, EdgeDiffJson, EdgeStatus,
-    FamilyDiffJson, OldNew, ReadJson,
+    FamilyDiffJson, OldNew, ReadJson, DIFF_SCHEMA_VERSION,
 };
 use crate::report::RigReport;
-use crate::report::SCHEMA_VERSION;
 use crate::tolerances::{DUPLICATE_ROTATION_TOL, DUPLICATE_TRANSLATION_TOL, NEAR_HALF_TURN_RAD};
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -271,8 +271,32 @@ fn chain_diff(
     }
 }
 
-/// Why the diff exceeds its tolerance, one sentence each.
-fn exceeded(chain: &ChainDiffJson, edges: &[EdgeDiffJson]) -> Vec<String> {
+/// Why the diff exceeds its tolerance, one sentence each: the common edges
+/// moved, and the chain's reasons ([`chain_exceeded`]) or, without a chain,
+/// the edges in one file only.
+fn exceeded(chain: Option<&ChainDiffJson>, edges: &[EdgeDiffJson]) -> Vec<String> {
+    let n = edges.iter().filter(|e| e.exceeds).count();
+    let moved = (n > 0).then(|| format!("{n} common edge(s) moved"));
+    let Some(chain) = chain else {
+        let count = |s: EdgeStatus| edges.iter().filter(|e| e.status == s).count();
+        let one_side = [
+            (count(EdgeStatus::Removed), "only in OLD"),
+            (count(EdgeStatus::Added), "only in NEW"),
+        ]
+        .into_iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, side)| format!("{n} edge(s) {side}"));
+        return moved.into_iter().chain(one_side).collect();
+    };
+    let mut why = chain_exceeded(chain);
+    if let Some(m) = moved {
+        why.insert(usize::from(chain.exceeds), m);
+    }
+    why
+}
+
+/// The chain's reasons: it moved, its screw kind or a verdict changed.
+fn chain_exceeded(chain: &ChainDiffJson) -> Vec<String> {
     let mut why = Vec::new();
     if chain.exceeds {
         why.push(format!(
@@ -280,15 +304,11 @@ fn exceeded(chain: &ChainDiffJson, edges: &[EdgeDiffJson]) -> Vec<String> {
             chain.translation_change_mm, chain.rotation_change_deg
         ));
     }
-    let n = edges.iter().filter(|e| e.exceeds).count();
-    if n > 0 {
-        why.push(format!("{n} common edge(s) moved"));
-    }
     if chain.screw_kind.old != chain.screw_kind.new {
         why.push(format!(
             "the screw kind changed ({} -> {})",
-            chain.screw_kind.old.name(),
-            chain.screw_kind.new.name()
+            chain.screw_kind.old.label(),
+            chain.screw_kind.new.label()
         ));
     }
     let flipped: Vec<&str> = chain
@@ -303,17 +323,34 @@ fn exceeded(chain: &ChainDiffJson, edges: &[EdgeDiffJson]) -> Vec<String> {
     why
 }
 
-/// The frame pair: given, or declared by OLD's (else NEW's) rig file.
-fn frame_pair(opts: &DiffOptions, old: &Side, new: &Side) -> Result<(String, String)> {
+/// The frame pair: given, or declared by OLD's (else NEW's) rig file;
+/// `None` when neither names one (the whole files are compared).
+fn frame_pair(opts: &DiffOptions, old: &Side, new: &Side) -> Result<Option<(String, String)>> {
     match (&opts.from, &opts.to) {
-        (Some(f), Some(t)) => Ok((f.clone(), t.clone())),
-        (None, None) => old.pair.clone().or_else(|| new.pair.clone()).ok_or_else(|| {
-            Error::usage(
-                "name the frames to compare with --from FRAME --to FRAME (neither file is a rig file declaring them; `audit FILE --frames` lists them)",
-            )
-        }),
+        (Some(f), Some(t)) => Ok(Some((f.clone(), t.clone()))),
+        (None, None) => Ok(old.pair.clone().or_else(|| new.pair.clone())),
         _ => Err(Error::usage("give both --from and --to, or neither")),
     }
+}
+
+/// The chain `from -> to` composed in both files and compared.
+fn compare_chain(
+    opts: &DiffOptions,
+    (old, new): (&Side, &Side),
+    (from, to): (&str, &str),
+) -> Result<(Chain, Chain, ChainDiffJson)> {
+    let co = old
+        .graph
+        .transform(from, to)
+        .map_err(|e| e.in_file(&opts.old))?;
+    let cn = new
+        .graph
+        .transform(from, to)
+        .map_err(|e| e.in_file(&opts.new))?;
+    let ro = rig::report(&co, &opts.rig)?;
+    let rn = rig::report(&cn, &opts.rig)?;
+    let chain = chain_diff(&ro, &rn, &co.transform, &cn.transform, &opts.tolerance);
+    Ok((co, cn, chain))
 }
 
 /// Compare OLD and NEW; returns the report and the warnings the files and
@@ -336,8 +373,9 @@ fn frame_pair(opts: &DiffOptions, old: &Side, new: &Side) -> Result<(String, Str
 /// let imu = Rename { file: Some("anymal_d_fastlio.yaml".into()), old: "imu".into(), new: "imu_link".into() };
 /// opts.load.renames = vec![imu];
 /// let (report, _warnings) = diff(&opts)?;
-/// assert!((report.chain.translation_change_mm - 2.2234203889759425).abs() < 1e-9);
-/// assert!((report.chain.rotation_change_deg - 0.2).abs() < 1e-9);
+/// let chain = report.chain.as_ref().expect("--from/--to name a chain");
+/// assert!((chain.translation_change_mm - 2.2234203889759425).abs() < 1e-9);
+/// assert!((chain.rotation_change_deg - 0.2).abs() < 1e-9);
 /// // Beyond the default tolerance (1 mm, 0.05 deg): the command exits 1.
 /// assert!(!report.exceeded.is_empty());
 /// # Ok(())
@@ -360,33 +398,29 @@ pub fn diff(opts: &DiffOptions) -> Result<(DiffReport, Vec<Warning>)> {
             r.old
         )));
     }
-    let (from, to) = frame_pair(opts, &old, &new)?;
-    let co = old
-        .graph
-        .transform(&from, &to)
-        .map_err(|e| e.in_file(&opts.old))?;
-    let cn = new
-        .graph
-        .transform(&from, &to)
-        .map_err(|e| e.in_file(&opts.new))?;
-    let ro = rig::report(&co, &opts.rig)?;
-    let rn = rig::report(&cn, &opts.rig)?;
-    let chain = chain_diff(&ro, &rn, &co.transform, &cn.transform, &opts.tolerance);
-    let on: HashSet<(&str, &str)> = co
-        .steps
+    let pair = frame_pair(opts, &old, &new)?;
+    let chains = match &pair {
+        Some((f, t)) => Some(compare_chain(opts, (&old, &new), (f, t))?),
+        None => None,
+    };
+    let on: HashSet<(&str, &str)> = chains
         .iter()
-        .chain(&cn.steps)
+        .flat_map(|(co, cn, _)| co.steps.iter().chain(&cn.steps))
         .map(|s| (s.edge.parent.as_str(), s.edge.child.as_str()))
         .collect();
     let edges = edge_diffs(&old.graph, &new.graph, &opts.tolerance, &on);
-    let mistakes =
-        super::mistakes::in_diff(&old.graph, &new.graph, &co, &cn, &edges, &opts.tolerance);
+    let co_cn = chains.as_ref().map(|(co, cn, _)| (co, cn));
+    let mistakes = super::mistakes::in_diff(&old.graph, &new.graph, co_cn, &edges, &opts.tolerance);
     let mut warnings: Vec<Warning> = old.graph.warnings().to_vec();
     warnings.extend(new.graph.warnings().iter().cloned());
-    warnings.extend(co.warnings.iter().cloned());
-    warnings.extend(cn.warnings.iter().cloned());
+    if let Some((co, cn, _)) = &chains {
+        warnings.extend(co.warnings.iter().cloned());
+        warnings.extend(cn.warnings.iter().cloned());
+    }
+    let chain = chains.map(|(_, _, c)| c);
+    let (from, to) = pair.unzip();
     let report = DiffReport {
-        schema_version: SCHEMA_VERSION,
+        schema_version: DIFF_SCHEMA_VERSION,
         old: opts.old.display().to_string(),
         new: opts.new.display().to_string(),
         old_read: opts.old_read.json(),
@@ -394,7 +428,7 @@ pub fn diff(opts: &DiffOptions) -> Result<(DiffReport, Vec<Warning>)> {
         from,
         to,
         tolerance: opts.tolerance,
-        exceeded: exceeded(&chain, &edges),
+        exceeded: exceeded(chain.as_ref(), &edges),
         chain,
         edges,
         mistakes,

@@ -18,24 +18,29 @@ fn tol(t: &DiffToleranceJson) -> MistakeTol {
     }
 }
 
-/// The mistakes of a diff: the chain first, then each changed edge (NEW's
-/// edge stored the other way round is compared inverted, as the diff does).
+/// The mistakes of a diff: the chain first (when there is one), then each
+/// changed edge (NEW's edge stored the other way round is compared
+/// inverted, as the diff does).
 pub(super) fn in_diff(
     old: &FrameGraph,
     new: &FrameGraph,
-    co: &Chain,
-    cn: &Chain,
+    chains: Option<(&Chain, &Chain)>,
     edges: &[EdgeDiffJson],
     t: &DiffToleranceJson,
 ) -> Vec<MistakeJson> {
     let tol = tol(t);
-    let chain = format!("{} -> {}", co.from, co.to);
-    let mut out = entries(
-        &chain,
-        &explain(&co.transform, &cn.transform, &tol),
-        "old",
-        "new",
-    );
+    let mut out = Vec::new();
+    let mut chain = None;
+    if let Some((co, cn)) = chains {
+        let name = format!("{} -> {}", co.from, co.to);
+        out = entries(
+            &name,
+            &explain(&co.transform, &cn.transform, &tol),
+            "old",
+            "new",
+        );
+        chain = Some(name);
+    }
     for e in edges.iter().filter(|e| e.status == EdgeStatus::Changed) {
         let Some(o) = old.parent_edge(&e.child).filter(|o| o.parent == e.parent) else {
             continue;
@@ -51,7 +56,7 @@ pub(super) fn in_diff(
         };
         let Some(n) = n else { continue };
         let edge = format!("{} -> {}", e.parent, e.child);
-        if edge != chain {
+        if chain.as_ref() != Some(&edge) {
             out.extend(entries(
                 &edge,
                 &explain(&o.transform, &n, &tol),
@@ -116,6 +121,9 @@ pub(super) fn second_source(
     Some(Some(
         Diagnostic::new(Code::RedundantEdgeDisagrees, message)
             .with_severity(Severity::Error)
-            .at(&edge.provenance.location),
+            // At the numbers that disagree: the translation's when it is off.
+            .at(&edge
+                .provenance
+                .value_location(e.translation_mm > tol.translation_mm)),
     ))
 }

@@ -1,13 +1,17 @@
 //! `audit diff OLD NEW`: what changed between two calibrations, per edge and
-//! for the `--from` -> `--to` chain; JSON in `docs/schemas/diff.schema.json`.
+//! for the `--from` -> `--to` chain when there is one; JSON in
+//! `docs/schemas/diff.schema.json`.
 //!
 //! A change is `|d_new - d_old|` (mm) for a translation and the angle of
 //! `R_old^T R_new` (deg) for a rotation, both in the parent frame of the edge
-//! (of `from` for the chain). The diff exceeds its tolerance when a common
-//! edge or the chain moves by more than `--tolerance`, or when a verdict
-//! changes (screw kind, adapted metric, any family); edges only in one file
-//! are listed but do not by themselves exceed it (two formats rarely share
-//! edges: a URDF against a Kalibr YAML).
+//! (of `from` for the chain). With a chain (`--from/--to`, or the pair a rig
+//! file declares) the diff exceeds its tolerance when a common edge or the
+//! chain moves by more than `--tolerance`, or when a verdict changes (screw
+//! kind, adapted metric, any family); edges only in one file are listed but
+//! do not by themselves exceed it (two formats rarely share edges: a URDF
+//! against a Kalibr YAML, compared on one chain). Without a chain the whole
+//! files are compared: it exceeds when a common edge moves beyond the
+//! tolerance or an edge is in one file only (issue 33).
 
 use crate::analysis::Family;
 use crate::document::numbers::{fixed, short};
@@ -15,6 +19,10 @@ use crate::document::{Document, Report, Table};
 use crate::geometry::ScrewKind;
 use crate::tolerances::{DEFAULT_DIFF_ROTATION_TOL_DEG, DEFAULT_DIFF_TRANSLATION_TOL_MM};
 use serde::Serialize;
+
+/// `schema_version` of the diff JSON: 2 since `from`, `to` and `chain` are
+/// null when the whole files are compared (no chain).
+pub const DIFF_SCHEMA_VERSION: u32 = 2;
 
 /// A value in OLD and in NEW.
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -143,7 +151,7 @@ pub struct ChainDiffJson {
 /// The diff report.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct DiffReport {
-    /// Version of this JSON layout (1).
+    /// Version of this JSON layout (2: `from`, `to` and `chain` may be null).
     pub schema_version: u32,
     /// OLD, as named on the command line.
     pub old: String,
@@ -155,14 +163,15 @@ pub struct DiffReport {
     /// How NEW was read, when not plainly (`--key-new`, `--invert-new`).
     #[serde(skip_serializing_if = "ReadJson::is_plain")]
     pub new_read: ReadJson,
-    /// The frame the chain is expressed in.
-    pub from: String,
-    /// The frame whose pose it is.
-    pub to: String,
+    /// The frame the chain is expressed in; null when the whole files are
+    /// compared.
+    pub from: Option<String>,
+    /// The frame whose pose it is; null with `from`.
+    pub to: Option<String>,
     /// What counts as a change.
     pub tolerance: DiffToleranceJson,
-    /// The chain in both files.
-    pub chain: ChainDiffJson,
+    /// The chain in both files; null when the whole files are compared.
+    pub chain: Option<ChainDiffJson>,
     /// Every edge of either file: common ones first (OLD's order), then
     /// removed, then added.
     pub edges: Vec<EdgeDiffJson>,
@@ -224,8 +233,7 @@ fn yes(b: bool) -> &'static str {
 }
 
 impl DiffReport {
-    fn chain_table(&self) -> Table {
-        let c = &self.chain;
+    fn chain_table(c: &ChainDiffJson) -> Table {
         let d = |o: f64, n: f64, dec: usize| vec![fixed(o, dec), fixed(n, dec), fixed(n - o, dec)];
         let mut rows = vec![
             [
@@ -276,8 +284,8 @@ impl DiffReport {
         ]);
         rows.push(vec![
             "screw kind".into(),
-            c.screw_kind.old.name().into(),
-            c.screw_kind.new.name().into(),
+            c.screw_kind.old.label().into(),
+            c.screw_kind.new.label().into(),
             changed(c.screw_kind.old != c.screw_kind.new),
         ]);
         for b in &c.bands {
@@ -297,9 +305,8 @@ impl DiffReport {
         Table::new(&["quantity", "old", "new", "change"], rows)
     }
 
-    fn family_table(&self) -> Table {
-        let rows = self
-            .chain
+    fn family_table(c: &ChainDiffJson) -> Table {
+        let rows = c
             .detectors
             .iter()
             .map(|f| {
@@ -322,7 +329,8 @@ impl DiffReport {
             .edges
             .iter()
             .filter(|e| {
-                e.status == EdgeStatus::Changed || (e.status != EdgeStatus::Unchanged && e.on_chain)
+                e.status == EdgeStatus::Changed
+                    || (e.status != EdgeStatus::Unchanged && (e.on_chain || self.chain.is_none()))
             })
             .map(|e| {
                 let status = match e.status {
@@ -358,27 +366,38 @@ impl DiffReport {
         })
     }
 
+    /// `A -> B` for a chain, `every edge` for whole files.
+    fn what(&self) -> String {
+        match (&self.from, &self.to) {
+            (Some(f), Some(t)) => format!("{f} -> {t}"),
+            _ => "every edge".to_string(),
+        }
+    }
+
     fn headline(&self) -> String {
         let tol = format!(
             "{} mm, {} deg",
             short(self.tolerance.translation_mm),
             short(self.tolerance.rotation_deg)
         );
-        if self.exceeded.is_empty() {
-            format!(
-                "{} -> {}: no change beyond the tolerance ({tol}); chain moved {} mm, {} deg",
-                self.from,
-                self.to,
-                fixed(self.chain.translation_change_mm, 3),
-                fixed(self.chain.rotation_change_deg, 4)
-            )
-        } else {
-            format!(
-                "{} -> {}: {} beyond the tolerance ({tol})",
-                self.from,
-                self.to,
-                self.exceeded.join("; ")
-            )
+        let what = self.what();
+        if !self.exceeded.is_empty() {
+            let why = self.exceeded.join("; ");
+            return match self.chain {
+                Some(_) => format!("{what}: {why} beyond the tolerance ({tol})"),
+                None => format!("{what}: {why} (tolerance {tol})"),
+            };
+        }
+        match &self.chain {
+            Some(c) => format!(
+                "{what}: no change beyond the tolerance ({tol}); chain moved {} mm, {} deg",
+                fixed(c.translation_change_mm, 3),
+                fixed(c.rotation_change_deg, 4)
+            ),
+            None => format!(
+                "{what}: no change beyond the tolerance ({tol}); {} edges in both files",
+                self.edges.len()
+            ),
         }
     }
 }
@@ -405,14 +424,18 @@ impl Report for DiffReport {
             self.new,
             self.new_read.note()
         ));
-        doc.section(format!("Chain {} -> {}", self.from, self.to));
-        doc.table(self.chain_table());
+        if let Some(c) = &self.chain {
+            doc.section(format!("Chain {}", self.what()));
+            doc.table(Self::chain_table(c));
+        }
         if !self.mistakes.is_empty() {
             doc.section("Convention mistake");
             doc.text(crate::report::mistakes::lines(&self.mistakes).join("\n"));
         }
-        doc.section("Detector families");
-        doc.table(self.family_table());
+        if let Some(c) = &self.chain {
+            doc.section("Detector families");
+            doc.table(Self::family_table(c));
+        }
         doc.section("Edges");
         let n = |s: EdgeStatus| self.edges.iter().filter(|e| e.status == s).count();
         doc.text(format!(
@@ -430,7 +453,7 @@ impl Report for DiffReport {
             .iter()
             .filter(|e| matches!(e.status, EdgeStatus::Added | EdgeStatus::Removed) && !e.on_chain)
             .count();
-        if off > 0 {
+        if off > 0 && self.chain.is_some() {
             doc.text(format!(
                 "{off} edges off the chain are in only one file (listed in --format json)"
             ));

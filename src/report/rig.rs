@@ -762,7 +762,7 @@ impl RigReport {
                     short(self.rotation.angle_uncertainty_rad)
                 ),
             ],
-            vec!["screw kind".into(), sc.kind.name().replace('_', " ")],
+            vec!["screw kind".into(), sc.kind.label().into()],
         ];
         if sc.translation_along_axis_m.is_some() {
             rows.push(vec![

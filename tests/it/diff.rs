@@ -303,7 +303,7 @@ fn bad_input_exits_2_with_a_message() {
             ],
             "-2",
         ),
-        (&["diff", anymal_c, D], "--from"),
+        (&["diff", anymal_c, D, "--from", "base"], "--to"),
         (
             &["diff", anymal_c, D, "--from", "base", "--to", "nowhere"],
             "nowhere",
@@ -618,4 +618,133 @@ fn diff_names_the_convention_mistake_between_two_files() {
     assert_eq!(code, 1);
     let v: Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["mistakes"], serde_json::json!([]));
+}
+
+const WHOLE_OLD: &str = "tests/fixtures/diff/whole_old.urdf";
+const WHOLE_NEW: &str = "tests/fixtures/diff/whole_new.urdf";
+const WHOLE_WITHIN: &str = "tests/fixtures/diff/whole_within.urdf";
+
+fn whole_expected() -> Value {
+    let p = format!(
+        "{}/tests/fixtures/diff/whole_expected.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+/// The change of `parent -> child` in `v` against whole_expected.json's.
+fn edge_change(v: &Value, x: &Value, parent: &str, child: &str) {
+    let e = edge(v, parent, child);
+    let x = &x[format!("{parent} -> {child}")];
+    close(
+        &e["translation_change_mm"],
+        &x["translation_change_mm"],
+        1e-9,
+    );
+    close(&e["rotation_change_deg"], &x["rotation_change_deg"], 1e-7);
+}
+
+#[test]
+fn two_urdfs_without_from_to_compare_every_edge() {
+    // Issue 33: no --from/--to and no rig declared: the whole files.
+    let x = &whole_expected()["old_vs_new"];
+    let (code, v) = diff_json(&[WHOLE_OLD, WHOLE_NEW]);
+    assert_eq!(code, 1);
+    assert_eq!(v["schema_version"], 2);
+    assert!(v["chain"].is_null() && v["from"].is_null() && v["to"].is_null());
+    edge_change(&v, x, "base", "lidar");
+    edge_change(&v, x, "base", "imu_link");
+    let status = |p: &str, c: &str| edge(&v, p, c)["status"].as_str().unwrap().to_string();
+    assert_eq!(status("base", "lidar"), "changed");
+    assert_eq!(status("base", "imu_link"), "unchanged");
+    assert_eq!(status("lidar", "camera"), "removed");
+    assert_eq!(status("base", "gps"), "added");
+    assert_eq!(
+        v["exceeded"],
+        serde_json::json!([
+            "1 common edge(s) moved",
+            "1 edge(s) only in OLD",
+            "1 edge(s) only in NEW"
+        ])
+    );
+    let (code, text, _) = run_cli(&["diff", WHOLE_OLD, WHOLE_NEW, "--color", "never"]);
+    assert_eq!(code, 1);
+    assert!(
+        text.starts_with("every edge: 1 common edge(s) moved;"),
+        "{text}"
+    );
+    for row in ["base -> lidar", "lidar -> camera", "base -> gps"] {
+        assert!(text.lines().any(|l| l.contains(row)), "{row}: {text}");
+    }
+    assert!(
+        !text.contains("Chain") && !text.contains("Detector families"),
+        "{text}"
+    );
+}
+
+#[test]
+fn two_urdfs_within_tolerance_exit_0_and_one_sided_edges_fail() {
+    let x = &whole_expected()["old_vs_within"];
+    let (code, v) = diff_json(&[WHOLE_OLD, WHOLE_WITHIN]);
+    assert_eq!(code, 0, "{v}");
+    edge_change(&v, x, "base", "lidar");
+    assert_eq!(edge(&v, "base", "lidar")["exceeds"], false);
+    let (code, md, _) = run_cli(&["diff", WHOLE_OLD, WHOLE_WITHIN, "--format", "markdown"]);
+    assert_eq!(code, 0);
+    assert!(md.contains("no change beyond the tolerance"), "{md}");
+    // A tighter tolerance fails on the moved edge alone.
+    let (code, v) = diff_json(&[WHOLE_OLD, WHOLE_WITHIN, "--tolerance", "0.1mm,1deg"]);
+    assert_eq!(
+        (code, &v["exceeded"]),
+        (1, &serde_json::json!(["1 common edge(s) moved"]))
+    );
+    // An edge in one file only fails a whole-file diff, and not a chain's.
+    let (code, v) = diff_json(&[WHOLE_WITHIN, WHOLE_NEW, "--tolerance", "1m,1deg"]);
+    assert_eq!(code, 1, "{v}");
+    let chained = [
+        WHOLE_WITHIN,
+        WHOLE_NEW,
+        "--tolerance",
+        "1m,1deg",
+        "--from",
+        "base",
+        "--to",
+        "imu_link",
+    ];
+    assert_eq!(diff_json(&chained).0, 0);
+}
+
+#[test]
+fn two_yamls_without_from_to_compare_their_edge() {
+    let x = &whole_expected()["fastlio_vs_kalibr"];
+    let kalibr = "tests/fixtures/diff/anymal_d_kalibr.yaml";
+    let (code, v) = diff_json(&[FASTLIO, kalibr]);
+    assert_eq!(code, 1);
+    edge_change(&v, x, "imu", "lidar");
+    assert_eq!(v["edges"].as_array().unwrap().len(), 1);
+    // --from/--to add the chain's quantities on the same pair.
+    let (code, v) = diff_json(&[FASTLIO, kalibr, "--from", "imu", "--to", "lidar"]);
+    assert_eq!(code, 1);
+    close(
+        &v["chain"]["translation_change_mm"],
+        &x["imu -> lidar"]["translation_change_mm"],
+        1e-9,
+    );
+}
+
+#[test]
+fn the_screw_kind_is_named_as_the_rig_report_names_it() {
+    // One name per concept: `pure translation` in text, as the rig report.
+    let args = [WHOLE_OLD, WHOLE_NEW, "--from", "base", "--to", "imu_link"];
+    let (_, text, _) = run_cli(&[&["diff"], &args[..], &["--color", "never"]].concat());
+    let row = text.lines().find(|l| l.contains("screw kind")).unwrap();
+    assert!(
+        row.contains("pure translation") && !row.contains("pure_translation"),
+        "{row}"
+    );
+    let (_, rig, _) = run_cli(&[
+        WHOLE_OLD, "--from", "base", "--to", "imu_link", "--color", "never",
+    ]);
+    let row = rig.lines().find(|l| l.contains("screw kind")).unwrap();
+    assert!(row.contains("pure translation"), "{row}");
 }

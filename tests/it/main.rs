@@ -5,6 +5,7 @@
 
 mod architecture;
 mod calibrations;
+mod check_drift_lines;
 mod check_fleet;
 mod check_gate;
 mod check_hooks;

@@ -8,7 +8,7 @@ use crate::common::run_cli;
 use std::process::Command;
 
 /// The commands a person runs, with arguments that finish in seconds.
-pub const COMMANDS: [(&str, &[&str]); 12] = [
+pub const COMMANDS: [(&str, &[&str]); 13] = [
     (
         "rig-report",
         &[
@@ -95,6 +95,14 @@ pub const COMMANDS: [(&str, &[&str]); 12] = [
         ],
     ),
     ("spread", &["spread", "tests/fixtures/spread/kitti-repeat"]),
+    (
+        "diff",
+        &[
+            "diff",
+            "tests/fixtures/diff/whole_old.urdf",
+            "tests/fixtures/diff/whole_new.urdf",
+        ],
+    ),
 ];
 
 /// `script` is there (util-linux; every Debian-based machine has it).

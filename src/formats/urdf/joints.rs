@@ -114,7 +114,8 @@ impl<'o> Builder<'o> {
         };
         // The joint's strings move into the edge.
         let mut e = Edge::new(j.parent, j.child, transform, j.loc, self.format, key)
-            .with_compact_precision(j.origin_precision);
+            .with_compact_precision(j.origin_precision)
+            .with_values(j.values);
         if let Some(a) = carried {
             e.precision.transform_rounding(&a);
         }

@@ -10,7 +10,7 @@ use super::version::Version;
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::source::LineIndex;
 use crate::formats::spec::UrdfVersion;
-use crate::frames::JointType;
+use crate::frames::{JointType, ValuesAt};
 use crate::geometry::{EdgePrecision, Precision, Transform};
 use std::borrow::Cow;
 use std::collections::VecDeque;
@@ -62,6 +62,8 @@ pub(super) struct JointRaw {
     pub limit: Option<Limit>,
     pub mimic: Option<Mimic>,
     pub loc: Location,
+    /// Where `<origin>`'s `xyz` and `rpy` (or `quat_xyzw`) are written.
+    pub values: ValuesAt,
 }
 
 /// What a joint is read against: the links declared so far and the version.
@@ -163,6 +165,17 @@ pub(super) fn joint<'a>(
         None => (Transform::identity(), EdgePrecision::exact().into()),
         Some(o) => origin::origin(idx, &o, name, cx.version, &|| loc_of(&o), warnings)?,
     };
+    let values = jel.child("origin").map_or_else(ValuesAt::default, |o| {
+        let at = |names: &[&str]| {
+            let attr = names.iter().find_map(|n| o.attribute(n));
+            attr.and_then(|a| idx.pos_of(a.raw))
+                .or(Some(idx.pos(o.start)))
+        };
+        ValuesAt {
+            translation: at(&["xyz"]),
+            rotation: at(&["rpy", "quat_xyzw"]),
+        }
+    });
     let axis = axis(idx, jel.child("axis"), name, jtype)?;
     let mimic = match jel.child("mimic") {
         None => None,
@@ -190,6 +203,7 @@ pub(super) fn joint<'a>(
         limit,
         mimic,
         loc,
+        values,
     })
 }
 
