@@ -307,7 +307,10 @@ def diff(old: PathLike, new: PathLike, frm: Optional[str] = None, to: Optional[s
          tolerance: Optional[Tuple[float, float]] = None) -> DiffReport:
     """``audit diff OLD NEW``: what changed on the ``frm -> to`` chain
     between two calibrations; ``tolerance`` is ``(mm, deg)``. ``.exceeded``
-    says whether a change is beyond it (the CLI's exit code 1)."""
+    says whether a change is beyond it (the CLI's exit code 1). Without
+    ``frm``/``to``, where neither file declares a pair, every edge present in
+    both files is compared and edges on one side only are listed (``from``,
+    ``to`` and ``chain`` are then ``None``; an edge on one side only exceeds)."""
     args = {
         "frm": frm,
         "to": to,

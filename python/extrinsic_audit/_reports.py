@@ -175,7 +175,11 @@ class DiffReport(PairReport):
         self.exceeded: bool = exceeded
 
     def _summary(self) -> str:
-        return f"{self.frm} -> {self.to}, {'beyond' if self.exceeded else 'within'} tolerance"
+        verdict = "beyond" if self.exceeded else "within"
+        if self.frm is None:
+            # Whole files compared (no --from/--to, no declared pair).
+            return f"whole files, {len(self._data['edges'])} edges, {verdict} tolerance"
+        return f"{self.frm} -> {self.to}, {verdict} tolerance"
 
 
 class SurveyReport(Report):

@@ -86,6 +86,26 @@ def test_diff_is_the_cli_json_and_numpy():
     assert c["rotation_change_deg"] == pytest.approx(x["chain"]["rotation_change_deg"], abs=1e-9)
 
 
+def test_diff_of_whole_files_is_the_cli_json_and_pytransform3d():
+    # tests/fixtures/diff/gen_whole.py: the edges' changes by pytransform3d.
+    fx = os.path.join(ROOT, "tests", "fixtures", "diff")
+    with open(os.path.join(fx, "whole_expected.json")) as f:
+        x = json.load(f)["old_vs_new"]
+    old, new = os.path.join(fx, "whole_old.urdf"), os.path.join(fx, "whole_new.urdf")
+    want, code = cli_json("diff", old, new)
+    rep = ea.diff(old, new)
+    assert rep.to_dict() == want
+    assert code == 1 and rep.exceeded
+    assert rep.frm is None and rep.to is None and rep["chain"] is None
+    assert "None" not in repr(rep) and "whole files" in repr(rep)
+    got = {f"{e['parent']} -> {e['child']}": e for e in rep["edges"]}
+    for edge, v in x.items():
+        assert got[edge]["translation_change_mm"] == pytest.approx(v["translation_change_mm"],
+                                                                   abs=1e-9)
+        assert got[edge]["rotation_change_deg"] == pytest.approx(v["rotation_change_deg"],
+                                                                 abs=1e-9)
+
+
 def test_diff_beyond_the_tolerance():
     x = expected()["urdf_vs_fastlio"]
     rep = ea.diff(D, FASTLIO, "imu_link", "lidar", renames=[(FASTLIO.split("/")[-1], "imu",
