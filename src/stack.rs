@@ -26,18 +26,9 @@ pub(crate) fn deep<T: Send>(name: &str, f: impl Fn() -> T + Sync) -> T {
     if ON_LARGE.with(Cell::get) {
         return f();
     }
-    std::thread::scope(|s| {
-        let spawned = std::thread::Builder::new()
-            .name(name.into())
-            .stack_size(LARGE)
-            .spawn_scoped(s, || {
-                ON_LARGE.with(|c| c.set(true));
-                f()
-            });
-        match spawned {
-            Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
-            Err(_) => f(),
-        }
+    std::thread::scope(|s| match spawn_large_named(s, Some(name), &f) {
+        Some(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
+        None => f(),
     })
 }
 
@@ -47,13 +38,24 @@ pub(crate) fn spawn_large<'s, 'e, T: Send + 's>(
     s: &'s std::thread::Scope<'s, 'e>,
     f: impl FnOnce() -> T + Send + 's,
 ) -> Option<std::thread::ScopedJoinHandle<'s, T>> {
-    std::thread::Builder::new()
-        .stack_size(LARGE)
-        .spawn_scoped(s, move || {
-            ON_LARGE.with(|c| c.set(true));
-            f()
-        })
-        .ok()
+    spawn_large_named(s, None, f)
+}
+
+/// [`spawn_large`], the thread named `name` when given.
+fn spawn_large_named<'s, 'e, T: Send + 's>(
+    s: &'s std::thread::Scope<'s, 'e>,
+    name: Option<&str>,
+    f: impl FnOnce() -> T + Send + 's,
+) -> Option<std::thread::ScopedJoinHandle<'s, T>> {
+    let mut b = std::thread::Builder::new().stack_size(LARGE);
+    if let Some(n) = name {
+        b = b.name(n.into());
+    }
+    b.spawn_scoped(s, move || {
+        ON_LARGE.with(|c| c.set(true));
+        f()
+    })
+    .ok()
 }
 
 #[cfg(test)]

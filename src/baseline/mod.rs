@@ -103,12 +103,6 @@ fn refuse_twice(path: &Path, key: Option<String>) -> Result<()> {
 /// pair's: its edge's, when it is one edge).
 pub type Locations = BTreeMap<(String, String), (Location, ValuesAt)>;
 
-/// An entry of [`Locations`]: where the translation's numbers
-/// (`translation`) or the rotation's are written, else the entry's location.
-pub fn value_location((at, values): &(Location, ValuesAt), translation: bool) -> Location {
-    values.locate(at, translation)
-}
-
 /// One checked file: how findings name it, its record, where its values are.
 #[derive(Debug, Clone)]
 pub struct CheckedFile<'a> {
@@ -122,22 +116,27 @@ pub struct CheckedFile<'a> {
 
 impl CheckedFile<'_> {
     fn at(&self, a: &str, b: &str) -> Location {
-        let mut l = self
-            .locations
-            .get(&(a.to_string(), b.to_string()))
-            .map(|(l, _)| l.clone())
-            .unwrap_or_default();
-        l.file = Some(self.path.to_path_buf());
-        l
+        self.located(a, b, |(l, _)| l.clone())
     }
 
     /// Where the translation's numbers (`translation`) or the rotation's of
     /// `a -> b` are written; the edge's own location where not known.
     fn at_value(&self, a: &str, b: &str, translation: bool) -> Location {
-        let mut l = match self.locations.get(&(a.to_string(), b.to_string())) {
-            Some(w) => value_location(w, translation),
-            None => Location::default(),
-        };
+        self.located(a, b, |(l, v)| v.locate(l, translation))
+    }
+
+    /// The entry of `a -> b` made a location by `pick`, in this file.
+    fn located(
+        &self,
+        a: &str,
+        b: &str,
+        pick: impl Fn(&(Location, ValuesAt)) -> Location,
+    ) -> Location {
+        let mut l = self
+            .locations
+            .get(&(a.to_string(), b.to_string()))
+            .map(pick)
+            .unwrap_or_default();
         l.file = Some(self.path.to_path_buf());
         l
     }

@@ -772,7 +772,7 @@ impl Gathered<'_> {
                     let at = st
                         .locations
                         .get(&(p.transform.parent.clone(), p.transform.child.clone()))
-                        .map(|w| baseline::value_location(w, true));
+                        .map(|(at, values)| values.locate(at, true));
                     self.fleet
                         .extend(super::fleet::member(&st.found.path, at.as_ref(), p));
                 }
