@@ -1010,6 +1010,13 @@ impl FrameGraph {
     /// Levels deeper than `TREE_MAX_INDENT` are written `[depth N]` instead of
     /// being indented further, so the text stays linear in the number of frames.
     pub fn tree(&self) -> String {
+        self.tree_with(|_| None)
+    }
+
+    /// [`FrameGraph::tree`], each edge's line followed by `numbers(edge)`
+    /// where it gives some (the frame-tree report's translation and
+    /// rotation), two spaces after the place's bracket.
+    pub fn tree_with(&self, numbers: impl Fn(&Edge) -> Option<String>) -> String {
         let mut out = String::new();
         for root in self.roots() {
             out.push_str(&root);
@@ -1052,7 +1059,12 @@ impl FrameGraph {
                 if let Some(j) = &e.joint {
                     out.push_str(&format!(", {} joint '{}'", j.joint_type, j.name));
                 }
-                out.push_str("]\n");
+                out.push(']');
+                if let Some(n) = numbers(e) {
+                    out.push_str("  ");
+                    out.push_str(&n);
+                }
+                out.push('\n');
                 let ci = self.index[&e.child];
                 let kids = &self.children[ci];
                 for (k, &cei) in kids.iter().enumerate().rev() {

@@ -184,6 +184,7 @@ fn survey_one(
     let path = &input.path;
     let loaded = formats::load_file(path, &opts.load)?;
     let meta = loaded.rig.clone();
+    let robot = loaded.platform.clone();
     let (from, to) = pair_of(input, meta.as_ref(), opts.pair.as_ref())?;
     let mut graph = FrameGraph::new();
     graph.add(loaded)?;
@@ -193,12 +194,16 @@ fn survey_one(
     // A file that is not a rig file is named by its path, and by its pair
     // too when the survey reads several pairs of it (issue 33: two rows of
     // one URDF had the same id).
+    // Its sensor is the frame measured (`to`) and its platform the robot the
+    // file names (a URDF's `<robot name>`), where it names one.
     let meta = meta.unwrap_or_else(|| RigMeta {
         id: if input.shared {
             format!("{}:{from}:{to}", path.display())
         } else {
             path.display().to_string()
         },
+        sensor: to.clone(),
+        platform: robot.unwrap_or_default(),
         ..RigMeta::default()
     });
     let json = SurveyRigJson {

@@ -389,13 +389,43 @@ pub fn fit_tree(text: &str, width: usize) -> String {
         let keep = width_of(&under).min(width.saturating_sub(longest));
         let indent: String = under.chars().take(keep).collect();
         let room = width.saturating_sub(width_of(&indent));
-        out.extend(wrap(tail, room).into_iter().map(|l| format!("{indent}{l}")));
+        out.extend(pack(tail, room).into_iter().map(|l| format!("{indent}{l}")));
     }
     let mut s = out.join("\n");
     if text.ends_with('\n') {
         s.push('\n');
     }
     s
+}
+
+/// A tree line's tail (its place, then its numbers, two spaces apart) in
+/// lines of at most `room` columns: whole parts side by side while they fit,
+/// a part that fits no line wrapped by words (a vector is not split across
+/// lines unless it alone is wider than the room).
+fn pack(tail: &str, room: usize) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut cur = String::new();
+    for part in tail.split("  ").map(str::trim).filter(|p| !p.is_empty()) {
+        let joined = if cur.is_empty() {
+            part.to_string()
+        } else {
+            format!("{cur}  {part}")
+        };
+        if width_of(&joined) <= room {
+            cur = joined;
+            continue;
+        }
+        if !cur.is_empty() {
+            lines.push(std::mem::take(&mut cur));
+        }
+        let mut wrapped = wrap(part, room);
+        cur = wrapped.pop().unwrap_or_default();
+        lines.extend(wrapped);
+    }
+    if !cur.is_empty() {
+        lines.push(cur);
+    }
+    lines
 }
 
 /// A fitted table as records, for a terminal `width` wide: per row, one

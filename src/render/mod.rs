@@ -16,6 +16,7 @@ mod csv;
 mod github;
 mod graph;
 mod json;
+mod labels;
 pub mod layout;
 mod markdown;
 pub mod mcap;

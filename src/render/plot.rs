@@ -6,6 +6,7 @@
 
 use crate::diagnostic::{Code, Error, Result};
 use crate::document::plot::{Axis, Colour, Corner, Mark, Panel, Plot, Point, Series};
+use crate::render::labels;
 use crate::sanitize;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
@@ -170,11 +171,30 @@ where
             chart.draw_series(s.points.iter().map(tri))
         }
         Mark::Label { size, offset } => {
-            let text = |p: &Point| {
-                let font = ("sans-serif", size).into_font().color(&of(p));
-                EmptyElement::at(at(p)) + Text::new(shown(&p.label), offset, font)
+            // Placed so that no label covers another (render::labels); a
+            // label moved off its mark's offset gets a thin leader to its point.
+            let texts: Vec<String> = s.points.iter().map(|p| shown(&p.label)).collect();
+            let boxes: Vec<((i32, i32), i32)> = s
+                .points
+                .iter()
+                .zip(&texts)
+                .map(|(p, t)| (chart.backend_coord(&at(p)), labels::width(t, size)))
+                .collect();
+            let h = labels::height(size);
+            let (xs, ys) = chart.plotting_area().get_pixel_range();
+            let area = [xs.start, ys.start, xs.end, ys.end];
+            let offsets = labels::place(&boxes, h, offset, area);
+            let moved = s.points.iter().zip(&offsets).filter(|(_, &o)| o != offset);
+            let leader = |(p, &(ox, oy)): (&Point, &(i32, i32))| {
+                let line = vec![(0, 0), (ox, oy + h / 2)];
+                EmptyElement::at(at(p)) + PathElement::new(line, of(p).mix(0.4).stroke_width(1))
             };
-            chart.draw_series(s.points.iter().map(text))
+            chart.draw_series(moved.map(leader)).map_err(plot_err)?;
+            let text = |((p, t), &o): ((&Point, &String), &(i32, i32))| {
+                let font = ("sans-serif", size).into_font().color(&of(p));
+                EmptyElement::at(at(p)) + Text::new(t.clone(), o, font)
+            };
+            chart.draw_series(s.points.iter().zip(&texts).zip(&offsets).map(text))
         }
         Mark::Span => {
             let rect = |c: &[Point]| Rectangle::new([at(&c[0]), at(&c[1])], of(&c[0]).filled());

@@ -76,7 +76,20 @@ fn tree(g: &Graph, lay: &Layout) -> String {
         t = layout::fit_tree(&t, w);
     }
     if let Some(c) = &g.chain {
-        t.push_str(&format!("chain: {}\n", line(&c.join(" -> "))));
+        let chain = format!("chain: {}", line(&c.join(" -> ")));
+        // On a terminal a long chain continues under its first frame.
+        match lay.width() {
+            Some(w) if layout::width_of(&chain) > w => {
+                let lines = layout::wrap(&chain, w);
+                let rest = layout::wrap(&lines[1..].join(" "), w.saturating_sub(7).max(1));
+                t.push_str(&lines[0]);
+                t.push('\n');
+                for l in rest.iter().filter(|l| !l.is_empty()) {
+                    t.push_str(&format!("       {l}\n"));
+                }
+            }
+            _ => t.push_str(&format!("{chain}\n")),
+        }
     }
     t
 }

@@ -185,7 +185,7 @@ pub fn frames_report(graph: &FrameGraph, chain: Option<&Chain>) -> FramesReport 
             to: c.to.clone(),
             path,
         }),
-        tree_text: graph.tree(),
+        tree_text: graph.tree_with(|e| Some(tree_numbers(e))),
     }
 }
 
@@ -205,18 +205,32 @@ impl FrameEdgeJson {
 
     /// The label lines: translation, rotation, joint and place.
     fn label(&self) -> Vec<String> {
-        let d = self.translation_m.map(|x| fixed(x, 4));
-        let r = self.rpy_deg.map(degrees_trimmed);
         let joint = match &self.joint_name {
             Some(n) => format!("{} joint {n}", self.joint_type),
             None => self.joint_type.clone(),
         };
-        vec![
-            format!("xyz [{}, {}, {}] m", d[0], d[1], d[2]),
-            format!("rpy [{}, {}, {}] deg", r[0], r[1], r[2]),
-            format!("{joint}, {}", self.place()),
-        ]
+        let [xyz, rpy] = numbers(self.translation_m, self.rpy_deg);
+        vec![xyz, rpy, format!("{joint}, {}", self.place())]
     }
+}
+
+/// An edge's translation (m, to 0.1 mm) and roll-pitch-yaw (deg, to 0.001
+/// deg, trailing zeros cut) as the pictures and the text tree label it:
+/// `xyz [0.1000, 0.0000, 0.2000] m`, `rpy [0, 0, 90] deg`.
+fn numbers(translation_m: [f64; 3], rpy_deg: [f64; 3]) -> [String; 2] {
+    let d = translation_m.map(|x| fixed(x, 4));
+    let r = rpy_deg.map(degrees_trimmed);
+    [
+        format!("xyz [{}, {}, {}] m", d[0], d[1], d[2]),
+        format!("rpy [{}, {}, {}] deg", r[0], r[1], r[2]),
+    ]
+}
+
+/// The numbers after an edge's line in the text tree.
+fn tree_numbers(e: &Edge) -> String {
+    let d = e.transform.translation();
+    let [xyz, rpy] = numbers([d.x, d.y, d.z], e.transform.rpy().map(f64::to_degrees));
+    format!("{xyz}  {rpy}")
 }
 
 impl FramesReport {

@@ -22,9 +22,11 @@ use serde::Serialize;
 pub struct SurveyRigJson {
     /// Rig id (`[rig] id`).
     pub id: String,
-    /// What was measured (`[rig] sensor`).
+    /// What was measured (`[rig] sensor`; for a file that is not a rig
+    /// file, the `to` frame).
     pub sensor: String,
-    /// What it is mounted on (`[rig] platform`).
+    /// What it is mounted on (`[rig] platform`; for a URDF or xacro, its
+    /// `<robot name>`; empty when the file names none).
     pub platform: String,
     /// Dataset or project (`[rig] dataset`).
     pub dataset: String,
@@ -274,7 +276,7 @@ fn display_row(j: &SurveyRigJson, m: &RowMarks) -> Vec<String> {
         id.push_str(&format!(" (duplicate of {d})"));
     }
     let small = small_rotation(j.angle_deg);
-    // A file that is not a rig file names no sensor or platform: a dash.
+    // A file that names no platform (a YAML, a bag): a dash.
     let or_dash = |s: &str| {
         if s.is_empty() {
             "-".to_string()

@@ -405,7 +405,8 @@ fn headers_and_the_tree_wrap_at_words_at_80_columns() {
 }
 
 /// One file, two pairs: two ids (path and pair); a file surveyed once keeps
-/// its path; a file that names no sensor or platform shows a dash.
+/// its path; a URDF's sensor is its `to` frame and its platform the robot it
+/// names (`<robot name="husky">`); a file that names no platform shows a dash.
 #[test]
 fn survey_ids_are_unique_per_pair() {
     let a = format!("{URDF}:base_link:velodyne");
@@ -424,13 +425,30 @@ fn survey_ids_are_unique_per_pair() {
     let (_, out, _) = run_cli(&["survey", &a, "--format", "json"]);
     let j: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(j["rigs"][0]["id"], URDF);
-    assert_eq!(j["rigs"][0]["sensor"], "");
+    assert_eq!(j["rigs"][0]["sensor"], "velodyne");
+    assert_eq!(j["rigs"][0]["platform"], "husky");
     let (_, out, _) = run_cli(&["survey", &a, "--format", "markdown"]);
     let row = out
         .lines()
         .find(|l| l.starts_with(&format!("| {URDF}")))
         .unwrap();
-    assert!(row.starts_with(&format!("| {URDF} | - | - | ")), "{row}");
+    assert!(
+        row.starts_with(&format!("| {URDF} | velodyne | husky | ")),
+        "{row}"
+    );
+    // A YAML names no robot: its platform is a dash, its sensor its `to`.
+    let yaml = "tests/fixtures/formats/fastlio_avia.yaml";
+    let pair = format!("{yaml}:imu:lidar");
+    let (code, out, err) = run_cli(&["survey", &pair, "--format", "markdown"]);
+    assert_eq!(code, 0, "{err}");
+    let row = out
+        .lines()
+        .find(|l| l.starts_with(&format!("| {yaml}")))
+        .unwrap();
+    assert!(
+        row.starts_with(&format!("| {yaml} | lidar | - | ")),
+        "{row}"
+    );
 }
 
 /// `--help` of survey and check shows their long description (a doc comment

@@ -403,3 +403,86 @@ fn hostile_names_are_escaped_in_every_picture() {
         }
     }
 }
+
+/// The `(child, xyz, rpy)` of every top-level joint of a URDF written one
+/// element a line (`<origin rpy=".." xyz=".."/>` before `<child link=".."/>`),
+/// read from its text: the numbers the tree must print, taken from the file
+/// rather than from the tool.
+fn joint_origins(path: &str) -> Vec<(String, [f64; 3], [f64; 3])> {
+    let attr = |line: &str, name: &str| -> Option<String> {
+        let at = line.find(&format!("{name}=\""))? + name.len() + 2;
+        Some(line[at..at + line[at..].find('"')?].to_string())
+    };
+    let three = |s: String| -> [f64; 3] {
+        let v: Vec<f64> = s.split_whitespace().map(|x| x.parse().unwrap()).collect();
+        [v[0], v[1], v[2]]
+    };
+    let text = std::fs::read_to_string(path).unwrap();
+    let (mut out, mut origin, mut top) = (Vec::new(), None, true);
+    for line in text.lines().map(str::trim) {
+        // Joints inside a <transmission> are not edges.
+        if line.starts_with("<transmission") {
+            top = false;
+        } else if line.starts_with("</transmission") {
+            top = true;
+        } else if top && line.starts_with("<origin") {
+            origin = Some((
+                three(attr(line, "xyz").unwrap()),
+                three(attr(line, "rpy").unwrap()),
+            ));
+        } else if let (true, true, Some((xyz, rpy))) = (top, line.starts_with("<child"), origin) {
+            out.push((attr(line, "link").unwrap(), xyz, rpy));
+            origin = None;
+        }
+    }
+    out
+}
+
+/// The numbers of `label [a, b, c] unit` in a line.
+fn vector_after(line: &str, label: &str) -> [f64; 3] {
+    let start = line.find(&format!("{label} [")).unwrap() + label.len() + 2;
+    let end = start + line[start..].find(']').unwrap();
+    let v: Vec<f64> = line[start..end]
+        .split(", ")
+        .map(|x| x.parse().unwrap())
+        .collect();
+    [v[0], v[1], v[2]]
+}
+
+/// Issue 33: the text tree labels each edge with its translation (m) and
+/// roll-pitch-yaw (deg), as the pictures do: checked against the numbers the
+/// URDF itself writes, for every joint not at gimbal lock (|pitch| < 80 deg,
+/// where rpy is unique), angles compared modulo 360 deg.
+#[test]
+fn the_text_tree_labels_each_edge_with_translation_and_rpy() {
+    let urdf = "tests/fixtures/urdf/husky_kinematics.urdf";
+    let (code, out, err) = run_cli(&[urdf, "--frames", "--format", "text"]);
+    assert_eq!(code, 0, "{err}");
+    let joints = joint_origins(urdf);
+    assert!(joints.len() > 20, "{joints:?}");
+    let mut checked = 0;
+    for (child, xyz, rpy) in &joints {
+        let line = out
+            .lines()
+            .find(|l| l.contains(&format!("── {child}  [")))
+            .unwrap_or_else(|| panic!("no line for {child}:\n{out}"));
+        let got = vector_after(line, "xyz");
+        for k in 0..3 {
+            assert!((got[k] - xyz[k]).abs() <= 0.5e-4 + 1e-12, "{child}: {line}");
+        }
+        assert!(line.ends_with(" deg"), "{line}");
+        if rpy[1].to_degrees().abs() >= 80.0 {
+            continue;
+        }
+        let got = vector_after(line, "rpy");
+        for k in 0..3 {
+            let d = (got[k] - rpy[k].to_degrees()).rem_euclid(360.0);
+            assert!(
+                d.min(360.0 - d) <= 0.5e-3 + 1e-9,
+                "{child}: {line} against {rpy:?} rad"
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked > 20, "{checked}");
+}

@@ -174,6 +174,62 @@ fn svg_texts(svg: &str) -> BTreeSet<String> {
         .collect()
 }
 
+/// Each `<text>` whose content is one of `labels`: its box `[left, top,
+/// right, bottom]` (px) from the SVG's own x, y and font size (plotters
+/// anchors text at its top-left, `dy="0.76em"`), the width at 0.5 em a
+/// character (a sans-serif face's average advance).
+fn label_boxes(svg: &str, labels: &BTreeSet<String>) -> Vec<(String, [f64; 4])> {
+    let doc = roxmltree::Document::parse(svg).expect("well-formed XML");
+    let num = |n: &roxmltree::Node, a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| {
+            let t = n.text()?.trim().to_string();
+            if !labels.contains(&t) {
+                return None;
+            }
+            let (x, y, size) = (num(&n, "x"), num(&n, "y"), num(&n, "font-size"));
+            let w = t.chars().count() as f64 * size * 0.5;
+            Some((t, [x, y, x + w, y + size]))
+        })
+        .collect()
+}
+
+/// Issue 33: the rigs at `|h| = 0` (pure translations and zero-pitch rigs,
+/// on one line) had labels drawn over each other. No two rig labels of the
+/// shipped survey's plot overlap, measured on the SVG's own coordinates.
+#[test]
+fn no_two_rig_labels_of_the_plot_overlap() {
+    let dir = tempfile::tempdir().unwrap();
+    let plot = dir.path().join("survey.svg");
+    let (v, _) = survey_json(&["calibrations/", "--all", "--plot", plot.to_str().unwrap()]);
+    let ids: BTreeSet<String> = v["rigs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["id"].as_str().unwrap().to_string())
+        .collect();
+    let at_zero = v["rigs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| {
+            r["screw_translation_m"]
+                .as_f64()
+                .is_none_or(|h| h.abs() < 1e-3)
+        })
+        .count();
+    assert!(at_zero >= 5, "the shipped rigs have {at_zero} at |h| = 0");
+    let boxes = label_boxes(&std::fs::read_to_string(&plot).unwrap(), &ids);
+    assert_eq!(boxes.len(), ids.len());
+    for (i, (a, p)) in boxes.iter().enumerate() {
+        for (b, q) in &boxes[i + 1..] {
+            let meet = p[0] < q[2] && q[0] < p[2] && p[1] < q[3] && q[1] < p[3];
+            assert!(!meet, "the labels {a} {p:?} and {b} {q:?} overlap");
+        }
+    }
+}
+
 #[test]
 fn the_plot_names_every_rig_and_marks_zero_pitch() {
     let dir = tempfile::tempdir().unwrap();

@@ -67,6 +67,10 @@ pub struct Parsed {
     pub warnings: Vec<Warning>,
     /// The rig metadata, for TOML rig files (`None` for every other format).
     pub rig: Option<RigMeta>,
+    /// The robot the file describes, where it names one (URDF and expanded
+    /// xacro `<robot name>`): the survey's platform for a file that is not a
+    /// rig file.
+    pub platform: Option<String>,
     /// Edges that close a loop with `edges` (Kalibr `T_cn_cnm1`): checked
     /// against the tree, not part of it (see `frames::graph`).
     pub redundant: Vec<Edge>,

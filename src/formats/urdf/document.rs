@@ -29,6 +29,8 @@ pub(super) struct Document<'c, 'a> {
     path: &'c Path,
     opts: &'c LoadOptions,
     root_error: Option<Error>,
+    /// `<robot name>`: the platform the survey names.
+    robot: Option<String>,
     xacro: Option<XacroAt<'a>>,
     version: Option<Result<Version>>,
     /// Top-level `<link>`s in file order: name and start offset.
@@ -63,6 +65,7 @@ impl<'c, 'a> Document<'c, 'a> {
             path,
             opts,
             root_error: None,
+            robot: None,
             xacro: None,
             version: None,
             decls: Vec::with_capacity(links),
@@ -90,7 +93,10 @@ impl<'c, 'a> Document<'c, 'a> {
         match item {
             Item::Root(el) => match check_root(self.idx, &el) {
                 Err(e) => self.root_error = Some(e),
-                Ok(()) => self.version = Some(version::version(self.idx, &el, self.opts)),
+                Ok(()) => {
+                    self.robot = el.attr("name").map(str::to_string);
+                    self.version = Some(version::version(self.idx, &el, self.opts));
+                }
             },
             Item::Xacro(x) => self.xacro = Some(x),
             Item::Link(name, start) if !self.settled() => self.link(name, start),
@@ -198,6 +204,7 @@ impl<'c, 'a> Document<'c, 'a> {
             edges,
             frames,
             warnings,
+            platform: self.robot,
             ..Parsed::default()
         })
     }
