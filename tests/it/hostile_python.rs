@@ -220,3 +220,49 @@ fn a_character_that_is_no_letter_is_refused_not_looped_on() {
         1
     );
 }
+
+/// Fuzz finding 16 (pyexpr, FUZZING.md): a backslash before a character
+/// beyond ASCII in a plain string (`'\é'`, `"\\\u{fffd}"`) stepped two bytes,
+/// into the character, and the next slice of the text panicked. Python
+/// keeps an unknown escape as written (`'\é'` is two characters), so the
+/// file reads, and the string's length says the character came whole.
+#[test]
+fn an_unknown_escape_of_a_non_ascii_character_is_kept_whole() {
+    for ch in ['é', '\u{fffd}', '漢', '🦀'] {
+        let py = format!(
+            "s = '\\{ch}'\nif len(s) == 2 and s[1] == '{ch}':\n    {}",
+            stp_node("'lidar'")
+        );
+        assert_eq!(read_as("launch-py", &py).expect("read"), 1, "{ch}");
+        // Triple-quoted too, and the rest of the line read on from there.
+        let py = format!(
+            "s = \"\"\"a\\{ch}b\"\"\"\nif s == 'a\\\\{ch}b':\n    {}",
+            stp_node("'lidar'")
+        );
+        assert_eq!(read_as("launch-py", &py).expect("read"), 1, "{ch}");
+    }
+}
+
+/// Escapes as Python reads them (checked with CPython 3.11): octal takes up
+/// to three digits (`'\012'` is a line feed, `'\1a'` is chr(1) + 'a', `\0`
+/// a NUL), compared here with the same characters written as hex escapes;
+/// `\x+1` is refused, as Python refuses it (`from_str_radix` took the sign).
+#[test]
+fn octal_and_hex_escapes_read_as_python_reads_them() {
+    for (lit, cond) in [
+        (r"'\012'", r"s == '\n'"),
+        (r"'\0'", r"s == '\x00'"),
+        (r"'\101\102'", "s == 'AB'"),
+        (r"'\1a'", r"len(s) == 2 and s == '\x01a'"),
+        (r"'\7777'", r"s == '\u01ff7'"),
+        (r"'\x41'", "s == 'A'"),
+    ] {
+        let py = format!("s = {lit}\nif {cond}:\n    {}", stp_node("'lidar'"));
+        assert_eq!(read_as("launch-py", &py).expect("read"), 1, "{lit}");
+    }
+    refused(
+        &format!("s = '\\x+1'\n{}", stp_node("'lidar'")),
+        1,
+        "escape",
+    );
+}

@@ -326,6 +326,17 @@ fn string(lx: &mut Lexer, prefix: String) -> Result<()> {
                 lx.i += ch.len_utf8();
                 continue;
             }
+            if !n.is_ascii() {
+                // An unknown escape of a character beyond ASCII: kept as
+                // written, the whole character (Python keeps `\é` as is;
+                // stepping two bytes would land inside it: fuzz finding 16).
+                value.push('\\');
+                lx.i += 1;
+                let ch = lx.text[lx.i..].chars().next().unwrap_or(' ');
+                value.push(ch);
+                lx.i += ch.len_utf8();
+                continue;
+            }
             lx.i += 2;
             match n {
                 b'\n' => {
@@ -353,7 +364,6 @@ fn escape(n: u8, lx: &mut Lexer, out: &mut String) -> std::result::Result<(), St
         b'\\' => Some('\\'),
         b'\'' => Some('\''),
         b'"' => Some('"'),
-        b'0' => Some('\0'),
         b'a' => Some('\x07'),
         b'b' => Some('\x08'),
         b'f' => Some('\x0c'),
@@ -363,6 +373,24 @@ fn escape(n: u8, lx: &mut Lexer, out: &mut String) -> std::result::Result<(), St
     if let Some(c) = simple {
         out.push(c);
         return Ok(());
+    }
+    if (b'0'..=b'7').contains(&n) {
+        // Octal: up to three digits, the first just read (`\012` is a line
+        // feed, `\0` a NUL), as Python reads them.
+        let more = lx.s[lx.i..]
+            .iter()
+            .take(2)
+            .take_while(|b| (b'0'..=b'7').contains(b))
+            .count();
+        let digits = &lx.text[lx.i - 1..lx.i + more];
+        let v =
+            u32::from_str_radix(digits, 8).map_err(|_| format!("malformed escape \\{digits}"))?;
+        out.push(char::from_u32(v).ok_or("escape beyond Unicode")?);
+        lx.i += more;
+        return Ok(());
+    }
+    if n == b'N' {
+        return Err("\\N{...} escapes are not supported".into());
     }
     let hex = match n {
         b'x' => 2,
@@ -378,6 +406,7 @@ fn escape(n: u8, lx: &mut Lexer, out: &mut String) -> std::result::Result<(), St
     let digits = lx
         .text
         .get(lx.i..lx.i + hex)
+        .filter(|d| d.bytes().all(|b| b.is_ascii_hexdigit()))
         .ok_or("truncated \\x / \\u escape")?;
     let v = u32::from_str_radix(digits, 16)
         .map_err(|_| format!("malformed escape \\{}{digits}", n as char))?;
