@@ -1,12 +1,13 @@
-//! The report checklist's contract (docs/ARCHITECTURE.md, "A report"), read
-//! from the binary itself: every command `audit --help` lists (and the rig
-//! report, the command without a name) is run under 80 and 120 columns by
-//! `widths::every_command_fits_80_and_120_columns` (an entry of
+//! The report checklist's contract (docs/ARCHITECTURE.md, "Adding a report",
+//! step 4), read from the binary itself: every command `audit --help` lists
+//! (and the rig report, the command without a name) is run under 80 and 120
+//! columns by `widths::every_command_fits_80_and_120_columns` (an entry of
 //! `widths::COMMANDS`) or is exempt below with its reason, and every command
 //! whose `--format` takes `json` has its JSON checked against a committed
-//! schema by `json_schemas::every_command_s_json_matches_its_schema` (an entry
-//! of `json_schemas::SCHEMAS`). The command list is clap's own `Commands:`
-//! section, so a command added to `src/main.rs` without either fails here.
+//! schema by `json_schemas::every_command_s_json_matches_its_schema` (an
+//! entry of `json_schemas::SCHEMAS`). The command list is clap's own
+//! `Commands:` section, so a command added to `src/main.rs` without either
+//! fails here.
 
 use crate::common::run_cli;
 use crate::json_schemas::SCHEMAS;
