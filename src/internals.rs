@@ -28,22 +28,23 @@ pub mod degeneracy {
         generalized_eigen_raw, paper_frame_changes, reexpress, rel_diff, subspace_angle, transport,
         Accumulator, Analysis, Arm, Assembly, Kernel, MetricRule, TwistScrew, BLOCK,
     };
+    pub use crate::degeneracy::{FrameChange, GenEigen, ScoredScrew, SweepRow, TransportCheck};
 
     pub mod normals {
         pub use crate::degeneracy::normals::{
-            estimate_normals_progress, estimate_normals_with, NormalParams,
+            estimate_normals_progress, estimate_normals_with, NormalParams, NormalStats,
         };
     }
 
     pub mod pairs {
-        pub use crate::degeneracy::pairs::pair_assembly;
+        pub use crate::degeneracy::pairs::{pair_assembly, PairStats};
     }
 
     pub mod points {
         pub use crate::degeneracy::points::{
             accumulate_file, accumulate_file_with, accumulate_reader, parse_points, parse_xyz,
             read_from, read_points, read_points_with, read_xyz, read_xyz_classes, read_xyz_with,
-            write_csv, write_pcd, write_ply, Encoding, PointData, PointFormat,
+            write_csv, write_pcd, write_ply, Accumulated, Encoding, PointData, PointFormat,
         };
     }
 
@@ -56,8 +57,8 @@ pub mod degeneracy {
 
     pub mod threshold {
         pub use crate::degeneracy::threshold::{
-            calibrate, count_interval, default_threshold, Calibration, FamilyResult, Interval,
-            SEEDS,
+            calibrate, count_interval, default_threshold, Calibration, Config, ConfigResult,
+            FamilyResult, Interval, SEEDS,
         };
     }
 }
@@ -71,6 +72,10 @@ pub mod formats {
         pub use crate::formats::bag::*;
     }
 
+    pub mod spec {
+        pub use crate::formats::spec::{Confidence, FormatSpec, Input, RigMeta};
+    }
+
     pub mod glim {
         pub use crate::formats::glim::strip_json_comments;
     }
@@ -78,14 +83,10 @@ pub mod formats {
     pub mod rig_toml {
         pub use crate::formats::rig_toml::parse;
     }
-
-    pub mod xacro {
-        pub use crate::formats::xacro::SPEC;
-    }
 }
 
 pub mod frames {
-    pub use crate::frames::{EdgeSet, FrameDecl, FrameGraph};
+    pub use crate::frames::{EdgeSet, FrameDecl, FrameGraph, RedundantEdge};
 }
 
 pub mod geometry {
@@ -104,7 +105,7 @@ pub mod geometry {
         pub use crate::geometry::uncertainty::{
             chain_covariance, compose_steps, literal_half_unit, outputs, propagate,
             rounding_covariance, rounding_std, rpy_covariance, tangent_between, tuple_half_units,
-            Step,
+            ChainUncertainty, Outputs, Step,
         };
     }
 }
@@ -112,7 +113,7 @@ pub mod geometry {
 pub mod pipeline {
     pub use crate::pipeline::{
         check_output_target, check_plot_target, check_spread_plot_target, load, write_atomic,
-        write_spread_plot, write_survey_plot,
+        write_spread_plot, write_survey_plot, Loaded,
     };
 
     pub mod files {
@@ -127,7 +128,8 @@ pub mod pipeline {
         pub use crate::pipeline::detector::{
             calibrate, degeneracy, parse_frame, parse_initial_guess, parse_scene, parse_triple,
             parse_update, read_scan, simulate, simulate_transform, tunnel, wilson95,
-            CalibrateOptions, ScanOptions, SimulateParams, SimulateRig, TunnelParams,
+            CalibrateOptions, KeptCloud, Scan, ScanOptions, ScanPair, SimulateParams, SimulateRig,
+            TunnelParams,
         };
     }
 }
@@ -145,8 +147,18 @@ pub mod render {
 }
 
 pub mod report {
+    pub mod detector {
+        pub use crate::report::detector::{
+            AnalyticCounts, ConfigJson, CorrectionJson, FamilyCalibration, FamilyComparison,
+            FromTo, HmJson, IntervalJson, PerScene, SimulateReport, ThresholdReport,
+            TunnelFrameJson, TunnelReport,
+        };
+    }
+
     pub mod run {
-        pub use crate::report::run::{RunHeader, RunReport, RunSink};
+        pub use crate::report::run::{
+            FamilyRecord, FrameRecord, PairRecord, RunHeader, RunReport, RunSink, ScanRecord,
+        };
     }
 
     pub mod run_scene {
@@ -164,11 +176,13 @@ pub mod run {
     }
 
     pub mod scan {
-        pub use crate::run::scan::{Outcome, Settings};
+        pub use crate::run::scan::{
+            FamilyResult, NormalsFrom, Outcome, PairOutcome, ScanMeta, Settings, Skip,
+        };
     }
 
     pub mod source {
-        pub use crate::run::source::{ScanBound, ScanWindow};
+        pub use crate::run::source::{Payload, ScanBound, ScanItem, ScanWindow};
     }
 }
 

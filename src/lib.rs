@@ -50,6 +50,14 @@
 //!   [`RenderOptions`]); [`render_bytes`] and [`render_to`] the same as
 //!   bytes or to a writer, MCAP (the 3D scene for Foxglove) included;
 //!   [`Robot::frame_tree`] is the frame tree as a report.
+//! - [`reports`]: the types of the reports' fields, one module per report, so
+//!   that what a program holds has a name; [`document`]: a report laid out
+//!   for people ([`Report::document`]: blocks, tables, the frame tree's
+//!   graph, plots, the 3D scene), for a program that draws reports its own
+//!   way. The parts of the analysis are beside [`Transform`]
+//!   ([`Certificates`], [`PitchVerdict`], [`Precision`], [`FamilyVerdict`],
+//!   [`AdaptedMetric`], [`FamilySpec`], ...). `#![deny(unnameable_types)]`
+//!   keeps it so: every type the face hands out can be named.
 //!
 //! Every failure is an [`Error`] (a [`Diagnostic`]: a typed [`Code`], the
 //! file and line where known, a message saying what was expected and what was
@@ -123,6 +131,9 @@
 //! timeline picture and the MCAP file's transforms.
 
 #![deny(missing_docs)]
+// Every type a user can reach through the face (a field, an argument, a
+// return value) can also be named: re-exported below or in `internals`.
+#![deny(unnameable_types)]
 
 mod analysis;
 mod api;
@@ -130,7 +141,6 @@ mod baseline;
 mod bytes;
 mod degeneracy;
 mod diagnostic;
-mod document;
 mod formats;
 mod frames;
 mod geometry;
@@ -145,10 +155,15 @@ mod stack;
 mod tolerances;
 
 // Robots: load, compose, report.
+pub use analysis::family::{Calibrated, FamilySpec};
+pub use analysis::metric::{AdaptedMetric, AdaptedReason, FamilyVerdict, VerdictReason};
 pub use analysis::{analyze, Family, RigAnalysis};
 pub use api::Robot;
 pub use formats::{Assume, BagOptions, Format, LoadOptions, Rename, UrdfVersion};
-pub use frames::{Chain, ChainStep, Edge, JointState, JointType, Provenance};
+pub use frames::{Chain, ChainStep, Edge, JointState, JointType, Provenance, ValuesAt};
+pub use geometry::certificate::{AdjointSummary, CertificateEntry, Certificates};
+pub use geometry::uncertainty::UncertaintySource;
+pub use geometry::{EdgePrecision, PitchVerdict, Precision};
 pub use geometry::{PitchTol, QuatOrder, Screw, ScrewKind, Transform, UserSigma};
 pub use pipeline::RigOptions;
 
@@ -183,6 +198,11 @@ pub use report::diff::DiffReport;
 pub use report::frames::FramesReport;
 pub use report::spread::SpreadReport;
 pub use report::{CheckReport, RigReport, SurveyReport};
+
+// The parts of the reports, one module per report, and the document a
+// report is laid out as (its blocks, tables and pictures).
+pub mod document;
+pub mod reports;
 
 // Diagnostics.
 pub use diagnostic::{Code, Diagnostic, Error, Location, Result, Severity, Warning};

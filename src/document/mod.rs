@@ -1,5 +1,5 @@
 //! The document layer: what a report says, without how a format draws it.
-//! Below both [`crate::report`] (which builds documents) and
+//! Below both `crate::report` (which builds documents) and
 //! `crate::render` (which draws them); it imports neither.
 //!
 //! A [`Report`] is a typed, `Serialize` value (its JSON, with
@@ -8,19 +8,24 @@
 //! and, for the pictures, a [`Graph`] (the frame tree) or a [`Plot`] (the
 //! survey plot), and for the 3D formats a [`Scene`] (frames, shapes and point
 //! clouds; the text formats skip it). Every number a person reads is
-//! formatted by [`numbers`].
+//! formatted by `numbers` (inside the crate).
 //! Text in a document is as the report has it (names from files included):
 //! each renderer escapes it for its own format.
+//!
+//! On the face as `extrinsic_audit::document`: the types below, which a
+//! program reads from [`Report::document`] (to draw a report its own way) or
+//! builds; the number formatting and the scene's helpers stay inside the
+//! crate.
 
-pub mod graph;
-pub mod numbers;
-pub mod plot;
-pub mod scene;
+pub(crate) mod graph;
+pub(crate) mod numbers;
+pub(crate) mod plot;
+pub(crate) mod scene;
 mod table;
 
 pub use graph::{Graph, GraphLink, GraphNode};
-pub use plot::Plot;
-pub use scene::Scene;
+pub use plot::{Axis, Colour, Corner, Mark, Panel, Plot, Point, Series};
+pub use scene::{Entity, Paint, PointCloud, Scene, SceneTransform, Shape};
 pub use table::Table;
 
 use crate::diagnostic::Diagnostic;

@@ -105,7 +105,7 @@ pub struct SubspaceJson {
 
 impl SubspaceJson {
     /// From a classified screw.
-    pub fn scored(s: &ScoredScrew) -> Self {
+    pub(crate) fn scored(s: &ScoredScrew) -> Self {
         let mut j = Self::new(s.rayleigh, &s.screw);
         j.rotation_fraction = s.rotation_fraction;
         j
@@ -113,7 +113,7 @@ impl SubspaceJson {
 
     /// From a Rayleigh quotient and its screw (rotation fraction 1 for a
     /// rotation, 0 for a translation).
-    pub fn new(q: f64, s: &TwistScrew) -> Self {
+    pub(crate) fn new(q: f64, s: &TwistScrew) -> Self {
         let v3 = |v: Option<nalgebra::Vector3<f64>>| v.map(|v| [v.x, v.y, v.z]);
         SubspaceJson {
             rotation_fraction: if s.axis.is_some() { 1.0 } else { 0.0 },
@@ -167,7 +167,7 @@ pub struct DegeneracyReport {
     pub warnings: Vec<String>,
     /// What the 3D scene draws beyond the JSON (`--format mcap`).
     #[serde(skip)]
-    pub scene: ScanSceneData,
+    pub(crate) scene: ScanSceneData,
 }
 
 /// What the 3D scene of a scan or pair draws beyond its JSON.
@@ -378,7 +378,7 @@ pub struct MatricesJson {
 
 impl MatricesJson {
     /// From an assembly.
-    pub fn new(asm: &Assembly) -> Self {
+    pub(crate) fn new(asm: &Assembly) -> Self {
         let rows = |x: &nalgebra::Matrix6<f64>| {
             std::array::from_fn(|i| std::array::from_fn(|j| x[(i, j)]))
         };

@@ -60,7 +60,7 @@ pub struct RotationJson {
     pub axis: Option<[f64; 3]>,
 }
 
-/// `screw`: the Chasles decomposition (conventions in [`crate::geometry::se3`]).
+/// `screw`: the Chasles decomposition (conventions in [`crate::Transform::screw`]).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct ScrewJson {
     /// `identity`, `pure_translation`, `zero_pitch` or `general`.
@@ -79,7 +79,7 @@ pub struct ScrewJson {
     /// rotation.
     pub pitch_uncertainty_m_per_rad: Option<f64>,
     /// `zero`, `nonzero` or `undecidable` (conventions in
-    /// [`crate::geometry::uncertainty`]); null without a rotation.
+    /// [`crate::PitchVerdict`]); null without a rotation.
     pub pitch_verdict: Option<PitchVerdict>,
     /// For `undecidable`: the standard uncertainty of `h` (m) below which the
     /// verdict would be decided; null otherwise.
@@ -217,7 +217,7 @@ pub struct RigReport {
     pub kappa_check: Option<KappaCheckJson>,
     /// The chain's edges for the text renderings (the JSON has `sources`).
     #[serde(skip)]
-    pub chain: Vec<ChainRow>,
+    pub(crate) chain: Vec<ChainRow>,
     /// The whole frame tree, the chain marked, for the 3D scene (every edge
     /// of the graph); `None`: the scene has the one `from -> to` transform.
     #[serde(skip)]

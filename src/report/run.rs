@@ -45,7 +45,7 @@ impl RunUnit {
     }
 
     /// `scan 12 (t = 1.200 s)` or `pair 11 -> 12`.
-    pub fn describe(self, scan: &ScanMeta, target: Option<&ScanMeta>) -> String {
+    pub(crate) fn describe(self, scan: &ScanMeta, target: Option<&ScanMeta>) -> String {
         let t = scan
             .time_s
             .map(|t| format!(" (t = {t:.3} s)"))
@@ -515,8 +515,8 @@ pub struct IntervalJson {
     pub worst_index: usize,
 }
 
-impl From<&Interval> for IntervalJson {
-    fn from(i: &Interval) -> Self {
+impl IntervalJson {
+    pub(crate) fn of(i: &Interval) -> Self {
         IntervalJson {
             start_index: i.start,
             end_index: i.end,
@@ -611,13 +611,13 @@ pub struct RunReport {
     pub damage: Option<String>,
     /// The timeline's data (the SVG).
     #[serde(skip)]
-    pub timeline: Timeline,
+    pub(crate) timeline: Timeline,
     /// Intervals of the scan frame, per family (the SVG's shading).
     #[serde(skip)]
-    pub shading: Vec<Vec<Interval>>,
+    pub(crate) shading: Vec<Vec<Interval>>,
     /// Indices of the drawn frames.
     #[serde(skip)]
-    pub drawn: Vec<usize>,
+    pub(crate) drawn: Vec<usize>,
 }
 
 fn bound(b: Option<ScanBound>) -> Option<String> {
@@ -629,7 +629,7 @@ fn bound(b: Option<ScanBound>) -> Option<String> {
 
 impl RunReport {
     /// The report of a run: its header, summary and context.
-    pub fn new(h: &RunHeader, s: &Summary, c: RunContext) -> Self {
+    pub(crate) fn new(h: &RunHeader, s: &Summary, c: RunContext) -> Self {
         let st = c.settings;
         let settings = RunSettingsJson {
             voxel_m: st.voxel,
@@ -664,8 +664,8 @@ impl RunReport {
                     analysed: d.analysed,
                     degenerate: d.scans,
                     interval_count: d.interval_count,
-                    intervals: d.intervals.iter().map(IntervalJson::from).collect(),
-                    longest: d.longest.as_ref().map(IntervalJson::from),
+                    intervals: d.intervals.iter().map(IntervalJson::of).collect(),
+                    longest: d.longest.as_ref().map(IntervalJson::of),
                 });
             }
         }

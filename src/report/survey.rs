@@ -91,7 +91,7 @@ pub struct SurveyReport {
     pub summary: SurveySummaryJson,
     /// Per row: placeholder, and the rig it duplicates (for the tables).
     #[serde(skip)]
-    pub marks: Vec<RowMarks>,
+    pub(crate) marks: Vec<RowMarks>,
 }
 
 /// What the table notes beside a rig's id.
@@ -121,7 +121,7 @@ pub fn median(v: &[f64]) -> f64 {
 
 impl SurveyReport {
     /// The report over rows (in the order to print), counting those `counted`.
-    pub fn new(rows: Vec<(SurveyRigJson, RowMarks)>, counted: &[bool]) -> Self {
+    pub(crate) fn new(rows: Vec<(SurveyRigJson, RowMarks)>, counted: &[bool]) -> Self {
         let levers: Vec<f64> = rows
             .iter()
             .zip(counted)

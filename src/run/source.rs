@@ -124,7 +124,12 @@ pub enum Place {
 impl ScanWindow {
     /// Where the scan `index` at `time_s` stands; `kept` scans are counted
     /// from the start for `every`.
-    pub fn place(&self, index: usize, time_s: Option<f64>, started: &mut Option<usize>) -> Place {
+    pub(crate) fn place(
+        &self,
+        index: usize,
+        time_s: Option<f64>,
+        started: &mut Option<usize>,
+    ) -> Place {
         let reached = |b: ScanBound| match b {
             ScanBound::Index(i) => index >= i,
             ScanBound::Seconds(s) => time_s.is_some_and(|t| t >= s),

@@ -9,7 +9,7 @@
 //! folder (`common::testdata`), and its row is skipped, saying so, where the
 //! folder does not have them.
 
-use extrinsic_audit::internals::formats::{all_formats, detect_file};
+use extrinsic_audit::internals::formats::{all_formats, detect_file, FORMATS};
 use extrinsic_audit::LoadOptions;
 use std::path::{Path, PathBuf};
 
@@ -184,9 +184,10 @@ fn the_table_covers_every_format_both_ways() {
         let named = rows.iter().any(|(at, _, by)| {
             let ext = name_of(*at).rsplit('/').next().unwrap_or("");
             *by == Name
-                && f.0
-                    .extensions
+                && FORMATS
                     .iter()
+                    .filter(|s| s.id == f.name())
+                    .flat_map(|s| s.extensions.iter())
                     .any(|e| ext.ends_with(&format!(".{e}")))
         });
         if named && !NAME_ONLY.contains(&f.name()) {

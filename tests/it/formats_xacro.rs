@@ -463,7 +463,7 @@ fn mutated_xacro_never_panics_or_hangs() {
         let text = String::from_utf8_lossy(&text).into_owned();
         let t = crate::common::hostile::cpu_now();
         let mut opts = LoadOptions::default();
-        opts.format = Some(Format(&extrinsic_audit::internals::formats::xacro::SPEC));
+        opts.format = Some(Format::from_name("xacro").expect("a format"));
         opts.package_paths = rig_packages().unwrap_or_default();
         match load_str(&text, path, &opts) {
             Ok(l) => {
@@ -557,7 +557,7 @@ fn unprefixed_xacro_elements_are_warned_about() {
 </robot>
 "#;
     let mut opts = LoadOptions::default();
-    opts.format = Some(Format(&extrinsic_audit::internals::formats::xacro::SPEC));
+    opts.format = Some(Format::from_name("xacro").expect("a format"));
     let l = extrinsic_audit::internals::formats::load_str(text, Path::new("old.urdf.xacro"), &opts)
         .expect("expands");
     let w: Vec<_> = l

@@ -60,6 +60,7 @@ mod points_readers;
 mod points_regressions;
 mod points_streaming;
 mod readme;
+mod report_contract;
 mod rig_toml;
 mod run_bags;
 mod run_fixtures;

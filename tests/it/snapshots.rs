@@ -18,7 +18,7 @@ fn text_at_80_and_120_columns() {
         for (name, args) in COMMANDS {
             let args = [args, &["--color", "never"]].concat();
             // The progress bar (drawn in time) is left out of the snapshot.
-            let out = if name == "calibrate-threshold" || name == "check" {
+            let out = if ["calibrate-threshold", "check", "run"].contains(&name) {
                 pty_run_stdout(cols, &args)
             } else {
                 pty_run(cols, &args)

@@ -8,7 +8,7 @@ use crate::common::run_cli;
 use std::process::Command;
 
 /// The commands a person runs, with arguments that finish in seconds.
-pub const COMMANDS: [(&str, &[&str]); 13] = [
+pub const COMMANDS: [(&str, &[&str]); 14] = [
     (
         "rig-report",
         &[
@@ -103,6 +103,7 @@ pub const COMMANDS: [(&str, &[&str]); 13] = [
             "tests/fixtures/diff/whole_new.urdf",
         ],
     ),
+    ("run", &["run", "tests/fixtures/run/pcd_seq"]),
 ];
 
 /// `script` is there (util-linux; every Debian-based machine has it).

@@ -124,7 +124,7 @@ impl FormatSpec {
 /// A format: a handle on its `FormatSpec` (compared by id). `from_name`
 /// lives with the list of formats (`formats::registry`).
 #[derive(Clone, Copy)]
-pub struct Format(pub &'static FormatSpec);
+pub struct Format(pub(crate) &'static FormatSpec);
 
 impl Format {
     /// The id (`urdf`, `fast-lio`, ...).

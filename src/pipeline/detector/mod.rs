@@ -12,7 +12,7 @@ mod values;
 pub(crate) use options::check_tau_ells;
 pub use options::{DetectorOptions, NormalOptions};
 pub use points::{Coords, Points};
-pub use scan::{read_scan, InitialGuess, KeptCloud, ScanOptions, ScanPair};
+pub use scan::{read_scan, InitialGuess, KeptCloud, Scan, ScanOptions, ScanPair};
 pub use values::{parse_frame, parse_initial_guess, parse_scene, parse_triple, parse_update};
 
 use crate::analysis::metric::adapted_metric_matrix;
