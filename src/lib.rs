@@ -153,7 +153,9 @@ pub use geometry::{PitchTol, QuatOrder, Screw, ScrewKind, Transform, UserSigma};
 pub use pipeline::RigOptions;
 
 // The user's own odometry's detector on a rig (`RigReport::detector`).
-pub use analysis::detectors::{Dependence, DetectorAdvice, OdometryDetector};
+pub use analysis::detectors::{
+    ConfiguredThreshold, Dependence, DetectorAdvice, DetectorConfig, OdometryDetector,
+};
 
 // Calibration files: the CI check, the diff, the survey.
 pub use baseline::DriftTolerances;

@@ -47,6 +47,14 @@ fn json_outputs_match_the_committed_schemas() {
             &[&ANYMAL_JSON[..], &["--detector", d]].concat(),
         );
     }
+    // A detector's own configuration among the files: `detector.config`.
+    for cfg in ["dcreg_icp.yaml", "xicp_icp.yaml"] {
+        let cfg = format!("tests/fixtures/detectors/config/{cfg}");
+        assert_valid(
+            "rig-report",
+            &[&ANYMAL_JSON[..1], &[cfg.as_str()], &ANYMAL_JSON[1..]].concat(),
+        );
+    }
     assert_valid(
         "survey",
         &["survey", "calibrations/", "--all", "--format", "json"],
