@@ -67,6 +67,13 @@ fn json_outputs_match_the_committed_schemas() {
             &["spread", &dir, "--tolerance", "5,0.5", "--format", "json"],
         );
     }
+    // Calibrations that name the pair otherwise (`PATH:FROM:TO`).
+    let renamed = "tests/fixtures/spread/kitti-renamed";
+    let (a, b) = (
+        format!("{renamed}/kitti-repeat-1.toml"),
+        format!("{renamed}/kitti-repeat-2.toml:imu_link:velodyne"),
+    );
+    assert_valid("spread", &["spread", &a, &b, "--format", "json"]);
     assert_valid(
         "degeneracy",
         &[
