@@ -327,7 +327,7 @@ impl DetectorConfig {
         let mut said = Vec::new();
         for th in &mut config.thresholds {
             let mut s = format!(
-                "{} = {} ({name}:{}; {}, {} by default)",
+                "{} = {} ({name}:{}; {}, default {})",
                 th.key, th.value, th.line, th.upstream, th.default
             );
             if th.banded {
@@ -344,8 +344,10 @@ impl DetectorConfig {
             }
             said.push(s);
         }
-        a.statement
-            .push_str(&format!("; its configuration sets {}", said.join("; ")));
+        a.statement.push_str(&format!(
+            "; your configuration replaces the defaults: {}",
+            said.join("; ")
+        ));
         a.config = Some(config);
         a
     }

@@ -307,7 +307,7 @@ fn a_dcreg_configuration_reveals_dcreg_with_its_thresholds() {
     let st = a["statement"].as_str().unwrap();
     let between = format!("between {:.2} and {:.2}", want[0], want[1]);
     assert!(
-        st.contains("degeneracy.condition_threshold = 25 (dcreg_icp.yaml:17; DEGENERACY_THRES_COND, 10 by default)")
+        st.contains("your configuration replaces the defaults: degeneracy.condition_threshold = 25 (dcreg_icp.yaml:17; DEGENERACY_THRES_COND, default 10)")
             && st.contains(&between),
         "{st}"
     );
