@@ -23,6 +23,11 @@
 //! translation part (DCReg); X-ICP is frame-invariant; FAST-LIO and its
 //! family have no detector. Checked numerically in
 //! tests/fixtures/detectors/detector_checks.py.
+//!
+//! A detector's own configuration file ([`DetectorConfig`], read by
+//! `pipeline::odometry_config`, where the upstream keys are cited) replaces
+//! the source's default thresholds; an eigenvalue threshold on the 6x6 `H`
+//! it sets is carried into `--from` by the same band.
 
 use crate::geometry::certificate::band;
 use crate::geometry::Transform;
