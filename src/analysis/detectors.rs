@@ -491,6 +491,50 @@ mod tests {
         assert!(a.step.contains("near singular"), "{}", a.step);
     }
 
+    /// A configured eigenvalue threshold on a LiDAR 1 m above base_link:
+    /// the band at |d| / l = 1 is [1 / phi^2, phi^2] (closed form), so
+    /// DCReg's 150 acts in base_link between 150 / phi^2 and 150 phi^2;
+    /// the condition threshold (no band) becomes the detector's threshold.
+    #[test]
+    fn a_configured_eigenvalue_threshold_is_carried_by_the_band() {
+        let th = |key: &str, value: f64, banded: bool| ConfiguredThreshold {
+            key: key.into(),
+            line: 3,
+            value,
+            default: 1.0,
+            upstream: "X",
+            meaning: "",
+            threshold_in_from: None,
+            banded,
+        };
+        let c = DetectorConfig {
+            file: "cfg/icp.yaml".into(),
+            detector: "dcreg",
+            source: "",
+            thresholds: vec![
+                th("degeneracy.condition_threshold", 25.0, false),
+                th("degeneracy.eigenvalue_threshold", 150.0, true),
+            ],
+        };
+        let t = Transform::from_translation([0.0, 0.0, 1.0]).unwrap();
+        let a = c.advise(&t, "base_link", "lidar");
+        assert_eq!(a.detector.threshold, Some(25.0));
+        let phi2 = ((1.0 + 5f64.sqrt()) / 2.0).powi(2);
+        let got = a.config.as_ref().unwrap().thresholds[1]
+            .threshold_in_from
+            .unwrap();
+        assert!((got[0] - 150.0 / phi2).abs() < 1e-9 && (got[1] - 150.0 * phi2).abs() < 1e-9);
+        assert!(a.config.as_ref().unwrap().thresholds[0]
+            .threshold_in_from
+            .is_none());
+        assert!(
+            a.statement.contains("(icp.yaml:3; X, default 1)"),
+            "{}",
+            a.statement
+        );
+        assert!(a.step.contains("between 57.29 and 392.71"), "{}", a.step);
+    }
+
     #[test]
     fn unbounded_invariant_and_absent_detectors_say_so() {
         let t = Transform::from_rpy([0.0; 3], [0.3, 0.0, 0.2]).unwrap();
