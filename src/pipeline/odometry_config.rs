@@ -132,6 +132,12 @@ impl OdometryDetector {
         if !matches!(ext.as_deref(), Some("yaml" | "yml")) || path.is_dir() {
             return Ok(None);
         }
+        // A configuration is a few kilobytes: a larger file is left to the
+        // formats and their own size cap (`--max-file-size`).
+        match std::fs::metadata(path) {
+            Ok(m) if m.len() <= DEFAULT_MAX_FILE_SIZE => {}
+            _ => return Ok(None),
+        }
         let text = crate::input::read_text(path, DEFAULT_MAX_FILE_SIZE, "detector configuration")?;
         // Both detectors' sections start a line: skip the parse otherwise.
         if !text
