@@ -156,11 +156,14 @@ fn read_one(
     let mut graph = FrameGraph::new();
     graph.add(loaded)?;
     warnings.extend(graph.warnings().iter().cloned());
-    let (from, to) = match (&opts.from, &opts.to, declared) {
-        _ if own.is_some() => own.cloned().unwrap_or_default(),
-        (Some(f), Some(t), _) => (f.clone(), t.clone()),
-        (None, None, Some(p)) => p,
-        (None, None, None) if graph.edges().len() == 1 => {
+    let half = opts.from.is_some() != opts.to.is_some();
+    let given = own
+        .cloned()
+        .or_else(|| opts.from.clone().zip(opts.to.clone()));
+    let (from, to) = match (given, declared) {
+        (Some(p), _) => p,
+        (None, Some(p)) if !half => p,
+        (None, None) if !half && graph.edges().len() == 1 => {
             let e = &graph.edges()[0];
             (e.parent.clone(), e.child.clone())
         }
