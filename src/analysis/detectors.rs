@@ -310,12 +310,11 @@ pub struct DetectorConfig {
 }
 
 impl DetectorConfig {
-    /// The detector, its threshold the one this file sets.
+    /// The detector, its threshold the one this file sets (`None` when the
+    /// file sets none: X-ICP's `None` method, detection off).
     pub fn detector(&self) -> OdometryDetector {
         let mut d = *find(self.detector).expect("a detector in DETECTORS");
-        if let Some(t) = self.thresholds.first() {
-            d.threshold = Some(t.value);
-        }
+        d.threshold = self.thresholds.first().map(|t| t.value);
         d
     }
 
@@ -349,10 +348,18 @@ impl DetectorConfig {
             }
             said.push(s);
         }
-        a.statement.push_str(&format!(
-            "; your configuration replaces the defaults: {}",
-            said.join("; ")
-        ));
+        if said.is_empty() {
+            // X-ICP's `degeneracyAwareness: None`: the one method with no keys.
+            a.statement.push_str(&format!(
+                "; your configuration ({name}) sets no threshold: its method runs no degeneracy detection"
+            ));
+            a.step = format!("{name} turns the detection off: nothing to scale for the frame");
+        } else {
+            a.statement.push_str(&format!(
+                "; your configuration replaces the defaults: {}",
+                said.join("; ")
+            ));
+        }
         a.config = Some(config);
         a
     }

@@ -339,6 +339,22 @@ mod tests {
             ]
         );
         assert_eq!(c.detector().threshold, Some(250.0));
+        // `None`: X-ICP off, no key read; the advice says so.
+        let off = read("degeneracyAwareness:\n  None:\n").unwrap().unwrap();
+        assert!(off.thresholds.is_empty() && off.detector().threshold.is_none());
+        let t = crate::Transform::from_translation([0.0, 0.0, 1.0]).unwrap();
+        let a = off.advise(&t, "base_link", "lidar");
+        assert!(
+            a.statement
+                .ends_with("its method runs no degeneracy detection"),
+            "{}",
+            a.statement
+        );
+        assert!(
+            a.step.starts_with("icp.yaml turns the detection off"),
+            "{}",
+            a.step
+        );
         let e = read("degeneracyAwareness:\n  Magic:\n    enoughInformationThreshold: 1\n")
             .unwrap_err()
             .to_string();
