@@ -34,7 +34,10 @@
 //! - [`OdometryDetector`]: the user's own odometry's detector (LIO-SAM,
 //!   LeGO-LOAM, DCReg, X-ICP, FAST-LIO, ...) on a rig, cited from its source:
 //!   [`OdometryDetector::advise`] is the [`DetectorAdvice`] a rig report
-//!   carries in [`RigReport::detector`].
+//!   carries in [`RigReport::detector`]; [`OdometryDetector::read_config`]
+//!   reads the detector's own configuration file (DCReg, X-ICP) as a
+//!   [`DetectorConfig`] whose thresholds ([`ConfiguredThreshold`]) its
+//!   [`DetectorConfig::advise`] uses.
 //! - [`Detector::points`]: every detector family on points held in memory
 //!   ([`Points`] of `f64` or `f32` rows, normals estimated when absent).
 //! - [`Detector::scan`] (and [`Detector::sweep`], the paper's frame sweep): the
@@ -168,7 +171,9 @@ pub use geometry::{PitchTol, QuatOrder, Screw, ScrewKind, Transform, UserSigma};
 pub use pipeline::RigOptions;
 
 // The user's own odometry's detector on a rig (`RigReport::detector`).
-pub use analysis::detectors::{Dependence, DetectorAdvice, OdometryDetector};
+pub use analysis::detectors::{
+    ConfiguredThreshold, Dependence, DetectorAdvice, DetectorConfig, OdometryDetector,
+};
 
 // Calibration files: the CI check, the diff, the survey.
 pub use baseline::DriftTolerances;

@@ -23,6 +23,11 @@
 //! translation part (DCReg); X-ICP is frame-invariant; FAST-LIO and its
 //! family have no detector. Checked numerically in
 //! tests/fixtures/detectors/detector_checks.py.
+//!
+//! A detector's own configuration file ([`DetectorConfig`], read by
+//! `pipeline::odometry_config`, where the upstream keys are cited) replaces
+//! the source's default thresholds; an eigenvalue threshold on the 6x6 `H`
+//! it sets is carried into `--from` by the same band.
 
 use crate::geometry::certificate::band;
 use crate::geometry::Transform;
@@ -256,6 +261,108 @@ pub struct DetectorAdvice {
     pub statement: String,
     /// The concrete step to take.
     pub step: String,
+    /// The detector's own configuration file, when one among the inputs
+    /// revealed it: the thresholds read from it, which replace the source's
+    /// defaults in `detector.threshold`, the statement and the step.
+    pub config: Option<DetectorConfig>,
+}
+
+/// One threshold read from a detector's own configuration file.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ConfiguredThreshold {
+    /// The key as the file nests it (`degeneracy.condition_threshold`).
+    pub key: String,
+    /// The 1-based line of the value.
+    pub line: usize,
+    /// The value read.
+    pub value: f64,
+    /// The source's default for it (what `--detector NAME` assumes).
+    pub default: f64,
+    /// The name the source's code gives it (`DEGENERACY_THRES_COND`).
+    pub upstream: &'static str,
+    /// What the detector compares it with.
+    pub meaning: &'static str,
+    /// The threshold as it acts on the same eigenvalue in `--from`, `[a, b]`:
+    /// set for an eigenvalue threshold on the 6x6 `H` the band bounds (l =
+    /// 1 m, no Euler factor), `None` for condition numbers and alignment
+    /// sums, which no band bounds or which are frame-invariant.
+    pub threshold_in_from: Option<[f64; 2]>,
+    /// Whether the band applies to it (an eigenvalue threshold on the 6x6
+    /// `H` in metres and radians, right perturbation).
+    #[serde(skip)]
+    pub banded: bool,
+}
+
+/// A detector's own configuration file, read
+/// (`OdometryDetector::read_config`): which detector it configures and the
+/// thresholds it sets, its first one the detector's `threshold`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DetectorConfig {
+    /// The file, as given.
+    pub file: String,
+    /// The `--detector` name it reveals.
+    pub detector: &'static str,
+    /// Where the source reads these keys (repository @ commit, file,
+    /// function).
+    pub source: &'static str,
+    /// The thresholds read, in the order the source reads them.
+    pub thresholds: Vec<ConfiguredThreshold>,
+}
+
+impl DetectorConfig {
+    /// The detector, its threshold the one this file sets (`None` when the
+    /// file sets none: X-ICP's `None` method, detection off).
+    pub fn detector(&self) -> OdometryDetector {
+        let mut d = *find(self.detector).expect("a detector in DETECTORS");
+        d.threshold = self.thresholds.first().map(|t| t.value);
+        d
+    }
+
+    /// What the configured detector does on the rig `t` (the pose of its
+    /// frame `to` in `from`): [`OdometryDetector::advise`] with this file's
+    /// thresholds, each said with its key and line, and an eigenvalue
+    /// threshold on the 6x6 `H` carried into `from` by the band.
+    pub fn advise(&self, t: &Transform, from: &str, to: &str) -> DetectorAdvice {
+        let mut a = advise(&self.detector(), t, from, to);
+        let mut config = self.clone();
+        let name = std::path::Path::new(&self.file)
+            .file_name()
+            .map_or(self.file.clone(), |n| n.to_string_lossy().into_owned());
+        let mut said = Vec::new();
+        for th in &mut config.thresholds {
+            let mut s = format!(
+                "{} = {} ({name}:{}; {}, default {})",
+                th.key, th.value, th.line, th.upstream, th.default
+            );
+            if th.banded {
+                let [lo, hi] = threshold_band(th.value, a.lever_arm_m, None);
+                th.threshold_in_from = Some([lo, hi]);
+                s.push_str(&format!(
+                    ", which acts on the same eigenvalue in {from} between {lo:.2} and {hi:.2}"
+                ));
+                a.step.push_str(&format!(
+                    "; its eigenvalue threshold {} ({}) acts in {from} between {lo:.2} and {hi:.2} on this rig: scale it into that range for a detector run in {from}",
+                    th.value, th.key
+                ));
+                a.frame_dependent |= a.lever_arm_m > 0.0;
+            }
+            said.push(s);
+        }
+        if said.is_empty() {
+            // X-ICP's `degeneracyAwareness: None`: the one method with no keys.
+            a.statement.push_str(&format!(
+                "; your configuration ({name}) sets no threshold: its method runs no degeneracy detection"
+            ));
+            a.step = format!("{name} turns the detection off: nothing to scale for the frame");
+        } else {
+            a.statement.push_str(&format!(
+                "; your configuration replaces the defaults: {}",
+                said.join("; ")
+            ));
+        }
+        a.config = Some(config);
+        a
+    }
 }
 
 /// `[tau s_min^2, tau s_max^2]` at `|d|` (l = 1 m), widened by the Euler
@@ -336,6 +443,7 @@ pub fn advise(d: &OdometryDetector, t: &Transform, from: &str, to: &str) -> Dete
         frame_dependent: dependent,
         statement,
         step,
+        config: None,
     }
 }
 
@@ -388,6 +496,50 @@ mod tests {
         let near = Transform::from_rpy([0.0, 85f64.to_radians(), 0.0], [0.0; 3]).unwrap();
         let a = advise(find("lio-sam").unwrap(), &near, "base_link", "lidar");
         assert!(a.step.contains("near singular"), "{}", a.step);
+    }
+
+    /// A configured eigenvalue threshold on a LiDAR 1 m above base_link:
+    /// the band at |d| / l = 1 is [1 / phi^2, phi^2] (closed form), so
+    /// DCReg's 150 acts in base_link between 150 / phi^2 and 150 phi^2;
+    /// the condition threshold (no band) becomes the detector's threshold.
+    #[test]
+    fn a_configured_eigenvalue_threshold_is_carried_by_the_band() {
+        let th = |key: &str, value: f64, banded: bool| ConfiguredThreshold {
+            key: key.into(),
+            line: 3,
+            value,
+            default: 1.0,
+            upstream: "X",
+            meaning: "",
+            threshold_in_from: None,
+            banded,
+        };
+        let c = DetectorConfig {
+            file: "cfg/icp.yaml".into(),
+            detector: "dcreg",
+            source: "",
+            thresholds: vec![
+                th("degeneracy.condition_threshold", 25.0, false),
+                th("degeneracy.eigenvalue_threshold", 150.0, true),
+            ],
+        };
+        let t = Transform::from_translation([0.0, 0.0, 1.0]).unwrap();
+        let a = c.advise(&t, "base_link", "lidar");
+        assert_eq!(a.detector.threshold, Some(25.0));
+        let phi2 = ((1.0 + 5f64.sqrt()) / 2.0).powi(2);
+        let got = a.config.as_ref().unwrap().thresholds[1]
+            .threshold_in_from
+            .unwrap();
+        assert!((got[0] - 150.0 / phi2).abs() < 1e-9 && (got[1] - 150.0 * phi2).abs() < 1e-9);
+        assert!(a.config.as_ref().unwrap().thresholds[0]
+            .threshold_in_from
+            .is_none());
+        assert!(
+            a.statement.contains("(icp.yaml:3; X, default 1)"),
+            "{}",
+            a.statement
+        );
+        assert!(a.step.contains("between 57.29 and 392.71"), "{}", a.step);
     }
 
     #[test]

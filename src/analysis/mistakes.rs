@@ -179,6 +179,13 @@ fn scaled(t: &Transform, k: f64) -> Vec<Transform> {
     vec![make(*t.rotation(), t.translation() * k)]
 }
 
+/// `t` with its quaternion's written components `[x, y, z, w]` read back
+/// by `read` as `[w, x, y, z]`.
+fn reread_quaternion(t: &Transform, read: fn([f64; 4]) -> [f64; 4]) -> Vec<Transform> {
+    let [w, x, y, z] = read(t.quaternion_xyzw());
+    rot(quat_matrix(w, x, y, z), t)
+}
+
 fn r_bo() -> Matrix3<f64> {
     Matrix3::from_fn(|i, j| R_BODY_OPTICAL[i][j])
 }
@@ -201,19 +208,13 @@ pub const CANDIDATES: [Candidate; 17] = [
         name: "quaternion_wxyz_read_as_xyzw",
         phrase: "with its quaternion written w,x,y,z read as x,y,z,w",
         euler: false,
-        map: |t| {
-            let [x, y, z, w] = t.quaternion_xyzw();
-            rot(quat_matrix(w, x, y, z), t)
-        },
+        map: |t| reread_quaternion(t, |[x, y, z, w]| [w, x, y, z]),
     },
     Candidate {
         name: "quaternion_xyzw_read_as_wxyz",
         phrase: "with its quaternion written x,y,z,w read as w,x,y,z",
         euler: false,
-        map: |t| {
-            let [x, y, z, w] = t.quaternion_xyzw();
-            rot(quat_matrix(y, z, w, x), t)
-        },
+        map: |t| reread_quaternion(t, |[x, y, z, w]| [y, z, w, x]),
     },
     Candidate {
         name: "euler_rpy_read_as_ypr",

@@ -47,9 +47,11 @@ use crate::tolerances::{
     OUTLIER_RATIO, SPREAD_MEAN_MIN_GAP,
 };
 use nalgebra::{Matrix3, Matrix4, SymmetricEigen, UnitQuaternion, Vector3, Vector4};
+use serde::Serialize;
 
-/// One calibration's deviation from the mean (mm, deg).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// One calibration's deviation from the mean (mm, deg): also the spread
+/// report's `calibrations[].deviation`, serialized as it is.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Deviation {
     /// `Log(R_i R_mean^T)` (deg), from-frame axes.
     pub rotation_from_deg: [f64; 3],

@@ -431,9 +431,12 @@ impl std::fmt::Display for Tolerance {
 }
 
 /// `LENGTH,ANGLE` (`5mm,0.5deg`; a bare length is millimetres, a bare
-/// angle degrees) as (mm, deg): `diff --tolerance`, `spread --tolerance`,
-/// `check --fleet-tolerance`.
-pub fn length_angle(flag: &str, v: &[Tolerance]) -> extrinsic_audit::Result<(f64, f64)> {
+/// angle degrees) as the library's tolerance (mm, deg): `diff --tolerance`,
+/// `spread --tolerance`, `check --fleet-tolerance`.
+pub fn length_angle(
+    flag: &str,
+    v: &[Tolerance],
+) -> extrinsic_audit::Result<extrinsic_audit::DiffToleranceJson> {
     let usage = |e: String| extrinsic_audit::Error::usage(format!("{flag}{e}"));
     let [length, angle] = v[..] else {
         return Err(usage(format!(
@@ -448,7 +451,10 @@ pub fn length_angle(flag: &str, v: &[Tolerance]) -> extrinsic_audit::Result<(f64
     let deg = angle
         .degrees()
         .map_err(|e| usage(format!(" rotation: {e}")))?;
-    Ok((mm, deg))
+    Ok(extrinsic_audit::DiffToleranceJson {
+        translation_mm: mm,
+        rotation_deg: deg,
+    })
 }
 
 /// A length tolerance whose bare number is metres (`check`): always a

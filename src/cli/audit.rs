@@ -7,7 +7,8 @@ use super::args::{
 use super::{deny_warnings, emit_warned, print_notes, print_warnings};
 use clap::Args;
 use extrinsic_audit::{
-    Format, LoadOptions, OdometryDetector, OutputFormat, Result, RigOptions, Robot, UrdfVersion,
+    DetectorConfig, Error, Format, LoadOptions, OdometryDetector, OutputFormat, Result, RigOptions,
+    Robot, UrdfVersion,
 };
 use std::io::Write;
 use std::path::PathBuf;
@@ -68,7 +69,9 @@ pub struct AuditArgs {
     pub bag: BagArgs,
     /// Your odometry's detector: what it does on this rig (lio-sam,
     /// lego-loam, loam, dcreg, x-icp, fast-lio, point-lio, dlio); a LIO-SAM,
-    /// FAST-LIO or DLIO config among the files says it without the flag
+    /// FAST-LIO or DLIO config among the files says it without the flag, and
+    /// a DCReg or X-ICP configuration file among them says it with its
+    /// thresholds
     #[arg(long, value_name = "NAME", value_parser = parse_detector)]
     pub detector: Option<&'static OdometryDetector>,
 }
@@ -100,9 +103,49 @@ impl AuditArgs {
     }
 }
 
+/// The files split into calibrations and the one detector configuration
+/// among them (DCReg's `icp.yaml`, an X-ICP ICP file), which reveals the
+/// detector and its thresholds and adds no edge.
+fn split_config(files: &[PathBuf]) -> Result<(Vec<PathBuf>, Option<DetectorConfig>)> {
+    let mut calibrations = Vec::new();
+    let mut config: Option<DetectorConfig> = None;
+    for f in files {
+        match (OdometryDetector::read_config(f)?, &config) {
+            (Some(_), Some(first)) => {
+                return Err(Error::usage(format!(
+                    "expected one detector configuration, found a second beside {}",
+                    first.file
+                ))
+                .in_file(f))
+            }
+            (Some(c), None) => config = Some(c),
+            (None, _) => calibrations.push(f.clone()),
+        }
+    }
+    if calibrations.is_empty() {
+        if let Some(c) = &config {
+            return Err(Error::usage(
+                "expected calibration files beside the detector configuration, found none",
+            )
+            .in_file(&c.file));
+        }
+    }
+    Ok((calibrations, config))
+}
+
 pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
     super::check_output(&args.output, &args.files)?;
-    let robot = Robot::load(&args.files, &args.load_options()?)?;
+    let (files, config) = split_config(&args.files)?;
+    if let (Some(d), Some(c)) = (args.detector, &config) {
+        if d.name != c.detector {
+            return Err(Error::usage(format!(
+                "--detector {} names another detector than the {} configuration given",
+                d.name, c.detector
+            ))
+            .in_file(&c.file));
+        }
+    }
+    let robot = Robot::load(&files, &args.load_options()?)?;
     // The files named and those they included.
     let inputs = robot.files();
     print_warnings(robot.warnings());
@@ -142,7 +185,9 @@ pub fn run(args: &AuditArgs, out: &mut dyn Write) -> Result<i32> {
             .iter()
             .find_map(|s| OdometryDetector::revealed_by(&s.format))
     };
-    if let Some(d) = args.detector.or_else(revealed) {
+    if let Some(c) = &config {
+        report.detector = Some(c.advise(&chain.transform, &from, &to));
+    } else if let Some(d) = args.detector.or_else(revealed) {
         report.detector = Some(d.advise(&chain.transform, &from, &to));
     }
     // The 3D scene draws the whole tree, the chain marked (built only for

@@ -145,7 +145,7 @@ pub fn run(args: &CheckArgs, out: &mut dyn Write) -> Result<i32> {
         .policy(args.allow.clone(), args.deny.clone(), args.deny_warnings)
         .load(load);
     if let Some(v) = &args.fleet_tolerance {
-        let t = super::spread::tolerance("--fleet-tolerance", v)?;
+        let t = super::args::length_angle("--fleet-tolerance", v)?;
         opts.fleet = Some(DriftTolerances {
             translation_m: t.translation_mm * 1e-3,
             rotation_deg: t.rotation_deg,

@@ -85,7 +85,7 @@ pub struct DiffArgs {
 }
 
 pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
-    let (translation_mm, rotation_deg) = length_angle("--tolerance", &args.tolerance)?;
+    let tolerance = length_angle("--tolerance", &args.tolerance)?;
     let inputs = [args.old.clone(), args.new.clone()];
     super::check_output(&args.output, &inputs)?;
     let mut opts = DiffOptions::new(&args.old, &args.new);
@@ -100,8 +100,7 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Result<i32> {
     opts.new_read.invert = args.read.invert || args.invert_new;
     opts.rig.ells = args.ell.ell.clone();
     opts.rig.pitch_tol = args.pitch.pitch_tol;
-    opts.tolerance.translation_mm = translation_mm;
-    opts.tolerance.rotation_deg = rotation_deg;
+    opts.tolerance = tolerance;
     let (report, warnings) = diff(&opts)?;
     print_warnings(&warnings);
     emit(&report, &args.output, &inputs, out)?;

@@ -1,5 +1,5 @@
-//! `audit spread PATHS... [--from A --to B]`: many calibrations of one frame
-//! pair. Exit 1 when `--tolerance` is given and a calibration lies beyond it.
+//! `audit spread PATH[:FROM:TO]... [--from A --to B]`: many calibrations of
+//! one frame pair. Exit 1 when `--tolerance` is given and a calibration lies beyond it.
 
 use super::args::{
     length_angle, parse_tolerance, EllArgs, JointArgs, OutputArgs, PitchTolArgs, ReadArgs,
@@ -8,7 +8,7 @@ use super::args::{
 use super::{emit_warned, print_warnings};
 use clap::Args;
 use extrinsic_audit::internals::pipeline::{check_spread_plot_target, write_spread_plot};
-use extrinsic_audit::{spread, DiffToleranceJson, Result, SpreadOptions};
+use extrinsic_audit::{spread, Result, SpreadOptions};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -26,13 +26,18 @@ Hoaglin's modified z-score carried to three dimensions; uncertain below 10 calib
 applied below 3); the pitch verdict of each calibration and of the set, the spread of h taken \
 as the calibration uncertainty; the range of the certificate bands.\n\nA calibration is named \
 by its file name, or by its folder when the file names repeat (vehicles/v001/sensors_calibration.yaml \
-is `v001`).\n\nExit status: 1 when --tolerance is given and a calibration deviates from the \
+is `v001`).\n\nFrame pairs: a file's pair is its own PATH:FROM:TO, else --from/--to, else the \
+pair a rig file declares, else its only edge. Files not given as PATH:FROM:TO must agree on \
+one pair; a file given as PATH:FROM:TO may name it otherwise (the same frames under other \
+names). The report is named by the first file's pair and lists each calibration's own. \
+PATH:FROM:TO is split from the right (an argument that exists as a path is a path).\n\nExit status: 1 when --tolerance is given and a calibration deviates from the \
 mean by more than it (the fleet gate); 0 otherwise; 2 on bad input.",
-    after_long_help = "Examples:\n  audit spread run1/lidar_imu.yaml run2/lidar_imu.yaml run3/lidar_imu.yaml\n  audit spread kalibr/*/camchain-imucam.yaml --key cam0 --from imu --to cam0\n  audit spread vehicles/ --from base_link --to velodyne_top --tolerance 5,0.5\n  audit spread vehicles/ --from base_link --to lidar --format csv > fleet.csv"
+    after_long_help = "Examples:\n  audit spread run1/lidar_imu.yaml run2/lidar_imu.yaml run3/lidar_imu.yaml\n  audit spread run1/calib.yaml run2/calib.yaml:imu_link:velodyne\n  audit spread kalibr/*/camchain-imucam.yaml --key cam0 --from imu --to cam0\n  audit spread vehicles/ --from base_link --to velodyne_top --tolerance 5,0.5\n  audit spread vehicles/ --from base_link --to lidar --format csv > fleet.csv"
 )]
 pub struct SpreadArgs {
-    /// Calibration files, or folders walked for them
-    #[arg(required = true, value_name = "PATH")]
+    /// Calibration files, or folders walked for them; PATH:FROM:TO composes
+    /// that path's files FROM -> TO (the same pair under other names)
+    #[arg(required = true, value_name = "PATH[:FROM:TO]")]
     pub paths: Vec<PathBuf>,
     /// Parent frame (else the pair a rig file declares, or a file's one edge)
     #[arg(long, value_name = "FRAME", requires = "to")]
@@ -63,26 +68,23 @@ pub struct SpreadArgs {
     pub output: OutputArgs,
 }
 
-/// `LENGTH,ANGLE` as the library's tolerance.
-pub fn tolerance(flag: &str, v: &[Tolerance]) -> Result<DiffToleranceJson> {
-    let (translation_mm, rotation_deg) = length_angle(flag, v)?;
-    Ok(DiffToleranceJson {
-        translation_mm,
-        rotation_deg,
-    })
-}
-
 pub fn run(args: &SpreadArgs, out: &mut dyn Write) -> Result<i32> {
     let tolerance = match &args.tolerance {
-        Some(v) => Some(tolerance("--tolerance", v)?),
+        Some(v) => Some(length_angle("--tolerance", v)?),
         None => None,
     };
-    super::check_output(&args.output, &args.paths)?;
-    if let Some(plot) = &args.plot {
-        check_spread_plot_target(plot, &args.paths)?;
-    }
     let mut opts = SpreadOptions::default();
-    opts.paths = args.paths.clone();
+    for p in &args.paths {
+        match p.to_str() {
+            Some(arg) => opts.add_input(arg)?,
+            // Not UTF-8: a path, never split.
+            None => opts.paths.push(p.clone()),
+        }
+    }
+    super::check_output(&args.output, &opts.paths)?;
+    if let Some(plot) = &args.plot {
+        check_spread_plot_target(plot, &opts.paths)?;
+    }
     opts.from = args.from.clone();
     opts.to = args.to.clone();
     opts.load.joints = args.joints.positions();
@@ -94,8 +96,8 @@ pub fn run(args: &SpreadArgs, out: &mut dyn Write) -> Result<i32> {
     let (report, warnings) = spread(&opts)?;
     print_warnings(&warnings);
     if let Some(plot) = &args.plot {
-        write_spread_plot(plot, &args.paths, &report)?;
+        write_spread_plot(plot, &opts.paths, &report)?;
     }
-    emit_warned(&report, &warnings, &args.output, &args.paths, out)?;
+    emit_warned(&report, &warnings, &args.output, &opts.paths, out)?;
     Ok(if report.exceeded.is_empty() { 0 } else { 1 })
 }

@@ -12,6 +12,7 @@ mod fleet;
 mod load;
 pub mod manifest;
 mod mistakes;
+mod odometry_config;
 mod output;
 mod parallel;
 mod rig;

@@ -1,10 +1,25 @@
 //! `audit spread PATHS...`: many calibrations of one frame pair, each file
-//! loaded into its own frame graph and composed `--from` -> `--to` (or the
-//! pair a rig file declares, or a file's only edge), then their mean, spread
-//! and outliers ([`crate::analysis::spread`]) and each one's rig report for
-//! its pitch verdict and bands. A directory is walked (a fleet:
+//! loaded into its own frame graph and composed for its pair, then their
+//! mean, spread and outliers ([`crate::analysis::spread`]) and each one's rig
+//! report for its pitch verdict and bands. A directory is walked (a fleet:
 //! `vehicles/*/sensors_calibration.yaml`); a calibration is named by its file
 //! name, or by its folder when the file names repeat.
+//!
+//! # Frame pairs
+//!
+//! A file's pair is, first found: its own `PATH:FROM:TO` (for every file
+//! read from PATH, a file or a folder walked); `--from`/`--to`; the pair a
+//! rig file declares; the file's only edge. The files whose pair is not their
+//! own `PATH:FROM:TO` must agree on one pair (else the error names the first
+//! file that differs); a file given as `PATH:FROM:TO` may name the pair
+//! otherwise (the user says the frames are the same under other names). The
+//! report's `from` and `to` are the first calibration's pair; each
+//! calibration lists its own (`calibrations[].from`, `.to`).
+//!
+//! `PATH:FROM:TO` is split from the right (a frame name holds no `:`, a
+//! file name may): an argument that exists as a path is a path whatever
+//! colons it holds; otherwise its last two `:`-separated fields are FROM and
+//! TO and the rest is the path.
 
 use super::files::expand_paths;
 use super::rig::{report, RigOptions};
@@ -17,8 +32,8 @@ use crate::geometry::uncertainty::{outputs, pitch_decision};
 use crate::geometry::{PitchVerdict, Transform};
 use crate::report::diff::DiffToleranceJson;
 use crate::report::spread::{
-    AxisJson, BandRangeJson, CalibrationJson, DeviationJson, MeanJson, OutlierTestJson,
-    OutliersJson, SetPitchJson, SpreadJson, SpreadReport, SubsetJson, METHOD,
+    AxisJson, BandRangeJson, CalibrationJson, MeanJson, OutlierTestJson, OutliersJson,
+    SetPitchJson, SpreadJson, SpreadReport, SubsetJson, METHOD,
 };
 use crate::report::{RigReport, SCHEMA_VERSION};
 use crate::tolerances::OUTLIER_FEW;
@@ -43,22 +58,79 @@ pub struct SpreadOptions {
     /// `--tolerance LENGTH,ANGLE`: a calibration further than this from the mean
     /// is beyond it (the fleet gate).
     pub tolerance: Option<DiffToleranceJson>,
+    /// Per-path frame pairs (`PATH:FROM:TO`, [`SpreadOptions::add_input`]):
+    /// every file read from the path (a file, or a folder walked) is composed
+    /// `FROM` -> `TO`, and may name the pair otherwise than the other files.
+    pub pairs: Vec<(PathBuf, String, String)>,
 }
 
-/// One calibration read: its file, transform and rig report.
+impl SpreadOptions {
+    /// Add one command-line input: `PATH`, or `PATH:FROM:TO` (split from the
+    /// right; an argument that exists as a path is that path whatever colons
+    /// it holds). An empty FROM or TO is an error.
+    ///
+    /// ```
+    /// use extrinsic_audit::SpreadOptions;
+    ///
+    /// # fn main() -> extrinsic_audit::Result<()> {
+    /// let mut opts = SpreadOptions::default();
+    /// opts.add_input("runs/a:b.yaml:imu_link:velodyne")?;
+    /// assert_eq!(opts.paths, [std::path::PathBuf::from("runs/a:b.yaml")]);
+    /// assert_eq!(opts.pairs[0].1, "imu_link");
+    /// assert_eq!(opts.pairs[0].2, "velodyne");
+    /// assert!(opts.add_input("run.yaml::lidar").is_err());
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn add_input(&mut self, arg: &str) -> Result<()> {
+        let whole = PathBuf::from(arg);
+        let parts: Vec<&str> = arg.rsplitn(3, ':').collect();
+        match parts.as_slice() {
+            [to, from, path] if !whole.exists() && !path.is_empty() => {
+                if from.is_empty() || to.is_empty() {
+                    return Err(Error::usage(format!(
+                        "expected PATH:FROM:TO with both frame names, found `{arg}`"
+                    )));
+                }
+                self.paths.push(PathBuf::from(path));
+                self.pairs
+                    .push((PathBuf::from(path), from.to_string(), to.to_string()));
+            }
+            _ => self.paths.push(whole),
+        }
+        Ok(())
+    }
+
+    /// The pair given for `path` (`PATH:FROM:TO`), if any.
+    fn pair_of(&self, path: &Path) -> Option<(String, String)> {
+        self.pairs
+            .iter()
+            .find(|(p, _, _)| p == path)
+            .map(|(_, f, t)| (f.clone(), t.clone()))
+    }
+}
+
+/// One calibration read: its file, transform and rig report (whose `from`
+/// and `to` are its pair), and whether the pair was its own `PATH:FROM:TO`.
 struct Read {
     path: PathBuf,
     transform: Transform,
     report: RigReport,
+    own_pair: bool,
 }
 
-fn files(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
+/// The files to read, each with the pair its `PATH:FROM:TO` gives.
+type Input = (PathBuf, Option<(String, String)>);
+
+fn files(opts: &SpreadOptions) -> Result<Vec<Input>> {
     let mut out = Vec::new();
-    for p in paths {
+    for p in &opts.paths {
+        let pair = opts.pair_of(p);
         if p.is_dir() {
-            out.extend(expand_paths(std::slice::from_ref(p), is_any_input)?);
+            let found = expand_paths(std::slice::from_ref(p), is_any_input)?;
+            out.extend(found.into_iter().map(|f| (f, pair.clone())));
         } else {
-            out.push(p.clone());
+            out.push((p.clone(), pair));
         }
     }
     if out.is_empty() {
@@ -69,7 +141,12 @@ fn files(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
     Ok(out)
 }
 
-fn read_one(path: &Path, opts: &SpreadOptions, warnings: &mut Vec<Warning>) -> Result<Read> {
+fn read_one(
+    path: &Path,
+    own: Option<&(String, String)>,
+    opts: &SpreadOptions,
+    warnings: &mut Vec<Warning>,
+) -> Result<Read> {
     let loaded = formats::load_file(path, &opts.load)?;
     let declared = loaded
         .rig
@@ -79,16 +156,20 @@ fn read_one(path: &Path, opts: &SpreadOptions, warnings: &mut Vec<Warning>) -> R
     let mut graph = FrameGraph::new();
     graph.add(loaded)?;
     warnings.extend(graph.warnings().iter().cloned());
-    let (from, to) = match (&opts.from, &opts.to, declared) {
-        (Some(f), Some(t), _) => (f.clone(), t.clone()),
-        (None, None, Some(p)) => p,
-        (None, None, None) if graph.edges().len() == 1 => {
+    let half = opts.from.is_some() != opts.to.is_some();
+    let given = own
+        .cloned()
+        .or_else(|| opts.from.clone().zip(opts.to.clone()));
+    let (from, to) = match (given, declared) {
+        (Some(p), _) => p,
+        (None, Some(p)) if !half => p,
+        (None, None) if !half && graph.edges().len() == 1 => {
             let e = &graph.edges()[0];
             (e.parent.clone(), e.child.clone())
         }
         _ => {
             return Err(Error::usage(
-                "expected the frame pair: --from FRAME --to FRAME (this file declares none and has several edges)",
+                "expected the frame pair: --from FRAME --to FRAME or PATH:FROM:TO (this file declares none and has several edges)",
             )
             .in_file(path))
         }
@@ -101,6 +182,7 @@ fn read_one(path: &Path, opts: &SpreadOptions, warnings: &mut Vec<Warning>) -> R
         path: path.to_path_buf(),
         transform: chain.transform,
         report,
+        own_pair: own.is_some(),
     })
 }
 
@@ -242,16 +324,11 @@ fn calibration_json(
     CalibrationJson {
         name: names[i].clone(),
         file: r.path.display().to_string(),
+        from: r.report.from.clone(),
+        to: r.report.to.clone(),
         translation_m: [t.x, t.y, t.z],
         quaternion_xyzw: r.transform.quaternion_xyzw(),
-        deviation: DeviationJson {
-            rotation_from_deg: d.rotation_from_deg,
-            rotation_to_deg: d.rotation_to_deg,
-            translation_from_mm: d.translation_from_mm,
-            translation_to_mm: d.translation_to_mm,
-            angle_deg: d.angle_deg,
-            distance_mm: d.distance_mm,
-        },
+        deviation: *d,
         rotation_distance: dist(&s.outliers.rotation),
         translation_distance: dist(&s.outliers.translation),
         outlier: s.outliers.flagged.contains(&i),
@@ -286,22 +363,24 @@ fn band_ranges(reads: &[Read]) -> Vec<BandRangeJson> {
         .collect()
 }
 
-/// The pair every calibration was composed for: one, or an error naming
-/// the first file that differs.
+/// The set's pair (the first calibration's), after checking that the files
+/// whose pair is not their own `PATH:FROM:TO` agree on one: else an error
+/// naming the first file that differs.
 fn one_pair(reads: &[Read]) -> Result<(String, String)> {
-    let (f, t) = (&reads[0].report.from, &reads[0].report.to);
-    for r in &reads[1..] {
-        if (&r.report.from, &r.report.to) != (f, t) {
+    let mut implicit = reads.iter().filter(|r| !r.own_pair);
+    if let Some(first) = implicit.next() {
+        let (f, t) = (&first.report.from, &first.report.to);
+        if let Some(r) = implicit.find(|r| (&r.report.from, &r.report.to) != (f, t)) {
             return Err(Error::usage(format!(
-                "expected one frame pair in every file ({f} -> {t}, from {}), found {} -> {}: give --from FRAME --to FRAME",
-                reads[0].path.display(),
+                "expected one frame pair in every file ({f} -> {t}, from {}), found {} -> {}: give --from FRAME --to FRAME, or name this file's pair as PATH:FROM:TO",
+                first.path.display(),
                 r.report.from,
                 r.report.to
             ))
             .in_file(&r.path));
         }
     }
-    Ok((f.clone(), t.clone()))
+    Ok((reads[0].report.from.clone(), reads[0].report.to.clone()))
 }
 
 /// Read every calibration and report their spread; the warnings the files
@@ -328,15 +407,15 @@ fn one_pair(reads: &[Read]) -> Result<(String, String)> {
 /// # }
 /// ```
 pub fn spread(opts: &SpreadOptions) -> Result<(SpreadReport, Vec<Warning>)> {
-    let paths = files(&opts.paths)?;
+    let inputs = files(opts)?;
     let mut warnings = Vec::new();
-    let mut reads = Vec::with_capacity(paths.len());
+    let mut reads = Vec::with_capacity(inputs.len());
     let mut failed = None;
     super::parallel::ordered(
-        &paths,
-        |_, p| {
+        &inputs,
+        |_, (p, pair)| {
             let mut w = Vec::new();
-            (read_one(p, opts, &mut w), w)
+            (read_one(p, pair.as_ref(), opts, &mut w), w)
         },
         |_, (r, w)| {
             warnings.extend(w);
@@ -351,6 +430,7 @@ pub fn spread(opts: &SpreadOptions) -> Result<(SpreadReport, Vec<Warning>)> {
         return Err(e);
     }
     let (from, to) = one_pair(&reads)?;
+    let paths: Vec<PathBuf> = inputs.into_iter().map(|(p, _)| p).collect();
     let names = names(&paths);
     let transforms: Vec<Transform> = reads.iter().map(|r| r.transform).collect();
     let s = spread::spread(&transforms)?;

@@ -5,6 +5,7 @@
 //! `docs/schemas/spread.schema.json`; the method is stated in
 //! [`crate::analysis::spread`] and in the report's `method`.
 
+use crate::analysis::spread::Deviation;
 use crate::document::numbers::{degrees, fixed, metres, metres_h, ratio, short, unit, vector};
 use crate::document::{Block, Document, Report, Table};
 use crate::geometry::PitchVerdict;
@@ -143,23 +144,6 @@ pub struct BandRangeJson {
     pub high: f64,
 }
 
-/// `deviation` of one calibration.
-#[derive(Debug, Clone, Serialize, PartialEq)]
-pub struct DeviationJson {
-    /// Rotation (deg), from-frame axes.
-    pub rotation_from_deg: [f64; 3],
-    /// Rotation (deg), to-frame axes.
-    pub rotation_to_deg: [f64; 3],
-    /// Translation (mm), from-frame axes.
-    pub translation_from_mm: [f64; 3],
-    /// Translation (mm), the mean's to-frame axes.
-    pub translation_to_mm: [f64; 3],
-    /// Angle of the rotation deviation (deg).
-    pub angle_deg: f64,
-    /// Length of the translation deviation (mm).
-    pub distance_mm: f64,
-}
-
 /// `calibrations[i]`.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct CalibrationJson {
@@ -168,12 +152,17 @@ pub struct CalibrationJson {
     pub name: String,
     /// The file.
     pub file: String,
+    /// Its own parent frame: the set's `from`, or the name its
+    /// `PATH:FROM:TO` gives the same frame.
+    pub from: String,
+    /// Its own child frame.
+    pub to: String,
     /// Translation (m).
     pub translation_m: [f64; 3],
     /// Rotation `[x, y, z, w]`.
     pub quaternion_xyzw: [f64; 4],
     /// Its deviation from the mean.
-    pub deviation: DeviationJson,
+    pub deviation: Deviation,
     /// Standardised rotation distance of the outlier rule.
     pub rotation_distance: Option<f64>,
     /// Standardised translation distance of the outlier rule.
@@ -201,9 +190,10 @@ pub struct CalibrationJson {
 pub struct SpreadReport {
     /// The JSON schema version (docs/schemas/spread.schema.json).
     pub schema_version: u32,
-    /// Parent frame.
+    /// Parent frame: the first calibration's (each one's own is in
+    /// `calibrations`).
     pub from: String,
-    /// Child frame.
+    /// Child frame: the first calibration's.
     pub to: String,
     /// How everything is computed.
     pub method: MethodJson,
@@ -436,6 +426,31 @@ impl SpreadReport {
         }
     }
 
+    /// The calibrations that name the pair otherwise (`PATH:FROM:TO`), when
+    /// any: the set is named by the first file's pair.
+    fn pairs_text(&self) -> Option<String> {
+        let other: Vec<String> = self
+            .calibrations
+            .iter()
+            .filter(|c| (&c.from, &c.to) != (&self.from, &self.to))
+            .map(|c| format!("{} ({} -> {})", c.name, c.from, c.to))
+            .collect();
+        if other.is_empty() {
+            return None;
+        }
+        let mut named: Vec<String> = other.iter().take(MAX_NAMED).cloned().collect();
+        if other.len() > MAX_NAMED {
+            named.push(format!("and {} more", other.len() - MAX_NAMED));
+        }
+        Some(format!(
+            "Frame pairs: the set is named by the first file's, {} -> {}; {} name it otherwise: {}.",
+            self.from,
+            self.to,
+            other.len(),
+            named.join(", ")
+        ))
+    }
+
     fn outlier_text(&self) -> String {
         let o = &self.outliers;
         if !o.tested {
@@ -498,6 +513,9 @@ impl Report for SpreadReport {
             text: note.into(),
             markdown: Some(note.into()),
         });
+        if let Some(text) = self.pairs_text() {
+            doc.text(text);
+        }
         doc.section("Mean");
         doc.table(self.mean_table());
         doc.section("Spread of the rotation (deg; max: calibration #)");

@@ -234,3 +234,172 @@ fn the_to_do_line_takes_the_detectors_step() {
         "{line}"
     );
 }
+
+const CONFIG: &str = "tests/fixtures/detectors/config";
+
+/// numpy's bands for the configured thresholds on the authored rig
+/// (detector_checks.py section 10: eigenvalues of `A^T A`, `H_B = I`).
+fn configured_examples() -> Vec<(f64, [f64; 2])> {
+    let path = "tests/fixtures/detectors/detector_checks.json";
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    v["configured_threshold_examples"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| {
+            let b = &e["threshold_in_base_link"];
+            (
+                e["tau"].as_f64().unwrap(),
+                [b[0].as_f64().unwrap(), b[1].as_f64().unwrap()],
+            )
+        })
+        .collect()
+}
+
+/// An authored DCReg configuration beside the rig reveals DCReg without
+/// `--detector`, with the file's thresholds (25 and 150, not the defaults 10
+/// and 120); its eigenvalue threshold 150 acts in base_link between numpy's
+/// two numbers, which differ from the default 120's; the file adds no edge.
+#[test]
+fn a_dcreg_configuration_reveals_dcreg_with_its_thresholds() {
+    let rig = format!("{CONFIG}/rig_base_lidar.toml");
+    let cfg = format!("{CONFIG}/dcreg_icp.yaml");
+    let v = report(&[&rig, &cfg, "--format", "json"]);
+    let a = &v["detector"];
+    assert_eq!(a["detector"]["name"], "dcreg");
+    assert_eq!(a["detector"]["threshold"], 25.0);
+    let c = &a["config"];
+    assert_eq!(c["file"], cfg.as_str());
+    assert!(c["source"]
+        .as_str()
+        .unwrap()
+        .starts_with("JokerJohn/DCReg @ 18b173c862e9"));
+    let th = c["thresholds"].as_array().unwrap();
+    assert_eq!(th.len(), 2);
+    assert_eq!(th[0]["key"], "degeneracy.condition_threshold");
+    assert_eq!(
+        (th[0]["value"].as_f64(), th[0]["line"].as_u64()),
+        (Some(25.0), Some(17))
+    );
+    assert!(th[0]["threshold_in_from"].is_null());
+    assert_eq!(th[1]["key"], "degeneracy.eigenvalue_threshold");
+    assert_eq!(
+        (th[1]["value"].as_f64(), th[1]["line"].as_u64()),
+        (Some(150.0), Some(18))
+    );
+    let examples = configured_examples();
+    let (tau, want) = examples[0];
+    assert_eq!(tau, 150.0);
+    let got = [
+        th[1]["threshold_in_from"][0].as_f64().unwrap(),
+        th[1]["threshold_in_from"][1].as_f64().unwrap(),
+    ];
+    for k in 0..2 {
+        assert!(
+            (got[k] - want[k]).abs() <= 1e-9 * want[k],
+            "{got:?} against {want:?}"
+        );
+    }
+    // The default threshold's band is another pair of numbers.
+    let (tau0, default) = examples[1];
+    assert_eq!(tau0, 120.0);
+    assert!((got[0] - default[0]).abs() > 1.0 && (got[1] - default[1]).abs() > 1.0);
+    let st = a["statement"].as_str().unwrap();
+    let between = format!("between {:.2} and {:.2}", want[0], want[1]);
+    assert!(
+        st.contains("your configuration replaces the defaults: degeneracy.condition_threshold = 25 (dcreg_icp.yaml:17; DEGENERACY_THRES_COND, default 10)")
+            && st.contains(&between),
+        "{st}"
+    );
+    assert!(a["step"].as_str().unwrap().contains(&between));
+    // The configuration adds no edge: one source, the rig.
+    assert_eq!(
+        v["sources"].as_array().unwrap().len(),
+        1,
+        "{}",
+        v["sources"]
+    );
+    // The text report says it in the detector's section.
+    let (code, out, err) = run_cli(&[&rig, &cfg]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("Your detector: DCReg") && out.contains(&between),
+        "{out}"
+    );
+}
+
+/// An authored X-ICP (libpointmatcher) configuration reveals X-ICP with its
+/// method's thresholds; they are frame-invariant: no band.
+#[test]
+fn an_xicp_configuration_reveals_xicp_with_its_thresholds() {
+    let rig = format!("{CONFIG}/rig_base_lidar.toml");
+    let cfg = format!("{CONFIG}/xicp_icp.yaml");
+    let v = report(&[&rig, &cfg, "--format", "json"]);
+    let a = &v["detector"];
+    assert_eq!(a["detector"]["name"], "x-icp");
+    assert_eq!(a["detector"]["threshold"], 250.0);
+    assert_eq!(a["frame_dependent"], false);
+    let th = a["config"]["thresholds"].as_array().unwrap();
+    let keys: Vec<(&str, f64, u64)> = th
+        .iter()
+        .map(|t| {
+            (
+                t["key"].as_str().unwrap(),
+                t["value"].as_f64().unwrap(),
+                t["line"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        keys,
+        [
+            (
+                "degeneracyAwareness.OptimizedEqualityConstraints.enoughInformationThreshold",
+                250.0,
+                10
+            ),
+            (
+                "degeneracyAwareness.OptimizedEqualityConstraints.insufficientInformationThreshold",
+                120.0,
+                11
+            ),
+        ]
+    );
+    assert!(th.iter().all(|t| t["threshold_in_from"].is_null()));
+    // --detector naming another detector than the file's is refused.
+    let (code, _, err) = run_cli(&[&rig, &cfg, "--detector", "dcreg"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("names another detector"), "{err}");
+}
+
+/// Bad values in a detector configuration: exit 2, the file and the line
+/// of the value, what was expected and what was found.
+#[test]
+fn bad_detector_configuration_values_exit_2_at_their_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let rig = format!("{CONFIG}/rig_base_lidar.toml");
+    let text = std::fs::read_to_string(format!("{CONFIG}/dcreg_icp.yaml")).unwrap();
+    for (from, to, line, want) in [
+        ("condition_threshold: 25.0", "condition_threshold: ten", 17, "expected a number for `degeneracy.condition_threshold` (DEGENERACY_THRES_COND), found a string `ten`"),
+        ("condition_threshold: 25.0", "condition_threshold: 0.5", 17, "expected at least 1"),
+        ("eigenvalue_threshold: 150.0", "eigenvalue_threshold: -3", 18, "expected a positive number for `degeneracy.eigenvalue_threshold`"),
+        ("eigenvalue_threshold: 150.0", "eigenvalue_threshold: [1, 2]", 18, "found a list"),
+        ("  eigenvalue_threshold: 150.0\n", "", 17, "expected `degeneracy.eigenvalue_threshold` (DEGENERACY_THRES_EIG)"),
+    ] {
+        let bad = dir.path().join("icp.yaml");
+        assert!(text.contains(from));
+        std::fs::write(&bad, text.replace(from, to)).unwrap();
+        let (code, out, err) = run_cli(&[&rig, bad.to_str().unwrap()]);
+        assert_eq!(code, 2, "{to}: {out}{err}");
+        let at = format!("icp.yaml:{line}:");
+        assert!(err.contains(&at) && err.contains(want), "{to}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    // A configuration alone: no calibration beside it.
+    let (code, _, err) = run_cli(&[&format!("{CONFIG}/dcreg_icp.yaml")]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("expected calibration files beside the detector configuration"),
+        "{err}"
+    );
+}

@@ -149,6 +149,21 @@ fn json_outputs_match_the_committed_schemas() {
             &[&ANYMAL_JSON[..], &["--detector", d]].concat(),
         );
     }
+    // A detector's own configuration among the files: `detector.config`.
+    for cfg in ["dcreg_icp.yaml", "xicp_icp.yaml"] {
+        let cfg = format!("tests/fixtures/detectors/config/{cfg}");
+        assert_valid(
+            "rig-report",
+            &[&ANYMAL_JSON[..1], &[cfg.as_str()], &ANYMAL_JSON[1..]].concat(),
+        );
+    }
+    // Calibrations that name the pair otherwise (`PATH:FROM:TO`).
+    let renamed = "tests/fixtures/spread/kitti-renamed";
+    let (a, b) = (
+        format!("{renamed}/kitti-repeat-1.toml"),
+        format!("{renamed}/kitti-repeat-2.toml:imu_link:velodyne"),
+    );
+    assert_valid("spread", &["spread", &a, &b, "--format", "json"]);
     for set in ["kitti-repeat", "pure-translation"] {
         let dir = format!("tests/fixtures/spread/{set}");
         assert_valid(

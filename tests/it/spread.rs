@@ -80,8 +80,12 @@ fn check_spread(got: &Value, want: &Value, names: &[String], label: &str) {
 }
 
 fn check_set(label: &str) {
+    check_against(label, &set_json(label));
+}
+
+/// `got` (a spread report's JSON) against the reference set `label`.
+fn check_against(label: &str, got: &Value) {
     let want = reference(label);
-    let got = set_json(label);
     assert_eq!(got["count"], want["inputs"].as_array().unwrap().len());
     let names: Vec<String> = want["per_calibration"]
         .as_array()
@@ -305,7 +309,91 @@ fn spread_refuses_files_of_different_frame_pairs() {
     std::fs::write(&b, text).unwrap();
     let (code, _, err) = run_cli(&["spread", &a, b.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("expected one frame pair"), "{err}");
+    assert!(
+        err.contains("expected one frame pair") && err.contains("PATH:FROM:TO"),
+        "{err}"
+    );
+}
+
+/// kitti-repeat's calibrations, the 2nd and 4th naming the pair
+/// `imu_link -> velodyne` (make_spread_fixtures.py): refused as they are;
+/// with `PATH:FROM:TO` on those two, the set is scipy's kitti-repeat
+/// (frame names are no part of the numbers), named by the first file's
+/// pair, each calibration listing its own.
+#[test]
+fn files_that_name_the_pair_differently_spread_with_path_from_to() {
+    let dir = format!("{}/kitti-renamed", fixtures());
+    let (code, _, err) = run_cli(&["spread", &dir]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("kitti-repeat-2.toml") && err.contains("found imu_link -> velodyne"),
+        "{err}"
+    );
+    let mut args: Vec<String> = ["1", "2", "3", "4", "5", "outlier"]
+        .iter()
+        .map(|n| {
+            let p = format!("{dir}/kitti-repeat-{n}.toml");
+            if *n == "2" || *n == "4" {
+                format!("{p}:imu_link:velodyne")
+            } else {
+                p
+            }
+        })
+        .collect();
+    args.insert(0, "spread".into());
+    let mut json = args.clone();
+    json.extend(["--ell", "1", "--format", "json"].map(String::from));
+    let json: Vec<&str> = json.iter().map(String::as_str).collect();
+    let got = spread_json(&json);
+    check_against("kitti-repeat", &got);
+    assert_eq!(
+        (got["from"].as_str(), got["to"].as_str()),
+        (Some("imu"), Some("lidar"))
+    );
+    let pairs: Vec<(&str, &str)> = got["calibrations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| (c["from"].as_str().unwrap(), c["to"].as_str().unwrap()))
+        .collect();
+    let (a, b) = (("imu", "lidar"), ("imu_link", "velodyne"));
+    assert_eq!(pairs, [a, b, a, b, a, a]);
+    let text: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, out, err) = run_cli(&text);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("Frame pairs: the set is named by the first file's, imu -> lidar; 2 name it otherwise: kitti-repeat-2 (imu_link -> velodyne), kitti-repeat-4 (imu_link -> velodyne)."),
+        "{out}"
+    );
+}
+
+/// `PATH:FROM:TO` is split from the right, and an argument that exists is a
+/// path whatever colons it holds (a file named `a:b.toml`).
+#[test]
+fn a_path_with_colons_is_split_from_the_right() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = format!("{}/kitti-renamed", fixtures());
+    let a = dir.path().join("a:b.toml");
+    let c = dir.path().join("c:d.toml");
+    std::fs::copy(format!("{src}/kitti-repeat-1.toml"), &a).unwrap();
+    std::fs::copy(format!("{src}/kitti-repeat-2.toml"), &c).unwrap();
+    let (a, c) = (a.to_str().unwrap(), c.to_str().unwrap());
+    let c_pair = format!("{c}:imu_link:velodyne");
+    let v = spread_json(&["spread", a, &c_pair, "--format", "json"]);
+    assert_eq!(v["count"], 2);
+    assert_eq!(v["calibrations"][0]["file"], a);
+    assert_eq!(v["calibrations"][1]["file"], c);
+    assert_eq!(v["calibrations"][1]["from"], "imu_link");
+    // The first file named with its own (declared) pair: still a path.
+    let a_pair = format!("{a}:imu:lidar");
+    let v = spread_json(&["spread", &a_pair, &c_pair, "--format", "json"]);
+    assert_eq!(v["calibrations"][0]["file"], a);
+    let (code, _, err) = run_cli(&["spread", &format!("{a}::lidar"), c]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("expected PATH:FROM:TO with both frame names"),
+        "{err}"
+    );
 }
 
 /// A fleet of `n` vehicles, `vehicles/vNNN/sensors_calibration.yaml`
