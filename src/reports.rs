@@ -78,9 +78,10 @@ pub mod frames {
 /// ([`SpreadReport`](crate::SpreadReport), `audit spread`;
 /// `docs/schemas/spread.schema.json`).
 pub mod spread {
+    pub use crate::analysis::spread::Deviation;
     pub use crate::report::spread::{
-        AxisJson, BandRangeJson, CalibrationJson, DeviationJson, MeanJson, MethodJson,
-        OutlierTestJson, OutliersJson, SetPitchJson, SpreadJson, SubsetJson,
+        AxisJson, BandRangeJson, CalibrationJson, MeanJson, MethodJson, OutlierTestJson,
+        OutliersJson, SetPitchJson, SpreadJson, SubsetJson,
     };
 }
 
