@@ -21,7 +21,7 @@ mod table;
 pub use graph::{Graph, GraphLink, GraphNode};
 pub use plot::Plot;
 pub use scene::Scene;
-pub use table::{data_number, split_name, Columns, Table};
+pub use table::{Columns, Table};
 
 use crate::diagnostic::Diagnostic;
 use serde::Serialize;
