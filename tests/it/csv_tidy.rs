@@ -456,3 +456,19 @@ fn the_run_writes_one_tidy_row_per_scan() {
         assert_eq!(r[col("status")], rec["status"].as_str().unwrap());
     }
 }
+
+/// Every command of the width tests' list writes a tidy CSV (a new
+/// report's command joins that list, and with it this test), but the frame
+/// tree, a picture, and the error, which is no report.
+#[test]
+fn every_command_of_the_width_list_writes_a_tidy_csv() {
+    for (name, args) in crate::widths::COMMANDS {
+        if matches!(name, "frames" | "error") {
+            continue;
+        }
+        let (code, csv, err) = run_cli(&[args, &["--format", "csv"][..]].concat());
+        assert!(code == 0 || code == 1, "{name}: {code} {err}");
+        let (_, rows) = assert_tidy(name, &csv);
+        assert!(!rows.is_empty(), "{name}");
+    }
+}
