@@ -21,7 +21,7 @@ mod table;
 pub use graph::{Graph, GraphLink, GraphNode};
 pub use plot::Plot;
 pub use scene::Scene;
-pub use table::{Columns, Table};
+pub use table::{data_number, Columns, Table};
 
 use crate::diagnostic::Diagnostic;
 use serde::Serialize;

@@ -6,7 +6,7 @@
 //! [`crate::analysis::spread`] and in the report's `method`.
 
 use crate::document::numbers::{degrees, fixed, metres, metres_h, ratio, short, unit, vector};
-use crate::document::{Block, Document, Report, Table};
+use crate::document::{data_number, Block, Document, Report, Table};
 use crate::geometry::PitchVerdict;
 use crate::report::diff::DiffToleranceJson;
 use crate::tolerances::OUTLIER_FEW;
@@ -400,7 +400,7 @@ impl SpreadReport {
             header.push(format!("band_l{l}_low"));
             header.push(format!("band_l{l}_high"));
         }
-        let num = |x: f64| format!("{x}");
+        let num = data_number;
         let opt = |x: Option<f64>| x.map_or(String::new(), num);
         let rows = self
             .calibrations
