@@ -57,3 +57,193 @@ impl Table {
         self
     }
 }
+
+/// A number as a data cell: every digit (the shortest text that reads back
+/// as the same `f64`, as the JSON writes it), exponent form for the very
+/// small and very large; empty when not finite (the JSON writes `null`).
+pub fn data_number(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() {
+        String::new()
+    } else if x == 0.0 || (1e-4..1e15).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// One column of a data table: its name and how a row's cell is written.
+type Column<'a, T> = (String, Box<dyn Fn(&T) -> String + 'a>);
+
+/// The columns of a report's data table (the one `--format csv` writes),
+/// declared once, so that the header exists even without rows. Each kind of
+/// column writes its cells one way: numbers by [`data_number`], flags as
+/// `true`/`false`, a missing value as an empty cell.
+pub struct Columns<'a, T> {
+    columns: Vec<Column<'a, T>>,
+}
+
+impl<'a, T> Default for Columns<'a, T> {
+    fn default() -> Self {
+        Columns {
+            columns: Vec::new(),
+        }
+    }
+}
+
+impl<'a, T> Columns<'a, T> {
+    /// No columns yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+    /// A text column.
+    pub fn text(mut self, name: &str, f: impl Fn(&T) -> String + 'a) -> Self {
+        self.columns.push((name.to_string(), Box::new(f)));
+        self
+    }
+    /// A number column (empty where the value is `None`).
+    pub fn num<X: Into<Option<f64>>>(self, name: &str, f: impl Fn(&T) -> X + 'a) -> Self {
+        self.text(name, move |r| {
+            f(r).into().map_or(String::new(), data_number)
+        })
+    }
+    /// A count column (empty where the value is `None`).
+    pub fn count<X: Into<Option<usize>>>(self, name: &str, f: impl Fn(&T) -> X + 'a) -> Self {
+        self.text(name, move |r| {
+            f(r).into().map_or(String::new(), |n| n.to_string())
+        })
+    }
+    /// A flag column: `true` or `false` (empty where the value is `None`).
+    pub fn flag<X: Into<Option<bool>>>(self, name: &str, f: impl Fn(&T) -> X + 'a) -> Self {
+        self.text(name, move |r| {
+            f(r).into().map_or(String::new(), |b| b.to_string())
+        })
+    }
+    /// A vector split into one number column per component: the JSON key
+    /// with the component's name put before its unit (`translation_m` and
+    /// `x` give `translation_x_m`; `quaternion_xyzw` and `x` give
+    /// `quaternion_x`, a key without a unit taking the component last).
+    pub fn vector<const N: usize>(
+        mut self,
+        key: &str,
+        parts: [&str; N],
+        f: impl Fn(&T) -> Option<[f64; N]> + Clone + 'a,
+    ) -> Self {
+        for (k, part) in parts.iter().enumerate() {
+            let g = f.clone();
+            self = self.num(&split_name(key, part), move |r| g(r).map(|v| v[k]));
+        }
+        self
+    }
+    /// A vector of flags split into one flag column per component (named as
+    /// [`Columns::vector`] names them).
+    pub fn flags<const N: usize>(
+        mut self,
+        key: &str,
+        parts: [&str; N],
+        f: impl Fn(&T) -> Option<[bool; N]> + Clone + 'a,
+    ) -> Self {
+        for (k, part) in parts.iter().enumerate() {
+            let g = f.clone();
+            self = self.flag(&split_name(key, part), move |r| g(r).map(|v| v[k]));
+        }
+        self
+    }
+    /// The table over `rows`, marked as the document's data table.
+    pub fn table<'r>(&self, rows: impl IntoIterator<Item = &'r T>) -> Table
+    where
+        T: 'r,
+    {
+        Table {
+            header: self.columns.iter().map(|(n, _)| n.clone()).collect(),
+            rows: rows
+                .into_iter()
+                .map(|r| self.columns.iter().map(|(_, f)| f(r)).collect())
+                .collect(),
+            data_only: true,
+            ..Table::default()
+        }
+    }
+}
+
+/// Units a column name ends with (the JSON keys' suffixes).
+const UNITS: [&str; 7] = ["m_per_rad", "mm", "m", "deg", "rad", "s", "ns"];
+
+/// `key` with `part` put before its unit suffix (`translation_m`, `x` ->
+/// `translation_x_m`), or after a key without one (`quaternion_xyzw`: the
+/// component letters are the key's own suffix, dropped).
+pub fn split_name(key: &str, part: &str) -> String {
+    for u in UNITS {
+        if let Some(stem) = key.strip_suffix(&format!("_{u}")) {
+            return format!("{stem}_{part}_{u}");
+        }
+    }
+    let stem = key.strip_suffix("_xyzw").unwrap_or(key);
+    format!("{stem}_{part}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vectors_are_split_before_the_unit() {
+        assert_eq!(split_name("translation_m", "x"), "translation_x_m");
+        assert_eq!(split_name("rpy_rad", "roll"), "rpy_roll_rad");
+        assert_eq!(split_name("axis_point_m", "z"), "axis_point_z_m");
+        assert_eq!(
+            split_name("translation_delta_m", "y"),
+            "translation_delta_y_m"
+        );
+        assert_eq!(split_name("rotation_from_deg", "x"), "rotation_from_x_deg");
+        assert_eq!(split_name("quaternion_xyzw", "w"), "quaternion_w");
+        assert_eq!(split_name("axis", "x"), "axis_x");
+    }
+
+    #[test]
+    fn numbers_read_back_as_the_same_f64() {
+        for x in [
+            0.0,
+            -0.0,
+            1.5,
+            -0.231_4,
+            1e-20,
+            6.02e23,
+            1.0 / 3.0,
+            12345.678,
+        ] {
+            let s = data_number(x);
+            assert_eq!(s.parse::<f64>().unwrap(), x, "{s}");
+        }
+        assert_eq!(data_number(f64::NAN), "");
+        assert_eq!(data_number(f64::NEG_INFINITY), "");
+        assert_eq!(data_number(1e-20), "1e-20");
+    }
+
+    #[test]
+    fn columns_give_a_header_without_rows() {
+        struct R {
+            t: [f64; 3],
+            h: Option<f64>,
+        }
+        let c = Columns::<R>::new()
+            .vector("translation_m", ["x", "y", "z"], |r| Some(r.t))
+            .num("h_m", |r| r.h);
+        let empty = c.table(&[]);
+        assert_eq!(
+            empty.header,
+            [
+                "translation_x_m",
+                "translation_y_m",
+                "translation_z_m",
+                "h_m"
+            ]
+        );
+        assert!(empty.data_only && empty.rows.is_empty());
+        let t = c.table(&[R {
+            t: [1.0, -2.5, 0.0],
+            h: None,
+        }]);
+        assert_eq!(t.rows, [["1", "-2.5", "0", ""]]);
+    }
+}

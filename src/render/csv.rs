@@ -1,5 +1,37 @@
-//! CSV (RFC 4180, minimal quoting): the document's data tables, or its display
-//! tables when it has none, separated by blank lines.
+//! CSV (RFC 4180, minimal quoting): the report's one data table, tidy (issue
+//! 33): a header row, one observation per row, one variable per column, one
+//! number per cell (a vector is split into one column per component), units
+//! in the column names, never a display string (`[x, y, z]`, `1.2 mm`) nor a
+//! second table. Numbers carry every digit (the shortest text that reads
+//! back as the same `f64`, as the JSON prints it), flags are `true`/`false`,
+//! an empty cell is the JSON's `null` (or a key it leaves out). A report
+//! without a data table (the frame tree, a picture) is refused.
+//!
+//! Columns are named as the JSON's keys (one name per concept): a vector's
+//! component goes before the unit (`translation_m` -> `translation_x_m`,
+//! `rpy_rad` -> `rpy_roll_rad`, `quaternion_xyzw` -> `quaternion_x`), six
+//! eigenvalues (ascending) are `eigenvalues_1` .. `_6`, a footprint's six
+//! twist axes `_rx` .. `_tz`, a band's edges `_low`, `_high`; a nested key
+//! takes its parent's name where it alone is ambiguous (`screw_kind`), and
+//! a value per characteristic length `l` is suffixed `_l{l}` (`band_l1_low`).
+//! The row, per command (`src/report/data.rs` builds the tables, the
+//! survey's and the spread's in their own modules):
+//!
+//! | command | one row per | JSON rows |
+//! |---|---|---|
+//! | `audit FILE... --from A --to B` | the chain (one row) | the report |
+//! | `audit survey` | rig | `rigs[i]`, plus `placeholder`, `duplicate_of` |
+//! | `audit check` | finding | `findings[i]` |
+//! | `audit diff` | edge of either file | `edges[i]` |
+//! | `audit spread` | calibration | `calibrations[i]` |
+//! | `audit degeneracy` (a scan or a pair) | family | `families[i]` |
+//! | `audit simulate` | family (frame A `_from`, B `_to`) | `families[i]` |
+//! | `audit sweep` | family | `families[i]` |
+//! | `audit tunnel` | frame (`on_axis`, `shifted`) | those objects |
+//! | `audit calibrate-threshold` | (family, configuration) | `configurations[j]` |
+//! | `audit run` | scan or pair, streamed | the JSON lines (`report::run`) |
+//!
+//! The frame tree (`--frames`) is a picture: it has no CSV.
 //!
 //! Formula injection (OWASP, "CSV Injection", owasp.org/www-community/attacks/CSV_Injection):
 //! a spreadsheet reads a cell that begins with `=`, `+`, `-`, `@`, a tab, a
@@ -19,23 +51,18 @@
 
 use crate::document::{Block, Document, Table};
 
-/// Render a document's tables as CSV.
+/// Render a document's data table as CSV: the one table a report marks
+/// `data_only` (a document that has none is refused before this, by
+/// `OutputFormat::draws`; a second one would be a second table in the file,
+/// and is a bug of the report, caught by `tests/it/csv_tidy.rs`).
 pub fn render(doc: &Document) -> String {
-    let tables: Vec<&Table> = doc
-        .blocks
+    doc.blocks
         .iter()
-        .filter_map(|b| match b {
-            Block::Table(t) => Some(t),
+        .find_map(|b| match b {
+            Block::Table(t) if t.data_only => Some(table(t)),
             _ => None,
         })
-        .collect();
-    let data: Vec<&Table> = tables.iter().copied().filter(|t| t.data_only).collect();
-    let chosen = if data.is_empty() { tables } else { data };
-    chosen
-        .iter()
-        .map(|t| table(t))
-        .collect::<Vec<_>>()
-        .join("\n")
+        .unwrap_or_default()
 }
 
 /// One table as CSV.

@@ -47,7 +47,8 @@ pub enum OutputFormat {
     Json,
     /// GitHub workflow commands for the diagnostics, then the text.
     Github,
-    /// The data tables as CSV.
+    /// The report's data table as CSV: one tidy table, a row per
+    /// observation, a number per cell (README "CSV").
     Csv,
     /// SARIF 2.1.0 for GitHub code scanning (the diagnostics only).
     Sarif,
@@ -71,6 +72,8 @@ enum Needs {
     NoChart,
     /// A document without a picture.
     NoPicture,
+    /// A data table (CSV: the one tidy table a report declares).
+    Data,
     /// Findings (a diagnostics block).
     Findings,
     /// A graph.
@@ -111,9 +114,9 @@ impl OutputFormat {
             ),
             OutputFormat::Csv => (
                 "csv",
-                "writes a report's tables",
-                "tables",
-                Needs::NoPicture,
+                "writes a report's data table (one row per observation)",
+                "a data table",
+                Needs::Data,
             ),
             OutputFormat::Sarif => (
                 "sarif",
@@ -149,6 +152,10 @@ impl OutputFormat {
             Needs::Report => true,
             Needs::NoChart => !matches!(picture, Some(Block::Plot(_))),
             Needs::NoPicture => picture.is_none(),
+            Needs::Data => doc
+                .blocks
+                .iter()
+                .any(|b| matches!(b, Block::Table(t) if t.data_only)),
             Needs::Findings => doc
                 .blocks
                 .iter()
@@ -337,13 +344,16 @@ mod tests {
         d
     }
 
-    /// Which format draws which kind of document: tables (every report but
-    /// two), findings (the check), a graph (the frame tree), a plot (the
+    /// Which format draws which kind of document: a data table (every report
+    /// but the frame tree and the survey plot), findings (the check), a graph (the frame tree), a plot (the
     /// survey plot).
     #[test]
     fn each_format_draws_the_documents_it_can() {
         let docs = [
-            of(Block::Table(Table::new(&["a"], vec![]))),
+            of(Block::Table(Table {
+                data_only: true,
+                ..Table::new(&["a"], vec![])
+            })),
             of(Block::Diagnostics(vec![])),
             of(Block::Graph(Graph::default())),
             of(Block::Plot(Plot {
@@ -362,11 +372,12 @@ mod tests {
             t.join(" ")
         };
         assert_eq!(takes(&docs[0]), "text markdown json github csv");
-        assert_eq!(takes(&docs[1]), "text markdown json github csv sarif");
+        // CSV is a data table's: findings alone have none.
+        assert_eq!(takes(&docs[1]), "text markdown json github sarif");
         assert_eq!(takes(&docs[2]), "text markdown json dot mermaid svg");
         assert_eq!(takes(&docs[3]), "json svg");
         // A scene goes with the text formats, and is drawn only as MCAP.
-        assert_eq!(takes(&docs[4]), "text markdown json github csv mcap");
+        assert_eq!(takes(&docs[4]), "text markdown json github mcap");
         assert!(draw(
             &docs[4],
             OutputFormat::Mcap,

@@ -132,6 +132,7 @@ impl Report for CheckReport {
         if let Some(b) = &self.baseline_written {
             doc.text(b.lines());
         }
+        doc.table(self.data_table());
         doc
     }
 }

@@ -335,6 +335,7 @@ impl Report for SweepReport {
             )
             .compact(&[0, 3, 5, 7, 8]),
         );
+        doc.table(self.data_table());
         doc
     }
 }
@@ -521,6 +522,7 @@ impl Report for DegeneracyReport {
         for w in &self.warnings {
             doc.text(w.clone());
         }
+        doc.table(self.data_table());
         doc.push(Block::Scene(self.scene()));
         doc
     }
@@ -751,6 +753,7 @@ impl Report for TunnelReport {
             "congruence A^T H A / A^T M A vs reassembly: {:.2e} / {:.2e} (relative)",
             self.congruence_rel_diff.h, self.congruence_rel_diff.m
         ));
+        doc.table(self.data_table());
         doc
     }
 }
@@ -908,6 +911,7 @@ impl Report for SimulateReport {
             )
             .compact(&[0, 1, 2, 3, 4]),
         );
+        doc.table(self.data_table());
         doc
     }
 }
@@ -1125,6 +1129,7 @@ impl Report for ThresholdReport {
         let header: Vec<&str> = header.iter().map(String::as_str).collect();
         doc.table(Table::new(&header, rows));
         doc.text("Column nS vV: range noise S m, voxel V m. 'none (k/3)': no single tau reproduces all three counts; k is the most scenes one tau reproduces together.\nPaper: point displacement [5.3e-3, 8.3e-2] (1.20 decades); every other family empty.");
+        doc.table(self.data_table());
         doc
     }
 }

@@ -458,6 +458,7 @@ impl Report for DiffReport {
                 "{off} edges off the chain are in only one file (listed in --format json)"
             ));
         }
+        doc.table(self.data_table());
         doc
     }
 }

@@ -7,6 +7,7 @@
 //! business.
 
 pub mod check;
+mod data;
 pub mod detector;
 pub mod diff;
 pub mod frames;

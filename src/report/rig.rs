@@ -923,6 +923,7 @@ impl Report for RigReport {
             // Its step is the headline's "To do".
             doc.text(format!("{}.\nSource: {}.", a.statement, a.detector.source));
         }
+        doc.table(self.data_table());
         doc.push(Block::Scene(self.scene()));
         doc
     }

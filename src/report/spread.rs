@@ -7,7 +7,7 @@
 
 use crate::analysis::spread::Deviation;
 use crate::document::numbers::{degrees, fixed, metres, metres_h, ratio, short, unit, vector};
-use crate::document::{Block, Document, Report, Table};
+use crate::document::{data_number, Block, Document, Report, Table};
 use crate::geometry::PitchVerdict;
 use crate::report::diff::DiffToleranceJson;
 use crate::tolerances::OUTLIER_FEW;
@@ -360,12 +360,13 @@ impl SpreadReport {
         .compact(&[0, 1, 2, 3, 6])
     }
 
-    /// One row per calibration, one number per column (CSV only).
+    /// One row per calibration, one number per column (CSV only), the
+    /// columns named as `report::data` names them.
     fn data_table(&self) -> Table {
-        let mut header: Vec<String> = ["calibration", "file"].map(String::from).to_vec();
+        let mut header: Vec<String> = ["name", "file"].map(String::from).to_vec();
         let xyz = |p: &str, u: &str| ["x", "y", "z"].map(|a| format!("{p}_{a}_{u}"));
         header.extend(xyz("translation", "m"));
-        header.extend(["qx", "qy", "qz", "qw"].map(String::from));
+        header.extend(["x", "y", "z", "w"].map(|a| format!("quaternion_{a}")));
         header.extend(xyz("rotation_from", "deg"));
         header.extend(xyz("rotation_to", "deg"));
         header.extend(xyz("translation_from", "mm"));
@@ -386,10 +387,10 @@ impl SpreadReport {
         }
         for b in &self.bands {
             let l = short(b.ell_m);
-            header.push(format!("band_low_l{l}"));
-            header.push(format!("band_high_l{l}"));
+            header.push(format!("band_l{l}_low"));
+            header.push(format!("band_l{l}_high"));
         }
-        let num = |x: f64| format!("{x}");
+        let num = data_number;
         let opt = |x: Option<f64>| x.map_or(String::new(), num);
         let rows = self
             .calibrations

@@ -10,7 +10,7 @@
 use super::rig::{near_half_turn, small_rotation};
 use crate::document::numbers::{degrees, fixed, metres, metres_h, ratio, vector};
 use crate::document::SCHEMA_VERSION;
-use crate::document::{Document, Report, Table};
+use crate::document::{Columns, Document, Report, Table};
 use crate::geometry::uncertainty::UncertaintySource;
 use crate::geometry::PitchVerdict;
 use crate::tolerances::{NEAR_HALF_TURN_RAD, SMALL_ROTATION_DEG};
@@ -184,42 +184,41 @@ impl SurveyReport {
             .one_line(0)
     }
 
+    /// The data table (`--format csv`): one row per rig, the JSON's keys as
+    /// columns (`band_l1` split into `band_l1_low`, `band_l1_high`), then
+    /// `placeholder` and `duplicate_of` (the marks the text table writes
+    /// beside the id; the JSON has no such keys).
     fn data_table(&self) -> Table {
-        let rows = self
-            .rigs
-            .iter()
-            .zip(&self.marks)
-            .map(|(j, m)| {
-                vec![
-                    j.id.clone(),
-                    j.sensor.clone(),
-                    j.platform.clone(),
-                    j.dataset.clone(),
-                    j.from.clone(),
-                    j.to.clone(),
-                    format!("{}", j.lever_arm_m),
-                    format!("{}", j.angle_deg),
-                    j.screw_translation_m
-                        .map(|h| format!("{h}"))
-                        .unwrap_or_default(),
-                    format!("{}", j.zero_pitch),
-                    format!("{}", j.sigma_max),
-                    format!("{}", j.band_l1[0]),
-                    format!("{}", j.band_l1[1]),
-                    format!("{}", j.adapted_metric_exists),
-                    format!("{}", m.placeholder),
-                    j.screw_translation_uncertainty_m
-                        .map(|u| format!("{u}"))
-                        .unwrap_or_default(),
-                    verdict_of(j).name().to_string(),
-                    j.uncertainty_source.name().to_string(),
-                ]
+        type Row<'r> = (&'r SurveyRigJson, &'r RowMarks);
+        let rows: Vec<Row> = self.rigs.iter().zip(&self.marks).collect();
+        Columns::<Row>::new()
+            .text("id", |r| r.0.id.clone())
+            .text("sensor", |r| r.0.sensor.clone())
+            .text("platform", |r| r.0.platform.clone())
+            .text("dataset", |r| r.0.dataset.clone())
+            .text("from", |r| r.0.from.clone())
+            .text("to", |r| r.0.to.clone())
+            .num("lever_arm_m", |r| r.0.lever_arm_m)
+            .num("angle_deg", |r| r.0.angle_deg)
+            .num("screw_translation_m", |r| r.0.screw_translation_m)
+            .flag("zero_pitch", |r| r.0.zero_pitch)
+            .num("screw_translation_uncertainty_m", |r| {
+                r.0.screw_translation_uncertainty_m
             })
-            .collect();
-        Table {
-            data_only: true,
-            ..Table::new(&CSV_HEADER, rows)
-        }
+            .text("pitch_verdict", |r| {
+                r.0.pitch_verdict.map_or("", PitchVerdict::name).into()
+            })
+            .text("uncertainty_source", |r| {
+                r.0.uncertainty_source.name().into()
+            })
+            .num("sigma_max", |r| r.0.sigma_max)
+            .vector("band_l1", ["low", "high"], |r| Some(r.0.band_l1))
+            .flag("adapted_metric_exists", |r| r.0.adapted_metric_exists)
+            .flag("placeholder", |r| r.1.placeholder)
+            .text("duplicate_of", |r| {
+                r.1.duplicate_of.clone().unwrap_or_default()
+            })
+            .table(&rows)
     }
 }
 
@@ -235,27 +234,6 @@ const HEADER: [&str; 11] = [
     "s_max",
     "band at l = 1",
     "adapted metric",
-];
-
-const CSV_HEADER: [&str; 18] = [
-    "id",
-    "sensor",
-    "platform",
-    "dataset",
-    "from",
-    "to",
-    "lever_arm_m",
-    "angle_deg",
-    "screw_translation_m",
-    "zero_pitch",
-    "sigma_max",
-    "band_l1_lower",
-    "band_l1_upper",
-    "adapted_metric_exists",
-    "placeholder",
-    "screw_translation_uncertainty_m",
-    "pitch_verdict",
-    "uncertainty_source",
 ];
 
 /// The row's pitch verdict; without a rotation, the identity is `zero` and a

@@ -184,7 +184,7 @@ fn mcap_keeps_names_exact_inside_its_json() {
 }
 
 /// RFC 4180 rows: quoted fields with doubled quotes, line breaks inside quotes.
-fn csv_rows(text: &str) -> Vec<Vec<String>> {
+pub fn csv_rows(text: &str) -> Vec<Vec<String>> {
     let (mut rows, mut row, mut cell) = (Vec::new(), Vec::new(), String::new());
     let (mut quoted, mut chars) = (false, text.chars().peekable());
     while let Some(c) = chars.next() {

@@ -19,6 +19,7 @@ mod core_alloc;
 mod core_edges;
 mod core_fixtures;
 mod core_props;
+mod csv_tidy;
 mod detector_advice;
 mod detector_core;
 mod detector_scans;

@@ -254,7 +254,7 @@ fn spread_csv_is_one_row_per_calibration() {
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines.len(), 7, "{out}");
     let header: Vec<&str> = lines[0].split(',').collect();
-    assert_eq!(header[0], "calibration");
+    assert_eq!(header[0], "name");
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
     let row: Vec<&str> = lines[6].split(',').collect();
     assert_eq!(row.len(), header.len());
