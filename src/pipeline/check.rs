@@ -16,6 +16,7 @@ use super::files::{dir_of, same_file, unsafe_target};
 use super::load::apply_renames;
 use super::manifest;
 use super::walk::{file_id, walk, FileId, Found};
+use crate::analysis::detectors::OdometryDetector;
 use crate::analysis::mistakes::MistakeTol;
 use crate::baseline::{
     self, BaselineFile, BaselinePair, BaselineTransform, CheckedFile, DriftTolerances, Locations,
@@ -303,6 +304,30 @@ impl Checker<'_> {
                 .at(&Location::file(&f.path)),
             );
             return Ok(None);
+        }
+        // A detector's own configuration (DCReg's icp.yaml, X-ICP's) sets
+        // thresholds and no extrinsic: its values are checked as the
+        // detector reads them, and it is not read as a calibration.
+        match OdometryDetector::read_config(&f.path) {
+            Ok(Some(cfg)) => {
+                let label = OdometryDetector::find(cfg.detector).map_or(cfg.detector, |d| d.label);
+                self.findings.push(
+                    Diagnostic::new(
+                        Code::Ignored,
+                        format!(
+                            "{label} configuration: detector thresholds, no sensor extrinsic; its values read as {label} reads them, nothing else to check"
+                        ),
+                    )
+                    .at(&Location::file(&f.path)),
+                );
+                return Ok(None);
+            }
+            Ok(None) => {}
+            Err(e) if e.code == Code::Io => return Err(e),
+            Err(e) => {
+                self.error(&f.path, &e);
+                return Ok(None);
+            }
         }
         let mut loaded = match formats::load_file(&f.path, &self.opts.load) {
             Ok(l) => l,

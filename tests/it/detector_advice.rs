@@ -403,3 +403,32 @@ fn bad_detector_configuration_values_exit_2_at_their_line() {
         "{err}"
     );
 }
+
+/// `audit check` over a tree that keeps a detector's configuration beside
+/// the calibrations (DCReg's icp.yaml, X-ICP's): the file is noted as that
+/// detector's configuration and its values are checked as the detector
+/// reads them, instead of failing the gate as "no transform found"; a bad
+/// value fails the gate at its line.
+#[test]
+fn check_notes_a_detector_configuration_and_checks_its_values() {
+    let dir = tempfile::tempdir().unwrap();
+    for f in ["rig_base_lidar.toml", "dcreg_icp.yaml", "xicp_icp.yaml"] {
+        std::fs::copy(format!("{CONFIG}/{f}"), dir.path().join(f)).unwrap();
+    }
+    let d = dir.path().to_str().unwrap();
+    let (code, out, err) = run_cli(&["check", d]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        out.contains("DCReg configuration: detector thresholds, no sensor extrinsic"),
+        "{out}"
+    );
+    assert!(out.contains("X-ICP configuration"), "{out}");
+    assert!(!out.contains("no transform found"), "{out}");
+    let text = std::fs::read_to_string(dir.path().join("dcreg_icp.yaml")).unwrap();
+    let bad = text.replace("condition_threshold: 25.0", "condition_threshold: ten");
+    std::fs::write(dir.path().join("dcreg_icp.yaml"), bad).unwrap();
+    let (code, out, err) = run_cli(&["check", d]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(out.contains("dcreg_icp.yaml:17:"), "{out}");
+    assert!(out.contains("found a string `ten`"), "{out}");
+}
