@@ -18,14 +18,16 @@
 //! threads by contiguous point ranges; the output keeps the input order, so it
 //! does not depend on the thread count.
 
-use super::cells::{floor_i64, sorted_by_key};
+use super::cells::floor_i64;
 use super::grid::Grid;
 use super::scene::Cloud;
 use crate::diagnostic::{Error, Result};
 use crate::progress::{NoProgress, Progress};
 use crate::tolerances::DUPLICATE_POINT_REL_TOL;
+use foldhash::{HashMap, HashMapExt};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use std::hash::BuildHasher;
 use std::num::NonZero;
 
 /// How normals are estimated.
@@ -240,33 +242,82 @@ pub type Merged = (Vec<[f64; 3]>, Option<Vec<f64>>);
 pub fn merge_duplicates(points: &[[f64; 3]], weights: Option<&[f64]>) -> Option<Merged> {
     let scale = points.iter().flatten().fold(1.0f64, |m, c| m.max(c.abs()));
     let cell = DUPLICATE_POINT_REL_TOL * scale;
-    if !cell.is_finite() || points.len() < 2 {
+    let n = points.len();
+    if !cell.is_finite() || n < 2 {
         return None;
     }
-    // |c| / cell <= 2^40: the keys fit an i64 exactly.
-    let keys: Vec<[i64; 3]> = points
-        .iter()
-        .map(|p| p.map(|c| floor_i64(c / cell)))
-        .collect();
-    let order = sorted_by_key(&keys);
-    drop(keys);
-    // Each group: its first point (input order), its weights' sum, its size.
-    let mut firsts: Vec<(usize, f64, usize)> = Vec::new();
-    for run in order.chunk_by(|a, b| a.0 == b.0) {
-        let w: f64 = run
-            .iter()
-            .map(|&(_, i)| weights.and_then(|w| w.get(i)).copied().unwrap_or(1.0))
-            .sum();
-        firsts.push((run[0].1, w, run.len()));
+    // |c| / cell <= 2^40: the keys fit an i64 exactly, but span more than 32
+    // bits, so the cells' packed sort does not apply; sorting the keys as
+    // tuples was 40 % of a million-point raw scan's run (BENCHMARKS.md).
+    let key = |i: usize| points[i].map(|c| floor_i64(c / cell));
+    // first[i]: the first point (input order) of i's group.
+    let first = if n <= u32::MAX as usize {
+        firsts_by_hash(n, key)
+    } else {
+        firsts_by_map(n, key)
+    }?;
+    let mut sum = vec![0.0f64; if weights.is_some() { n } else { 0 }];
+    let mut size = vec![0u32; sum.len()];
+    if let Some(w) = weights {
+        for (i, &f) in first.iter().enumerate() {
+            sum[f] += w.get(i).copied().unwrap_or(1.0);
+            size[f] += 1;
+        }
     }
-    if firsts.len() == points.len() {
-        return None;
-    }
-    drop(order);
-    firsts.sort_unstable_by_key(|f| f.0);
-    let kept = firsts.iter().map(|f| points[f.0]).collect();
-    let w = weights.map(|_| firsts.iter().map(|f| f.1 / f.2 as f64).collect());
+    let leads = || (0..n).filter(|&i| first[i] == i);
+    let kept = leads().map(|i| points[i]).collect();
+    let w = weights.map(|_| leads().map(|i| sum[i] / f64::from(size[i])).collect());
     Some((kept, w))
+}
+
+/// Each key's group leader (the first index holding the same key), or
+/// `None` when every key is distinct: keys sorted by a 32-bit hash packed
+/// with their index into one `u64` (a plain integer sort), each run of one
+/// hash then split by its exact keys (a hash collision is two groups).
+fn firsts_by_hash(n: usize, key: impl Fn(usize) -> [i64; 3]) -> Option<Vec<usize>> {
+    let state = foldhash::fast::FixedState::with_seed(0x5eed);
+    let hash = |k: &[i64; 3]| state.hash_one(k) as u32;
+    let mut order: Vec<u64> = (0..n)
+        .map(|i| (u64::from(hash(&key(i))) << 32) | i as u64)
+        .collect();
+    order.sort_unstable();
+    let mut first: Vec<usize> = (0..n).collect();
+    let mut any = false;
+    for run in order.chunk_by(|a, b| a >> 32 == b >> 32) {
+        if run.len() < 2 {
+            continue;
+        }
+        // In (key, index) order, so each group's first is its leader.
+        let mut sub: Vec<([i64; 3], usize)> = run
+            .iter()
+            .map(|&v| {
+                let i = (v as u32) as usize;
+                (key(i), i)
+            })
+            .collect();
+        sub.sort_unstable();
+        for g in sub.chunk_by(|a, b| a.0 == b.0) {
+            for &(_, i) in &g[1..] {
+                first[i] = g[0].1;
+                any = true;
+            }
+        }
+    }
+    any.then_some(first)
+}
+
+/// [`firsts_by_hash`] for more points than a `u32` indexes: a hash map.
+fn firsts_by_map(n: usize, key: impl Fn(usize) -> [i64; 3]) -> Option<Vec<usize>> {
+    let mut leader: HashMap<[i64; 3], usize> = HashMap::with_capacity(n);
+    let mut any = false;
+    let first = (0..n)
+        .map(|i| {
+            let f = *leader.entry(key(i)).or_insert(i);
+            any |= f != i;
+            f
+        })
+        .collect();
+    any.then_some(first)
 }
 
 /// Points between two progress reports of the normal estimation.
@@ -380,6 +431,27 @@ fn normals_on_threads(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_hashed_sort_and_the_map_find_the_same_groups() {
+        // Keys with repeats at scattered positions, a key repeated many
+        // times, and distinct keys whose 32-bit hashes may collide: both
+        // ways give every index its group's first index.
+        let mut keys: Vec<[i64; 3]> = (0..5000).map(|i| [i % 977, -(i % 13), 1 << 40]).collect();
+        keys.extend((0..300).map(|_| [5, 5, 5]));
+        keys.extend((0..2000).map(|i| [i, i * 7, -i]));
+        let key = |i: usize| keys[i];
+        let a = firsts_by_hash(keys.len(), key).expect("groups");
+        let b = firsts_by_map(keys.len(), key).expect("groups");
+        assert_eq!(a, b);
+        for (i, &f) in a.iter().enumerate() {
+            assert!(f <= i && keys[f] == keys[i]);
+            assert_eq!(keys[..f].iter().position(|k| *k == keys[i]), None);
+        }
+        let distinct: Vec<[i64; 3]> = (0..1000).map(|i| [i, 0, 0]).collect();
+        assert_eq!(firsts_by_hash(1000, |i| distinct[i]), None);
+        assert_eq!(firsts_by_map(1000, |i| distinct[i]), None);
+    }
 
     #[test]
     fn duplicates_merge_within_the_cell_and_keep_the_first_in_order() {
