@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Issue 24's before/after table (BENCHMARKS.md, "Whole process before and
+# after issue 24"): one command per benchmark section whose command exists in
+# both binaries, each pair in one hyperfine run, the inputs generated here.
+#
+#   BEFORE=/path/to/old/audit AFTER=target/release/audit PY=/venv/bin/python \
+#     bench/before_after.sh [WORKDIR]
+#
+# BEFORE: a release build of the older commit (e.g. fd2fa2f in a worktree,
+# with `cargo build --release --example read_xyz` there too); PY: a Python
+# with numpy, mcap, rosbags and laspy[lazrs] (the generators' imports);
+# the test-data folder as tools/testdata.py finds it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+w=${1:-/tmp/audit-before-after}
+mkdir -p "$w"
+B=${BEFORE:?set BEFORE to the older audit binary}
+A=${AFTER:-target/release/audit}
+PY=${PY:-python3}
+BX="$(dirname "$B")/examples/read_xyz"
+cargo build --quiet --release --bin audit --example write_cloud --example read_xyz
+AX=target/release/examples/read_xyz
+td=$(python3 tools/testdata.py root)
+[ -f "$w/chain.urdf" ] || python3 bench/gen_urdf_chain.py 100000 "$w/chain.urdf"
+[ -d "$w/rigs" ] || python3 bench/gen_rigs.py "$w/rigs" 10000 > /dev/null
+[ -f "$w/big.mcap" ] || "$PY" bench/make_big_bag.py "$w/big.mcap" 1024
+[ -f "$w/c1e6.ply" ] || target/release/examples/write_cloud "$w/c1e6.ply" 1000000 ply-le
+[ -f "$w/raw1e6.ply" ] || "$PY" bench/make_raw_million.py "$w/raw1e6.ply"
+[ -f "$w/las/million.laz" ] || "$PY" bench/make_las_million.py "$w/las"
+an="$td/Gepetto__example-robot-data/robots/anymal_c_simple_description/urdf/anymal.urdf --from base --to lidar"
+pr2="$td/Gepetto__example-robot-data/robots/pr2_description/urdf/pr2.urdf --from base_footprint --to laser_tilt_link"
+pr2x="$td/PR2__pr2_common/pr2_description/robots/pr2.urdf.xacro --from base_footprint --to laser_tilt_link"
+pair() { printf '%s\n' -n "$1" "$B $2" -n "$1" "$A $2"; }
+mapfile -t quick < <(pair anymal "$an"; pair pr2 "$pr2"; pair "survey calibrations/" "survey calibrations/";
+    pair "check calibrations/" "check calibrations/"; pair "xacro PR2" "$pr2x"; pair "bag 1 GB --frames" "$w/big.mcap --frames")
+hyperfine -N -i --warmup 5 --runs 40 --export-json "$w/quick.json" "${quick[@]}" > /dev/null
+mapfile -t slow < <(pair "URDF 100k" "$w/chain.urdf --from l0 --to l99999"; pair "check 10k" "check $w/rigs";
+    pair "survey 10k" "survey $w/rigs"; printf '%s\n' -n "LAZ 1e6 read_xyz" "$BX $w/las/million.laz" -n "LAZ 1e6 read_xyz" "$AX $w/las/million.laz";
+    pair "degeneracy 1e6 PLY" "degeneracy $w/c1e6.ply"; pair "raw 1e6 normals" "degeneracy $w/raw1e6.ply --estimate-normals --voxel 0.1")
+hyperfine -N --warmup 2 --runs 15 --export-json "$w/slow.json" "${slow[@]}" > /dev/null
+python3 - "$w/quick.json" "$w/slow.json" <<'PY'
+import json, statistics, sys
+print("| command | before min / median / max | after min / median / max | median after / before |")
+print("|---|---|---|---:|")
+for f in sys.argv[1:]:
+    r = json.load(open(f))["results"]
+    for b, a in zip(r[::2], r[1::2]):
+        m = lambda x: "%.1f / %.1f / %.1f ms" % (min(x["times"]) * 1e3, statistics.median(x["times"]) * 1e3, max(x["times"]) * 1e3)
+        print(f"| {b['command']} | {m(b)} | {m(a)} | {statistics.median(a['times']) / statistics.median(b['times']):.2f} |")
+PY
