@@ -268,6 +268,34 @@ impl Checker<'_> {
         self.findings.push(Diagnostic::new(code, message).at(&at));
     }
 
+    /// A detector's own configuration (DCReg's icp.yaml, X-ICP's) sets
+    /// thresholds and no extrinsic: its values are checked as the detector
+    /// reads them (an error is a finding at its line), a note says what it
+    /// is, and it is not read as a calibration. `true` when `path` is one.
+    fn detector_config(&mut self, path: &Path) -> Result<bool> {
+        match OdometryDetector::read_config(path) {
+            Ok(Some(cfg)) => {
+                let label = OdometryDetector::find(cfg.detector).map_or(cfg.detector, |d| d.label);
+                self.findings.push(
+                    Diagnostic::new(
+                        Code::Ignored,
+                        format!(
+                            "{label} configuration: detector thresholds, no sensor extrinsic; its values read as {label} reads them, nothing else to check"
+                        ),
+                    )
+                    .at(&Location::file(path)),
+                );
+                Ok(true)
+            }
+            Ok(None) => Ok(false),
+            Err(e) if e.code == Code::Io => Err(e),
+            Err(e) => {
+                self.error(path, &e);
+                Ok(true)
+            }
+        }
+    }
+
     /// Load one file of a robot into its graph; its state when it loaded.
     fn load_into(
         &mut self,
@@ -305,29 +333,8 @@ impl Checker<'_> {
             );
             return Ok(None);
         }
-        // A detector's own configuration (DCReg's icp.yaml, X-ICP's) sets
-        // thresholds and no extrinsic: its values are checked as the
-        // detector reads them, and it is not read as a calibration.
-        match OdometryDetector::read_config(&f.path) {
-            Ok(Some(cfg)) => {
-                let label = OdometryDetector::find(cfg.detector).map_or(cfg.detector, |d| d.label);
-                self.findings.push(
-                    Diagnostic::new(
-                        Code::Ignored,
-                        format!(
-                            "{label} configuration: detector thresholds, no sensor extrinsic; its values read as {label} reads them, nothing else to check"
-                        ),
-                    )
-                    .at(&Location::file(&f.path)),
-                );
-                return Ok(None);
-            }
-            Ok(None) => {}
-            Err(e) if e.code == Code::Io => return Err(e),
-            Err(e) => {
-                self.error(&f.path, &e);
-                return Ok(None);
-            }
+        if self.detector_config(&f.path)? {
+            return Ok(None);
         }
         let mut loaded = match formats::load_file(&f.path, &self.opts.load) {
             Ok(l) => l,
