@@ -46,7 +46,7 @@ def test_transform_matches_pytransform3d_on_every_pair():
 
 
 def test_whole_anymal_c_with_joints_matches_pytransform3d():
-    path = real("tests/fixtures/urdf/anymal_c.urdf")
+    path = real("Gepetto__example-robot-data/robots/anymal_c_simple_description/urdf/anymal.urdf")
     joints = {}
     rng = np.random.default_rng(7)
     for name in ea.load(path).joints():
