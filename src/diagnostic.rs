@@ -76,6 +76,16 @@ pub enum Severity {
     Warning,
 }
 
+impl Severity {
+    /// Its name, as the JSON (serde), the text lines and the CSV write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        }
+    }
+}
+
 macro_rules! codes {
     ($( $(#[doc = $doc:literal])* $variant:ident = $name:literal, $sev:ident; )*) => {
         /// Every diagnostic code, with its stable kebab-case name and default

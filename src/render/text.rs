@@ -8,7 +8,7 @@
 
 use super::layout::{self, Layout};
 use super::style::Style;
-use crate::diagnostic::{Diagnostic, Severity};
+use crate::diagnostic::Diagnostic;
 use crate::document::{Block, Document, Graph, Table};
 use crate::sanitize::{block, line, visible};
 
@@ -175,10 +175,7 @@ fn bordered(fitted: layout::Fitted) -> String {
 /// `file:line: severity[code]: message`, the place omitted when unknown; one
 /// line, escaped ([`crate::sanitize::line`]).
 pub fn diagnostic_line(d: &Diagnostic) -> String {
-    let kind = match d.severity {
-        Severity::Error => "error",
-        Severity::Warning => "warning",
-    };
+    let kind = d.severity.name();
     let place = match (&d.location.file, d.location.line) {
         (None, _) => String::new(),
         (Some(f), Some(l)) => format!("{}:{l}: ", f.display()),

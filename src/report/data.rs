@@ -14,9 +14,9 @@ use super::detector::{
     DegeneracyReport, FamilyComparison, FamilyEigen, IntervalJson, SimulateReport, SweepFamilyJson,
     SweepReport, ThresholdReport, TunnelFrameJson, TunnelReport,
 };
-use super::diff::{DiffReport, EdgeDiffJson, EdgeStatus};
+use super::diff::{DiffReport, EdgeDiffJson};
 use super::rig::RigReport;
-use crate::diagnostic::{Diagnostic, Severity};
+use crate::diagnostic::Diagnostic;
 use crate::document::numbers::short;
 use crate::document::{Columns, Table};
 
@@ -113,19 +113,12 @@ impl RigReport {
     }
 }
 
-fn severity(s: Severity) -> &'static str {
-    match s {
-        Severity::Error => "error",
-        Severity::Warning => "warning",
-    }
-}
-
 impl CheckReport {
     /// One row per finding, as the JSON's `findings[i]` (`file` empty and
     /// `line` empty when unknown).
     pub(super) fn data_table(&self) -> Table {
         Columns::<Diagnostic>::new()
-            .text("severity", |d| severity(d.severity).into())
+            .text("severity", |d| d.severity.name().into())
             .text("code", |d| d.code.name().into())
             .text("file", |d| {
                 d.location
@@ -142,15 +135,6 @@ impl CheckReport {
     }
 }
 
-fn status(s: EdgeStatus) -> &'static str {
-    match s {
-        EdgeStatus::Unchanged => "unchanged",
-        EdgeStatus::Changed => "changed",
-        EdgeStatus::Added => "added",
-        EdgeStatus::Removed => "removed",
-    }
-}
-
 impl DiffReport {
     /// One row per edge of either file, as the JSON's `edges[i]` (the
     /// chain's own comparison is in the JSON's `chain`).
@@ -158,7 +142,7 @@ impl DiffReport {
         Columns::<EdgeDiffJson>::new()
             .text("parent", |e| e.parent.clone())
             .text("child", |e| e.child.clone())
-            .text("status", |e| status(e.status).into())
+            .text("status", |e| e.status.name().into())
             .flag("reversed", |e| e.reversed)
             .vector("translation_delta_m", XYZ, |e| e.translation_delta_m)
             .num("translation_change_mm", |e| e.translation_change_mm)

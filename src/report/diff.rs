@@ -66,6 +66,18 @@ pub enum EdgeStatus {
     Removed,
 }
 
+impl EdgeStatus {
+    /// Its name, as the JSON (serde) and the CSV write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            EdgeStatus::Unchanged => "unchanged",
+            EdgeStatus::Changed => "changed",
+            EdgeStatus::Added => "added",
+            EdgeStatus::Removed => "removed",
+        }
+    }
+}
+
 /// `edges[i]`: one edge, as OLD stores it (NEW's when added).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct EdgeDiffJson {
@@ -335,10 +347,7 @@ impl DiffReport {
             .map(|e| {
                 let status = match e.status {
                     EdgeStatus::Changed if e.exceeds => "changed (beyond tolerance)",
-                    EdgeStatus::Changed => "changed",
-                    EdgeStatus::Added => "added",
-                    EdgeStatus::Removed => "removed",
-                    EdgeStatus::Unchanged => "unchanged",
+                    s => s.name(),
                 };
                 let mark = if e.on_chain { " (chain)" } else { "" };
                 vec![
