@@ -124,28 +124,37 @@ impl<'a, T> Columns<'a, T> {
     /// `x` give `translation_x_m`; `quaternion_xyzw` and `x` give
     /// `quaternion_x`, a key without a unit taking the component last).
     pub fn vector<const N: usize>(
-        mut self,
+        self,
         key: &str,
         parts: [&str; N],
         f: impl Fn(&T) -> Option<[f64; N]> + Clone + 'a,
     ) -> Self {
-        for (k, part) in parts.iter().enumerate() {
-            let g = f.clone();
-            self = self.num(&split_name(key, part), move |r| g(r).map(|v| v[k]));
-        }
-        self
+        self.split(key, parts, f, data_number)
     }
     /// A vector of flags split into one flag column per component (named as
     /// [`Columns::vector`] names them).
     pub fn flags<const N: usize>(
-        mut self,
+        self,
         key: &str,
         parts: [&str; N],
         f: impl Fn(&T) -> Option<[bool; N]> + Clone + 'a,
     ) -> Self {
+        self.split(key, parts, f, |b: bool| b.to_string())
+    }
+    /// One column per component of `f`'s array, named by [`split_name`],
+    /// each cell written by `cell` (empty where `f` gives `None`).
+    fn split<V: Copy + 'a, const N: usize>(
+        mut self,
+        key: &str,
+        parts: [&str; N],
+        f: impl Fn(&T) -> Option<[V; N]> + Clone + 'a,
+        cell: fn(V) -> String,
+    ) -> Self {
         for (k, part) in parts.iter().enumerate() {
             let g = f.clone();
-            self = self.flag(&split_name(key, part), move |r| g(r).map(|v| v[k]));
+            self = self.text(&split_name(key, part), move |r| {
+                g(r).map_or(String::new(), |v| cell(v[k]))
+            });
         }
         self
     }
