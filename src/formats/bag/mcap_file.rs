@@ -20,6 +20,7 @@ use super::decode::Encoding;
 use super::inflate::Budget;
 use super::progress::Progress;
 use crate::diagnostic::{Error, Result};
+use crate::formats::spec::ReadBlock;
 use mcap::records::{MessageHeader, Record};
 use mcap::sans_io::indexed_reader::{
     IndexedReadEvent, IndexedReader, IndexedReaderOptions, ReadOrder,
@@ -48,7 +49,7 @@ struct ChannelInfo {
 /// Hand the messages of the topics `wanted` accepts from `file` (`size`
 /// bytes, at its start), read from `path`, to `each` in file order; every
 /// topic of the file.
-pub fn stream<R: Read + Seek>(
+pub fn stream<R: ReadBlock>(
     file: R,
     size: u64,
     path: &Path,
@@ -73,7 +74,7 @@ pub fn stream<R: Read + Seek>(
     }
 }
 
-fn summary<R: Read + Seek>(
+fn summary<R: ReadBlock>(
     file: &mut BufReader<R>,
     size: u64,
 ) -> mcap::McapResult<Option<mcap::Summary>> {
@@ -160,7 +161,7 @@ fn summary_topics(s: &mcap::Summary, channels: &HashMap<u16, ChannelInfo>) -> Ve
 
 type Wanted<'a> = (&'a dyn Fn(&str) -> bool, &'a mut Budget);
 
-fn indexed<R: Read + Seek>(
+fn indexed<R: ReadBlock>(
     path: &Path,
     file: &mut BufReader<R>,
     s: &mcap::Summary,
@@ -217,9 +218,10 @@ fn indexed<R: Read + Seek>(
                     sizes.get(&offset).copied().unwrap_or(length as u64),
                     &format!("MCAP chunk at byte {offset}"),
                 )?;
-                buf.resize(length, 0);
-                let ok =
-                    file.seek(SeekFrom::Start(offset)).is_ok() && file.read_exact(&mut buf).is_ok();
+                // The seek empties the BufReader, so the chunk is read from
+                // the file itself, into spare capacity (ReadBlock).
+                let ok = file.seek(SeekFrom::Start(offset)).is_ok()
+                    && file.get_mut().read_block(length, &mut buf).is_ok();
                 if !ok {
                     return Err(Error::parse(format!(
                         "MCAP chunk data at byte {offset}, {length} bytes: expected inside the file, found the end of the file first (truncated?)"
@@ -253,7 +255,7 @@ fn indexed<R: Read + Seek>(
 }
 
 /// Stream the whole file: for MCAPs without a summary.
-fn linear<R: Read + Seek>(
+fn linear<R: ReadBlock>(
     path: &Path,
     file: &mut BufReader<R>,
     size: u64,

@@ -26,8 +26,9 @@ use super::inflate::Budget;
 use super::progress::Progress;
 use crate::bytes::{read_at, Endian, Reader};
 use crate::diagnostic::{Error, Result};
+use crate::formats::spec::ReadBlock;
 use std::collections::{BTreeMap, BTreeSet};
-use std::io::{Read, Seek, SeekFrom};
+use std::io::SeekFrom;
 use std::path::Path;
 
 /// The 13 bytes a ROS 1 bag (format 2.0) starts with.
@@ -154,7 +155,7 @@ struct FileSource<R> {
     len: u64,
 }
 
-impl<R: Read + Seek> Source for FileSource<R> {
+impl<R: ReadBlock> Source for FileSource<R> {
     fn pos(&self) -> u64 {
         self.pos
     }
@@ -162,9 +163,9 @@ impl<R: Read + Seek> Source for FileSource<R> {
         self.len
     }
     fn read_exact_at(&mut self, n: usize) -> std::io::Result<Vec<u8>> {
-        let mut v = vec![0u8; n];
+        let mut v = Vec::new();
         self.file.seek(SeekFrom::Start(self.pos))?;
-        self.file.read_exact(&mut v)?;
+        self.file.read_block(n, &mut v)?;
         self.pos += n as u64;
         Ok(v)
     }
@@ -228,7 +229,7 @@ pub struct Ros1Read {
 /// Hand the messages of the topics `wanted` accepts from `file` (`len`
 /// bytes), read from `path`, to `each` in file order. `recover`: a bag
 /// without a usable index is read from the start instead of refused.
-pub fn stream<R: Read + Seek>(
+pub fn stream<R: ReadBlock>(
     file: R,
     len: u64,
     path: &Path,
@@ -292,7 +293,7 @@ type Index = (Vec<TopicInfo>, Vec<u64>, BTreeMap<u32, Conn>, BTreeSet<u32>);
 /// The index section: every topic with its count, the positions of the
 /// chunks holding a wanted connection (in file order), the connections and
 /// the wanted ones.
-fn index<R: Read + Seek>(
+fn index<R: ReadBlock>(
     path: &Path,
     src: &mut FileSource<R>,
     hdr: &Record,
@@ -379,7 +380,7 @@ fn index<R: Read + Seek>(
 /// record by record: connections as they come, the messages of each chunk.
 /// The first record that does not read is the damage: an error, after the
 /// messages before it were handed out.
-fn linear<R: Read + Seek>(
+fn linear<R: ReadBlock>(
     path: &Path,
     src: &mut FileSource<R>,
     first: u64,
@@ -551,7 +552,7 @@ fn decompress(path: &Path, r: &Record, budget: &mut Budget) -> Result<Vec<u8>> {
     Ok(out)
 }
 
-fn read_chunk<R: Read + Seek>(
+fn read_chunk<R: ReadBlock>(
     src: &mut FileSource<R>,
     chunk_pos: u64,
     c: &mut ChunkRead,

@@ -24,7 +24,7 @@ mod parsed;
 mod urdf_version;
 
 pub use input::Input;
-pub(crate) use input::{Includes, HEAD_BYTES};
+pub(crate) use input::{Includes, ReadBlock, HEAD_BYTES};
 pub(crate) use parsed::locate_warnings;
 pub use parsed::{check_metres, parse_number, Parsed, RigMeta};
 pub use urdf_version::UrdfVersion;
