@@ -124,7 +124,8 @@ pub fn read_at<T: Primitive>(b: &[u8], at: usize, endian: Endian) -> Result<T, S
 /// value): the record decoders' hot path, so no error is built.
 #[inline(always)]
 pub fn get_at<T: Primitive>(b: &[u8], at: usize, endian: Endian) -> Option<T> {
-    let s = b.get(at..at.checked_add(T::SIZE)?)?;
+    // Two comparisons and no overflow check: `at <= len`, then `SIZE <= len - at`.
+    let s = b.get(at..)?.get(..T::SIZE)?;
     Some(T::decode(s, endian))
 }
 
