@@ -37,7 +37,7 @@ pub struct Table {
 
 /// Rows made one at a time, in order: what a streamed table holds instead of
 /// its cells.
-pub trait RowSource {
+pub trait RowSource: Send + Sync {
     /// How many rows.
     fn len(&self) -> usize;
     /// Whether there are none.
@@ -158,7 +158,7 @@ pub fn data_number(x: f64) -> String {
 }
 
 /// One column of a data table: its name and how a row's cell is written.
-type Column<'a, T> = (String, Box<dyn Fn(&T) -> String + 'a>);
+type Column<'a, T> = (String, Box<dyn Fn(&T) -> String + Send + Sync + 'a>);
 
 /// The columns of a report's data table (the one `--format csv` writes),
 /// declared once, so that the header exists even without rows. Each kind of
@@ -182,24 +182,36 @@ impl<'a, T> Columns<'a, T> {
         Self::default()
     }
     /// A text column.
-    pub fn text(mut self, name: &str, f: impl Fn(&T) -> String + 'a) -> Self {
+    pub fn text(mut self, name: &str, f: impl Fn(&T) -> String + Send + Sync + 'a) -> Self {
         self.columns.push((name.to_string(), Box::new(f)));
         self
     }
     /// A number column (empty where the value is `None`).
-    pub fn num<X: Into<Option<f64>>>(self, name: &str, f: impl Fn(&T) -> X + 'a) -> Self {
+    pub fn num<X: Into<Option<f64>>>(
+        self,
+        name: &str,
+        f: impl Fn(&T) -> X + Send + Sync + 'a,
+    ) -> Self {
         self.text(name, move |r| {
             f(r).into().map_or(String::new(), data_number)
         })
     }
     /// A count column (empty where the value is `None`).
-    pub fn count<X: Into<Option<usize>>>(self, name: &str, f: impl Fn(&T) -> X + 'a) -> Self {
+    pub fn count<X: Into<Option<usize>>>(
+        self,
+        name: &str,
+        f: impl Fn(&T) -> X + Send + Sync + 'a,
+    ) -> Self {
         self.text(name, move |r| {
             f(r).into().map_or(String::new(), |n| n.to_string())
         })
     }
     /// A flag column: `true` or `false` (empty where the value is `None`).
-    pub fn flag<X: Into<Option<bool>>>(self, name: &str, f: impl Fn(&T) -> X + 'a) -> Self {
+    pub fn flag<X: Into<Option<bool>>>(
+        self,
+        name: &str,
+        f: impl Fn(&T) -> X + Send + Sync + 'a,
+    ) -> Self {
         self.text(name, move |r| {
             f(r).into().map_or(String::new(), |b| b.to_string())
         })
@@ -212,7 +224,7 @@ impl<'a, T> Columns<'a, T> {
         self,
         key: &str,
         parts: [&str; N],
-        f: impl Fn(&T) -> Option<[f64; N]> + Clone + 'a,
+        f: impl Fn(&T) -> Option<[f64; N]> + Clone + Send + Sync + 'a,
     ) -> Self {
         self.split(key, parts, f, data_number)
     }
@@ -222,17 +234,17 @@ impl<'a, T> Columns<'a, T> {
         self,
         key: &str,
         parts: [&str; N],
-        f: impl Fn(&T) -> Option<[bool; N]> + Clone + 'a,
+        f: impl Fn(&T) -> Option<[bool; N]> + Clone + Send + Sync + 'a,
     ) -> Self {
         self.split(key, parts, f, |b: bool| b.to_string())
     }
     /// One column per component of `f`'s array, named by [`split_name`],
     /// each cell written by `cell` (empty where `f` gives `None`).
-    fn split<V: Copy + 'a, const N: usize>(
+    fn split<V: Copy + Send + Sync + 'a, const N: usize>(
         mut self,
         key: &str,
         parts: [&str; N],
-        f: impl Fn(&T) -> Option<[V; N]> + Clone + 'a,
+        f: impl Fn(&T) -> Option<[V; N]> + Clone + Send + Sync + 'a,
         cell: fn(V) -> String,
     ) -> Self {
         for (k, part) in parts.iter().enumerate() {
