@@ -54,7 +54,7 @@ pub mod check {
 /// The survey ([`SurveyReport`](crate::SurveyReport), `audit survey`;
 /// `docs/schemas/survey.schema.json`).
 pub mod survey {
-    pub use crate::report::survey::{SurveyRigJson, SurveySummaryJson};
+    pub use crate::report::survey::{SurveyRigJson, SurveyRows, SurveySummaryJson};
 }
 
 /// The diff of two calibrations ([`DiffReport`](crate::DiffReport), `audit

@@ -69,12 +69,14 @@ pub fn run(args: &SurveyArgs, out: &mut dyn Write) -> Result<i32> {
     args.read.apply(&mut opts.load);
     args.xacro.apply(&mut opts.load);
     let (report, warnings) = survey(&opts)?;
-    let (rounded, rest): (Vec<Warning>, Vec<Warning>) =
-        warnings.iter().cloned().partition(rounded_rotation);
+    // The rounded rotations by reference (a fleet can have thousands).
+    let (rounded, rest): (Vec<&Warning>, Vec<&Warning>) =
+        warnings.iter().partition(|w| rounded_rotation(w));
+    let rest: Vec<Warning> = rest.into_iter().cloned().collect();
     print_warnings(&rest);
     match rounded.len() {
         0 => {}
-        1 => print_warnings(&rounded),
+        1 => print_warnings(&[rounded[0].clone()]),
         _ => print_notes(&[rounded_rotations_note(&rounded)]),
     }
     if let Some(plot) = &args.plot {
@@ -95,9 +97,9 @@ fn rounded_rotation(w: &Warning) -> bool {
 /// (issue 33: four warnings were a newcomer's first sight of the survey): how
 /// many, how far from orthonormal (the measure each warning states), which
 /// files. Every warning stays in `--format json` and in `audit FILE`.
-fn rounded_rotations_note(rounded: &[Warning]) -> String {
+fn rounded_rotations_note(rounded: &[&Warning]) -> String {
     // The measure as se3's message states it: `||R^T R - I||_F = 1.272e-4 (`.
-    let measure = |w: &Warning| {
+    let measure = |w: &&Warning| {
         let (_, rest) = w.message.split_once("||_F = ")?;
         rest.split_whitespace().next()?.parse::<f64>().ok()
     };
@@ -122,6 +124,81 @@ fn rounded_rotations_note(rounded: &[Warning]) -> String {
     format!(
         "{} rigs: rotation rounded as published, orthonormal only to that rounding{range}, projected to the nearest rotation (non-orthonormal-rotation; `audit FILE` shows each): {}",
         rounded.len(),
-        files.join(", ")
+        first_names(&files, NOTE_NAMES_WIDTH)
     )
+}
+
+/// Widest the note's list of files may be (columns): a survey of 10,000
+/// files named them all on one line (issue 29).
+const NOTE_NAMES_WIDTH: usize = 80;
+
+/// `a, b, c`, or as many names as fit `width` columns with how many are
+/// left out (`a, b and 9998 more`); the first name is always given.
+fn first_names(names: &[String], width: usize) -> String {
+    use unicode_width::UnicodeWidthStr;
+    let mut list = String::new();
+    for (k, name) in names.iter().enumerate() {
+        let longer = if k == 0 {
+            name.clone()
+        } else {
+            format!("{list}, {name}")
+        };
+        let rest = names.len() - k - 1;
+        let shown = if rest == 0 {
+            longer.clone()
+        } else {
+            format!("{longer} and {rest} more")
+        };
+        if k > 0 && shown.width() > width {
+            return format!("{list} and {} more", names.len() - k);
+        }
+        list = longer;
+    }
+    list
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use extrinsic_audit::Location;
+
+    fn rounded(file: &str, measure: f64) -> Warning {
+        Warning::new(
+            Code::NonOrthonormalRotation,
+            format!("rotation is not orthonormal: ||R^T R - I||_F = {measure:e} (rounded)"),
+        )
+        .at(&Location::file(std::path::Path::new(file)))
+    }
+
+    /// 10,000 rounded rotations: the note counts them all and names the
+    /// first few, its list within 80 columns (it named every file).
+    #[test]
+    fn the_rounded_rotations_note_names_a_few_and_counts_the_rest() {
+        let ws: Vec<Warning> = (0..10_000)
+            .map(|k| rounded(&format!("fleet/d{:03}/rig{k:05}.toml", k / 100), 1e-4))
+            .collect();
+        let note = rounded_rotations_note(&ws.iter().collect::<Vec<_>>());
+        assert!(
+            note.starts_with("10000 rigs: rotation rounded as published"),
+            "{note}"
+        );
+        let (_, list) = note.rsplit_once("shows each): ").unwrap();
+        assert_eq!(
+            list,
+            "rig00000, rig00001, rig00002, rig00003, rig00004, rig00005 and 9994 more"
+        );
+        assert!(list.len() <= 80);
+        // A few names that fit are all listed, as before.
+        let four: Vec<Warning> = ["a", "b", "c", "d"]
+            .iter()
+            .map(|f| rounded(&format!("{f}.toml"), 1e-6))
+            .collect();
+        let four: Vec<&Warning> = four.iter().collect();
+        assert!(rounded_rotations_note(&four).ends_with("shows each): a, b, c, d"));
+        assert_eq!(first_names(&["x".repeat(90)], 80), "x".repeat(90));
+        assert_eq!(
+            first_names(&["x".repeat(90), "y".into()], 80),
+            format!("{} and 1 more", "x".repeat(90))
+        );
+    }
 }

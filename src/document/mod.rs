@@ -26,8 +26,8 @@ mod table;
 pub use graph::{Graph, GraphLink, GraphNode};
 pub use plot::{Axis, Colour, Corner, Mark, Panel, Plot, Point, Series};
 pub use scene::{Entity, Paint, PointCloud, Scene, SceneTransform, Shape};
-pub use table::Table;
 pub(crate) use table::{data_number, Columns};
+pub use table::{RowSource, Streamed, Table};
 
 use crate::diagnostic::Diagnostic;
 use serde::Serialize;

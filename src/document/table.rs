@@ -1,5 +1,13 @@
 //! A table of a document, with the hints a terminal layout uses (which
 //! columns a narrow terminal keeps, bounds on widths, one line per row).
+//!
+//! A table's rows are either held as cells ([`Table::rows`]) or made one at
+//! a time by a [`RowSource`] ([`Table::streamed`]): a survey of a fleet
+//! (issue 29) keeps its rows compact and the renderers write each row as it
+//! is made, never holding every cell of a 100,000-row table.
+
+use std::borrow::Cow;
+use std::sync::Arc;
 
 /// A table with a header row.
 #[derive(Debug, Clone, Default)]
@@ -22,6 +30,32 @@ pub struct Table {
     /// cell, it is drawn borderless (columns two spaces apart, a rule under
     /// the header) with this column shortened by an ellipsis if need be.
     pub one_line: Option<usize>,
+    /// Rows made on demand, after [`Table::rows`] (which a streamed table
+    /// leaves empty): see [`Table::streamed`].
+    pub stream: Option<Streamed>,
+}
+
+/// Rows made one at a time, in order: what a streamed table holds instead of
+/// its cells.
+pub trait RowSource: Send + Sync {
+    /// How many rows.
+    fn len(&self) -> usize;
+    /// Whether there are none.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Row `i`'s cells (`i < len()`).
+    fn row(&self, i: usize) -> Vec<String>;
+}
+
+/// A table's [`RowSource`], shared (a document is cloned cheaply).
+#[derive(Clone)]
+pub struct Streamed(pub Arc<dyn RowSource>);
+
+impl std::fmt::Debug for Streamed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Streamed({} rows)", self.0.len())
+    }
 }
 
 impl Table {
@@ -56,6 +90,57 @@ impl Table {
         self.one_line = Some(elide);
         self
     }
+    /// A table whose rows `source` makes one at a time (the renderers that
+    /// can write a row as it comes never hold them all).
+    pub fn streamed(header: &[&str], source: Arc<dyn RowSource>) -> Self {
+        Table {
+            stream: Some(Streamed(source)),
+            ..Table::new(header, Vec::new())
+        }
+    }
+    /// How many rows: those held, then those streamed.
+    pub fn row_count(&self) -> usize {
+        self.rows.len() + self.stream.as_ref().map_or(0, |s| s.0.len())
+    }
+    /// Call `f` on every row in order (held rows borrowed, streamed ones made
+    /// one at a time); stops at the first error.
+    pub fn try_for_each_row<E>(
+        &self,
+        mut f: impl FnMut(&[String]) -> Result<(), E>,
+    ) -> Result<(), E> {
+        for r in &self.rows {
+            f(r)?;
+        }
+        if let Some(s) = &self.stream {
+            for i in 0..s.0.len() {
+                f(&s.0.row(i))?;
+            }
+        }
+        Ok(())
+    }
+    /// Call `f` on every row in order.
+    pub fn for_each_row(&self, mut f: impl FnMut(&[String])) {
+        let _ = self.try_for_each_row(|r| {
+            f(r);
+            Ok::<(), ()>(())
+        });
+    }
+    /// The table with every row held as cells (a streamed one made whole:
+    /// for the layouts that need all cells at once, such as a terminal's).
+    pub fn materialized(&self) -> Cow<'_, Table> {
+        match &self.stream {
+            None => Cow::Borrowed(self),
+            Some(_) => {
+                let mut rows = Vec::with_capacity(self.row_count());
+                self.for_each_row(|r| rows.push(r.to_vec()));
+                Cow::Owned(Table {
+                    rows,
+                    stream: None,
+                    ..self.clone()
+                })
+            }
+        }
+    }
 }
 
 /// A number as a data cell: every digit (the shortest text that reads back
@@ -73,7 +158,7 @@ pub fn data_number(x: f64) -> String {
 }
 
 /// One column of a data table: its name and how a row's cell is written.
-type Column<'a, T> = (String, Box<dyn Fn(&T) -> String + 'a>);
+type Column<'a, T> = (String, Box<dyn Fn(&T) -> String + Send + Sync + 'a>);
 
 /// The columns of a report's data table (the one `--format csv` writes),
 /// declared once, so that the header exists even without rows. Each kind of
@@ -97,24 +182,36 @@ impl<'a, T> Columns<'a, T> {
         Self::default()
     }
     /// A text column.
-    pub fn text(mut self, name: &str, f: impl Fn(&T) -> String + 'a) -> Self {
+    pub fn text(mut self, name: &str, f: impl Fn(&T) -> String + Send + Sync + 'a) -> Self {
         self.columns.push((name.to_string(), Box::new(f)));
         self
     }
     /// A number column (empty where the value is `None`).
-    pub fn num<X: Into<Option<f64>>>(self, name: &str, f: impl Fn(&T) -> X + 'a) -> Self {
+    pub fn num<X: Into<Option<f64>>>(
+        self,
+        name: &str,
+        f: impl Fn(&T) -> X + Send + Sync + 'a,
+    ) -> Self {
         self.text(name, move |r| {
             f(r).into().map_or(String::new(), data_number)
         })
     }
     /// A count column (empty where the value is `None`).
-    pub fn count<X: Into<Option<usize>>>(self, name: &str, f: impl Fn(&T) -> X + 'a) -> Self {
+    pub fn count<X: Into<Option<usize>>>(
+        self,
+        name: &str,
+        f: impl Fn(&T) -> X + Send + Sync + 'a,
+    ) -> Self {
         self.text(name, move |r| {
             f(r).into().map_or(String::new(), |n| n.to_string())
         })
     }
     /// A flag column: `true` or `false` (empty where the value is `None`).
-    pub fn flag<X: Into<Option<bool>>>(self, name: &str, f: impl Fn(&T) -> X + 'a) -> Self {
+    pub fn flag<X: Into<Option<bool>>>(
+        self,
+        name: &str,
+        f: impl Fn(&T) -> X + Send + Sync + 'a,
+    ) -> Self {
         self.text(name, move |r| {
             f(r).into().map_or(String::new(), |b| b.to_string())
         })
@@ -127,7 +224,7 @@ impl<'a, T> Columns<'a, T> {
         self,
         key: &str,
         parts: [&str; N],
-        f: impl Fn(&T) -> Option<[f64; N]> + Clone + 'a,
+        f: impl Fn(&T) -> Option<[f64; N]> + Clone + Send + Sync + 'a,
     ) -> Self {
         self.split(key, parts, f, data_number)
     }
@@ -137,17 +234,17 @@ impl<'a, T> Columns<'a, T> {
         self,
         key: &str,
         parts: [&str; N],
-        f: impl Fn(&T) -> Option<[bool; N]> + Clone + 'a,
+        f: impl Fn(&T) -> Option<[bool; N]> + Clone + Send + Sync + 'a,
     ) -> Self {
         self.split(key, parts, f, |b: bool| b.to_string())
     }
     /// One column per component of `f`'s array, named by [`split_name`],
     /// each cell written by `cell` (empty where `f` gives `None`).
-    fn split<V: Copy + 'a, const N: usize>(
+    fn split<V: Copy + Send + Sync + 'a, const N: usize>(
         mut self,
         key: &str,
         parts: [&str; N],
-        f: impl Fn(&T) -> Option<[V; N]> + Clone + 'a,
+        f: impl Fn(&T) -> Option<[V; N]> + Clone + Send + Sync + 'a,
         cell: fn(V) -> String,
     ) -> Self {
         for (k, part) in parts.iter().enumerate() {
@@ -158,17 +255,22 @@ impl<'a, T> Columns<'a, T> {
         }
         self
     }
+    /// The column names.
+    pub fn header(&self) -> Vec<String> {
+        self.columns.iter().map(|(n, _)| n.clone()).collect()
+    }
+    /// One row's cells.
+    pub fn cells(&self, r: &T) -> Vec<String> {
+        self.columns.iter().map(|(_, f)| f(r)).collect()
+    }
     /// The table over `rows`, marked as the document's data table.
     pub fn table<'r>(&self, rows: impl IntoIterator<Item = &'r T>) -> Table
     where
         T: 'r,
     {
         Table {
-            header: self.columns.iter().map(|(n, _)| n.clone()).collect(),
-            rows: rows
-                .into_iter()
-                .map(|r| self.columns.iter().map(|(_, f)| f(r)).collect())
-                .collect(),
+            header: self.header(),
+            rows: rows.into_iter().map(|r| self.cells(r)).collect(),
             data_only: true,
             ..Table::default()
         }

@@ -16,9 +16,10 @@ use crate::formats::{self, LoadOptions, RigMeta};
 use crate::frames::FrameGraph;
 use crate::geometry::{PitchTol, ScrewKind, UserSigma};
 use crate::report::rig::{rig_report, Judgement};
-use crate::report::survey::{RowMarks, SurveyRigJson};
+use crate::report::survey::{RigView, RowMarks, SurveyRigJson, SurveyRowsBuilder};
 use crate::report::SurveyReport;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Survey columns to sort by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -66,8 +67,9 @@ pub struct SurveyOptions {
 #[derive(Debug, Clone)]
 struct Input {
     path: PathBuf,
-    /// From `FILE:FROM:TO` (or `DIR:FROM:TO`).
-    pair: Option<(String, String)>,
+    /// From `FILE:FROM:TO` (or `DIR:FROM:TO`), shared by a directory's
+    /// files (an input is kept per file: issue 29).
+    pair: Option<Arc<(String, String)>>,
     /// Found by a directory walk (skipped with a warning when unusable).
     walked: bool,
     /// The same file is surveyed more than once (several pairs of it): its
@@ -75,14 +77,19 @@ struct Input {
     shared: bool,
 }
 
-/// Mark the inputs whose file appears more than once.
+/// Mark the inputs whose file appears more than once (the inputs sorted by
+/// path as indices: no copy of every path, issue 29).
 fn mark_shared(files: &mut [Input]) {
-    let mut count: std::collections::HashMap<PathBuf, usize> = Default::default();
-    for f in files.iter() {
-        *count.entry(f.path.clone()).or_default() += 1;
+    let mut by_path: Vec<u32> = (0..files.len() as u32).collect();
+    by_path.sort_unstable_by(|&a, &b| files[a as usize].path.cmp(&files[b as usize].path));
+    let mut shared = Vec::new();
+    for run in by_path.chunk_by(|&a, &b| files[a as usize].path == files[b as usize].path) {
+        if run.len() > 1 {
+            shared.extend_from_slice(run);
+        }
     }
-    for f in files.iter_mut() {
-        f.shared = count[&f.path] > 1;
+    for i in shared {
+        files[i as usize].shared = true;
     }
 }
 
@@ -118,6 +125,7 @@ fn inputs(opts: &SurveyOptions) -> Result<Vec<Input>> {
     let mut v = Vec::new();
     for p in &opts.paths {
         let (path, pair) = split_pair(p);
+        let pair = pair.map(Arc::new);
         if !path.is_dir() {
             v.push(Input {
                 path,
@@ -159,7 +167,8 @@ fn pair_of(
         .map(|m| (m.from.clone(), m.to.clone()));
     input
         .pair
-        .clone()
+        .as_deref()
+        .cloned()
         .or(declared)
         .or_else(|| global.cloned())
         .ok_or_else(|| {
@@ -231,25 +240,34 @@ fn survey_one(
     Ok((json, marks, meta.in_statistics()))
 }
 
-fn sort_rows(rows: &mut [Row], col: Option<SortColumn>) {
-    rows.sort_by(|a, b| a.0.id.cmp(&b.0.id));
-    let Some(col) = col else { return };
-    rows.sort_by(|a, b| {
-        let (a, b) = (&a.0, &b.0);
-        match col {
-            SortColumn::Id => a.id.cmp(&b.id),
-            SortColumn::Sensor => a.sensor.cmp(&b.sensor),
-            SortColumn::Platform => a.platform.cmp(&b.platform),
-            SortColumn::Dataset => a.dataset.cmp(&b.dataset),
-            SortColumn::LeverArm => a.lever_arm_m.total_cmp(&b.lever_arm_m),
-            SortColumn::Angle => a.angle_deg.total_cmp(&b.angle_deg),
-            SortColumn::ScrewTranslation => {
-                let k = |x: &SurveyRigJson| x.screw_translation_m.map(f64::abs).unwrap_or(-1.0);
-                k(a).total_cmp(&k(b))
-            }
-            SortColumn::SigmaMax => a.sigma_max.total_cmp(&b.sigma_max),
+/// The order rows are printed in, as a permutation of the rows as read: by
+/// `col`, ties by id, ties of both in the order read (what a stable sort by
+/// id then a stable sort by `col` give; one sort of `u32` indices, the rows
+/// never moved).
+fn sort_order(rows: &SurveyRowsBuilder, col: Option<SortColumn>) -> Vec<u32> {
+    let n = u32::try_from(rows.len()).expect("fewer than 2^32 rows");
+    let mut order: Vec<u32> = (0..n).collect();
+    let by_col = |a: &RigView, b: &RigView| match col {
+        None | Some(SortColumn::Id) => std::cmp::Ordering::Equal,
+        Some(SortColumn::Sensor) => a.sensor.cmp(b.sensor),
+        Some(SortColumn::Platform) => a.platform.cmp(b.platform),
+        Some(SortColumn::Dataset) => a.dataset.cmp(b.dataset),
+        Some(SortColumn::LeverArm) => a.lever_arm_m.total_cmp(&b.lever_arm_m),
+        Some(SortColumn::Angle) => a.angle_deg.total_cmp(&b.angle_deg),
+        Some(SortColumn::ScrewTranslation) => {
+            let k = |x: &RigView| x.screw_translation_m.map(f64::abs).unwrap_or(-1.0);
+            k(a).total_cmp(&k(b))
         }
-    });
+        Some(SortColumn::SigmaMax) => a.sigma_max.total_cmp(&b.sigma_max),
+    };
+    let by_id = |a: u32, b: u32| rows.id(a as usize).cmp(rows.id(b as usize));
+    match col {
+        None | Some(SortColumn::Id) => order.sort_by(|&a, &b| by_id(a, b)),
+        Some(_) => order.sort_by(|&a, &b| {
+            by_col(&rows.view(a as usize), &rows.view(b as usize)).then_with(|| by_id(a, b))
+        }),
+    }
+    order
 }
 
 /// Survey every rig under the paths; returns the report and the warnings the
@@ -293,7 +311,7 @@ pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
     let mut files = files;
     mark_shared(&mut files);
     let mut warnings = Vec::new();
-    let mut rows = Vec::new();
+    let mut rows = SurveyRowsBuilder::with_capacity(files.len());
     let mut failed = None;
     // Every file on every core, taken in order (`pipeline::parallel`).
     super::parallel::ordered(
@@ -306,9 +324,9 @@ pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
             let f = &files[i];
             warnings.extend(w);
             match row {
-                Ok(row) => {
-                    if row.2 || opts.all {
-                        rows.push(row);
+                Ok((json, marks, counted)) => {
+                    if counted || opts.all {
+                        rows.push(&json, &marks, counted);
                     }
                 }
                 // A folder holds other robots too: a walked file that cannot
@@ -341,8 +359,94 @@ pub fn survey(opts: &SurveyOptions) -> Result<(SurveyReport, Vec<Warning>)> {
             names()
         )));
     }
-    sort_rows(&mut rows, opts.sort);
-    let counted: Vec<bool> = rows.iter().map(|r| r.2).collect();
-    let report = SurveyReport::new(rows.into_iter().map(|(j, m, _)| (j, m)).collect(), &counted);
+    drop(files);
+    let order = sort_order(&rows, opts.sort);
+    let report = SurveyReport::new(rows.finish(order));
     Ok((report, warnings))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::uncertainty::UncertaintySource;
+    use crate::geometry::PitchVerdict;
+
+    fn rig(id: &str, sensor: &str, lever: f64, h: Option<f64>) -> SurveyRigJson {
+        SurveyRigJson {
+            id: id.into(),
+            sensor: sensor.into(),
+            platform: ["p", "q"][id.len() % 2].into(),
+            dataset: String::new(),
+            from: "imu".into(),
+            to: "lidar".into(),
+            lever_arm_m: lever,
+            angle_deg: lever * 10.0,
+            screw_translation_m: h,
+            zero_pitch: false,
+            screw_translation_uncertainty_m: None,
+            pitch_verdict: Some(PitchVerdict::Nonzero),
+            uncertainty_source: UncertaintySource::None,
+            sigma_max: 1.0 + lever,
+            band_l1: [0.5, 1.5],
+            adapted_metric_exists: false,
+        }
+    }
+
+    /// The permutation `sort_order` gives is the order the rows take under a
+    /// stable sort by id then a stable sort by the column (how the rows were
+    /// sorted before issue 29), ties included: equal ids, equal values,
+    /// rows without h (sorted as -1).
+    #[test]
+    fn the_permutation_gives_the_order_of_two_stable_sorts() {
+        let rigs = vec![
+            rig("c", "os1", 0.2, Some(-0.3)),
+            rig("a", "vlp", 0.1, None),
+            rig("bb", "os1", 0.2, Some(0.3)),
+            rig("a", "os1", 0.3, Some(0.0)),
+            rig("d", "hesai", 0.1, None),
+            rig("bb", "vlp", 0.2, Some(-0.3)),
+            rig("e", "os1", 0.0, Some(0.1)),
+        ];
+        let mut rows = SurveyRowsBuilder::with_capacity(rigs.len());
+        for r in &rigs {
+            rows.push(r, &RowMarks::default(), true);
+        }
+        let cols = [
+            None,
+            Some(SortColumn::Id),
+            Some(SortColumn::Sensor),
+            Some(SortColumn::Platform),
+            Some(SortColumn::Dataset),
+            Some(SortColumn::LeverArm),
+            Some(SortColumn::Angle),
+            Some(SortColumn::ScrewTranslation),
+            Some(SortColumn::SigmaMax),
+        ];
+        for col in cols {
+            let mut want: Vec<(u32, &SurveyRigJson)> = (0..).zip(&rigs).collect();
+            want.sort_by(|a, b| a.1.id.cmp(&b.1.id));
+            if let Some(col) = col {
+                want.sort_by(|(_, a), (_, b)| match col {
+                    SortColumn::Id => a.id.cmp(&b.id),
+                    SortColumn::Sensor => a.sensor.cmp(&b.sensor),
+                    SortColumn::Platform => a.platform.cmp(&b.platform),
+                    SortColumn::Dataset => a.dataset.cmp(&b.dataset),
+                    SortColumn::LeverArm => a.lever_arm_m.partial_cmp(&b.lever_arm_m).unwrap(),
+                    SortColumn::Angle => a.angle_deg.partial_cmp(&b.angle_deg).unwrap(),
+                    SortColumn::ScrewTranslation => {
+                        let k = |x: &SurveyRigJson| x.screw_translation_m.map_or(-1.0, f64::abs);
+                        k(a).partial_cmp(&k(b)).unwrap()
+                    }
+                    SortColumn::SigmaMax => a.sigma_max.partial_cmp(&b.sigma_max).unwrap(),
+                });
+            }
+            let want: Vec<u32> = want.iter().map(|w| w.0).collect();
+            assert_eq!(sort_order(&rows, col), want, "{col:?}");
+        }
+        // Spelled out for one column: by sensor, ties by id, then as read.
+        assert_eq!(
+            sort_order(&rows, Some(SortColumn::Sensor)),
+            [4, 3, 2, 0, 6, 1, 5]
+        );
+    }
 }

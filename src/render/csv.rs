@@ -55,25 +55,29 @@ use crate::document::{Block, Document, Table};
 /// `data_only` (a document that has none is refused before this, by
 /// `OutputFormat::draws`; a second one would be a second table in the file,
 /// and is a bug of the report, caught by `tests/it/csv_tidy.rs`).
-pub fn render(doc: &Document) -> String {
-    doc.blocks
-        .iter()
-        .find_map(|b| match b {
-            Block::Table(t) if t.data_only => Some(table(t)),
-            _ => None,
-        })
-        .unwrap_or_default()
+/// Written to `out` a row at a time (a streamed table is never held whole,
+/// issue 29).
+pub fn write(doc: &Document, out: &mut dyn std::io::Write) -> std::io::Result<()> {
+    match doc.blocks.iter().find_map(|b| match b {
+        Block::Table(t) if t.data_only => Some(t),
+        _ => None,
+    }) {
+        Some(t) => table(t, out),
+        None => Ok(()),
+    }
 }
 
-/// One table as CSV.
-pub fn table(t: &Table) -> String {
+/// One table as CSV, a record per line.
+pub fn table(t: &Table, out: &mut dyn std::io::Write) -> std::io::Result<()> {
     let mut s = line(&t.header);
     s.push('\n');
-    for r in &t.rows {
+    out.write_all(s.as_bytes())?;
+    t.try_for_each_row(|r| {
+        s.clear();
         s.push_str(&line(r));
         s.push('\n');
-    }
-    s
+        out.write_all(s.as_bytes())
+    })
 }
 
 /// One CSV record (no line end), each cell through `cell`. A command that

@@ -274,7 +274,19 @@ fn column_max(t: &Table, c: usize) -> usize {
 /// hyphenated name, after a hyphen.
 fn column_min(t: &Table, c: usize) -> usize {
     let header = t.header.get(c).map_or("", String::as_str);
-    let head = header
+    t.rows
+        .iter()
+        .map(|r| cell_min(r.get(c).map_or("", String::as_str)))
+        .max()
+        .unwrap_or(0)
+        .max(header_min(header))
+        .max(1)
+}
+
+/// The narrowest a header cell may be (its words whole, a hyphenated name
+/// cut after a hyphen).
+fn header_min(header: &str) -> usize {
+    header
         .split(['\n', ' '])
         .map(|w| {
             if hyphen_breakable(w) {
@@ -284,15 +296,12 @@ fn column_min(t: &Table, c: usize) -> usize {
             }
         })
         .max()
-        .unwrap_or(0);
-    t.rows
-        .iter()
-        .flat_map(|r| r.get(c).map_or("", String::as_str).split(['\n', ' ']))
-        .map(word_min)
-        .max()
         .unwrap_or(0)
-        .max(head)
-        .max(1)
+}
+
+/// The narrowest a body cell may be (no word cut below [`word_min`]).
+fn cell_min(cell: &str) -> usize {
+    cell.split(['\n', ' ']).map(word_min).max().unwrap_or(0)
 }
 
 /// The widest word of a column's cells, uncut.
@@ -351,6 +360,126 @@ pub fn fit(t: &Table, layout: &Layout) -> Fitted {
         hidden: total - cols.len(),
         records,
     }
+}
+
+/// A table off a terminal (no width, or a table that does not wrap) written
+/// row by row, as [`fit`] then comfy-table's condensed borders draw it:
+/// every column (or those `--columns` names), only a bounded column wrapped
+/// (at its bound, or its narrowest if wider). The rows are read in passes
+/// (the columns' widths and the bounded columns' narrowest; the wrapped
+/// widths, only where a bounded column has a line wider than its wrap; then
+/// each row written), each cell through `esc` first: a streamed table (issue 29) is
+/// never held whole. Returns how many columns are left out; writes no line
+/// break after the last line.
+pub fn write_unfitted(
+    t: &Table,
+    layout: &Layout,
+    esc: &dyn Fn(&str) -> String,
+    out: &mut dyn std::io::Write,
+) -> std::io::Result<usize> {
+    // The columns shown, by the escaped header (as `fit` matches them).
+    let named = Table {
+        header: t.header.iter().map(|h| esc(h)).collect(),
+        ..Table::default()
+    };
+    let cols = chosen_columns(&named, layout, None);
+    let bounds: Vec<Option<usize>> = cols
+        .iter()
+        .map(|&c| {
+            let b = t.bounds.iter().find(|b| b.0 == c);
+            b.filter(|_| t.wrap).map(|b| bound_width(b.1))
+        })
+        .collect();
+    let cell_of = |r: &[String], c: usize| esc(r.get(c).map_or("", String::as_str));
+    let widest = |s: &str| s.split('\n').map(width_of).max().unwrap_or(0);
+    // Pass 1: each column's widest line unwrapped (comfy-table's width: at
+    // least 1), and a bounded column's narrowest.
+    let mut natural: Vec<usize> = vec![1; cols.len()];
+    let mut mins: Vec<usize> = vec![1; cols.len()];
+    let mut measure = |r: &[String], head: bool| {
+        for (k, &c) in cols.iter().enumerate() {
+            let cell = cell_of(r, c);
+            natural[k] = natural[k].max(widest(&cell));
+            if bounds[k].is_some() {
+                let m = if head {
+                    header_min(&cell)
+                } else {
+                    cell_min(&cell)
+                };
+                mins[k] = mins[k].max(m);
+            }
+        }
+    };
+    measure(&t.header, true);
+    t.for_each_row(|r| measure(r, false));
+    // A bounded column wraps at its bound, or at its narrowest if wider.
+    let wraps: Vec<Option<usize>> = bounds
+        .iter()
+        .zip(&mins)
+        .map(|(b, &m)| b.map(|b| b.max(m)))
+        .collect();
+    let fitted = |k: usize, s: String| match wraps[k] {
+        Some(w) => wrap(&s, w).join("\n"),
+        None => s,
+    };
+    let pick = |r: &[String]| -> Vec<String> {
+        cols.iter()
+            .enumerate()
+            .map(|(k, &c)| fitted(k, cell_of(r, c)))
+            .collect()
+    };
+    let head = pick(&t.header);
+    // Where no line is wider than its wrap, wrapping changes nothing: the
+    // widths are the natural ones; else a second pass measures the wrapped
+    // cells.
+    let mut widths = natural.clone();
+    if wraps
+        .iter()
+        .zip(&natural)
+        .any(|(w, &n)| w.is_some_and(|w| n > w))
+    {
+        widths = head.iter().map(|h| widest(h).max(1)).collect();
+        t.for_each_row(|r| {
+            for (w, cell) in widths.iter_mut().zip(pick(r)) {
+                *w = (*w).max(widest(&cell));
+            }
+        });
+    }
+    for w in &mut widths {
+        *w = (*w).min(usize::from(u16::MAX));
+    }
+    // Pass 3: the borders and the rows.
+    let rule = |left: &str, fill: &str, mid: &str, right: &str| {
+        let parts: Vec<String> = widths.iter().map(|&w| fill.repeat(w + 2)).collect();
+        format!("{left}{}{right}", parts.join(mid))
+    };
+    let mut line = String::new();
+    let mut write_row = |cells: &[String], out: &mut dyn std::io::Write| {
+        let lines: Vec<Vec<&str>> = cells.iter().map(|c| c.split('\n').collect()).collect();
+        let depth = lines.iter().map(Vec::len).max().unwrap_or(0);
+        for i in 0..depth {
+            line.clear();
+            line.push('│');
+            for (k, (cell, &w)) in lines.iter().zip(&widths).enumerate() {
+                if k > 0 {
+                    line.push('┆');
+                }
+                line.push(' ');
+                let s = cell.get(i).copied().unwrap_or("");
+                line.push_str(s);
+                line.push_str(&" ".repeat(w.saturating_sub(width_of(s)) + 1));
+            }
+            line.push_str("│\n");
+            out.write_all(line.as_bytes())?;
+        }
+        Ok::<(), std::io::Error>(())
+    };
+    out.write_all(rule("┌", "─", "┬", "┐\n").as_bytes())?;
+    write_row(&head, out)?;
+    out.write_all(rule("╞", "═", "╪", "╡\n").as_bytes())?;
+    t.try_for_each_row(|r| write_row(&pick(r), out))?;
+    out.write_all(rule("└", "─", "┴", "┘").as_bytes())?;
+    Ok(t.header.len() - cols.len())
 }
 
 /// A frame tree (`name  [file:line, ...]` under `├── ` branches) fitted to

@@ -9,9 +9,12 @@ use super::graph;
 use crate::diagnostic::{Diagnostic, Severity};
 use crate::document::{Block, Document, Table};
 
-/// Render a document as markdown.
-pub fn render(doc: &Document) -> String {
+/// Render a document as markdown, written to `out`: a streamed table ([`Table::streamed`]) a row
+/// at a time (issue 29), the rest as it is made.
+pub fn write(doc: &Document, out: &mut dyn std::io::Write) -> std::io::Result<()> {
     let mut s = String::new();
+    // The head of `s` already written (after a streamed table).
+    let mut flushed = 0;
     for b in &doc.blocks {
         match b {
             Block::Headline { text, .. } => {
@@ -36,6 +39,17 @@ pub fn render(doc: &Document) -> String {
                 s.push_str(&lines.join("  \n"));
                 s.push('\n');
             }
+            Block::Table(t) if !t.data_only && t.stream.is_some() => {
+                paragraph_break(&mut s);
+                out.write_all(&s.as_bytes()[flushed..])?;
+                write_table(t, out)?;
+                // A blank line: the next line must not read as a table row.
+                out.write_all(b"\n")?;
+                // What is written ends with the rows' `|\n` and that blank
+                // line: kept, for `paragraph_break`, and not written again.
+                s = "|\n\n".to_string();
+                flushed = s.len();
+            }
             Block::Table(t) if !t.data_only => {
                 paragraph_break(&mut s);
                 s.push_str(&table(t));
@@ -58,7 +72,7 @@ pub fn render(doc: &Document) -> String {
             Block::Plot(_) | Block::Scene(_) => {}
         }
     }
-    s
+    out.write_all(&s.as_bytes()[flushed..])
 }
 
 /// A line that would start a list item, a heading or a quote is escaped (and
@@ -104,6 +118,13 @@ fn paragraph_break(s: &mut String) {
 
 /// A pipe table, cells escaped for `|` and `<` (a cell's line breaks become `<br>`).
 pub fn table(t: &Table) -> String {
+    let mut out = Vec::new();
+    write_table(t, &mut out).expect("a Vec takes every write");
+    String::from_utf8(out).expect("the markdown is UTF-8")
+}
+
+/// [`table`] written to `out`, a row at a time.
+fn write_table(t: &Table, out: &mut dyn std::io::Write) -> std::io::Result<()> {
     let esc = |s: &str| {
         crate::sanitize::visible(s, true)
             .replace('|', "\\|")
@@ -123,13 +144,15 @@ pub fn table(t: &Table) -> String {
         "|{}|\n",
         t.header.iter().map(|_| "---").collect::<Vec<_>>().join("|")
     ));
-    for r in &t.rows {
+    out.write_all(s.as_bytes())?;
+    t.try_for_each_row(|r| {
+        s.clear();
         s.push_str(&format!(
             "| {} |\n",
             r.iter().map(|c| esc(c)).collect::<Vec<_>>().join(" | ")
         ));
-    }
-    s
+        out.write_all(s.as_bytes())
+    })
 }
 
 /// Diagnostics as a table (a job summary): severity, code, place, message.
@@ -155,4 +178,44 @@ fn diagnostics_table(ds: &[Diagnostic]) -> String {
         })
         .collect();
     table(&Table::new(&["severity", "code", "where", "message"], rows))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::document::RowSource;
+    use std::sync::Arc;
+
+    struct Held(Vec<Vec<String>>);
+
+    impl RowSource for Held {
+        fn len(&self) -> usize {
+            self.0.len()
+        }
+        fn row(&self, i: usize) -> Vec<String> {
+            self.0[i].clone()
+        }
+    }
+
+    /// Two streamed tables written a row at a time read as the same tables
+    /// held whole, the blank lines between blocks included (an empty
+    /// paragraph after a table among them).
+    #[test]
+    fn streamed_tables_are_written_as_held_ones() {
+        let r = vec![
+            vec!["a|b".to_string(), "<x>".into()],
+            vec!["two\nlines".into(), String::new()],
+        ];
+        let doc = |t: &dyn Fn() -> Table| {
+            let mut d = Document::new();
+            d.text("above").table(t()).text("").table(t()).text("below");
+            let mut out = Vec::new();
+            write(&d, &mut out).unwrap();
+            String::from_utf8(out).unwrap()
+        };
+        let held = doc(&|| Table::new(&["id", "x"], r.clone()));
+        let streamed = doc(&|| Table::streamed(&["id", "x"], Arc::new(Held(r.clone()))));
+        assert_eq!(streamed, held);
+        assert!(held.contains("| a\\|b | &lt;x> |\n"), "{held}");
+    }
 }

@@ -251,8 +251,9 @@ pub fn render_to<R: Report>(
             out.write_all(&bytes).map_err(cannot)
         }
         _ => {
-            let text = draw(&report.document(), format, style, layout)?;
-            out.write_all(text.as_bytes()).map_err(cannot)
+            let mut w = std::io::BufWriter::new(out);
+            draw_to(&report.document(), format, style, layout, &mut w)?;
+            std::io::Write::flush(&mut w).map_err(cannot)
         }
     }
 }
@@ -261,6 +262,31 @@ pub fn render_to<R: Report>(
 /// report itself, and MCAP, which is binary: `render_to`): the text
 /// formats from its blocks, the pictures from its picture.
 pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout) -> Result<String> {
+    let mut out = Vec::new();
+    draw_to(doc, format, style, layout, &mut out)?;
+    String::from_utf8(out).map_err(|e| {
+        Error::new(
+            crate::diagnostic::Code::Io,
+            format!("cannot write output: {e}"),
+        )
+    })
+}
+
+/// [`draw`] written to `out`: text, markdown and CSV as they are made (a
+/// streamed table a row at a time, issue 29), the other formats whole.
+pub fn draw_to(
+    doc: &Document,
+    format: OutputFormat,
+    style: Style,
+    layout: &Layout,
+    out: &mut dyn std::io::Write,
+) -> Result<()> {
+    let cannot = |e: std::io::Error| {
+        Error::new(
+            crate::diagnostic::Code::Io,
+            format!("cannot write output: {e}"),
+        )
+    };
     let picture = picture(doc);
     let graph = || match picture {
         Some(Block::Graph(g)) => Ok(g),
@@ -269,7 +295,7 @@ pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout)
     if !format.draws(doc) {
         return Err(refusal(format, doc));
     }
-    Ok(match format {
+    let text = match format {
         OutputFormat::Table => {
             // A picture has no columns: --columns applies to the tables.
             if !layout.columns.is_empty() && picture.is_none() {
@@ -283,9 +309,9 @@ pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout)
                     .collect();
                 layout::check_columns(&tables, &layout.columns)?;
             }
-            text::render_laid(doc, style, layout)
+            return text::write_laid(doc, style, layout, out).map_err(cannot);
         }
-        OutputFormat::Markdown => markdown::render(doc),
+        OutputFormat::Markdown => return markdown::write(doc, out).map_err(cannot),
         OutputFormat::Json => return Err(refusal(format, doc)),
         OutputFormat::Mcap => {
             return Err(Error::usage(
@@ -293,7 +319,7 @@ pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout)
             ))
         }
         OutputFormat::Github => github::render(doc),
-        OutputFormat::Csv => csv::render(doc),
+        OutputFormat::Csv => return csv::write(doc, out).map_err(cannot),
         OutputFormat::Sarif => sarif::render(doc),
         OutputFormat::Dot => graph::dot(graph()?),
         OutputFormat::Mermaid => graph::mermaid(graph()?),
@@ -301,7 +327,8 @@ pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout)
             Some(Block::Plot(p)) => plot::svg(p)?,
             _ => graph::svg(graph()?),
         },
-    })
+    };
+    out.write_all(text.as_bytes()).map_err(cannot)
 }
 
 /// A format that cannot draw `doc`: a usage error saying what the format is

@@ -20,6 +20,20 @@ pub fn render(doc: &Document, st: Style) -> String {
 /// Render a document fitted to a layout (the terminal's width, `--wide`,
 /// `--columns`): text wrapped at spaces, tables cut to their columns.
 pub fn render_laid(doc: &Document, st: Style, lay: &Layout) -> String {
+    let mut out = Vec::new();
+    write_laid(doc, st, lay, &mut out).expect("a Vec takes every write");
+    String::from_utf8(out).expect("the text is UTF-8")
+}
+
+/// [`render_laid`] written to `out` as it is made: a streamed table
+/// ([`Table::streamed`]) off a terminal is written row by row (issue 29); on
+/// a terminal its layout reads every cell, so it is made whole first.
+pub fn write_laid(
+    doc: &Document,
+    st: Style,
+    lay: &Layout,
+    out: &mut dyn std::io::Write,
+) -> std::io::Result<()> {
     let mut s = String::new();
     let para = |t: &str| paragraph(&relative(&block(t), lay), lay);
     for b in &doc.blocks {
@@ -40,6 +54,18 @@ pub fn render_laid(doc: &Document, st: Style, lay: &Layout) -> String {
             }
             Block::Text(t) => {
                 s.push_str(&para(t));
+                s.push('\n');
+            }
+            Block::Table(t) if !t.data_only && t.stream.is_some() => {
+                if lay.width().filter(|_| t.wrap).is_some() {
+                    s.push_str(&table_laid(&t.materialized(), st, lay));
+                } else {
+                    out.write_all(s.as_bytes())?;
+                    s.clear();
+                    let esc = |c: &str| relative(&visible(c, true), lay);
+                    let hidden = layout::write_unfitted(t, lay, &esc, out)?;
+                    s.push_str(&hidden_note(hidden, st));
+                }
                 s.push('\n');
             }
             Block::Table(t) if !t.data_only => {
@@ -63,7 +89,7 @@ pub fn render_laid(doc: &Document, st: Style, lay: &Layout) -> String {
             Block::Plot(_) | Block::Scene(_) => {}
         }
     }
-    s
+    out.write_all(s.as_bytes())
 }
 
 /// A graph as its text tree, fitted to the terminal (a node's place goes
@@ -148,16 +174,22 @@ pub fn table_laid(t: &Table, st: Style, lay: &Layout) -> String {
             _ => (bordered(fitted), hidden),
         }
     };
-    if hidden > 0 {
-        let note = format!(
-            "{} more column{} with --wide (or --columns NAME,...)",
-            hidden,
-            if hidden == 1 { "" } else { "s" }
-        );
-        s.push('\n');
-        s.push_str(&st.dim(&note));
-    }
+    s.push_str(&hidden_note(hidden, st));
     s
+}
+
+/// The dim line under a table that says how many columns are hidden (none:
+/// empty), with the line break before it.
+fn hidden_note(hidden: usize, st: Style) -> String {
+    if hidden == 0 {
+        return String::new();
+    }
+    let note = format!(
+        "{} more column{} with --wide (or --columns NAME,...)",
+        hidden,
+        if hidden == 1 { "" } else { "s" }
+    );
+    format!("\n{}", st.dim(&note))
 }
 
 /// A fitted table in comfy-table's condensed borders.
@@ -182,4 +214,78 @@ pub fn diagnostic_line(d: &Diagnostic) -> String {
         (Some(f), None) => format!("{}: ", f.display()),
     };
     line(&format!("{place}{kind}[{}]: {}", d.code, d.message))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::document::RowSource;
+    use std::sync::Arc;
+
+    /// Rows handed out one at a time, as a survey's are.
+    struct Held(Vec<Vec<String>>);
+
+    impl RowSource for Held {
+        fn len(&self) -> usize {
+            self.0.len()
+        }
+        fn row(&self, i: usize) -> Vec<String> {
+            self.0[i].clone()
+        }
+    }
+
+    fn rows(cells: &[&[&str]]) -> Vec<Vec<String>> {
+        cells
+            .iter()
+            .map(|r| r.iter().map(|c| c.to_string()).collect())
+            .collect()
+    }
+
+    /// A streamed table off a terminal is written row by row by
+    /// `layout::write_unfitted`; the same table held whole is drawn by
+    /// comfy-table (the reference): the two texts are the same, for
+    /// multi-line, empty, missing, wide and escaped cells, a bounded column
+    /// wrapped, no rows at all, and `--columns`.
+    #[test]
+    fn a_streamed_table_is_drawn_as_comfy_table_draws_it_whole() {
+        let header = ["id", "sensor name", "x (m)"];
+        let cases = [
+            rows(&[
+                &["a", "os1", "0.1"],
+                &["two\nlines", "", "-"],
+                &["日本語", "a rather long sensor name that wraps", "12.5"],
+                &["short"],
+                &["esc\x1b[31m", "tab\there", "/work/x/y"],
+            ]),
+            rows(&[]),
+            rows(&[&["", "", ""]]),
+        ];
+        let layouts = [
+            Layout::default(),
+            Layout {
+                columns: vec!["x".into(), "id".into()],
+                ..Layout::default()
+            },
+            Layout {
+                cwd: Some("/work".into()),
+                ..Layout::default()
+            },
+        ];
+        for r in &cases {
+            for bounds in [&[][..], &[(1, 14)][..]] {
+                let held = Table::new(&header, r.clone()).bounded(bounds);
+                let streamed = Table::streamed(&header, Arc::new(Held(r.clone()))).bounded(bounds);
+                for lay in &layouts {
+                    let draw = |t: &Table| {
+                        let mut d = Document::new();
+                        d.text("above").table(t.clone()).text("below");
+                        render_laid(&d, Style::plain(), lay)
+                    };
+                    let want = draw(&held);
+                    assert_eq!(draw(&streamed), want, "{r:?} {bounds:?} {lay:?}");
+                    assert!(want.contains('┆'), "{want}");
+                }
+            }
+        }
+    }
 }

@@ -195,9 +195,11 @@ impl SurveyReport {
     /// The survey plot: a document of one plot block (drawn as SVG).
     pub fn plot(&self) -> Document {
         let mut doc = Document::new();
+        // The plot draws every rig: its rows, whole, for the picture only.
+        let rigs: Vec<SurveyRigJson> = self.rigs.iter().collect();
         doc.push(Block::Plot(Plot {
             size_px: PLOT_SIZE_PX,
-            panels: vec![scatter(&self.rigs), bands(&self.rigs)],
+            panels: vec![scatter(&rigs), bands(&rigs)],
             rows: 1,
         }));
         doc
