@@ -37,6 +37,8 @@
 //! `joint-at-default` warning in [`Chain::warnings`]; floating and planar joints
 //! that were not set make the path an error.
 
+use super::children::Children;
+use super::keyed::{Keyed, Names};
 use super::names::{Likeness, Resemblance};
 use crate::analysis::mistakes::{explain, MistakeTol};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
@@ -147,19 +149,29 @@ pub struct Chain {
     pub notes: Vec<String>,
 }
 
+/// The sizes of a [`FrameGraph`]'s parts at one moment.
+struct Mark {
+    edges: usize,
+    frames: usize,
+    warnings: usize,
+    redundant: usize,
+    notes: usize,
+}
+
 /// The frame graph: a forest of frames joined by edges with provenance (see
 /// the module documentation for what adding an edge checks).
 #[derive(Debug, Clone, Default)]
 pub struct FrameGraph {
     edges: Vec<Edge>,
     warnings: Vec<Warning>,
-    /// Frame name -> index into `names` / `parent`.
-    index: HashMap<String, usize>,
-    names: Vec<String>,
+    /// Frame name -> index into `names` / `parent` (by hash: the names are
+    /// kept once, in `names`).
+    index: Keyed,
+    names: Names,
     /// For each frame, the index of the edge that names it as child.
     parent: Vec<Option<usize>>,
     /// For each frame, the edges that name it as parent (in insertion order).
-    children: Vec<Vec<usize>>,
+    children: Children,
     /// For each frame, the index of its parent frame.
     parent_frame: Vec<Option<usize>>,
     /// Where a source declared a frame (first declaration), for the frames
@@ -412,8 +424,18 @@ impl FrameGraph {
     /// Add everything one source yielded (a file's edges and warnings): all
     /// of it or, on an error, none of it.
     pub fn add(&mut self, set: impl Into<EdgeSet>) -> Result<()> {
-        let set = set.into();
-        let mut next = self.clone();
+        // Undone on an error (the graph was cloned for each source, so that
+        // loading many files was quadratic: issue 29).
+        let mark = self.mark();
+        let added = self.add_all(set.into());
+        if added.is_err() {
+            self.undo(mark);
+        }
+        added
+    }
+
+    fn add_all(&mut self, set: EdgeSet) -> Result<()> {
+        let next = self;
         next.warnings.extend(set.warnings);
         if next.edges.is_empty() {
             // The source's vector becomes the graph's: no second copy of the
@@ -438,14 +460,58 @@ impl FrameGraph {
         for e in set.redundant {
             next.add_redundant(e)?;
         }
-        *self = next;
         Ok(())
+    }
+
+    /// How far the graph has grown: what [`FrameGraph::undo`] goes back to.
+    fn mark(&self) -> Mark {
+        Mark {
+            edges: self.edges.len(),
+            frames: self.names.len(),
+            warnings: self.warnings.len(),
+            redundant: self.redundant.len(),
+            notes: self.notes.len(),
+        }
+    }
+
+    /// The graph as it was at `m`: what was added since is taken away, and
+    /// the links the new edges made to older frames are cut.
+    fn undo(&mut self, m: Mark) {
+        self.index.forget_from(m.frames);
+        self.resemblance.forget_from(m.frames);
+        self.names.truncate(m.frames);
+        self.parent.truncate(m.frames);
+        self.parent_frame.truncate(m.frames);
+        self.children.truncate(m.frames, m.edges);
+        for i in 0..m.frames {
+            if self.parent[i].is_some_and(|ei| ei >= m.edges) {
+                self.parent[i] = None;
+                self.parent_frame[i] = None;
+            }
+        }
+        self.declared.retain(|&i, _| i < m.frames);
+        // The trees again from the parent links (path halving and unions
+        // since the mark have touched older frames too).
+        self.uf.truncate(m.frames);
+        for (i, u) in self.uf.iter_mut().enumerate() {
+            *u = i;
+        }
+        for i in 0..m.frames {
+            if let Some(p) = self.parent_frame[i] {
+                let (rp, ri) = (self.find(p), self.find(i));
+                self.uf[ri] = rp;
+            }
+        }
+        self.edges.truncate(m.edges);
+        self.warnings.truncate(m.warnings);
+        self.redundant.truncate(m.redundant);
+        self.notes.truncate(m.notes);
     }
 
     /// Check a redundant edge against the tree, or add it to the tree when
     /// the tree does not connect its frames yet.
     fn add_redundant(&mut self, edge: Edge) -> Result<()> {
-        let tree = match (self.index.get(&edge.parent), self.index.get(&edge.child)) {
+        let tree = match (self.id(&edge.parent), self.id(&edge.child)) {
             (Some(_), Some(_)) => self.transform_inner(&edge.parent, &edge.child).ok(),
             _ => None,
         };
@@ -517,16 +583,17 @@ impl FrameGraph {
     /// The index of frame `name`, added (first met at `at`) when new; a new
     /// name that resembles a known one, or is padded, is warned about.
     fn frame_id(&mut self, name: &str, at: &Location) -> usize {
-        if let Some(&i) = self.index.get(name) {
-            return i;
-        }
+        let h = self.index.hash(name);
         let i = self.names.len();
-        self.names.push(name.to_string());
+        let names = &self.names;
+        if let Some(known) = self.index.first_with(name, h, i, |j| &names[j] == name) {
+            return known;
+        }
+        self.names.push(name);
         self.parent.push(None);
         self.parent_frame.push(None);
-        self.children.push(Vec::new());
+        self.children.push_frame();
         self.uf.push(i);
-        self.index.insert(name.to_string(), i);
         if let Some(like) = self.resemblance.add(i, name, &self.names) {
             let w = self.likeness_warning(name, like).at(at);
             self.warnings.push(w);
@@ -563,7 +630,7 @@ impl FrameGraph {
     /// edge, or its declaration.
     fn first_place(&self, i: usize) -> Option<&Location> {
         self.parent[i]
-            .or_else(|| self.children[i].first().copied())
+            .or_else(|| self.children.first(i))
             .and_then(|ei| self.edges.get(ei))
             .map(|e| &e.provenance.location)
             .or_else(|| self.declared.get(&i))
@@ -578,7 +645,7 @@ impl FrameGraph {
             return Err(Error::frame("expected a non-empty frame name, found \"\"").at(&location));
         }
         let i = self.frame_id(name, &location);
-        if self.parent[i].is_none() && self.children[i].is_empty() {
+        if self.parent[i].is_none() && self.children.is_empty(i) {
             self.declared.entry(i).or_insert(location);
         }
         Ok(())
@@ -623,11 +690,9 @@ impl FrameGraph {
             for p in self.parent.iter_mut().flatten() {
                 *p = shift(*p);
             }
-            for kids in &mut self.children {
-                for k in kids.iter_mut() {
-                    *k = shift(*k);
-                }
-            }
+            self.children.cover_edges(self.edges.len());
+            self.children
+                .renumber(shift, |ei| dropped.binary_search(&ei).is_err());
             let mut i = 0;
             self.edges.retain(|_| {
                 i += 1;
@@ -644,7 +709,7 @@ impl FrameGraph {
             return Err(e);
         }
         // Duplicate (same or reversed pair)?
-        if let (Some(&p), Some(&c)) = (self.index.get(&edge.parent), self.index.get(&edge.child)) {
+        if let (Some(p), Some(c)) = (self.id(&edge.parent), self.id(&edge.child)) {
             if let Some((ei, reversed)) = self.existing(p, c, edge) {
                 let w = duplicate(&self.edges[ei], edge, reversed)?;
                 self.warnings.push(w);
@@ -653,15 +718,15 @@ impl FrameGraph {
         }
         // Two parents and cycles are checked before any frame is added, so a
         // refused edge leaves the graph as it was.
-        if let Some(ei) = self.index.get(&edge.child).and_then(|&c| self.parent[c]) {
+        if let Some(ei) = self.id(&edge.child).and_then(|c| self.parent[c]) {
             return Err(two_parents(&self.edges[ei], edge));
         }
         // Cycle: the child has no parent, so it is the root of its tree, and
         // the edge closes a cycle exactly when the parent is in that tree.
-        if let (Some(&p), Some(&c)) = (self.index.get(&edge.parent), self.index.get(&edge.child)) {
+        if let (Some(p), Some(c)) = (self.id(&edge.parent), self.id(&edge.child)) {
             if self.find(p) == self.find(c) {
                 let path = cycle_path(p, c, &self.parent_frame, self.names.len());
-                let names: Vec<&str> = path.iter().map(|&i| self.names[i].as_str()).collect();
+                let names: Vec<&str> = path.iter().map(|&i| &self.names[i]).collect();
                 return Err(cycle(edge, &names));
             }
         }
@@ -677,7 +742,7 @@ impl FrameGraph {
         self.uf[rc] = rp;
         self.parent[c] = Some(ei);
         self.parent_frame[c] = Some(p);
-        self.children[p].push(ei);
+        self.children.link(p, ei);
     }
 
     /// The stored edge joining frames `p` and `c` as `edge` does (reversed or not).
@@ -704,19 +769,25 @@ impl FrameGraph {
 
     /// All frame names, sorted.
     pub fn frames(&self) -> Vec<String> {
-        let mut v = self.names.clone();
+        let mut v: Vec<String> = self.names.iter().map(String::from).collect();
         v.sort();
         v
     }
 
+    /// The index of frame `name`, if known.
+    fn id(&self, name: &str) -> Option<usize> {
+        let h = self.index.hash(name);
+        self.index.get(name, h, |j| &self.names[j] == name)
+    }
+
     /// Whether the graph knows this frame.
     pub fn contains(&self, frame: &str) -> bool {
-        self.index.contains_key(frame)
+        self.id(frame).is_some()
     }
 
     /// The edge whose child is `frame` (its parent edge), if any.
     pub fn parent_edge(&self, frame: &str) -> Option<&Edge> {
-        let i = *self.index.get(frame)?;
+        let i = self.id(frame)?;
         self.parent[i].map(|ei| &self.edges[ei])
     }
 
@@ -724,7 +795,7 @@ impl FrameGraph {
     pub fn roots(&self) -> Vec<String> {
         let mut v: Vec<String> = (0..self.names.len())
             .filter(|&i| self.parent[i].is_none())
-            .map(|i| self.names[i].clone())
+            .map(|i| self.names[i].to_string())
             .collect();
         v.sort();
         v
@@ -746,7 +817,7 @@ impl FrameGraph {
     /// Jaro-Winkler similarity), best first.
     pub fn closest_frames(&self, name: &str, n: usize) -> Vec<String> {
         let lower = name.to_lowercase();
-        let mut scored: Vec<(usize, f64, &String)> = self
+        let mut scored: Vec<(usize, f64, &str)> = self
             .names
             .iter()
             .map(|f| {
@@ -763,15 +834,15 @@ impl FrameGraph {
                 .then(a.1.total_cmp(&b.1))
                 .then_with(|| a.2.cmp(b.2))
         });
-        scored.into_iter().take(n).map(|s| s.2.clone()).collect()
+        scored
+            .into_iter()
+            .take(n)
+            .map(|s| s.2.to_string())
+            .collect()
     }
 
     fn lookup(&self, name: &str) -> Result<usize> {
-        if let Some(&i) = self
-            .index
-            .get(name)
-            .or_else(|| self.index.get(name.strip_prefix('/')?))
-        {
+        if let Some(i) = self.id(name).or_else(|| self.id(name.strip_prefix('/')?)) {
             return Ok(i);
         }
         if self.names.is_empty() {
@@ -793,15 +864,16 @@ impl FrameGraph {
     /// (up to three) are named with the frames one edge below each.
     fn root_hint(&self) -> String {
         let roots: Vec<usize> = (0..self.names.len())
-            .filter(|&i| self.parent[i].is_none() && !self.children[i].is_empty())
+            .filter(|&i| self.parent[i].is_none() && !self.children.is_empty(i))
             .collect();
         let Some(&first) = roots.first() else {
             return String::new();
         };
         let below = |r: usize| -> Vec<String> {
-            let mut kids: Vec<String> = self.children[r]
-                .iter()
-                .map(|&ei| self.edges[ei].child.clone())
+            let mut kids: Vec<String> = self
+                .children
+                .of(r)
+                .map(|ei| self.edges[ei].child.clone())
                 .collect();
             kids.sort();
             kids.dedup();
@@ -811,14 +883,14 @@ impl FrameGraph {
         if roots.len() == 1 {
             return format!(
                 "; the tree's root: '{}' (one edge below it: {})",
-                self.names[first],
+                &self.names[first],
                 quoted_list(&below(first))
             );
         }
         let names: Vec<String> = roots
             .iter()
             .take(3)
-            .map(|&r| self.names[r].clone())
+            .map(|&r| self.names[r].to_string())
             .collect();
         format!(
             "; the {} trees' roots: {}",
@@ -890,7 +962,7 @@ impl FrameGraph {
     fn transform_inner(&self, from: &str, to: &str) -> Result<Chain> {
         let fi = self.lookup(from)?;
         let ti = self.lookup(to)?;
-        let (from, to) = (self.names[fi].as_str(), self.names[ti].as_str());
+        let (from, to) = (&self.names[fi], &self.names[ti]);
         let up_from = self.ancestors(fi);
         let up_to = self.ancestors(ti);
         let root_f = up_from.last().map(|x| x.0).unwrap_or(fi);
@@ -898,7 +970,7 @@ impl FrameGraph {
         if root_f != root_t {
             return Err(Error::frame(format!(
                 "frames '{from}' and '{to}' are not connected: '{from}' is in the tree rooted at '{}', '{to}' in the tree rooted at '{}'",
-                self.names[root_f], self.names[root_t]
+                &self.names[root_f], &self.names[root_t]
             )));
         }
         // Lowest common ancestor: strip the common suffix of both root paths.
@@ -1020,8 +1092,8 @@ impl FrameGraph {
         let mut out = String::new();
         for root in self.roots() {
             out.push_str(&root);
-            let ri = self.index[&root];
-            if self.children[ri].is_empty() {
+            let ri = self.id(&root).expect("a root is a frame");
+            if self.children.is_empty(ri) {
                 // Declared without an edge: say so rather than list it bare.
                 match self.declared.get(&ri) {
                     Some(loc) => out.push_str(&format!("  [{loc}, no edge attaches it]")),
@@ -1032,7 +1104,7 @@ impl FrameGraph {
             // Explicit stack (deep chains must not exhaust the call stack):
             // (edge, depth, last child of its parent).
             let mut stack: Vec<(usize, usize, bool)> = Vec::new();
-            let kids = &self.children[ri];
+            let mut kids: Vec<usize> = self.children.of(ri).collect();
             for (k, &ei) in kids.iter().enumerate().rev() {
                 stack.push((ei, 0, k + 1 == kids.len()));
             }
@@ -1065,8 +1137,9 @@ impl FrameGraph {
                     out.push_str(&n);
                 }
                 out.push('\n');
-                let ci = self.index[&e.child];
-                let kids = &self.children[ci];
+                let ci = self.id(&e.child).expect("a child is a frame");
+                kids.clear();
+                kids.extend(self.children.of(ci));
                 for (k, &cei) in kids.iter().enumerate().rev() {
                     stack.push((cei, depth + 1, k + 1 == kids.len()));
                 }
@@ -1098,4 +1171,144 @@ fn quoted_list(names: &[String]) -> String {
         .map(|s| format!("'{s}'"))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{EdgeSet, FrameDecl, FrameGraph};
+    use crate::diagnostic::{Code, Location};
+    use crate::frames::Edge;
+    use crate::geometry::se3::Transform;
+
+    fn edge(p: &str, c: &str, x: f64, line: usize) -> Edge {
+        let t = Transform::from_translation([x, 0.0, 0.0]).expect("finite");
+        Edge::new(p, c, t, Location::at("t.txt", line, None), "rig", "k")
+    }
+
+    fn set(edges: Vec<Edge>, frames: &[&str], redundant: Vec<Edge>) -> EdgeSet {
+        EdgeSet {
+            edges,
+            frames: frames
+                .iter()
+                .map(|f| FrameDecl {
+                    name: f.to_string(),
+                    location: Location::at("t.txt", 9, None),
+                })
+                .collect(),
+            warnings: Vec::new(),
+            redundant,
+        }
+    }
+
+    /// What the graph shows of itself.
+    fn seen(g: &FrameGraph) -> (Vec<Edge>, Vec<String>, Vec<String>, String, Vec<String>) {
+        let warnings = g.warnings().iter().map(|w| w.to_string()).collect();
+        (
+            g.edges().to_vec(),
+            g.frames(),
+            g.roots(),
+            g.tree(),
+            warnings,
+        )
+    }
+
+    /// A source refused half-way leaves nothing behind: not its edges, its
+    /// frames, its warnings, the links its edges made to the older frames,
+    /// nor its names among those later names are compared with.
+    #[test]
+    fn a_refused_source_leaves_the_graph_as_it_was() {
+        let first = || {
+            set(
+                vec![edge("a", "b", 1.0, 1), edge("b", "c", 1.0, 2)],
+                &["lone"],
+                vec![],
+            )
+        };
+        let mut g = FrameGraph::new();
+        g.add(first()).unwrap();
+        let before = seen(&g);
+        // New frames below old ones, a look-alike (a warning), a duplicate
+        // (a warning), then a second parent for `b`: refused.
+        let bad = set(
+            vec![
+                edge("c", "d", 1.0, 3),
+                edge("a", "Lone", 1.0, 4),
+                edge("a", "b", 1.0, 5),
+                edge("z", "e", 1.0, 6),
+                edge("e", "b", 1.0, 7),
+            ],
+            &["f"],
+            vec![],
+        );
+        assert!(g.add(bad).is_err());
+        assert_eq!(seen(&g), before);
+        // A cycle through old frames, refused after the tree edges were
+        // linked (the union-find must forget them too).
+        let cyc = set(
+            vec![edge("c", "x", 1.0, 8), edge("x", "a", 1.0, 9)],
+            &[],
+            vec![],
+        );
+        assert!(g.add(cyc).is_err());
+        assert_eq!(seen(&g), before);
+        // A refused declaration (an empty name): the edges before it go too.
+        let red = set(vec![edge("c", "y", 1.0, 10)], &[""], vec![]);
+        assert!(g.add(red).is_err());
+        assert_eq!(seen(&g), before);
+        // The same sources on a graph that never saw the refused ones.
+        let next = || {
+            set(
+                vec![edge("c", "d", 2.0, 11), edge("d", "x", 1.0, 12)],
+                &["lone2"],
+                vec![],
+            )
+        };
+        let mut fresh = FrameGraph::new();
+        fresh.add(first()).unwrap();
+        fresh.add(next()).unwrap();
+        g.add(next()).unwrap();
+        assert_eq!(seen(&g), seen(&fresh));
+        assert!(g
+            .warnings()
+            .iter()
+            .all(|w| w.code != Code::ConfusableFrameName));
+        let t = g.transform("a", "x").unwrap();
+        assert_eq!(t.transform.translation().x, 1.0 + 1.0 + 2.0 + 1.0);
+        // `x` was in the refused cycle: now it is below `d`, not above `a`.
+        assert_eq!(g.parent_edge("x").unwrap().parent, "d");
+        assert!(g.parent_edge("a").is_none());
+    }
+
+    /// A first source whose agreeing duplicates are dropped: the child lists
+    /// renumbered (the tree and the chains use them).
+    #[test]
+    fn dropped_duplicates_renumber_the_children() {
+        let mut g = FrameGraph::new();
+        let edges = vec![
+            edge("a", "b", 1.0, 1),
+            edge("a", "b", 1.0, 2),
+            edge("b", "c", 2.0, 3),
+            edge("c", "b", -2.0, 4),
+            edge("a", "d", 3.0, 5),
+        ];
+        g.add(set(edges, &[], vec![])).unwrap();
+        let lines: Vec<_> = g
+            .edges()
+            .iter()
+            .map(|e| e.provenance.location.line)
+            .collect();
+        assert_eq!(lines, [Some(1), Some(3), Some(5)]);
+        assert_eq!(g.warnings().len(), 2);
+        assert_eq!(
+            g.tree(),
+            "a\n├── b  [t.txt:1]\n│   └── c  [t.txt:3]\n└── d  [t.txt:5]\n"
+        );
+        g.add(set(vec![edge("a", "e", 1.0, 6)], &[], vec![]))
+            .unwrap();
+        assert!(
+            g.tree().ends_with("├── d  [t.txt:5]\n└── e  [t.txt:6]\n"),
+            "{}",
+            g.tree()
+        );
+    }
 }

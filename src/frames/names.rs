@@ -19,18 +19,22 @@
 //! resembles no frame gets a `padded-frame-name` warning. Both are warnings:
 //! the names are kept as written (tf2 would keep them).
 
-// foldhash: frame names are short and hashed several times per edge; SipHash
-// was a tenth of loading a 100,000-link URDF (issue 29). Seeded per process.
-use foldhash::HashMap;
+use super::keyed::{Keyed, Names};
 use unicode_normalization::UnicodeNormalization;
 use unicode_security::confusable_detection::skeleton;
 
 /// The two resemblance keys of every frame seen, each to the first frame
-/// (its index in the graph) that had it.
+/// (its index in the graph) that had it: kept by hash ([`Keyed`]; issue 29:
+/// two owned keys per frame were about a hundred bytes per link), a hash
+/// found confirmed by the keys of the frame it leads to.
 #[derive(Debug, Clone, Default)]
 pub struct Resemblance {
-    exact: HashMap<String, usize>,
-    folded: HashMap<String, usize>,
+    exact: Keyed,
+    folded: Keyed,
+    /// The new name's keys, and an earlier name's (buffers reused from
+    /// frame to frame).
+    keys: (String, String),
+    other: (String, String),
 }
 
 /// What a new name is like.
@@ -47,15 +51,17 @@ pub enum Likeness {
     Padded,
 }
 
-fn keys(name: &str) -> (String, String) {
+/// The two keys of `name` (exact, folded), written into `out` (cleared).
+fn keys(name: &str, out: &mut (String, String)) {
     let name = name.trim();
-    if let Some(keys) = ascii_keys(name) {
-        return keys;
+    out.0.clear();
+    out.1.clear();
+    if ascii_keys(name, out) {
+        return;
     }
     let nfkc: String = name.nfkc().collect();
-    let exact = skeleton(&nfkc).collect();
-    let folded = skeleton(&nfkc.to_lowercase()).collect();
-    (exact, folded)
+    out.0.extend(skeleton(&nfkc));
+    out.1.extend(skeleton(&nfkc.to_lowercase()));
 }
 
 /// The skeleton of each ASCII character, when none holds a combining mark:
@@ -78,32 +84,44 @@ fn ascii_table() -> Option<&'static [String; 128]> {
         .as_ref()
 }
 
-fn ascii_keys(name: &str) -> Option<(String, String)> {
+/// The keys of an ASCII name appended to `out`; false (nothing written) for
+/// any other name.
+fn ascii_keys(name: &str, out: &mut (String, String)) -> bool {
     if !name.is_ascii() {
-        return None;
+        return false;
     }
-    let t = ascii_table()?;
-    let key = |bytes: &mut dyn Iterator<Item = u8>| {
-        bytes.map(|b| t[b as usize].as_str()).collect::<String>()
+    let Some(t) = ascii_table() else {
+        return false;
     };
-    let exact = key(&mut name.bytes());
-    let folded = key(&mut name.bytes().map(|b| b.to_ascii_lowercase()));
-    Some((exact, folded))
+    for b in name.bytes() {
+        out.0.push_str(&t[b as usize]);
+        out.1.push_str(&t[b.to_ascii_lowercase() as usize]);
+    }
+    true
 }
 
 impl Resemblance {
     /// Record frame `i` named `name` (new to the graph); what it resembles
     /// among the frames recorded before (`names` gives their names).
-    pub fn add(&mut self, i: usize, name: &str, names: &[String]) -> Option<Likeness> {
-        let (exact, folded) = keys(name);
-        let other = self
-            .exact
-            .get(&exact)
-            .or_else(|| self.folded.get(&folded))
-            .copied();
-        self.exact.entry(exact).or_insert(i);
-        self.folded.entry(folded).or_insert(i);
-        match other {
+    pub(crate) fn add(&mut self, i: usize, name: &str, names: &Names) -> Option<Likeness> {
+        keys(name, &mut self.keys);
+        let (he, hf) = (
+            self.exact.hash(&self.keys.0),
+            self.folded.hash(&self.keys.1),
+        );
+        // Both keys are recorded (the first frame with each), then the
+        // exact key's frame is the answer, else the folded key's. An earlier
+        // frame's keys are computed only when its hash is found.
+        let (mine, other) = (&self.keys, &mut self.other);
+        let exact = self.exact.first_with(&mine.0, he, i, |j| {
+            keys(&names[j], other);
+            other.0 == mine.0
+        });
+        let folded = self.folded.first_with(&mine.1, hf, i, |j| {
+            keys(&names[j], other);
+            other.1 == mine.1
+        });
+        match exact.or(folded) {
             Some(j) => Some(Likeness::Resembles {
                 other: j,
                 how: difference(name, &names[j]),
@@ -111,6 +129,12 @@ impl Resemblance {
             None if name.trim() != name => Some(Likeness::Padded),
             None => None,
         }
+    }
+
+    /// The frames from `n` on forgotten (a graph undoing a refused source).
+    pub fn forget_from(&mut self, n: usize) {
+        self.exact.forget_from(n);
+        self.folded.forget_from(n);
     }
 }
 
@@ -166,12 +190,12 @@ mod tests {
 
     fn like(earlier: &[&str], name: &str) -> Option<Likeness> {
         let mut r = Resemblance::default();
-        let mut names: Vec<String> = Vec::new();
+        let mut names = Names::default();
         for (i, n) in earlier.iter().enumerate() {
-            names.push(n.to_string());
+            names.push(n);
             r.add(i, n, &names);
         }
-        names.push(name.to_string());
+        names.push(name);
         r.add(names.len() - 1, name, &names)
     }
 
@@ -206,10 +230,62 @@ mod tests {
             ascii_table().is_some(),
             "an ASCII character's skeleton has a mark"
         );
+        let mut out = (String::from("left over"), String::new());
         for name in ["base_link", "l100000", "Cam_0|rn`%\"", "a b\tc\u{7f}"] {
             let full: String = skeleton(name).collect();
             let lower: String = skeleton(&name.to_lowercase()).collect();
-            assert_eq!(ascii_keys(name), Some((full, lower)), "{name:?}");
+            keys(name, &mut out);
+            assert_eq!(out, (full, lower), "{name:?}");
+        }
+        assert!(!ascii_keys("b\u{e4}r", &mut out));
+    }
+
+    /// The same answers as maps of the keys as strings (the keys computed
+    /// by `skeleton` itself, not the ASCII table), over names that resemble
+    /// each other in every way the module lists.
+    #[test]
+    fn the_same_answers_as_string_keyed_maps() {
+        let names = [
+            "base_link",
+            "Base_Link",
+            "base_l\u{456}nk",
+            " base_link",
+            "cam0",
+            "caM0",
+            "cam1",
+            "lidar_l",
+            "lidar_I",
+            "lidar_1",
+            "\u{ff42}ase_link",
+            "imu ",
+            "imu",
+            "rn",
+            "m",
+            "M",
+            "x\u{200b}y",
+            "xy",
+        ];
+        let mut seen = Names::default();
+        let (mut exact, mut folded) = (
+            std::collections::HashMap::<String, usize>::new(),
+            std::collections::HashMap::<String, usize>::new(),
+        );
+        let mut r = Resemblance::default();
+        for (i, name) in names.iter().enumerate() {
+            let nfkc: String = name.trim().nfkc().collect();
+            let (e, f): (String, String) = (
+                skeleton(&nfkc).collect(),
+                skeleton(&nfkc.to_lowercase()).collect(),
+            );
+            let want = exact.get(&e).or_else(|| folded.get(&f)).copied();
+            exact.entry(e).or_insert(i);
+            folded.entry(f).or_insert(i);
+            seen.push(name);
+            let got = match r.add(i, name, &seen) {
+                Some(Likeness::Resembles { other, .. }) => Some(other),
+                _ => None,
+            };
+            assert_eq!(got, want, "{name:?}");
         }
     }
 

@@ -47,14 +47,56 @@ pub(super) fn numbers<'s, const N: usize>(
     }
     let mut out = [0.0; N];
     for (x, p) in out.iter_mut().zip(parts) {
-        *x = p
-            .parse::<f64>()
-            .map_err(|_| format!("{what}: expected {N} numbers, found {p:?} in {s:?}"))?;
+        *x = parse_f64(p)
+            .ok_or_else(|| format!("{what}: expected {N} numbers, found {p:?} in {s:?}"))?;
         if !x.is_finite() {
             return Err(format!("{what}: expected finite numbers, found {p:?}"));
         }
     }
     Ok((out, parts))
+}
+
+/// `s` as `str::parse::<f64>` reads it, `None` where it fails: a plain
+/// decimal literal (`-0.002`, `12.5`, `3`) is read directly, the rest by
+/// `str::parse`.
+fn parse_f64(s: &str) -> Option<f64> {
+    plain_f64(s.as_bytes()).or_else(|| s.parse().ok())
+}
+
+/// A literal `[+-]digits[.digits]` (or `[+-].digits`) whose digits, read
+/// as one integer, are at most 2^53 and with at most 22 after the point:
+/// that integer and the power of ten are then exact doubles, so their
+/// quotient, rounded once by the division, is the correctly rounded value
+/// of the literal, the number `str::parse` gives (Clinger's fast path).
+/// `None` for anything else (exponents, longer literals, `inf`, ...).
+fn plain_f64(b: &[u8]) -> Option<f64> {
+    const POW10: [f64; 23] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+        1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    ];
+    let (neg, digits) = match b.first()? {
+        b'-' => (true, &b[1..]),
+        b'+' => (false, &b[1..]),
+        _ => (false, b),
+    };
+    let (mut w, mut n, mut frac, mut dot) = (0u64, 0usize, 0usize, false);
+    for &c in digits {
+        match c {
+            b'0'..=b'9' => {
+                w = w.checked_mul(10)?.checked_add(u64::from(c - b'0'))?;
+                n += 1;
+                frac += usize::from(dot);
+            }
+            b'.' if !dot => dot = true,
+            _ => return None,
+        }
+    }
+    if n == 0 || w > 1 << 53 || frac >= POW10.len() {
+        return None;
+    }
+    // w is at most 2^53: exact as a double.
+    let x = w as f64 / POW10[frac];
+    Some(if neg { -x } else { x })
 }
 
 /// `N` finite numbers separated by whitespace.
@@ -179,5 +221,103 @@ fn quat_precision(xyz: ([f64; 3], [&str; 3]), q: ([f64; 4], [&str; 4])) -> Preci
         }
         .into(),
         Err(_) => Precision::default(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{parse_f64, plain_f64};
+
+    /// Bit for bit the double of `str::parse`, or its refusal, on edge
+    /// cases and on many pseudo-random literals (lengths 1 to 26, signs,
+    /// points anywhere, digit runs that cross 2^53 and 22 decimals).
+    #[test]
+    fn plain_literals_read_as_str_parse_reads_them() {
+        let same = |s: &str| {
+            let want = s.parse::<f64>().ok().map(f64::to_bits);
+            assert_eq!(parse_f64(s).map(f64::to_bits), want, "{s:?}");
+        };
+        for s in [
+            "0",
+            "-0",
+            "+0",
+            "-0.0",
+            "0.",
+            ".0",
+            "-.5",
+            "+.5",
+            ".",
+            "-",
+            "+",
+            "",
+            "1.",
+            "00012.5000",
+            "9007199254740992",
+            "9007199254740993",
+            "-9007199254740993",
+            "18446744073709551615",
+            "18446744073709551616",
+            "0.1",
+            "0.2",
+            "0.3",
+            "0.01",
+            "0.002",
+            "-0.003",
+            "1.7976931348623157",
+            "0.0000000000000000000001",
+            "0.00000000000000000000001",
+            "4.9406564584124654",
+            "2.2250738585072014",
+            "123456789012345678901234567890",
+            "1e5",
+            "1E-3",
+            "inf",
+            "NaN",
+            "1..2",
+            "1.2.3",
+            "--1",
+            "+-1",
+            "1 ",
+            " 1",
+            "0x10",
+            "1_000",
+            "\u{661}",
+        ] {
+            same(s);
+        }
+        let mut x: u64 = 0x2545_F491_4F6C_DD1D;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        for _ in 0..200_000 {
+            let r = next();
+            let len = 1 + (r % 26) as usize;
+            let mut s = String::new();
+            match (r >> 8) % 4 {
+                0 => s.push('-'),
+                1 => s.push('+'),
+                _ => {}
+            }
+            let dot = ((r >> 16) % (len as u64 + 2)) as usize;
+            for k in 0..len {
+                if k == dot {
+                    s.push('.');
+                }
+                // Runs of 9s and 0s cross the limits more often than uniform digits.
+                let d = next();
+                s.push(match d % 4 {
+                    0 => '9',
+                    1 => '0',
+                    _ => char::from(b'0' + (d >> 8) as u8 % 10),
+                });
+            }
+            same(&s);
+        }
+        // The fast path was taken where it claims to be.
+        assert_eq!(plain_f64(b"-0.003"), Some(-0.003));
+        assert_eq!(plain_f64(b"1e3"), None);
     }
 }
