@@ -324,7 +324,8 @@ impl PointCloud2<'_> {
             // slice, the cells as fixed-size chunks, no per-value dispatch.
             let o = xyz.map(|s| s.offset);
             let get = |cell: &[u8], k: usize| {
-                let a: [u8; 4] = std::array::from_fn(|j| cell[o[k] + j]);
+                let i = o[k];
+                let a = [cell[i], cell[i + 1], cell[i + 2], cell[i + 3]];
                 f64::from(if big {
                     f32::from_be_bytes(a)
                 } else {
