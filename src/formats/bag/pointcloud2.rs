@@ -318,45 +318,21 @@ impl PointCloud2<'_> {
         let mut points = Vec::with_capacity(cells);
         let mut normals = used.map(|_| Vec::with_capacity(cells));
         let b = self.data;
-        let fast = used.is_none() && step > 0 && xyz.iter().all(|s| s.kind == Kind::F32);
-        if fast {
-            // The usual layout (float32 x, y, z, no normals read): one row
-            // slice, the cells as fixed-size chunks, no per-value dispatch.
-            let o = xyz.map(|s| s.offset);
-            let get = |cell: &[u8], k: usize| {
-                let i = o[k];
-                let a = [cell[i], cell[i + 1], cell[i + 2], cell[i + 3]];
-                f64::from(if big {
-                    f32::from_be_bytes(a)
-                } else {
-                    f32::from_le_bytes(a)
-                })
-            };
-            for r in 0..h {
-                for cell in b[r * rs..r * rs + w * step].chunks_exact(step) {
-                    let q = [get(cell, 0), get(cell, 1), get(cell, 2)];
-                    if q[0].is_finite() && q[1].is_finite() && q[2].is_finite() {
-                        points.push(q);
-                    }
+        for r in 0..h {
+            for c in 0..w {
+                let p = r * rs + c * step;
+                let q = xyz.map(|s| s.read(b, p, big));
+                if !q.iter().all(|v| v.is_finite()) {
+                    continue;
                 }
-            }
-        } else {
-            for r in 0..h {
-                for c in 0..w {
-                    let p = r * rs + c * step;
-                    let q = xyz.map(|s| s.read(b, p, big));
-                    if !q.iter().all(|v| v.is_finite()) {
+                if let (Some(ns), Some(out)) = (used, normals.as_mut()) {
+                    let n = ns.map(|s| s.read(b, p, big));
+                    if !n.iter().all(|v| v.is_finite()) {
                         continue;
                     }
-                    if let (Some(ns), Some(out)) = (used, normals.as_mut()) {
-                        let n = ns.map(|s| s.read(b, p, big));
-                        if !n.iter().all(|v| v.is_finite()) {
-                            continue;
-                        }
-                        out.push(n);
-                    }
-                    points.push(q);
+                    out.push(n);
                 }
+                points.push(q);
             }
         }
         let need = (h - 1) * rs + w * step;
