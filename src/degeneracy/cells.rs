@@ -101,7 +101,7 @@ fn radix_sort(v: &mut Vec<u64>, bits: u32) {
         for &x in v.iter() {
             count[((x >> shift) & 0xff) as usize] += 1;
         }
-        if count.iter().any(|&c| c == v.len()) {
+        if count.contains(&v.len()) {
             shift += 8;
             continue;
         }
