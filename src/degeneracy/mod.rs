@@ -36,7 +36,6 @@ pub mod scene;
 mod share;
 mod subspace;
 mod sweep;
-mod sym3;
 pub mod threshold;
 mod transport;
 
