@@ -26,6 +26,8 @@ mod table;
 pub use graph::{Graph, GraphLink, GraphNode};
 pub use plot::{Axis, Colour, Corner, Mark, Panel, Plot, Point, Series};
 pub use scene::{Entity, Paint, PointCloud, Scene, SceneTransform, Shape};
+#[cfg(test)]
+pub(crate) use table::Held;
 pub(crate) use table::{data_number, Columns};
 pub use table::{RowSource, Streamed, Table};
 

@@ -293,6 +293,21 @@ pub fn split_name(key: &str, part: &str) -> String {
     format!("{stem}_{part}")
 }
 
+/// Rows handed out one at a time, as a survey's are: the render tests'
+/// streamed table.
+#[cfg(test)]
+pub(crate) struct Held(pub Vec<Vec<String>>);
+
+#[cfg(test)]
+impl RowSource for Held {
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+    fn row(&self, i: usize) -> Vec<String> {
+        self.0[i].clone()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

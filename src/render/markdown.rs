@@ -183,19 +183,8 @@ fn diagnostics_table(ds: &[Diagnostic]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::document::RowSource;
+    use crate::document::Held;
     use std::sync::Arc;
-
-    struct Held(Vec<Vec<String>>);
-
-    impl RowSource for Held {
-        fn len(&self) -> usize {
-            self.0.len()
-        }
-        fn row(&self, i: usize) -> Vec<String> {
-            self.0[i].clone()
-        }
-    }
 
     /// Two streamed tables written a row at a time read as the same tables
     /// held whole, the blank lines between blocks included (an empty

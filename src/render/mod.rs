@@ -234,12 +234,6 @@ pub fn render_to<R: Report>(
     layout: &Layout,
     out: &mut dyn std::io::Write,
 ) -> Result<()> {
-    let cannot = |e: std::io::Error| {
-        Error::new(
-            crate::diagnostic::Code::Io,
-            format!("cannot write output: {e}"),
-        )
-    };
     match format {
         OutputFormat::Json => json::write(report, warnings, out),
         OutputFormat::Mcap => {
@@ -264,12 +258,7 @@ pub fn render_to<R: Report>(
 pub fn draw(doc: &Document, format: OutputFormat, style: Style, layout: &Layout) -> Result<String> {
     let mut out = Vec::new();
     draw_to(doc, format, style, layout, &mut out)?;
-    String::from_utf8(out).map_err(|e| {
-        Error::new(
-            crate::diagnostic::Code::Io,
-            format!("cannot write output: {e}"),
-        )
-    })
+    String::from_utf8(out).map_err(cannot)
 }
 
 /// [`draw`] written to `out`: text, markdown and CSV as they are made (a
@@ -281,12 +270,6 @@ pub fn draw_to(
     layout: &Layout,
     out: &mut dyn std::io::Write,
 ) -> Result<()> {
-    let cannot = |e: std::io::Error| {
-        Error::new(
-            crate::diagnostic::Code::Io,
-            format!("cannot write output: {e}"),
-        )
-    };
     let picture = picture(doc);
     let graph = || match picture {
         Some(Block::Graph(g)) => Ok(g),
@@ -329,6 +312,15 @@ pub fn draw_to(
         },
     };
     out.write_all(text.as_bytes()).map_err(cannot)
+}
+
+/// The one error for output that cannot be written (an I/O error, or text
+/// that is not UTF-8).
+fn cannot(e: impl std::fmt::Display) -> Error {
+    Error::new(
+        crate::diagnostic::Code::Io,
+        format!("cannot write output: {e}"),
+    )
 }
 
 /// A format that cannot draw `doc`: a usage error saying what the format is

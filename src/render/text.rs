@@ -219,20 +219,8 @@ pub fn diagnostic_line(d: &Diagnostic) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::document::RowSource;
+    use crate::document::Held;
     use std::sync::Arc;
-
-    /// Rows handed out one at a time, as a survey's are.
-    struct Held(Vec<Vec<String>>);
-
-    impl RowSource for Held {
-        fn len(&self) -> usize {
-            self.0.len()
-        }
-        fn row(&self, i: usize) -> Vec<String> {
-            self.0[i].clone()
-        }
-    }
 
     fn rows(cells: &[&[&str]]) -> Vec<Vec<String>> {
         cells
