@@ -36,6 +36,7 @@ pub mod scene;
 mod share;
 mod subspace;
 mod sweep;
+mod sym3;
 pub mod threshold;
 mod transport;
 

@@ -21,6 +21,7 @@
 use super::cells::floor_i64;
 use super::grid::Grid;
 use super::scene::Cloud;
+use super::sym3;
 use crate::diagnostic::{Error, Result};
 use crate::progress::{NoProgress, Progress};
 use crate::tolerances::DUPLICATE_POINT_REL_TOL;
@@ -163,24 +164,24 @@ fn normal_at(
         return Err(Drop::Sparse);
     }
     let nf = count as f64;
-    let m = Vector3::new(sum[0] / nf, sum[1] / nf, sum[2] / nf);
-    let s = Matrix3::new(
-        sxx[0], sxx[1], sxx[2], sxx[1], sxx[3], sxx[4], sxx[2], sxx[4], sxx[5],
-    );
-    let cov = s / nf - m * m.transpose();
+    let m = [sum[0] / nf, sum[1] / nf, sum[2] / nf];
+    let cov = [
+        sxx[0] / nf - m[0] * m[0],
+        sxx[1] / nf - m[0] * m[1],
+        sxx[2] / nf - m[0] * m[2],
+        sxx[3] / nf - m[1] * m[1],
+        sxx[4] / nf - m[1] * m[2],
+        sxx[5] / nf - m[2] * m[2],
+    ];
     if !cov.iter().all(|x| x.is_finite()) {
         return Err(Drop::Sparse);
     }
-    let eig = SymmetricEigen::new(cov);
-    let mut imin = 0;
-    for k in 1..3 {
-        if eig.eigenvalues[k] < eig.eigenvalues[imin] {
-            imin = k;
-        }
-    }
+    // Eigenvalues ascending and the smallest one's eigenvector: the closed
+    // form (sym3.rs), or nalgebra's iterative solver where it gives none.
+    let (values, smallest) =
+        sym3::eigen(&cov).map_or_else(|| iterative_eigen(&cov), |e| (e.values, e.vectors[0]));
     if let Some(gate) = prm.min_planarity {
-        let mut l = [0usize, 1, 2].map(|k| eig.eigenvalues[k].max(0.0));
-        l.sort_by(|a, b| b.total_cmp(a));
+        let l = [values[2], values[1], values[0]].map(|x| x.max(0.0));
         let planarity = if l[0] > 0.0 {
             (l[1] - l[2]) / l[0]
         } else {
@@ -190,7 +191,7 @@ fn normal_at(
             return Err(Drop::NotPlanar);
         }
     }
-    let mut n: Vector3<f64> = eig.eigenvectors.column(imin).into_owned();
+    let mut n = Vector3::from(smallest);
     let nn = n.norm();
     if !nn.is_finite() || nn <= 0.0 {
         return Err(Drop::Sparse);
@@ -200,6 +201,17 @@ fn normal_at(
         n = -n;
     }
     Ok([n.x, n.y, n.z])
+}
+
+/// Eigenvalues ascending and the smallest one's eigenvector by nalgebra's
+/// QR iteration: where the closed form gives none (sym3.rs).
+fn iterative_eigen(c: &sym3::Upper) -> ([f64; 3], [f64; 3]) {
+    let m = Matrix3::new(c[0], c[1], c[2], c[1], c[3], c[4], c[2], c[4], c[5]);
+    let eig = SymmetricEigen::new(m);
+    let mut k = [0usize, 1, 2];
+    k.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+    let v = eig.eigenvectors.column(k[0]);
+    (k.map(|i| eig.eigenvalues[i]), [v[0], v[1], v[2]])
 }
 
 /// Normals of `points` (a range of `all`) against the whole tree.
