@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Issue 24's before/after table (BENCHMARKS.md, "Whole process before and
 # after issue 24"): one command per benchmark section whose command exists in
-# both binaries, each pair in one hyperfine run, the inputs generated here.
+# both binaries, each pair in ROUNDS hyperfine runs, the inputs generated here.
 #
-#   BEFORE=/path/to/old/audit AFTER=target/release/audit PY=/venv/bin/python \
+#   BEFORE=/path/to/old/audit AFTER=target/release/audit PY=/venv/bin/python ROUNDS=4 \
 #     bench/before_after.sh [WORKDIR]
 #
 # BEFORE: a release build of the older commit (e.g. fd2fa2f in a worktree,
@@ -30,21 +30,51 @@ td=$(python3 tools/testdata.py root)
 an="$td/Gepetto__example-robot-data/robots/anymal_c_simple_description/urdf/anymal.urdf --from base --to lidar"
 pr2="$td/Gepetto__example-robot-data/robots/pr2_description/urdf/pr2.urdf --from base_footprint --to laser_tilt_link"
 pr2x="$td/PR2__pr2_common/pr2_description/robots/pr2.urdf.xacro --from base_footprint --to laser_tilt_link"
-pair() { printf '%s\n' -n "$1" "$B $2" -n "$1" "$A $2"; }
-mapfile -t quick < <(pair anymal "$an"; pair pr2 "$pr2"; pair "survey calibrations/" "survey calibrations/";
-    pair "check calibrations/" "check calibrations/"; pair "xacro PR2" "$pr2x"; pair "bag 1 GB --frames" "$w/big.mcap --frames")
-hyperfine -N -i --warmup 5 --runs 40 --export-json "$w/quick.json" "${quick[@]}" > /dev/null
-mapfile -t slow < <(pair "URDF 100k" "$w/chain.urdf --from l0 --to l99999"; pair "check 10k" "check $w/rigs";
-    pair "survey 10k" "survey $w/rigs"; printf '%s\n' -n "LAZ 1e6 read_xyz" "$BX $w/las/million.laz" -n "LAZ 1e6 read_xyz" "$AX $w/las/million.laz";
-    pair "degeneracy 1e6 PLY" "degeneracy $w/c1e6.ply"; pair "raw 1e6 normals" "degeneracy $w/raw1e6.ply --estimate-normals --voxel 0.1")
-hyperfine -N --warmup 2 --runs 15 --export-json "$w/slow.json" "${slow[@]}" > /dev/null
-python3 - "$w/quick.json" "$w/slow.json" <<'PY'
+# Each pair runs in ROUNDS hyperfine rounds (default 4), the order of its two
+# commands swapped from one round to the next, so that neither binary always
+# runs first, on a warmer cache or a cooler core; the table pools every run
+# of a command over the rounds (the runs column counts them).
+rounds=${ROUNDS:-4}
+pair() {
+    if [ $((r % 2)) -eq 0 ]; then
+        printf '%s\n' -n "$1 (before)" "$B $2" -n "$1 (after)" "$A $2"
+    else
+        printf '%s\n' -n "$1 (after)" "$A $2" -n "$1 (before)" "$B $2"
+    fi
+}
+bx() { # the LAZ read is an example program, not a subcommand
+    if [ $((r % 2)) -eq 0 ]; then
+        printf '%s\n' -n "LAZ 1e6 read_xyz (before)" "$BX $1" -n "LAZ 1e6 read_xyz (after)" "$AX $1"
+    else
+        printf '%s\n' -n "LAZ 1e6 read_xyz (after)" "$AX $1" -n "LAZ 1e6 read_xyz (before)" "$BX $1"
+    fi
+}
+for r in $(seq 1 "$rounds"); do
+    mapfile -t quick < <(pair anymal "$an"; pair pr2 "$pr2"; pair "survey calibrations/" "survey calibrations/";
+        pair "check calibrations/" "check calibrations/"; pair "xacro PR2" "$pr2x"; pair "bag 1 GB --frames" "$w/big.mcap --frames";
+        pair "degeneracy 1e6 PLY" "degeneracy $w/c1e6.ply")
+    hyperfine -N -i --warmup 5 --runs 40 --export-json "$w/quick$r.json" "${quick[@]}" > /dev/null
+    mapfile -t slow < <(pair "URDF 100k" "$w/chain.urdf --from l0 --to l99999"; pair "check 10k" "check $w/rigs";
+        pair "survey 10k" "survey $w/rigs"; bx "$w/las/million.laz";
+        pair "raw 1e6 normals" "degeneracy $w/raw1e6.ply --estimate-normals --voxel 0.1")
+    hyperfine -N --warmup 2 --runs 15 --export-json "$w/slow$r.json" "${slow[@]}" > /dev/null
+done
+python3 - "$w" "$rounds" <<'PY'
 import json, statistics, sys
-print("| command | before min / median / max | after min / median / max | median after / before |")
-print("|---|---|---|---:|")
-for f in sys.argv[1:]:
-    r = json.load(open(f))["results"]
-    for b, a in zip(r[::2], r[1::2]):
-        m = lambda x: "%.1f / %.1f / %.1f ms" % (min(x["times"]) * 1e3, statistics.median(x["times"]) * 1e3, max(x["times"]) * 1e3)
-        print(f"| {b['command']} | {m(b)} | {m(a)} | {statistics.median(a['times']) / statistics.median(b['times']):.2f} |")
+w, rounds = sys.argv[1], int(sys.argv[2])
+times, order = {}, []
+for group in ("quick", "slow"):
+    for r in range(1, rounds + 1):
+        for x in json.load(open(f"{w}/{group}{r}.json"))["results"]:
+            name, side = x["command"].rsplit(" (", 1)
+            if name not in times:
+                times[name] = {"before": [], "after": []}
+                order.append(name)
+            times[name][side.rstrip(")")] += x["times"]
+print("| command | before min / median / max | after min / median / max | runs each | median after / before |")
+print("|---|---|---|---:|---:|")
+m = lambda x: "%.1f / %.1f / %.1f ms" % (min(x) * 1e3, statistics.median(x) * 1e3, max(x) * 1e3)
+for name in order:
+    b, a = times[name]["before"], times[name]["after"]
+    print(f"| {name} | {m(b)} | {m(a)} | {len(a)} | {statistics.median(a) / statistics.median(b):.2f} |")
 PY
