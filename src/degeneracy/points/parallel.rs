@@ -1,8 +1,9 @@
-//! Files on disk: binary PLY and PCD large enough are split into block-aligned
-//! record ranges, each decoded on a scoped thread from its own file handle
-//! into its own accumulator; the block sums are then added in file order, so
-//! the result does not depend on the thread count. Everything else is decoded
-//! on this thread.
+//! Files on disk: binary PLY and PCD large enough are split into blocks,
+//! which scoped threads take one at a time from a shared counter, each block
+//! decoded from its own file handle into its own accumulator; the block sums
+//! are then added in file order, so the result does not depend on the thread
+//! count or on which thread took which block. Everything else is decoded on
+//! this thread.
 
 use super::binary::{decode_records, Layout, Run};
 use super::check::{Checker, Stats};
@@ -15,6 +16,7 @@ use crate::diagnostic::Result;
 use crate::progress::{Counted, Progress};
 use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Decode the file `path` (`len` bytes, open in `src`) into `acc`.
 pub(super) fn decode_file<R: Read>(
@@ -105,35 +107,22 @@ fn records(
     }
     let blocks = total.div_ceil(BLOCK);
     let threads = worker_count(0, blocks, total);
-    let per = blocks.div_ceil(threads.max(1)) * BLOCK;
+    // One block per work item, taken from a shared counter: a core that is
+    // busy elsewhere takes fewer blocks instead of holding up a fixed half
+    // of the file (the fixed halves made this run bimodal on a machine with
+    // any other load: BENCHMARKS.md, issue 24).
     let ranges: Vec<(usize, usize)> = (0..total)
-        .step_by(per.max(1))
-        .map(|a| (a, (a + per).min(total)))
+        .step_by(BLOCK)
+        .map(|a| (a, (a + BLOCK).min(total)))
         .collect();
     let kernel = acc.kernel();
     let work = |&(a, b): &(usize, usize)| {
         decode_range(path, start, layout, &run(a, b - a), (kernel, progress))
     };
-    let parts: Vec<Result<Part>> = if ranges.len() <= 1 {
+    let parts = if threads <= 1 {
         ranges.iter().map(work).collect()
     } else {
-        std::thread::scope(|s| {
-            let work = &work;
-            // A range whose thread cannot start (or that panics, a bug) is
-            // decoded here.
-            let handles: Vec<_> = ranges[1..]
-                .iter()
-                .map(|r| std::thread::Builder::new().spawn_scoped(s, move || work(r)))
-                .collect();
-            let mut out = vec![work(&ranges[0])];
-            for (h, r) in handles.into_iter().zip(&ranges[1..]) {
-                out.push(match h {
-                    Ok(h) => h.join().unwrap_or_else(|_| work(r)),
-                    Err(_) => work(r),
-                });
-            }
-            out
-        })
+        queued(&ranges, threads, &work)
     };
     let mut stats = Stats::default();
     for p in parts {
@@ -145,6 +134,42 @@ fn records(
         stats.merge(&p.stats);
     }
     Ok(stats)
+}
+
+/// `work` of every range, in order, on `threads` threads (this one among
+/// them) that take the next range from a shared counter. A range whose
+/// thread could not start or panicked (a bug) is decoded here afterwards.
+fn queued<W>(ranges: &[(usize, usize)], threads: usize, work: &W) -> Vec<Result<Part>>
+where
+    W: Fn(&(usize, usize)) -> Result<Part> + Sync,
+{
+    let next = AtomicUsize::new(0);
+    let drain = || {
+        let mut done = Vec::new();
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            let Some(r) = ranges.get(i) else { break done };
+            done.push((i, work(r)));
+        }
+    };
+    let mut out: Vec<Option<Result<Part>>> = ranges.iter().map(|_| None).collect();
+    std::thread::scope(|s| {
+        let drain = &drain;
+        let handles: Vec<_> = (1..threads)
+            .map(|_| std::thread::Builder::new().spawn_scoped(s, drain))
+            .collect();
+        let mut all = drain();
+        for h in handles.into_iter().flatten() {
+            all.extend(h.join().unwrap_or_default());
+        }
+        for (i, part) in all {
+            out[i] = Some(part);
+        }
+    });
+    out.into_iter()
+        .zip(ranges)
+        .map(|(part, r)| part.unwrap_or_else(|| work(r)))
+        .collect()
 }
 
 /// What one range gave: its block sums in order, its point count, its stats.
