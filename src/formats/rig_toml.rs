@@ -41,7 +41,7 @@
 //! and what was found. The parser never panics on any input.
 
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::formats::source::line_col;
+use crate::formats::source::{line_col, LineIndex};
 use crate::formats::spec::{FormatSpec, Includes, LoadOptions, Parsed, RigMeta};
 use crate::frames::{Edge, Provenance, ValuesAt};
 use crate::geometry::se3::{QuatOrder, Transform};
@@ -50,7 +50,9 @@ use crate::geometry::{EdgePrecision, UserSigma};
 use crate::tolerances::{MAX_SIGMA_R_DEG, MAX_SIGMA_T_M};
 use serde::Deserialize;
 use std::collections::BTreeSet;
+use std::ops::Range;
 use std::path::{Component, Path, PathBuf};
+use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
 /// Values `[rig] category` may take.
@@ -173,8 +175,65 @@ struct IncludeDef {
     note: Option<String>,
 }
 
-fn loc_of(text: &str, path: &Path, offset: usize) -> Location {
-    let (l, c) = line_col(text, offset);
+/// The numbers of a `[[transform]]` and how they are read: all an edge is
+/// built from, copied for each step of its rounding's derivative (no
+/// strings: cloning the whole definition per step was a cost of its own).
+#[derive(Debug, Clone, Copy)]
+struct Numbers {
+    unit: Unit,
+    invert: bool,
+    translation: Option<[f64; 3]>,
+    rotation_matrix: Option<[[f64; 3]; 3]>,
+    quaternion_xyzw: Option<[f64; 4]>,
+    quaternion_wxyz: Option<[f64; 4]>,
+    rpy: Option<[f64; 3]>,
+    ypr: Option<[f64; 3]>,
+    axis_angle: Option<([f64; 3], f64)>,
+    matrix4: Option<[[f64; 4]; 4]>,
+    matrix3x4: Option<[[f64; 4]; 3]>,
+}
+
+impl Numbers {
+    fn of(def: &TransformDef) -> Self {
+        Numbers {
+            unit: def.unit,
+            invert: def.invert,
+            translation: def.translation,
+            rotation_matrix: def.rotation_matrix,
+            quaternion_xyzw: def.quaternion_xyzw,
+            quaternion_wxyz: def.quaternion_wxyz,
+            rpy: def.rpy,
+            ypr: def.ypr,
+            axis_angle: def.axis_angle.as_ref().map(|a| (a.axis, a.angle)),
+            matrix4: def.matrix4,
+            matrix3x4: def.matrix3x4,
+        }
+    }
+
+    /// The rotation form's numbers as tuples, in [`LiteralSpans::rotation_tuples`]'s
+    /// order (one per form; axis-angle two).
+    fn rotation_tuples(&self) -> Vec<Vec<f64>> {
+        if let Some((axis, angle)) = self.axis_angle {
+            return vec![axis.to_vec(), vec![angle]];
+        }
+        [
+            self.rotation_matrix.as_ref().map(|m| m.as_flattened()),
+            self.quaternion_xyzw.as_ref().map(|q| &q[..]),
+            self.quaternion_wxyz.as_ref().map(|q| &q[..]),
+            self.rpy.as_ref().map(|q| &q[..]),
+            self.ypr.as_ref().map(|q| &q[..]),
+            self.matrix4.as_ref().map(|m| m.as_flattened()),
+            self.matrix3x4.as_ref().map(|m| m.as_flattened()),
+        ]
+        .into_iter()
+        .flatten()
+        .map(<[f64]>::to_vec)
+        .collect()
+    }
+}
+
+fn loc_of(lines: &LineIndex, path: &Path, offset: usize) -> Location {
+    let (l, c) = lines.pos(offset);
     Location::at(path, l, Some(c))
 }
 
@@ -194,10 +253,15 @@ fn read(
     includes: Option<&dyn Includes>,
 ) -> Result<Parsed> {
     // Parsed once: the typed file and the numbers' spans are both read from
-    // the one document (lexing and parsing are most of a rig file's cost).
-    let doc = toml::de::DeTable::parse(text);
+    // the one document (lexing and parsing are most of a rig file's cost);
+    // the spans by reference, before the typed reading consumes it.
+    let doc = DeTable::parse(text);
+    let literals: Vec<LiteralSpans> = doc
+        .as_ref()
+        .ok()
+        .and_then(|d| literal_spans(d.get_ref()))
+        .unwrap_or_default();
     let file: RigFile = doc
-        .clone()
         .and_then(|d| RigFile::deserialize(toml::de::Deserializer::from(d)))
         .map_err(|e| {
             let mut err = Error::parse(format!("rig TOML: {}", e.message().trim_end()));
@@ -220,15 +284,13 @@ fn read(
         );
     }
 
-    let rig_loc = loc_of(text, path, file.rig.span().start);
+    // Every location of a file from one index of its lines (a lookup from
+    // the start of the text each was a twentieth of a check, issue 29).
+    let lines = LineIndex::new(text);
+    let rig_loc = loc_of(&lines, path, file.rig.span().start);
     let rig = file.rig.into_inner();
     let user = user_sigma(&rig, &rig_loc)?;
     let meta = check_rig(rig, &rig_loc)?;
-    // The same file again, each number with its span: the digits as written.
-    let literals: Vec<LiteralSpans> = doc
-        .and_then(|d| RawFile::deserialize(toml::de::Deserializer::from(d)))
-        .map(|f| f.transform)
-        .unwrap_or_default();
 
     if file.transform.is_empty() && file.include.is_empty() {
         return Err(Error::parse(
@@ -239,16 +301,16 @@ fn read(
 
     let mut edges = Vec::new();
     for (i, spanned) in file.transform.into_iter().enumerate() {
-        let loc = loc_of(text, path, spanned.span().start);
+        let loc = loc_of(&lines, path, spanned.span().start);
         let def = spanned.into_inner();
         let mut w = Vec::new();
         let precision = literals
             .get(i)
-            .map(|l| precision_of(i + 1, &def, l, text))
+            .map(|l| precision_of(i + 1, &Numbers::of(&def), l, text))
             .unwrap_or_default();
         let values = literals
             .get(i)
-            .map(|l| l.values_at(text))
+            .map(|l| l.values_at(&lines))
             .unwrap_or_default();
         let edge = build_edge(i + 1, def, &loc, &mut w)
             .map_err(|e| e.at(&loc))?
@@ -259,7 +321,7 @@ fn read(
     }
 
     for spanned in file.include {
-        let loc = loc_of(text, path, spanned.span().start);
+        let loc = loc_of(&lines, path, spanned.span().start);
         let inc = spanned.into_inner();
         let loaded = load_include(&inc, path, includes, &loc)?;
         warnings.extend(loaded.warnings);
@@ -402,7 +464,7 @@ fn build_edge(
     };
     check_finite(index, "translation", &d)?;
 
-    let t = rotation(index, &def, d, warnings)?;
+    let t = rotation(index, &Numbers::of(&def), d, Some(warnings))?;
     let t = match def.unit {
         Unit::M => t,
         Unit::Mm => t.scaled_translation(1e-3),
@@ -471,15 +533,23 @@ fn rotation_form(index: usize, def: &TransformDef) -> Result<&'static str> {
     }
 }
 
-/// The transform from the one rotation form given and translation `d`.
+/// The transform from the one rotation form given and translation `d`;
+/// `warnings: None` for a derivative's step, whose warnings nobody reads
+/// (the matrix forms then skip formatting them).
 fn rotation(
     index: usize,
-    def: &TransformDef,
+    def: &Numbers,
     d: [f64; 3],
-    warnings: &mut Vec<Warning>,
+    warnings: Option<&mut Vec<Warning>>,
 ) -> Result<Transform> {
+    let mut dropped = Vec::new();
+    let quiet = warnings.is_none();
+    let warnings = warnings.unwrap_or(&mut dropped);
     if let Some(r) = def.rotation_matrix {
         check_finite(index, "rotation_matrix", r.as_flattened())?;
+        if quiet {
+            return Transform::from_matrix3_quiet(r, d);
+        }
         Transform::from_matrix3(r, d, warnings)
     } else if let Some(q) = def.quaternion_xyzw {
         check_finite(index, "quaternion_xyzw", &q)?;
@@ -493,12 +563,15 @@ fn rotation(
     } else if let Some(a) = def.ypr {
         check_finite(index, "ypr", &a)?;
         Transform::from_ypr(a, d)
-    } else if let Some(aa) = &def.axis_angle {
-        check_finite(index, "axis_angle.axis", &aa.axis)?;
-        check_finite(index, "axis_angle.angle", &[aa.angle])?;
-        Transform::from_axis_angle(aa.axis, aa.angle, d)
+    } else if let Some((axis, angle)) = def.axis_angle {
+        check_finite(index, "axis_angle.axis", &axis)?;
+        check_finite(index, "axis_angle.angle", &[angle])?;
+        Transform::from_axis_angle(axis, angle, d)
     } else if let Some(m) = def.matrix4 {
         check_finite(index, "matrix4", m.as_flattened())?;
+        if quiet {
+            return Transform::from_matrix4_quiet(m);
+        }
         Transform::from_matrix4(m, warnings)
     } else if let Some(m) = def.matrix3x4 {
         check_finite(index, "matrix3x4", m.as_flattened())?;
@@ -507,7 +580,11 @@ fn rotation(
             [m[1][0], m[1][1], m[1][2]],
             [m[2][0], m[2][1], m[2][2]],
         ];
-        Transform::from_matrix3(r, [m[0][3], m[1][3], m[2][3]], warnings)
+        let d = [m[0][3], m[1][3], m[2][3]];
+        if quiet {
+            return Transform::from_matrix3_quiet(r, d);
+        }
+        Transform::from_matrix3(r, d, warnings)
     } else {
         // Unreachable: exactly one form was found above.
         Err(Error::new(
@@ -635,49 +712,94 @@ fn user_sigma(rig: &RigTable, loc: &Location) -> Result<Option<UserSigma>> {
     }))
 }
 
-/// The numbers of a rig file with their spans (a second, lenient reading).
-#[derive(Debug, Default, Deserialize)]
-struct RawFile {
-    #[serde(default)]
-    transform: Vec<LiteralSpans>,
-}
-
-type Lits = Vec<Spanned<f64>>;
-
-/// The spans of one `[[transform]]`'s numbers.
-#[derive(Debug, Default, Deserialize)]
+/// Where one `[[transform]]`'s numbers are written (byte spans), read
+/// from the parsed document by reference: the same tables and arrays the
+/// typed reading takes the numbers from, so that each number has its digits.
+#[derive(Debug, Default)]
 struct LiteralSpans {
-    #[serde(default)]
-    translation: Option<Lits>,
-    #[serde(default)]
-    rotation_matrix: Option<Vec<Lits>>,
-    #[serde(default)]
-    quaternion_xyzw: Option<Lits>,
-    #[serde(default)]
-    quaternion_wxyz: Option<Lits>,
-    #[serde(default)]
-    rpy: Option<Lits>,
-    #[serde(default)]
-    ypr: Option<Lits>,
-    #[serde(default)]
-    axis_angle: Option<AxisAngleSpans>,
-    #[serde(default)]
-    matrix4: Option<Vec<Lits>>,
-    #[serde(default)]
-    matrix3x4: Option<Vec<Lits>>,
+    translation: Option<Vec<Range<usize>>>,
+    rotation_matrix: Option<Vec<Range<usize>>>,
+    quaternion_xyzw: Option<Vec<Range<usize>>>,
+    quaternion_wxyz: Option<Vec<Range<usize>>>,
+    rpy: Option<Vec<Range<usize>>>,
+    ypr: Option<Vec<Range<usize>>>,
+    /// The axis's three, then the angle.
+    axis_angle: Option<(Vec<Range<usize>>, Range<usize>)>,
+    matrix4: Option<Vec<Range<usize>>>,
+    matrix3x4: Option<Vec<Range<usize>>>,
 }
 
-#[derive(Debug, Deserialize)]
-struct AxisAngleSpans {
-    axis: Lits,
-    angle: Spanned<f64>,
+/// The spans of every `[[transform]]`'s numbers, in order; `None` when a
+/// field the spans are read from is not a number or an array of them (then
+/// the typed reading refuses the file too). Rows of a matrix are flattened.
+fn literal_spans(doc: &DeTable) -> Option<Vec<LiteralSpans>> {
+    let Some(list) = doc.get("transform") else {
+        return Some(Vec::new());
+    };
+    let DeValue::Array(list) = list.get_ref() else {
+        return None;
+    };
+    list.iter()
+        .map(|t| match t.get_ref() {
+            DeValue::Table(t) => transform_spans(t),
+            _ => None,
+        })
+        .collect()
+}
+
+fn transform_spans(t: &DeTable) -> Option<LiteralSpans> {
+    fn number(v: &Spanned<DeValue>) -> Option<Range<usize>> {
+        matches!(v.get_ref(), DeValue::Integer(_) | DeValue::Float(_)).then(|| v.span())
+    }
+    // Numbers, or (`depth` 2) arrays of numbers, flattened.
+    fn numbers(v: &Spanned<DeValue>, depth: usize, out: &mut Vec<Range<usize>>) -> Option<()> {
+        let DeValue::Array(a) = v.get_ref() else {
+            return None;
+        };
+        for x in a.iter() {
+            if depth > 1 {
+                numbers(x, depth - 1, out)?;
+            } else {
+                out.push(number(x)?);
+            }
+        }
+        Some(())
+    }
+    let field = |name: &str, depth: usize| -> Option<Option<Vec<Range<usize>>>> {
+        let Some(v) = t.get(name) else {
+            return Some(None);
+        };
+        let mut out = Vec::new();
+        numbers(v, depth, &mut out)?;
+        Some(Some(out))
+    };
+    let axis_angle = match t.get("axis_angle").map(|v| v.get_ref()) {
+        None => None,
+        Some(DeValue::Table(aa)) => {
+            let mut axis = Vec::new();
+            numbers(aa.get("axis")?, 1, &mut axis)?;
+            Some((axis, number(aa.get("angle")?)?))
+        }
+        Some(_) => return None,
+    };
+    Some(LiteralSpans {
+        translation: field("translation", 1)?,
+        rotation_matrix: field("rotation_matrix", 2)?,
+        quaternion_xyzw: field("quaternion_xyzw", 1)?,
+        quaternion_wxyz: field("quaternion_wxyz", 1)?,
+        rpy: field("rpy", 1)?,
+        ypr: field("ypr", 1)?,
+        axis_angle,
+        matrix4: field("matrix4", 2)?,
+        matrix3x4: field("matrix3x4", 2)?,
+    })
 }
 
 impl LiteralSpans {
     /// Where the translation's and the rotation's first numbers are written
     /// (a 4x4 or 3x4 matrix holds both: its first number for each).
-    fn values_at(&self, text: &str) -> ValuesAt {
-        let at = |s: &Spanned<f64>| line_col(text, s.span().start);
+    fn values_at(&self, lines: &LineIndex) -> ValuesAt {
+        let at = |s: &Range<usize>| lines.pos(s.start);
         let rotation = self
             .rotation_tuples()
             .first()
@@ -694,43 +816,38 @@ impl LiteralSpans {
     }
 
     /// The rotation form's numbers as tuples (one per form; axis-angle two).
-    fn rotation_tuples(&self) -> Vec<Vec<&Spanned<f64>>> {
-        fn flat(m: &Option<Vec<Lits>>) -> Option<Vec<&Spanned<f64>>> {
-            m.as_ref().map(|m| m.iter().flatten().collect())
-        }
-        fn one(v: &Option<Lits>) -> Option<Vec<&Spanned<f64>>> {
-            v.as_ref().map(|v| v.iter().collect())
-        }
-        if let Some(aa) = &self.axis_angle {
-            return vec![aa.axis.iter().collect(), vec![&aa.angle]];
+    fn rotation_tuples(&self) -> Vec<&[Range<usize>]> {
+        if let Some((axis, angle)) = &self.axis_angle {
+            return vec![axis, std::slice::from_ref(angle)];
         }
         [
-            flat(&self.rotation_matrix),
-            one(&self.quaternion_xyzw),
-            one(&self.quaternion_wxyz),
-            one(&self.rpy),
-            one(&self.ypr),
-            flat(&self.matrix4),
-            flat(&self.matrix3x4),
+            &self.rotation_matrix,
+            &self.quaternion_xyzw,
+            &self.quaternion_wxyz,
+            &self.rpy,
+            &self.ypr,
+            &self.matrix4,
+            &self.matrix3x4,
         ]
         .into_iter()
         .flatten()
+        .map(Vec::as_slice)
         .collect()
     }
 }
 
 /// `def` with its numbers replaced by `p`: translation first (when separate),
 /// then the rotation form's numbers in the order written.
-fn with_params(def: &TransformDef, p: &[f64]) -> TransformDef {
-    let mut d = def.clone();
+fn with_params(def: &Numbers, p: &[f64]) -> Numbers {
+    let mut d = *def;
     let mut it = p.iter().copied();
     let mut next = || it.next().unwrap_or(0.0);
     if let Some(t) = &mut d.translation {
         t.iter_mut().for_each(|x| *x = next());
     }
-    if let Some(aa) = &mut d.axis_angle {
-        aa.axis.iter_mut().for_each(|x| *x = next());
-        aa.angle = next();
+    if let Some((axis, angle)) = &mut d.axis_angle {
+        axis.iter_mut().for_each(|x| *x = next());
+        *angle = next();
     }
     let fields = [
         d.rotation_matrix.as_mut().map(|m| m.as_flattened_mut()),
@@ -750,34 +867,32 @@ fn with_params(def: &TransformDef, p: &[f64]) -> TransformDef {
 /// The rounding of one `[[transform]]`'s numbers as written, propagated
 /// through the same construction as the edge (unit, inversion); `default`
 /// (none recorded) when the spans do not match the numbers.
-fn precision_of(
-    index: usize,
-    def: &TransformDef,
-    lits: &LiteralSpans,
-    text: &str,
-) -> EdgePrecision {
-    let mut tuples: Vec<Vec<&Spanned<f64>>> = Vec::new();
-    if def.translation.is_some() {
-        tuples.push(lits.translation.iter().flatten().collect());
+fn precision_of(index: usize, def: &Numbers, lits: &LiteralSpans, text: &str) -> EdgePrecision {
+    let mut spans: Vec<&[Range<usize>]> = Vec::new();
+    let mut values: Vec<Vec<f64>> = Vec::new();
+    if let Some(t) = def.translation {
+        spans.push(lits.translation.as_deref().unwrap_or_default());
+        values.push(t.to_vec());
     }
-    tuples.extend(lits.rotation_tuples());
+    spans.extend(lits.rotation_tuples());
+    values.extend(def.rotation_tuples());
+    let matched =
+        spans.len() == values.len() && spans.iter().zip(&values).all(|(s, v)| s.len() == v.len());
+    if !matched {
+        return EdgePrecision::default();
+    }
     let (mut params, mut halves) = (Vec::new(), Vec::new());
-    for tuple in &tuples {
+    for (tuple, numbers) in spans.iter().zip(values) {
         let texts: Vec<&str> = tuple
             .iter()
-            .map(|s| text.get(s.span()).unwrap_or("").trim_start_matches('+'))
+            .map(|s| text.get(s.clone()).unwrap_or("").trim_start_matches('+'))
             .collect();
         halves.extend(tuple_half_units(&texts));
-        params.extend(tuple.iter().map(|s| *s.get_ref()));
+        params.extend(numbers);
     }
     let build = |p: &[f64]| {
         let d = with_params(def, p);
-        let t = rotation(
-            index,
-            &d,
-            d.translation.unwrap_or([0.0; 3]),
-            &mut Vec::new(),
-        )?;
+        let t = rotation(index, &d, d.translation.unwrap_or([0.0; 3]), None)?;
         let t = match d.unit {
             Unit::M => t,
             Unit::Mm => t.scaled_translation(1e-3),
