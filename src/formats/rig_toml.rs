@@ -43,6 +43,7 @@
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::source::{line_col, LineIndex};
 use crate::formats::spec::{FormatSpec, Includes, LoadOptions, Parsed, RigMeta};
+use crate::formats::toml_subset::{self, Header, Table, Value};
 use crate::frames::{Edge, Provenance, ValuesAt};
 use crate::geometry::se3::{QuatOrder, Transform};
 use crate::geometry::uncertainty::{rounding_covariance, tuple_half_units};
@@ -252,26 +253,12 @@ fn read(
     opts: &LoadOptions,
     includes: Option<&dyn Includes>,
 ) -> Result<Parsed> {
-    // Parsed once: the typed file and the numbers' spans are both read from
-    // the one document (lexing and parsing are most of a rig file's cost);
-    // the spans by reference, before the typed reading consumes it.
-    let doc = DeTable::parse(text);
-    let literals: Vec<LiteralSpans> = doc
-        .as_ref()
-        .ok()
-        .and_then(|d| literal_spans(d.get_ref()))
-        .unwrap_or_default();
-    let file: RigFile = doc
-        .and_then(|d| RigFile::deserialize(toml::de::Deserializer::from(d)))
-        .map_err(|e| {
-            let mut err = Error::parse(format!("rig TOML: {}", e.message().trim_end()));
-            err = err.in_file(path);
-            if let Some(span) = e.span() {
-                let (l, c) = line_col(text, span.start);
-                err = err.at_line(l, Some(c));
-            }
-            err
-        })?;
+    // The plain TOML rig files are written in is read by the subset reader;
+    // anything else (and every error) by the toml crate.
+    let (file, literals) = match read_subset(text) {
+        Some(read) => read,
+        None => read_toml(text, path)?,
+    };
 
     let mut warnings = Vec::new();
     if opts.invert || opts.key.is_some() {
@@ -353,6 +340,271 @@ fn read(
         warnings,
         rig: Some(meta),
         ..Parsed::default()
+    })
+}
+
+/// The typed file and its numbers' spans, by the toml crate.
+fn read_toml(text: &str, path: &Path) -> Result<(RigFile, Vec<LiteralSpans>)> {
+    // Parsed once: the typed file and the numbers' spans are both read from
+    // the one document (lexing and parsing are most of a rig file's cost);
+    // the spans by reference, before the typed reading consumes it.
+    let doc = DeTable::parse(text);
+    let literals: Vec<LiteralSpans> = doc
+        .as_ref()
+        .ok()
+        .and_then(|d| literal_spans(d.get_ref()))
+        .unwrap_or_default();
+    let file: RigFile = doc
+        .and_then(|d| RigFile::deserialize(toml::de::Deserializer::from(d)))
+        .map_err(|e| {
+            let mut err = Error::parse(format!("rig TOML: {}", e.message().trim_end()));
+            err = err.in_file(path);
+            if let Some(span) = e.span() {
+                let (l, c) = line_col(text, span.start);
+                err = err.at_line(l, Some(c));
+            }
+            err
+        })?;
+    Ok((file, literals))
+}
+
+/// The typed file and its numbers' spans by the subset reader
+/// (`toml_subset`): `None` when the text is not in the subset or does not
+/// make a rig file as [`read_toml`] types it (which then reads it and says
+/// why). Spans as the toml crate gives them: a table's is its header's.
+fn read_subset(text: &str) -> Option<(RigFile, Vec<LiteralSpans>)> {
+    let tables = toml_subset::parse(text)?;
+    let (mut rig, mut source) = (None, None);
+    let (mut transform, mut include, mut literals) = (Vec::new(), Vec::new(), Vec::new());
+    for t in &tables {
+        match t.header {
+            Header::Root if t.entries.is_empty() => {}
+            Header::Rig if rig.is_none() => rig = Some(t),
+            Header::RigSource if source.is_none() && rig.is_some() => source = Some(t),
+            Header::Transform => {
+                let (def, lits) = subset_transform(t)?;
+                transform.push(Spanned::new(t.span.clone(), def));
+                literals.push(lits);
+            }
+            Header::Include => include.push(Spanned::new(t.span.clone(), subset_include(t)?)),
+            _ => return None,
+        }
+    }
+    let rig = rig?;
+    let table = subset_rig(rig, source?)?;
+    let file = RigFile {
+        rig: Spanned::new(rig.span.clone(), table),
+        transform,
+        include,
+    };
+    Some((file, literals))
+}
+
+fn subset_text(v: &Value) -> Option<String> {
+    match v {
+        Value::Str(s) => Some(s.to_string()),
+        _ => None,
+    }
+}
+
+fn subset_flag(v: &Value) -> Option<bool> {
+    match v {
+        Value::Bool(b) => Some(*b),
+        _ => None,
+    }
+}
+
+fn subset_number(v: &Value) -> Option<f64> {
+    match v {
+        Value::Num(x, _) => Some(*x),
+        _ => None,
+    }
+}
+
+/// `N` numbers, their spans appended to `spans`.
+fn subset_numbers<const N: usize>(v: &Value, spans: &mut Vec<Range<usize>>) -> Option<[f64; N]> {
+    let Value::Array(xs) = v else {
+        return None;
+    };
+    if xs.len() != N {
+        return None;
+    }
+    let mut out = [0.0; N];
+    for (o, x) in out.iter_mut().zip(xs) {
+        let Value::Num(n, span) = x else {
+            return None;
+        };
+        *o = *n;
+        spans.push(span.clone());
+    }
+    Some(out)
+}
+
+/// `R` rows of `C` numbers, into `slot` with their spans (row after row).
+fn subset_rows<const R: usize, const C: usize>(
+    v: &Value,
+    slot: &mut Option<Vec<Range<usize>>>,
+) -> Option<[[f64; C]; R]> {
+    let Value::Array(rows) = v else {
+        return None;
+    };
+    if rows.len() != R {
+        return None;
+    }
+    let spans = slot.insert(Vec::new());
+    let mut out = [[0.0; C]; R];
+    for (o, row) in out.iter_mut().zip(rows) {
+        *o = subset_numbers::<C>(row, spans)?;
+    }
+    Some(out)
+}
+
+/// `N` numbers into `slot` with their spans.
+fn subset_tuple<const N: usize>(
+    v: &Value,
+    slot: &mut Option<Vec<Range<usize>>>,
+) -> Option<[f64; N]> {
+    subset_numbers::<N>(v, slot.insert(Vec::new()))
+}
+
+fn subset_rig(rig: &Table, source: &Table) -> Option<RigTable> {
+    const TEXTS: [&str; 11] = [
+        "id",
+        "sensor",
+        "platform",
+        "dataset",
+        "category",
+        "licence",
+        "direction",
+        "from",
+        "to",
+        "notes",
+        "duplicate_of",
+    ];
+    let mut s: [Option<String>; 11] = Default::default();
+    let (mut placeholder, mut sigma_t_m, mut sigma_r_deg) = (None, None, None);
+    // A key appears once per table (the subset reader refuses a second).
+    for (k, v) in &rig.entries {
+        if let Some(i) = TEXTS.iter().position(|n| n == k) {
+            s[i] = Some(subset_text(v)?);
+            continue;
+        }
+        match *k {
+            "placeholder" => placeholder = Some(subset_flag(v)?),
+            "sigma_t_m" => sigma_t_m = Some(subset_number(v)?),
+            "sigma_r_deg" => sigma_r_deg = Some(subset_number(v)?),
+            _ => return None,
+        }
+    }
+    let mut src: [Option<String>; 4] = Default::default();
+    for (k, v) in &source.entries {
+        let i = ["repo", "path", "commit", "url"]
+            .iter()
+            .position(|n| n == k)?;
+        src[i] = Some(subset_text(v)?);
+    }
+    let [id, sensor, platform, dataset, category, licence, direction, from, to, notes, duplicate_of] =
+        s;
+    let [repo, path, commit, url] = src;
+    Some(RigTable {
+        id: id?,
+        sensor: sensor?,
+        platform: platform?,
+        dataset: dataset?,
+        category: category?,
+        licence: licence?,
+        direction: direction?,
+        placeholder: placeholder.unwrap_or(false),
+        notes,
+        from: from?,
+        to: to?,
+        duplicate_of,
+        sigma_t_m,
+        sigma_r_deg,
+        source: SourceTable {
+            repo: repo?,
+            path: path?,
+            commit: commit?,
+            url,
+        },
+    })
+}
+
+fn subset_transform(t: &Table) -> Option<(TransformDef, LiteralSpans)> {
+    let mut l = LiteralSpans::default();
+    let mut d = TransformDef {
+        parent: String::new(),
+        child: String::new(),
+        unit: Unit::M,
+        translation: None,
+        rotation_matrix: None,
+        quaternion_xyzw: None,
+        quaternion_wxyz: None,
+        rpy: None,
+        ypr: None,
+        axis_angle: None,
+        matrix4: None,
+        matrix3x4: None,
+        invert: false,
+        source_key: String::new(),
+        note: None,
+    };
+    let (mut parent, mut child, mut unit, mut source_key) = (None, None, None, None);
+    for (k, v) in &t.entries {
+        match *k {
+            "parent" => parent = Some(subset_text(v)?),
+            "child" => child = Some(subset_text(v)?),
+            "unit" => {
+                unit = Some(match v {
+                    Value::Str(s) if s == "m" => Unit::M,
+                    Value::Str(s) if s == "mm" => Unit::Mm,
+                    _ => return None,
+                })
+            }
+            "translation" => d.translation = Some(subset_tuple::<3>(v, &mut l.translation)?),
+            "rotation_matrix" => {
+                d.rotation_matrix = Some(subset_rows::<3, 3>(v, &mut l.rotation_matrix)?)
+            }
+            "quaternion_xyzw" => {
+                d.quaternion_xyzw = Some(subset_tuple::<4>(v, &mut l.quaternion_xyzw)?)
+            }
+            "quaternion_wxyz" => {
+                d.quaternion_wxyz = Some(subset_tuple::<4>(v, &mut l.quaternion_wxyz)?)
+            }
+            "rpy" => d.rpy = Some(subset_tuple::<3>(v, &mut l.rpy)?),
+            "ypr" => d.ypr = Some(subset_tuple::<3>(v, &mut l.ypr)?),
+            "matrix4" => d.matrix4 = Some(subset_rows::<4, 4>(v, &mut l.matrix4)?),
+            "matrix3x4" => d.matrix3x4 = Some(subset_rows::<3, 4>(v, &mut l.matrix3x4)?),
+            "invert" => d.invert = subset_flag(v)?,
+            "source_key" => source_key = Some(subset_text(v)?),
+            "note" => d.note = Some(subset_text(v)?),
+            // `axis_angle` is an inline table: not in the subset.
+            _ => return None,
+        }
+    }
+    d.parent = parent?;
+    d.child = child?;
+    d.unit = unit?;
+    d.source_key = source_key?;
+    Some((d, l))
+}
+
+fn subset_include(t: &Table) -> Option<IncludeDef> {
+    let (mut file, mut key, mut invert, mut note) = (None, None, false, None);
+    for (k, v) in &t.entries {
+        match *k {
+            "file" => file = Some(subset_text(v)?),
+            "key" => key = Some(subset_text(v)?),
+            "invert" => invert = subset_flag(v)?,
+            "note" => note = Some(subset_text(v)?),
+            _ => return None,
+        }
+    }
+    Some(IncludeDef {
+        file: file?,
+        key,
+        invert,
+        note,
     })
 }
 
@@ -677,6 +929,122 @@ mod tests {
         assert_eq!(line_col(t, 7).0, 3);
     }
 
+    /// Whether the subset reader took `t`; when it did, it read what the
+    /// toml crate reads (typed file and spans, compared by their Debug text,
+    /// which tells -0.0 from 0.0).
+    fn same_as_toml(t: &str) -> bool {
+        let Some(got) = read_subset(t) else {
+            return false;
+        };
+        match read_toml(t, Path::new("x.toml")) {
+            Ok(want) => assert_eq!(format!("{got:?}"), format!("{want:?}"), "{t}"),
+            Err(e) => panic!("the subset reader took what the toml crate refuses ({e}):\n{t}"),
+        }
+        true
+    }
+
+    fn shipped_rigs() -> Vec<String> {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("calibrations");
+        let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+            .collect();
+        paths.sort();
+        paths
+            .iter()
+            .map(|p| std::fs::read_to_string(p).unwrap())
+            .collect()
+    }
+
+    #[test]
+    fn the_subset_reader_reads_the_shipped_rigs_as_the_toml_crate() {
+        let rigs = shipped_rigs();
+        let mut taken = 0;
+        for t in &rigs {
+            let variants = [
+                t.clone(),
+                t.replace('\n', "\r\n"),
+                t.replace(" = ", "\t=\t").replace('\n', " # end\n"),
+                t.replace("[\n", "[ # open\n\n").replace("],\n]", "]\n]"),
+                t.replace(" 0.", " +0.")
+                    .replace("[1, ", "[1e0, ")
+                    .replace(", 1]", ", 1E+0]")
+                    .replace(", 0", ", -0"),
+            ];
+            for (k, v) in variants.iter().enumerate() {
+                let took = same_as_toml(v);
+                assert!(took, "variant {k} not taken:\n{v}");
+                taken += usize::from(took);
+            }
+        }
+        // Every shipped rig is in the subset (none has an inline table or a
+        // multi-line string), in each variant.
+        assert_eq!(taken, rigs.len() * 5);
+    }
+
+    #[test]
+    fn the_subset_reader_takes_no_edit_the_toml_crate_reads_otherwise() {
+        // Single edits of the shipped rigs at pseudo-random places, with the
+        // characters TOML turns on: each either left to the toml crate or
+        // read exactly as it reads it.
+        const EDITS: [&str; 24] = [
+            "\"",
+            "\\",
+            "[",
+            "]",
+            ",",
+            "=",
+            "#",
+            "\n",
+            " ",
+            "0",
+            ".",
+            "e",
+            "-",
+            "+",
+            "_",
+            "'",
+            "{",
+            "t",
+            "\r",
+            "\u{1}",
+            "1",
+            "x = 1\n",
+            "[rig]\n",
+            "[[transform]]\n",
+        ];
+        let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = |n: usize| {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 33) as usize % n.max(1)
+        };
+        let (mut taken, mut tried) = (0, 0);
+        for t in shipped_rigs() {
+            for _ in 0..150 {
+                let mut at = next(t.len());
+                while !t.is_char_boundary(at) {
+                    at -= 1;
+                }
+                let mut v = t.clone();
+                match next(3) {
+                    0 => {
+                        let end = t[at..].chars().next().map_or(at, |c| at + c.len_utf8());
+                        v.replace_range(at..end, "");
+                    }
+                    _ => v.insert_str(at, EDITS[next(EDITS.len())]),
+                }
+                taken += usize::from(same_as_toml(&v));
+                tried += 1;
+            }
+        }
+        // Some edits keep the file in the subset (a digit, a space): those
+        // are the ones compared.
+        assert!(taken > tried / 10, "{taken} of {tried}");
+    }
+
     #[test]
     fn include_paths_stay_beside_the_rig() {
         let loc = Location::default();
@@ -803,7 +1171,7 @@ impl LiteralSpans {
         let rotation = self
             .rotation_tuples()
             .first()
-            .and_then(|t| t.first().map(|s| at(s)));
+            .and_then(|t| t.first().map(at));
         let translation = self
             .translation
             .as_ref()

@@ -144,7 +144,7 @@ where
                 }
                 let end = (start + batch).min(items.len());
                 let mut done = Vec::with_capacity(end - start);
-                for i in start..end {
+                for (i, item) in items.iter().enumerate().take(end).skip(start) {
                     if i >= shared.due.load(Ordering::Acquire) + WINDOW && !done.is_empty() {
                         // About to wait: what is done goes first (the result
                         // due may be among it).
@@ -157,7 +157,7 @@ where
                     if !shared.may_start(i) {
                         return;
                     }
-                    done.push(work(i, &items[i]));
+                    done.push(work(i, item));
                 }
                 let first = end - done.len();
                 if tx.send((first, done)).is_err() {
