@@ -85,7 +85,7 @@ pub(crate) fn parse(text: &str) -> Option<Vec<Table<'_>>> {
                 tables.push(Table {
                     header: *kind,
                     span: start..start + h.len(),
-                    entries: Vec::new(),
+                    entries: Vec::with_capacity(16),
                 });
             }
             _ => {
@@ -103,6 +103,12 @@ pub(crate) fn parse(text: &str) -> Option<Vec<Table<'_>>> {
             }
         }
     }
+}
+
+/// Whether `b` holds a control character TOML refuses in a string or a
+/// comment (all but tab).
+fn has_control(b: &[u8]) -> bool {
+    b.iter().any(|&c| (c < 0x20 && c != b'\t') || c == 0x7f)
 }
 
 struct Cur<'a> {
@@ -131,15 +137,12 @@ impl<'a> Cur<'a> {
     fn line_end(&mut self) -> Option<()> {
         self.blank();
         if self.peek() == Some(b'#') {
-            while let Some(ch) = self.peek() {
-                if ch == b'\n' || ch == b'\r' {
-                    break;
-                }
-                if (ch < 0x20 && ch != b'\t') || ch == 0x7f {
-                    return None;
-                }
-                self.i += 1;
+            let rest = &self.b[self.i..];
+            let end = memchr::memchr2(b'\n', b'\r', rest).unwrap_or(rest.len());
+            if has_control(&rest[..end]) {
+                return None;
             }
+            self.i += end;
         }
         match self.peek() {
             None => Some(()),
@@ -260,50 +263,50 @@ impl<'a> Cur<'a> {
     /// A basic string on one line (borrowed when it holds no escape).
     fn string(&mut self) -> Option<Cow<'a, str>> {
         self.eat(b'"')?;
-        let start = self.i;
         let mut owned: Option<String> = None;
-        let mut run = start;
+        let mut run = self.i;
         loop {
-            let ch = self.peek()?;
-            match ch {
-                b'"' => {
-                    let tail = &self.s[run..self.i];
-                    self.i += 1;
-                    self.delimited()?;
-                    return Some(match owned {
-                        None => Cow::Borrowed(tail),
-                        Some(mut o) => {
-                            o.push_str(tail);
-                            Cow::Owned(o)
-                        }
-                    });
-                }
-                b'\\' => {
-                    let esc = match self.b.get(self.i + 1)? {
-                        b'"' => '"',
-                        b'\\' => '\\',
-                        b'b' => '\u{8}',
-                        b't' => '\t',
-                        b'n' => '\n',
-                        b'f' => '\u{c}',
-                        b'r' => '\r',
-                        _ => return None,
-                    };
-                    let o = owned.get_or_insert_with(String::new);
-                    o.push_str(&self.s[run..self.i]);
-                    o.push(esc);
-                    self.i += 2;
-                    run = self.i;
-                }
-                _ if (ch < 0x20 && ch != b'\t') || ch == 0x7f => return None,
-                _ => self.i += 1,
+            // Up to the next quote or backslash: plain text, if it holds no
+            // control character (a line end among them).
+            let k = memchr::memchr2(b'"', b'\\', &self.b[self.i..])?;
+            if has_control(&self.b[self.i..self.i + k]) {
+                return None;
             }
+            self.i += k;
+            if self.b[self.i] == b'"' {
+                let tail = &self.s[run..self.i];
+                self.i += 1;
+                self.delimited()?;
+                return Some(match owned {
+                    None => Cow::Borrowed(tail),
+                    Some(mut o) => {
+                        o.push_str(tail);
+                        Cow::Owned(o)
+                    }
+                });
+            }
+            // A backslash.
+            let esc = match self.b.get(self.i + 1)? {
+                b'"' => '"',
+                b'\\' => '\\',
+                b'b' => '\u{8}',
+                b't' => '\t',
+                b'n' => '\n',
+                b'f' => '\u{c}',
+                b'r' => '\r',
+                _ => return None,
+            };
+            let o = owned.get_or_insert_with(String::new);
+            o.push_str(&self.s[run..self.i]);
+            o.push(esc);
+            self.i += 2;
+            run = self.i;
         }
     }
 
     fn array(&mut self, depth: usize) -> Option<Value<'a>> {
         self.eat(b'[')?;
-        let mut items = Vec::new();
+        let mut items = Vec::with_capacity(4);
         loop {
             self.space()?;
             if self.eat(b']').is_some() {

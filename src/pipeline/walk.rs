@@ -145,10 +145,10 @@ impl Walker<'_> {
         for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, &e))? {
             entries.push(entry.map_err(|e| Error::io(dir, &e))?.path());
         }
-        // One directory's entries differ in their last component only: by
-        // its bytes is the order of the whole paths, without comparing the
-        // shared components again for every pair.
-        entries.sort_by(|a, b| a.file_name().cmp(&b.file_name()));
+        // One directory's entries are its path, a separator and their names:
+        // the bytes of the whole paths order them as their components do,
+        // without parsing the shared components again for every pair.
+        entries.sort_by(|a, b| a.as_os_str().cmp(b.as_os_str()));
         for path in entries {
             let rel = path.strip_prefix(&self.root).unwrap_or(&path);
             if excluded(self.excludes, rel) {
