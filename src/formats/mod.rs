@@ -59,6 +59,7 @@ pub mod rig_toml;
 pub mod shell;
 pub mod source;
 pub mod spec;
+mod toml_subset;
 // TODO(issue 10): urdf/mod.rs links to its private `read` and `joints`.
 pub mod urdf;
 pub mod xacro;

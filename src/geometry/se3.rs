@@ -174,6 +174,29 @@ impl Transform {
         d: [f64; 3],
         warnings: &mut Vec<Warning>,
     ) -> Result<Self> {
+        Self::from_matrix3_to(r, d, Some(warnings))
+    }
+
+    /// [`Transform::from_matrix3`] and [`Transform::from_matrix4`] for the
+    /// steps of a numerical derivative (`uncertainty::rounding_covariance`):
+    /// the same transform or refusal, its warning dropped before it is
+    /// formatted (nobody reads it: formatting it was a tenth of checking a
+    /// rig file, issue 29).
+    pub(crate) fn from_matrix3_quiet(r: [[f64; 3]; 3], d: [f64; 3]) -> Result<Self> {
+        Self::from_matrix3_to(r, d, None)
+    }
+
+    /// See [`Transform::from_matrix3_quiet`]; a refused bottom row is an
+    /// error without its message.
+    pub(crate) fn from_matrix4_quiet(m: [[f64; 4]; 4]) -> Result<Self> {
+        Self::from_matrix4_to(m, None)
+    }
+
+    fn from_matrix3_to(
+        r: [[f64; 3]; 3],
+        d: [f64; 3],
+        warnings: Option<&mut Vec<Warning>>,
+    ) -> Result<Self> {
         check_finite("rotation matrix", r.as_flattened())?;
         check_finite("translation", &d)?;
         let m = Matrix3::from_fn(|i, j| r[i][j]);
@@ -311,6 +334,10 @@ impl Transform {
     /// within `BOTTOM_ROW_TOL`; the rotation block is checked as in
     /// [`Transform::from_matrix3`].
     pub fn from_matrix4(m: [[f64; 4]; 4], warnings: &mut Vec<Warning>) -> Result<Self> {
+        Self::from_matrix4_to(m, Some(warnings))
+    }
+
+    fn from_matrix4_to(m: [[f64; 4]; 4], warnings: Option<&mut Vec<Warning>>) -> Result<Self> {
         check_finite("4x4 matrix", m.as_flattened())?;
         let bottom = m[3];
         let expect = [0.0, 0.0, 0.0, 1.0];
@@ -319,6 +346,9 @@ impl Transform {
             .zip(expect.iter())
             .any(|(a, b)| (a - b).abs() > BOTTOM_ROW_TOL)
         {
+            if warnings.is_none() {
+                return Err(Error::invalid(String::new()));
+            }
             return Err(Error::invalid(format!(
                 "4x4 matrix: expected bottom row [0, 0, 0, 1], found {bottom:?}"
             )));
@@ -328,7 +358,7 @@ impl Transform {
             [m[1][0], m[1][1], m[1][2]],
             [m[2][0], m[2][1], m[2][2]],
         ];
-        Self::from_matrix3(r, [m[0][3], m[1][3], m[2][3]], warnings)
+        Self::from_matrix3_to(r, [m[0][3], m[1][3], m[2][3]], warnings)
     }
 
     /// Rotation matrix.
@@ -572,7 +602,8 @@ fn rounding_severity(off: f64, tol: f64) -> crate::diagnostic::Severity {
 }
 
 /// Check and, if needed, project a 3x3 matrix to SO(3).
-fn checked_rotation(m: &Matrix3<f64>, warnings: &mut Vec<Warning>) -> Result<Matrix3<f64>> {
+/// `warnings`: `None` drops the projection's warning unformatted.
+fn checked_rotation(m: &Matrix3<f64>, warnings: Option<&mut Vec<Warning>>) -> Result<Matrix3<f64>> {
     let err = (m.transpose() * m - Matrix3::identity()).norm();
     let det = m.determinant();
     if err.is_nan() || err > ORTHONORMAL_ERROR_TOL {
@@ -588,7 +619,7 @@ fn checked_rotation(m: &Matrix3<f64>, warnings: &mut Vec<Warning>) -> Result<Mat
     if err <= ORTHONORMAL_EXACT_TOL {
         return Ok(*m);
     }
-    if err > ORTHONORMAL_WARN_TOL {
+    if let Some(warnings) = warnings.filter(|_| err > ORTHONORMAL_WARN_TOL) {
         warnings.push(
             Warning::new(
                 Code::NonOrthonormalRotation,

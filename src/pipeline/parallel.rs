@@ -2,8 +2,8 @@
 //! over many files.
 //!
 //! A shared work queue (an atomic index into the items: each worker takes the
-//! next item when it is free, so a core slowed by other work simply takes
-//! fewer items, and the run is never slower than one thread) feeds a reorder
+//! next few items when it is free, so a core slowed by other work simply
+//! takes fewer, and the run is never slower than one thread) feeds a reorder
 //! buffer on the calling thread, which hands each result to the sink in item
 //! order as soon as every earlier one is done. The buffer is bounded: a worker
 //! does not start an item more than [`WINDOW`] places ahead of the next result
@@ -11,16 +11,26 @@
 //! run's. The sink runs on the calling thread (it needs no `Send`), while the
 //! workers go on.
 //!
+//! Items are taken and their results sent in batches of up to [`BATCH`]
+//! (fewer when there are few items per worker): one message, and at most one
+//! wake-up of the calling thread, per batch rather than per item; a worker
+//! is woken only when it waits on the window (thread switches per file were
+//! a large part of the system time over 10,000 files, issue 29).
+//!
 //! Why not rayon or crossbeam: this is the whole of it (an index, a channel, a
 //! condition variable), and an ordered, bounded, streaming map is not what
 //! rayon's `par_iter` gives without collecting.
 
 use std::collections::VecDeque;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Condvar, Mutex};
 
 /// How far (in items) a worker may run ahead of the next result due.
 pub const WINDOW: usize = 256;
+
+/// The most items a worker takes (and sends the results of) at once; well
+/// below [`WINDOW`].
+pub const BATCH: usize = 16;
 
 /// The worker threads to use: `AUDIT_JOBS` when set to a positive number,
 /// else the cores the process may run on.
@@ -45,6 +55,57 @@ where
     ordered_on(threads(), items, work, sink)
 }
 
+/// The items a worker takes at once: [`BATCH`], fewer when that would leave
+/// a worker without a share of the first items (eight batches per worker).
+fn batch_size(items: usize, threads: usize) -> usize {
+    (items / (threads * 8)).clamp(1, BATCH)
+}
+
+/// What the workers and the calling thread share: the next item to take, the
+/// next result due (mirrored in an atomic, read without the lock while a
+/// worker is within the window), whether the run was stopped, and how many
+/// workers wait on the window (the calling thread wakes them only then).
+struct Shared {
+    next: AtomicUsize,
+    due: AtomicUsize,
+    stopped: AtomicBool,
+    /// (next result due, stopped, workers waiting).
+    state: Mutex<(usize, bool, usize)>,
+    moved: Condvar,
+}
+
+impl Shared {
+    /// Whether item `i` may start: at once when it is within the window,
+    /// else after waiting for the window to reach it; `false` once stopped.
+    fn may_start(&self, i: usize) -> bool {
+        if self.stopped.load(Ordering::Acquire) {
+            return false;
+        }
+        if i < self.due.load(Ordering::Acquire) + WINDOW {
+            return true;
+        }
+        let mut g = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        while !g.1 && i >= g.0 + WINDOW {
+            g.2 += 1;
+            g = self.moved.wait(g).unwrap_or_else(|e| e.into_inner());
+            g.2 -= 1;
+        }
+        !g.1
+    }
+
+    /// The calling thread's news: `due` results handed on, or the run stopped.
+    fn advance(&self, due: usize, stopped: bool) {
+        let mut g = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        g.0 = due;
+        g.1 = stopped;
+        self.due.store(due, Ordering::Release);
+        self.stopped.store(stopped, Ordering::Release);
+        if g.2 > 0 {
+            self.moved.notify_all();
+        }
+    }
+}
+
 /// [`ordered`] on `threads` workers (at least one).
 pub fn ordered_on<I, R, W, S>(threads: usize, items: &[I], work: W, mut sink: S)
 where
@@ -63,29 +124,43 @@ where
         }
         return;
     }
-    let next = AtomicUsize::new(0);
-    // The index of the next result due (every earlier one handed on), and
-    // whether the run was stopped; workers wait on it when too far ahead.
-    let due = (Mutex::new((0usize, false)), Condvar::new());
-    let (tx, rx) = mpsc::channel::<(usize, R)>();
+    let batch = batch_size(items.len(), threads);
+    let shared = Shared {
+        next: AtomicUsize::new(0),
+        due: AtomicUsize::new(0),
+        stopped: AtomicBool::new(false),
+        state: Mutex::new((0, false, 0)),
+        moved: Condvar::new(),
+    };
+    // A batch's results: the index of its first item, then one per item.
+    let (tx, rx) = mpsc::channel::<(usize, Vec<R>)>();
     std::thread::scope(|s| {
-        let (next, due, work) = (&next, &due, &work);
-        let job = move |tx: mpsc::Sender<(usize, R)>| {
+        let (shared, work) = (&shared, &work);
+        let job = move |tx: mpsc::Sender<(usize, Vec<R>)>| {
             move || loop {
-                let i = next.fetch_add(1, Ordering::Relaxed);
-                if i >= items.len() {
+                let start = shared.next.fetch_add(batch, Ordering::Relaxed);
+                if start >= items.len() {
                     return;
                 }
-                {
-                    let mut g = due.0.lock().unwrap_or_else(|e| e.into_inner());
-                    while !g.1 && i >= g.0 + WINDOW {
-                        g = due.1.wait(g).unwrap_or_else(|e| e.into_inner());
+                let end = (start + batch).min(items.len());
+                let mut done = Vec::with_capacity(end - start);
+                for (i, item) in items.iter().enumerate().take(end).skip(start) {
+                    if i >= shared.due.load(Ordering::Acquire) + WINDOW && !done.is_empty() {
+                        // About to wait: what is done goes first (the result
+                        // due may be among it).
+                        let first = i - done.len();
+                        let out = std::mem::replace(&mut done, Vec::with_capacity(end - i));
+                        if tx.send((first, out)).is_err() {
+                            return;
+                        }
                     }
-                    if g.1 {
+                    if !shared.may_start(i) {
                         return;
                     }
+                    done.push(work(i, item));
                 }
-                if tx.send((i, work(i, &items[i]))).is_err() {
+                let first = end - done.len();
+                if tx.send((first, done)).is_err() {
                     return;
                 }
             }
@@ -101,15 +176,17 @@ where
         let mut buffer: VecDeque<Option<R>> = VecDeque::new();
         let mut first = 0usize;
         let mut stopped = false;
-        for (i, r) in rx.iter() {
+        for (start, results) in rx.iter() {
             if stopped {
                 continue;
             }
-            let at = i - first;
-            if buffer.len() <= at {
-                buffer.resize_with(at + 1, || None);
+            for (k, r) in results.into_iter().enumerate() {
+                let at = start + k - first;
+                if buffer.len() <= at {
+                    buffer.resize_with(at + 1, || None);
+                }
+                buffer[at] = Some(r);
             }
-            buffer[at] = Some(r);
             let before = first;
             while let Some(Some(_)) = buffer.front() {
                 let r = buffer.pop_front().flatten().expect("checked above");
@@ -120,14 +197,11 @@ where
                 first += 1;
             }
             if first != before || stopped {
-                let mut g = due.0.lock().unwrap_or_else(|e| e.into_inner());
-                *g = (first, stopped);
-                due.1.notify_all();
+                shared.advance(first, stopped);
             }
         }
     });
 }
-
 #[cfg(test)]
 mod tests {
     use super::*;

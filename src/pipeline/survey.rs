@@ -191,9 +191,10 @@ fn survey_one(
     warnings: &mut Vec<Warning>,
 ) -> Result<Row> {
     let path = &input.path;
-    let loaded = formats::load_file(path, &opts.load)?;
-    let meta = loaded.rig.clone();
-    let robot = loaded.platform.clone();
+    let mut loaded = formats::load_file(path, &opts.load)?;
+    // Moved out, not copied: the graph takes the edges, frames and warnings.
+    let meta = loaded.rig.take();
+    let robot = loaded.platform.take();
     let (from, to) = pair_of(input, meta.as_ref(), opts.pair.as_ref())?;
     let mut graph = FrameGraph::new();
     graph.add(loaded)?;
@@ -215,11 +216,21 @@ fn survey_one(
         platform: robot.unwrap_or_default(),
         ..RigMeta::default()
     });
+    let in_statistics = meta.in_statistics();
+    let RigMeta {
+        id,
+        sensor,
+        platform,
+        dataset,
+        placeholder,
+        duplicate_of,
+        ..
+    } = meta;
     let json = SurveyRigJson {
-        id: meta.id.clone(),
-        sensor: meta.sensor.clone(),
-        platform: meta.platform.clone(),
-        dataset: meta.dataset.clone(),
+        id,
+        sensor,
+        platform,
+        dataset,
         from,
         to,
         lever_arm_m: rep.lever_arm_m,
@@ -234,10 +245,10 @@ fn survey_one(
         adapted_metric_exists: rep.adapted_metric.exists,
     };
     let marks = RowMarks {
-        placeholder: meta.placeholder,
-        duplicate_of: meta.duplicate_of.clone(),
+        placeholder,
+        duplicate_of,
     };
-    Ok((json, marks, meta.in_statistics()))
+    Ok((json, marks, in_statistics))
 }
 
 /// The order rows are printed in, as a permutation of the rows as read: by
