@@ -11,7 +11,7 @@
 //! cells: about 40 bits), the packing is a `u64`, sorted by an LSD radix sort
 //! on the key's bits alone: the values start in index order and an LSD radix
 //! sort is stable, so equal keys stay in index order without sorting the
-//! index bits (a scan's voxel keys: 22 bits, two passes instead of five).
+//! index bits (a scan's voxel keys: 23 bits, two passes instead of five).
 
 /// `x.floor() as i64`, without the libm call `floor` is on x86-64 without
 /// SSE4.1 (this was 4 % of a run's instructions). Same results for every
@@ -69,8 +69,8 @@ pub(crate) fn order_by_key(keys: &[[i64; 3]]) -> KeyRuns {
     let o = |k: &[i64; 3], a: usize| (k[a] as i128 - lo[a] as i128) as u128;
     if bx + by + bz + bi <= 64 {
         // A scan's voxel or neighbour cells (e.g. 200 m x 4 m x 3 m at
-        // 0.1 m, 130k points: 39 bits): one u64, radix-sorted on the 22
-        // bits of the key (the index bits are already in order).
+        // 0.1 m, 130k points: 39 bits): one u64, radix-sorted on the
+        // key's bits alone (the index bits are already in order).
         let mut packed: Vec<u64> = keys
             .iter()
             .enumerate()
@@ -122,8 +122,9 @@ fn run_starts(n: usize, same: impl Fn(usize) -> bool) -> Vec<usize> {
 /// below `low`, as the packed keys do).
 fn radix_sort(v: &mut Vec<u64>, low: u32, bits: u32) {
     const RADIX_MIN: usize = 512;
-    // 2^11 counters (16 KiB) stay in the first-level cache.
-    const MAX_DIGIT: u32 = 11;
+    // 2^12 counters (32 KiB) stay in the first-level cache; a scan's 22 to
+    // 24 bits of voxel key are two passes.
+    const MAX_DIGIT: u32 = 12;
     if v.len() < RADIX_MIN {
         v.sort_unstable();
         return;

@@ -234,11 +234,14 @@ fn estimate_range(
     collect_normals((first, points), &normal, progress)
 }
 
+/// A point's normal from its index in all the points and its coordinates.
+type NormalOf<'a> = dyn Fn(usize, &[f64; 3]) -> std::result::Result<[f64; 3], Drop> + 'a;
+
 /// Every point's normal (`normal(index in all, point)`) or why it has none,
 /// in order: the kept points, what was dropped, and each kept point's index.
 fn collect_normals(
     (first, points): (usize, &[[f64; 3]]),
-    normal: &dyn Fn(usize, &[f64; 3]) -> std::result::Result<[f64; 3], Drop>,
+    normal: &NormalOf,
     progress: &dyn Progress,
 ) -> (Cloud, NormalStats, Vec<usize>) {
     let mut out = Cloud::default();
