@@ -166,18 +166,25 @@ impl Grid {
                     if lo >= hi {
                         continue;
                     }
-                    for (k, block) in self.sorted[lo..hi].chunks(BLOCK).enumerate() {
-                        let base = lo + k * BLOCK;
+                    // The run's points with their moments and counts, a
+                    // block at a time (`a < lo`: `own` is not among them).
+                    let blocks = self.sorted[lo..hi]
+                        .chunks(BLOCK)
+                        .zip(acc[lo..hi].chunks_mut(BLOCK))
+                        .zip(count[lo..hi].chunks_mut(BLOCK));
+                    for ((block, accs), counts) in blocks {
                         let mut m = 0;
                         for (j, q) in block.iter().enumerate() {
                             let dx = q[0] - p[0];
                             let dy = q[1] - p[1];
                             let dz = q[2] - p[2];
-                            hit[m] = j as u8;
+                            // m <= j < BLOCK: the mask only spares a check.
+                            hit[m & (BLOCK - 1)] = j as u8;
                             m += usize::from(dx * dx + dy * dy + dz * dz <= r2);
                         }
                         for &j in &hit[..m] {
-                            let q = block[j as usize];
+                            let j = j as usize;
+                            let q = block[j];
                             let d = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
                             let t = [
                                 d[0] * d[0],
@@ -187,7 +194,7 @@ impl Grid {
                                 d[1] * d[2],
                                 d[2] * d[2],
                             ];
-                            let other = &mut acc[base + j as usize];
+                            let other = &mut accs[j];
                             for k in 0..3 {
                                 own[k] += d[k];
                                 other[k] -= d[k];
@@ -196,7 +203,7 @@ impl Grid {
                                 own[3 + k] += t[k];
                                 other[3 + k] += t[k];
                             }
-                            count[base + j as usize] += 1;
+                            counts[j] += 1;
                             own_count += 1;
                         }
                     }
@@ -237,6 +244,46 @@ impl Moments {
 /// the first key at or after `(x + dx, y + dy, z - 1)` is where that
 /// column's run starts, the keys up to `(x + dx, y + dy, z + 1)` are in it.
 fn neighbour_runs(cells: &[[i64; 3]], start: &[u32]) -> (Vec<(u32, u32)>, Vec<u32>) {
+    // Keys packed into one u64 when they fit (a scan's do: about 20 bits):
+    // one comparison each instead of three. Each axis is offset so that its
+    // smallest key is 1: a neighbour's -1 and +1 stay inside the axis's
+    // field, so translating the packed value translates every field alone
+    // and the packed order stays the keys' order.
+    let mut lo = cells.first().copied().unwrap_or_default();
+    let mut hi = lo;
+    for k in cells {
+        for a in 0..3 {
+            lo[a] = lo[a].min(k[a]);
+            hi[a] = hi[a].max(k[a]);
+        }
+    }
+    // Bits for 0..=span + 2 (keys are within 2^40 of 0: no overflow).
+    let w: [u32; 3] = std::array::from_fn(|a| 64 - ((hi[a] - lo[a] + 2) as u64).leading_zeros());
+    if w.iter().sum::<u32>() > 63 {
+        return merge_runs(cells, start, |k, [dx, dy, dz]| {
+            [k[0] + dx, k[1] + dy, k[2] + dz]
+        });
+    }
+    let (sy, sx) = (w[2], w[1] + w[2]);
+    let packed: Vec<u64> = cells
+        .iter()
+        .map(|k| {
+            let f = |a: usize| (k[a] - lo[a] + 1) as u64;
+            (f(0) << sx) | (f(1) << sy) | f(2)
+        })
+        .collect();
+    merge_runs(&packed, start, |v, [dx, dy, dz]| {
+        v.wrapping_add_signed((dx << sx) + (dy << sy) + dz)
+    })
+}
+
+/// [`neighbour_runs`] over keys of any ordered kind, `at(k, d)` the key
+/// of the cell at offset `d` from `k`'s (see there).
+fn merge_runs<K: Ord + Copy>(
+    cells: &[K],
+    start: &[u32],
+    at: impl Fn(&K, [i64; 3]) -> K,
+) -> (Vec<(u32, u32)>, Vec<u32>) {
     let mut cursor = [0usize; 9];
     let mut runs = Vec::with_capacity(cells.len() * 9);
     let mut runs_start = Vec::with_capacity(cells.len() + 1);
@@ -245,8 +292,8 @@ fn neighbour_runs(cells: &[[i64; 3]], start: &[u32]) -> (Vec<(u32, u32)>, Vec<u3
         let mut m = 0;
         for dx in -1..=1 {
             for dy in -1..=1 {
-                let lo = [key[0] + dx, key[1] + dy, key[2] - 1];
-                let hi = [lo[0], lo[1], key[2] + 1];
+                let lo = at(key, [dx, dy, -1]);
+                let hi = at(key, [dx, dy, 1]);
                 let c = &mut cursor[m];
                 while *c < cells.len() && cells[*c] < lo {
                     *c += 1;
@@ -266,7 +313,8 @@ fn neighbour_runs(cells: &[[i64; 3]], start: &[u32]) -> (Vec<(u32, u32)>, Vec<u3
     (runs, runs_start)
 }
 
-/// Candidates tested between two calls of the visitor (fits a `u8` index).
+/// Candidates tested between two calls of the visitor (fits a `u8` index;
+/// a power of two: an index masked by `BLOCK - 1` is itself).
 const BLOCK: usize = 64;
 
 #[cfg(test)]
@@ -411,6 +459,31 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    /// Clusters at the corners of a cube 2e8 m across: keys past 63 bits
+    /// in all, so the neighbour runs merge the keys unpacked.
+    #[test]
+    fn keys_too_wide_to_pack_find_the_same_neighbours() {
+        let base = cloud();
+        let mut pts = Vec::new();
+        for corner in 0..8 {
+            let at = |b: usize| if corner >> b & 1 == 1 { 1e8 } else { -1e8 };
+            let c = [at(0), at(1), at(2)];
+            pts.extend(
+                base[..400]
+                    .iter()
+                    .map(|p| [c[0] + p[0], c[1] + p[1], c[2] + p[2]]),
+            );
+        }
+        let tree = ImmutableKdTree::<f64, 3>::new_from_slice(&pts).unwrap();
+        let g = Grid::new(&pts, 0.3).unwrap();
+        for (i, p) in pts.iter().enumerate().step_by(5) {
+            let mut got = Vec::new();
+            g.visit_within(i, p, 0.09, |q| got.push(bits(&q)));
+            got.sort_unstable();
+            assert_eq!(got, tree_set(&tree, p, 0.09), "point {i}");
         }
     }
 
