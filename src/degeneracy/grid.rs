@@ -18,8 +18,7 @@
 //! points within a cell in input order), so the result does not depend on
 //! threads.
 
-use super::cells::{floor_i64, sorted_by_key};
-use foldhash::HashMap;
+use super::cells::{floor_i64, order_by_key};
 
 /// Relative widening of a cell over the search radius (see the module notes).
 const CELL_MARGIN: f64 = 1e-3;
@@ -35,6 +34,10 @@ pub(crate) struct Grid {
     sorted: Vec<[f64; 3]>,
     /// For each input point, its cell.
     cell_of: Vec<u32>,
+    /// For each input point, its place in `sorted`.
+    at: Vec<u32>,
+    /// Cell `k` holds `sorted[cell_start[k]..cell_start[k + 1]]`.
+    cell_start: Vec<u32>,
     /// Cell `k`'s occupied neighbour cells (itself included) as at most
     /// nine runs of `sorted`, one per `(dx, dy)` in x, y order:
     /// `runs[runs_start[k]..runs_start[k + 1]]`. The cells `(x + dx, y + dy,
@@ -73,55 +76,28 @@ impl Grid {
             keys.push(key);
         }
         // (key, index) order keeps input order within a cell.
-        let keyed = sorted_by_key(&keys);
-        drop(keys);
+        let order = order_by_key(&keys);
         let mut sorted = Vec::with_capacity(points.len());
-        // Cell `k` holds `sorted[start[k]..start[k + 1]]`.
-        let mut start = Vec::new();
-        let mut keys: Vec<[i64; 3]> = Vec::new();
         let mut cell_of = vec![0u32; points.len()];
-        for (j, &(key, i)) in keyed.iter().enumerate() {
-            if keys.last() != Some(&key) {
-                keys.push(key);
-                start.push(j as u32);
-            }
-            cell_of[i] = (keys.len() - 1) as u32;
-            sorted.push(points[i]);
-        }
-        start.push(points.len() as u32);
-        drop(keyed);
-        let index: HashMap<[i64; 3], u32> = {
-            let mut m = HashMap::with_capacity_and_hasher(keys.len(), Default::default());
-            for (k, key) in keys.iter().enumerate() {
-                m.insert(*key, k as u32);
-            }
-            m
-        };
-        let mut runs = Vec::new();
-        let mut runs_start = Vec::with_capacity(keys.len() + 1);
-        for key in &keys {
-            runs_start.push(runs.len() as u32);
-            for dx in -1..=1 {
-                for dy in -1..=1 {
-                    let mut first: Option<u32> = None;
-                    let mut last = 0u32;
-                    for dz in -1..=1 {
-                        let n = [key[0] + dx, key[1] + dy, key[2] + dz];
-                        if let Some(&k) = index.get(&n) {
-                            first.get_or_insert(k);
-                            last = k;
-                        }
-                    }
-                    if let Some(f) = first {
-                        runs.push((start[f as usize], start[last as usize + 1]));
-                    }
-                }
+        let mut at = vec![0u32; points.len()];
+        // Cell `k` holds `sorted[start[k]..start[k + 1]]`; its key `cells[k]`.
+        let start: Vec<u32> = order.starts.iter().map(|&j| j as u32).collect();
+        let mut cells: Vec<[i64; 3]> = Vec::with_capacity(start.len() - 1);
+        for (k, run) in order.runs().enumerate() {
+            cells.push(keys[run[0]]);
+            for &i in run {
+                cell_of[i] = k as u32;
+                at[i] = sorted.len() as u32;
+                sorted.push(points[i]);
             }
         }
-        runs_start.push(runs.len() as u32);
+        drop(keys);
+        let (runs, runs_start) = neighbour_runs(&cells, &start);
         Some(Grid {
             sorted,
             cell_of,
+            at,
+            cell_start: start,
             runs,
             runs_start,
         })
@@ -161,9 +137,184 @@ impl Grid {
             }
         }
     }
+
+    /// Every point's neighbourhood moments ([`Moments`]): each pair of
+    /// neighbours found once, from the one first in `sorted`, and added to
+    /// both. A query per point visits its neighbours in `sorted` order (the
+    /// runs are in that order); here the pairs of a point come in the same
+    /// order (those with points before it while they are visited, then its
+    /// own in the order of its runs), and the terms are the same numbers
+    /// (`a - b` is exactly `-(b - a)`, the products of two negated offsets
+    /// are the products of the offsets), so the sums are the same bit for
+    /// bit, for about half the distance tests.
+    pub(crate) fn moments_within(&self, r2: f64) -> Moments {
+        let n = self.sorted.len();
+        let mut count = vec![0u32; n];
+        let mut acc = vec![[0.0f64; 9]; n];
+        let mut hit = [0u8; BLOCK];
+        for c in 0..self.cell_start.len() - 1 {
+            let runs = &self.runs[self.runs_start[c] as usize..self.runs_start[c + 1] as usize];
+            for a in self.cell_start[c] as usize..self.cell_start[c + 1] as usize {
+                let p = self.sorted[a];
+                // The terms of the points before `a` are in; itself adds
+                // one to the count and zeros (no change) to the sums.
+                let mut own = acc[a];
+                let mut own_count = count[a] + 1;
+                for &(lo, hi) in runs {
+                    let lo = (lo as usize).max(a + 1);
+                    let hi = hi as usize;
+                    if lo >= hi {
+                        continue;
+                    }
+                    // The run's points with their moments and counts, a
+                    // block at a time (`a < lo`: `own` is not among them).
+                    let blocks = self.sorted[lo..hi]
+                        .chunks(BLOCK)
+                        .zip(acc[lo..hi].chunks_mut(BLOCK))
+                        .zip(count[lo..hi].chunks_mut(BLOCK));
+                    for ((block, accs), counts) in blocks {
+                        let mut m = 0;
+                        for (j, q) in block.iter().enumerate() {
+                            let dx = q[0] - p[0];
+                            let dy = q[1] - p[1];
+                            let dz = q[2] - p[2];
+                            // m <= j < BLOCK: the mask only spares a check.
+                            hit[m & (BLOCK - 1)] = j as u8;
+                            m += usize::from(dx * dx + dy * dy + dz * dz <= r2);
+                        }
+                        for &j in &hit[..m] {
+                            let j = j as usize;
+                            let q = block[j];
+                            let d = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+                            let t = [
+                                d[0] * d[0],
+                                d[0] * d[1],
+                                d[0] * d[2],
+                                d[1] * d[1],
+                                d[1] * d[2],
+                                d[2] * d[2],
+                            ];
+                            let other = &mut accs[j];
+                            for k in 0..3 {
+                                own[k] += d[k];
+                                other[k] -= d[k];
+                            }
+                            for k in 0..6 {
+                                own[3 + k] += t[k];
+                                other[3 + k] += t[k];
+                            }
+                            counts[j] += 1;
+                            own_count += 1;
+                        }
+                    }
+                }
+                acc[a] = own;
+                count[a] = own_count;
+            }
+        }
+        Moments { count, acc }
+    }
 }
 
-/// Candidates tested between two calls of the visitor (fits a `u8` index).
+/// Every point's neighbourhood moments, by place in the grid's `sorted`:
+/// count, then the sum of the offsets from the point (x, y, z) and of their
+/// outer products (xx, xy, xz, yy, yz, zz), as `normals.rs` accumulates them.
+pub(crate) struct Moments {
+    count: Vec<u32>,
+    acc: Vec<[f64; 9]>,
+}
+
+impl Moments {
+    /// The moments of input point `i` of the grid `g` they were made from.
+    pub(crate) fn of(&self, g: &Grid, i: usize) -> (usize, [f64; 3], [f64; 6]) {
+        let s = g.at[i] as usize;
+        let a = &self.acc[s];
+        (
+            self.count[s] as usize,
+            [a[0], a[1], a[2]],
+            [a[3], a[4], a[5], a[6], a[7], a[8]],
+        )
+    }
+}
+
+/// Each cell's occupied neighbour cells as runs of the sorted points (see
+/// [`Grid::runs`]), from the cells' keys in (x, y, z) order and where each
+/// starts. Translating every key by one `(dx, dy, -1)` keeps their order, so
+/// one cursor per `(dx, dy)` walks the keys once (a merge, no hash map):
+/// the first key at or after `(x + dx, y + dy, z - 1)` is where that
+/// column's run starts, the keys up to `(x + dx, y + dy, z + 1)` are in it.
+fn neighbour_runs(cells: &[[i64; 3]], start: &[u32]) -> (Vec<(u32, u32)>, Vec<u32>) {
+    // Keys packed into one u64 when they fit (a scan's do: about 20 bits):
+    // one comparison each instead of three. Each axis is offset so that its
+    // smallest key is 1: a neighbour's -1 and +1 stay inside the axis's
+    // field, so translating the packed value translates every field alone
+    // and the packed order stays the keys' order.
+    let mut lo = cells.first().copied().unwrap_or_default();
+    let mut hi = lo;
+    for k in cells {
+        for a in 0..3 {
+            lo[a] = lo[a].min(k[a]);
+            hi[a] = hi[a].max(k[a]);
+        }
+    }
+    // Bits for 0..=span + 2 (keys are within 2^40 of 0: no overflow).
+    let w: [u32; 3] = std::array::from_fn(|a| 64 - ((hi[a] - lo[a] + 2) as u64).leading_zeros());
+    if w.iter().sum::<u32>() > 63 {
+        return merge_runs(cells, start, |k, [dx, dy, dz]| {
+            [k[0] + dx, k[1] + dy, k[2] + dz]
+        });
+    }
+    let (sy, sx) = (w[2], w[1] + w[2]);
+    let packed: Vec<u64> = cells
+        .iter()
+        .map(|k| {
+            let f = |a: usize| (k[a] - lo[a] + 1) as u64;
+            (f(0) << sx) | (f(1) << sy) | f(2)
+        })
+        .collect();
+    merge_runs(&packed, start, |v, [dx, dy, dz]| {
+        v.wrapping_add_signed((dx << sx) + (dy << sy) + dz)
+    })
+}
+
+/// [`neighbour_runs`] over keys of any ordered kind, `at(k, d)` the key
+/// of the cell at offset `d` from `k`'s (see there).
+fn merge_runs<K: Ord + Copy>(
+    cells: &[K],
+    start: &[u32],
+    at: impl Fn(&K, [i64; 3]) -> K,
+) -> (Vec<(u32, u32)>, Vec<u32>) {
+    let mut cursor = [0usize; 9];
+    let mut runs = Vec::with_capacity(cells.len() * 9);
+    let mut runs_start = Vec::with_capacity(cells.len() + 1);
+    for key in cells {
+        runs_start.push(runs.len() as u32);
+        let mut m = 0;
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                let lo = at(key, [dx, dy, -1]);
+                let hi = at(key, [dx, dy, 1]);
+                let c = &mut cursor[m];
+                while *c < cells.len() && cells[*c] < lo {
+                    *c += 1;
+                }
+                let mut end = *c;
+                while end < cells.len() && cells[end] <= hi {
+                    end += 1;
+                }
+                if end > *c {
+                    runs.push((start[*c], start[end]));
+                }
+                m += 1;
+            }
+        }
+    }
+    runs_start.push(runs.len() as u32);
+    (runs, runs_start)
+}
+
+/// Candidates tested between two calls of the visitor (fits a `u8` index;
+/// a power of two: an index masked by `BLOCK - 1` is itself).
 const BLOCK: usize = 64;
 
 #[cfg(test)]
@@ -264,6 +415,75 @@ mod tests {
                 got.sort_unstable();
                 assert_eq!(got, tree_set(&tree, p, r2), "point {i}, r {r}");
             }
+        }
+    }
+
+    /// Count, offset sum and outer-product sum of one query, as normals.rs
+    /// accumulates them.
+    fn query_moments(g: &Grid, i: usize, p: &[f64; 3], r2: f64) -> (usize, [f64; 3], [f64; 6]) {
+        let (mut n, mut sum, mut sxx) = (0usize, [0.0f64; 3], [0.0f64; 6]);
+        g.visit_within(i, p, r2, |q| {
+            let d = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+            n += 1;
+            for k in 0..3 {
+                sum[k] += d[k];
+            }
+            sxx[0] += d[0] * d[0];
+            sxx[1] += d[0] * d[1];
+            sxx[2] += d[0] * d[2];
+            sxx[3] += d[1] * d[1];
+            sxx[4] += d[1] * d[2];
+            sxx[5] += d[2] * d[2];
+        });
+        (n, sum, sxx)
+    }
+
+    #[test]
+    fn pairwise_moments_are_the_queries_bit_for_bit() {
+        let bits_of =
+            |(n, s, x): (usize, [f64; 3], [f64; 6])| (n, s.map(f64::to_bits), x.map(f64::to_bits));
+        for offset in [0.0, 1e6] {
+            let pts: Vec<[f64; 3]> = cloud()
+                .iter()
+                .map(|p| [p[0] + offset, p[1] - offset, p[2]])
+                .collect();
+            for r in [0.3, 0.05, 1.0] {
+                let g = Grid::new(&pts, r).unwrap();
+                let r2 = r * r;
+                let m = g.moments_within(r2);
+                for (i, p) in pts.iter().enumerate() {
+                    assert_eq!(
+                        bits_of(m.of(&g, i)),
+                        bits_of(query_moments(&g, i, p, r2)),
+                        "point {i}, r {r}, offset {offset}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Clusters at the corners of a cube 2e8 m across: keys past 63 bits
+    /// in all, so the neighbour runs merge the keys unpacked.
+    #[test]
+    fn keys_too_wide_to_pack_find_the_same_neighbours() {
+        let base = cloud();
+        let mut pts = Vec::new();
+        for corner in 0..8 {
+            let at = |b: usize| if corner >> b & 1 == 1 { 1e8 } else { -1e8 };
+            let c = [at(0), at(1), at(2)];
+            pts.extend(
+                base[..400]
+                    .iter()
+                    .map(|p| [c[0] + p[0], c[1] + p[1], c[2] + p[2]]),
+            );
+        }
+        let tree = ImmutableKdTree::<f64, 3>::new_from_slice(&pts).unwrap();
+        let g = Grid::new(&pts, 0.3).unwrap();
+        for (i, p) in pts.iter().enumerate().step_by(5) {
+            let mut got = Vec::new();
+            g.visit_within(i, p, 0.09, |q| got.push(bits(&q)));
+            got.sort_unstable();
+            assert_eq!(got, tree_set(&tree, p, 0.09), "point {i}");
         }
     }
 

@@ -159,7 +159,15 @@ fn normal_at(
     (i, p): (usize, &[f64; 3]),
     prm: &NormalParams,
 ) -> std::result::Result<[f64; 3], Drop> {
-    let (count, sum, sxx) = moments(index, all, (i, p), prm);
+    normal_from(moments(index, all, (i, p), prm), p, prm)
+}
+
+/// The normal of the point `p` from its neighbourhood moments.
+fn normal_from(
+    (count, sum, sxx): (usize, [f64; 3], [f64; 6]),
+    p: &[f64; 3],
+    prm: &NormalParams,
+) -> std::result::Result<[f64; 3], Drop> {
     if count < prm.min_neighbours {
         return Err(Drop::Sparse);
     }
@@ -222,6 +230,20 @@ fn estimate_range(
     (first, points): (usize, &[[f64; 3]]),
     (prm, progress): (&NormalParams, &dyn Progress),
 ) -> (Cloud, NormalStats, Vec<usize>) {
+    let normal = |i: usize, p: &[f64; 3]| normal_at(tree, all, (i, p), prm);
+    collect_normals((first, points), &normal, progress)
+}
+
+/// A point's normal from its index in all the points and its coordinates.
+type NormalOf<'a> = dyn Fn(usize, &[f64; 3]) -> std::result::Result<[f64; 3], Drop> + 'a;
+
+/// Every point's normal (`normal(index in all, point)`) or why it has none,
+/// in order: the kept points, what was dropped, and each kept point's index.
+fn collect_normals(
+    (first, points): (usize, &[[f64; 3]]),
+    normal: &NormalOf,
+    progress: &dyn Progress,
+) -> (Cloud, NormalStats, Vec<usize>) {
     let mut out = Cloud::default();
     let mut st = NormalStats::default();
     let mut kept = Vec::new();
@@ -229,7 +251,7 @@ fn estimate_range(
         if i % PROGRESS_STEP == PROGRESS_STEP - 1 {
             progress.advance(PROGRESS_STEP as u64);
         }
-        match normal_at(tree, all, (first + i, p), prm) {
+        match normal(first + i, p) {
             Ok(n) => {
                 out.points.push(*p);
                 out.normals.push(n);
@@ -396,7 +418,15 @@ fn normals_on_threads(
     let t = if threads == 0 { cores } else { threads };
     let t = t.clamp(1, 64).min(points.len().div_ceil(4096));
     let per = points.len().div_ceil(t.max(1));
-    let parts: Vec<(Cloud, NormalStats, Vec<usize>)> = if t <= 1 {
+    let parts: Vec<(Cloud, NormalStats, Vec<usize>)> = if let (true, Index::Grid(g)) =
+        (t <= 1, &tree)
+    {
+        // One thread: each pair of neighbours found once (grid.rs), the same
+        // moments bit for bit as a query per point.
+        let m = g.moments_within(prm.radius * prm.radius);
+        let normal = |i: usize, p: &[f64; 3]| normal_from(m.of(g, i), p, prm);
+        vec![collect_normals((0, points), &normal, progress)]
+    } else if t <= 1 {
         vec![estimate_range(&tree, points, (0, points), (prm, progress))]
     } else {
         let tree = &tree;
@@ -463,6 +493,52 @@ mod tests {
         let distinct: Vec<[i64; 3]> = (0..1000).map(|i| [i, 0, 0]).collect();
         assert_eq!(firsts_by_hash(1000, |i| distinct[i]), None);
         assert_eq!(firsts_by_map(1000, |i| distinct[i]), None);
+    }
+
+    /// One thread (each neighbour pair once, grid.rs) and several (a query
+    /// per point) give the same normals bit for bit.
+    #[test]
+    fn one_thread_and_several_agree_bit_for_bit() {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        // A wall, a floor, a noisy blob and lone points: 12,300, three chunks.
+        let mut pts = Vec::new();
+        for _ in 0..5000 {
+            pts.push([3.0 * rnd(), 2.0 + 0.01 * rnd(), 2.0 * rnd()]);
+            pts.push([3.0 * rnd(), 2.0 * rnd(), 0.01 * rnd()]);
+        }
+        for _ in 0..2000 {
+            pts.push([5.0 + rnd(), rnd(), rnd()]);
+        }
+        // Lone points: too few neighbours.
+        for k in 0..300 {
+            pts.push([-1.0 - 0.5 * f64::from(k), rnd(), rnd()]);
+        }
+        let prm = NormalParams {
+            radius: 0.2,
+            knn: None,
+            min_neighbours: 5,
+            min_planarity: None,
+            viewpoint: [1.0, 1.0, 1.0],
+        };
+        let bits = |c: &Cloud| -> Vec<u64> {
+            c.points
+                .iter()
+                .chain(&c.normals)
+                .flatten()
+                .map(|x| x.to_bits())
+                .collect()
+        };
+        let (one, s1, k1) = estimate_normals_indexed(&pts, &prm, 1).unwrap();
+        let (three, s3, k3) = estimate_normals_indexed(&pts, &prm, 3).unwrap();
+        assert!(s1.kept > 10_000 && s1.sparse > 0, "{s1:?}");
+        assert_eq!((s1, &k1), (s3, &k3));
+        assert_eq!(bits(&one), bits(&three));
     }
 
     #[test]

@@ -24,7 +24,7 @@
 //! documented algorithm with a fixed output for a given seed on every platform);
 //! uniform doubles take the top 53 bits; normal deviates use Box-Muller.
 
-use super::cells::{floor_i64, sorted_by_key};
+use super::cells::{floor_i64, order_by_key};
 use crate::diagnostic::{Error, Result};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Matrix3, Matrix6, SymmetricEigen, UnitQuaternion, Vector3};
@@ -481,30 +481,27 @@ pub fn voxel_downsample_weighted(
         .iter()
         .map(|p| std::array::from_fn(|a| floor_i64((p[a] - origin[a]) / voxel)))
         .collect();
-    let keyed = sorted_by_key(&keys);
+    let runs = order_by_key(&keys);
     drop(keys);
-    let mut out = Vec::new();
-    let mut wout = Vec::new();
-    let mut i = 0;
-    while i < keyed.len() {
-        let key = keyed[i].0;
+    let mut out = Vec::with_capacity(runs.starts.len() - 1);
+    let mut wout = Vec::with_capacity(if weights.is_some() { out.capacity() } else { 0 });
+    for run in runs.runs() {
         let mut s = [0.0f64; 3];
         let mut sw = 0.0;
-        let mut n = 0usize;
-        while i < keyed.len() && keyed[i].0 == key {
-            let p = points[keyed[i].1];
+        for &i in run {
+            let p = points[i];
             s[0] += p[0];
             s[1] += p[1];
             s[2] += p[2];
             if let Some(w) = weights {
-                sw += w.get(keyed[i].1).copied().unwrap_or(1.0);
+                sw += w.get(i).copied().unwrap_or(1.0);
             }
-            n += 1;
-            i += 1;
         }
-        let nf = n as f64;
+        let nf = run.len() as f64;
         out.push([s[0] / nf, s[1] / nf, s[2] / nf]);
-        wout.push(sw / nf);
+        if weights.is_some() {
+            wout.push(sw / nf);
+        }
     }
     (out, weights.map(|_| wout))
 }
