@@ -6,7 +6,7 @@
 //! against their namespaces here ([`Scopes`]: the attributes are split once,
 //! where quick-xml's `NsReader` splits them a second time to find the
 //! declarations). Every element's start is a byte offset into the text (its
-//! `<`), turned into line and column by [`LineIndex`] only when a message
+//! `<`), turned into line and column by [`Lines`] only when a message
 //! needs one. Attribute values are decoded as XML reads them
 //! ([`super::values`]): literal tabs and line breaks become spaces, then the
 //! five predefined entities and character references are replaced; `raw`
@@ -26,6 +26,7 @@
 //! once. When roxmltree accepts the text, reading goes on (or, if quick-xml
 //! cannot go on, its own error is reported at its position).
 
+use super::lines::Lines;
 use super::values::{decode, has_expr, scan};
 use crate::diagnostic::{Error, Result};
 use crate::formats::source::LineIndex;
@@ -620,12 +621,12 @@ fn decl_ok(raw: &str) -> bool {
 }
 
 /// A parse error at element `n`'s line and column.
-pub(super) fn err_at(idx: &LineIndex, n: &El, msg: String) -> Error {
+pub(super) fn err_at(idx: &Lines, n: &El, msg: String) -> Error {
     fail_at(idx, n.start, msg)
 }
 
 /// A parse error at byte `start`'s line and column.
-pub(super) fn fail_at(idx: &LineIndex, start: usize, msg: String) -> Error {
+pub(super) fn fail_at(idx: &Lines, start: usize, msg: String) -> Error {
     let (l, c) = idx.pos(start);
     Error::parse(msg).at_line(l, Some(c))
 }
