@@ -11,8 +11,8 @@
 
 use super::joints::Builder;
 use super::lines::Lines;
-use super::names::JointNames;
-use super::read::{self, Context, JointRaw, Links, PendingLink};
+use super::names::{JointNames, Links};
+use super::read::{self, Context, JointRaw, PendingLink};
 use super::stream::err_at;
 use super::stream::Attr;
 use super::stream::{El, Item, JointEl, XacroAt};
@@ -21,7 +21,6 @@ use crate::diagnostic::{Code, Error, Location, Result, Warning};
 use crate::formats::spec::{LoadOptions, Parsed};
 use crate::formats::xacro::markers as xacro;
 use crate::frames::{Edge, FrameDecl};
-use std::borrow::Cow;
 use std::collections::VecDeque;
 use std::path::Path;
 
@@ -68,7 +67,7 @@ impl<'c, 'a> Document<'c, 'a> {
             robot: None,
             xacro: None,
             version: None,
-            links: Links::with_capacity(links),
+            links: Links::with_capacity(text, links),
             link_error: None,
             names: JointNames::with_capacity(text, joints),
             builder: Builder::new(opts, joints, format),
@@ -104,23 +103,24 @@ impl<'c, 'a> Document<'c, 'a> {
         }
     }
 
-    fn link(&mut self, name: Option<Cow<'a, str>>, start: usize) {
+    fn link(&mut self, name: Option<&Attr<'a>>, start: usize) {
         let at = |msg: String| {
             let (l, c) = self.idx.pos(start);
             Error::parse(msg).at_line(l, Some(c))
         };
-        let Some(name) = name else {
+        let Some(attr) = name else {
             self.link_error = Some(at("<link> without a name: expected name=\"...\"".into()));
             return;
         };
-        if let Some(prev) = self.links.get(name.as_ref()) {
+        let name = attr.value.as_ref();
+        if let Some(prev) = self.links.get(name) {
             let (pl, _) = self.idx.pos(prev);
             self.link_error = Some(at(format!(
                 "link '{name}' declared twice: expected unique link names, first at line {pl}"
             )));
             return;
         }
-        self.links.push(name, start);
+        self.links.push(name, attr.raw, start);
         while let Some(p) = self.pending.front() {
             if !self.links.contains(p.link.as_ref()) {
                 break;
@@ -133,7 +133,7 @@ impl<'c, 'a> Document<'c, 'a> {
         let k = self.joints_read;
         self.joints_read += 1;
         let name = j.el.attribute("name");
-        if let Some(prev) = name.and_then(|a| self.names.line(&a.value)) {
+        if let Some(prev) = name.and_then(|a| self.names.get(&a.value)) {
             let msg = format!(
                 "joint '{}' declared twice: expected unique joint names, first at line {}",
                 name.map_or("", |a| a.value.as_ref()),
@@ -189,7 +189,7 @@ impl<'c, 'a> Document<'c, 'a> {
             (None, None) => {}
         }
         let names = &self.names;
-        let (edges, edge_warnings) = self.builder.finish(|n| names.line(n).is_some())?;
+        let (edges, edge_warnings) = self.builder.finish(|n| names.contains(n))?;
         drop((self.names, self.pending));
         let mut warnings = self.warnings;
         warnings.extend(edge_warnings);
@@ -230,7 +230,7 @@ fn link_frames(
     const PARENT: u8 = 2;
     // Every joint names declared links (checked before): a flag per link,
     // found through the links' own index.
-    let mut named = vec![0u8; links.decls().len()];
+    let mut named = vec![0u8; links.len()];
     for e in edges {
         for (name, flag) in [(&e.parent, PARENT), (&e.child, CHILD)] {
             if let Some(i) = links.index_of(name) {
@@ -239,11 +239,11 @@ fn link_frames(
         }
     }
     let (mut frames, mut roots) = (Vec::new(), Vec::new());
-    for (&flags, (name, start)) in named.iter().zip(links.decls()) {
+    for (&flags, (name, start)) in named.iter().zip(links.iter()) {
         if flags & CHILD != 0 {
             continue;
         }
-        let (l, c) = idx.pos(*start);
+        let (l, c) = idx.pos(start);
         roots.push((name.to_string(), l));
         if flags == 0 {
             frames.push(FrameDecl {

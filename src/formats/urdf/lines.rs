@@ -65,19 +65,24 @@ impl<'a> Lines<'a> {
             c = START;
         }
         let b = self.text.as_bytes();
+        // The gaps are short (within a line, or across one line break):
+        // the line breaks are found one at a time (memchr's count costs more
+        // than the gap to set up).
         if o >= c.offset {
-            let gap = &b[c.offset..o];
-            match memchr::memrchr(b'\n', gap) {
+            let (mut n, mut last) = (0, None);
+            for i in memchr::memchr_iter(b'\n', &b[c.offset..o]) {
+                (n, last) = (n + 1, Some(i));
+            }
+            match last {
                 None => c.chars += self.chars(c.offset, o),
                 Some(i) => {
-                    c.line += memchr::memchr_iter(b'\n', gap).count();
+                    c.line += n;
                     c.line_start = c.offset + i + 1;
                     c.chars = self.chars(c.line_start, o);
                 }
             }
         } else {
-            let gap = &b[o..c.offset];
-            match memchr::memchr_iter(b'\n', gap).count() {
+            match memchr::memchr_iter(b'\n', &b[o..c.offset]).count() {
                 0 => c.chars -= self.chars(o, c.offset),
                 n => {
                     c.line -= n;

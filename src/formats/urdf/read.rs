@@ -158,6 +158,8 @@ pub(super) fn joint<'a>(
         let (l, c) = idx.pos(n.start);
         Location::at(cx.path, l, Some(c))
     };
+    // Positions asked in file order: `idx` moves forwards (super::lines).
+    let loc = loc_of(j);
     let (origin, origin_precision) = match jel.child("origin") {
         None => (Transform::identity(), EdgePrecision::exact().into()),
         Some(o) => origin::origin(idx, &o, name, cx.version, &|| loc_of(&o), warnings)?,
@@ -166,7 +168,7 @@ pub(super) fn joint<'a>(
         let at = |names: &[&str]| {
             let attr = names.iter().find_map(|n| o.attribute(n));
             attr.and_then(|a| idx.pos_of(a.raw))
-                .or(Some(idx.pos(o.start)))
+                .or_else(|| Some(idx.pos(o.start)))
         };
         ValuesAt {
             translation: at(&["xyz"]),
@@ -178,7 +180,6 @@ pub(super) fn joint<'a>(
         None => None,
         Some(m) => Some(mimic(idx, &m, name)?),
     };
-    let loc = loc_of(j);
     let limit = limit(
         idx,
         jel.child("limit").as_ref(),

@@ -161,8 +161,8 @@ pub(super) enum Item<'e, 'a> {
     Root(El<'e, 'a>),
     /// The first xacro element, before that element's own item.
     Xacro(XacroAt<'a>),
-    /// A top-level `<link>`: its name (if any) and start offset.
-    Link(Option<Cow<'a, str>>, usize),
+    /// A top-level `<link>`: its `name` attribute (if any) and start offset.
+    Link(Option<&'e Attr<'a>>, usize),
     /// A top-level `<joint>` with its child elements.
     Joint(JointEl<'e, 'a>),
 }
@@ -195,8 +195,7 @@ pub(super) fn read<'a>(
         match (depth, el.name) {
             (1, _) => each(Item::Root(el))?,
             (2, "link") => {
-                let name = el.attribute("name").map(|a| a.value.clone());
-                each(Item::Link(name, el.start))?;
+                each(Item::Link(el.attribute("name"), el.start))?;
             }
             (2, "joint") => {
                 joint.clear();
@@ -710,7 +709,7 @@ mod tests {
                 Item::Link(name, start) => {
                     let l = links[read_links];
                     read_links += 1;
-                    assert_eq!(name.as_deref(), l.attribute("name"));
+                    assert_eq!(name.map(|a| a.value.as_ref()), l.attribute("name"));
                     assert_eq!(start, l.range().start);
                 }
                 Item::Joint(je) => {
