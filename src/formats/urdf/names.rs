@@ -50,7 +50,14 @@ impl<'a> Named<'a> {
             let s = s as usize;
             text.get(s..s.checked_add(l as usize)?)
         });
-        raw.and_then(decode).unwrap_or_default()
+        match raw {
+            // Names are short: a byte loop, where `decode`'s search for four
+            // characters costs more than the name (a lookup compares one).
+            Some(r) if !r.bytes().any(|b| matches!(b, b'&' | b'\t' | b'\n' | b'\r')) => {
+                Cow::Borrowed(r)
+            }
+            _ => raw.and_then(decode).unwrap_or_default(),
+        }
     }
 
     /// The `i`-th name.
