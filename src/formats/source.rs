@@ -73,13 +73,6 @@ impl<'a> LineIndex<'a> {
         (line.max(1), col)
     }
 
-    /// 1-based (line, column) where `part`, a slice of the indexed text,
-    /// starts; `None` when it is not a slice of it.
-    pub fn pos_of(&self, part: &str) -> Option<(usize, usize)> {
-        let start = (part.as_ptr() as usize).checked_sub(self.text.as_ptr() as usize)?;
-        (start + part.len() <= self.text.len()).then(|| self.pos(start))
-    }
-
     /// Characters before a byte offset (at a char boundary).
     fn chars_before(&self, offset: usize) -> usize {
         if self.marks.is_empty() {

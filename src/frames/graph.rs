@@ -51,7 +51,8 @@ use crate::tolerances::{
 };
 // foldhash: frame names are short and hashed several times per edge; SipHash
 // was a tenth of loading a 100,000-link URDF (issue 29). Seeded per process.
-use foldhash::{HashMap, HashMapExt};
+use foldhash::HashMap;
+use std::hash::BuildHasher;
 
 /// The [`crate::frames::JointState::name`] prefix of a transform that changes
 /// between the messages of a tf dump (`formats::yaml_dialects`): a floating
@@ -351,29 +352,45 @@ fn find(uf: &mut [usize], mut x: usize) -> usize {
 /// Whether `edges`, added in order to an empty [`FrameGraph`], would be
 /// accepted, with the same error when not; the edges are not copied (a
 /// reader's own check: a graph would hold a second copy of every edge).
-pub fn check_tree<'e>(edges: &'e [Edge]) -> Result<()> {
+///
+/// Its tables hold `u32`s (issue 29: memory per link; 22 bytes a frame where
+/// a map of names and `Option<usize>`s was 89): a frame is found by its name
+/// through a table of frame numbers, and a frame's name is read from the
+/// edge that first named it. 2^31 edges are far beyond the memory an edge
+/// list fits in; past that an index saturates and finds nothing.
+pub fn check_tree(edges: &[Edge]) -> Result<()> {
     let n = edges.len() + 1;
-    let mut index: HashMap<&'e str, usize> = HashMap::with_capacity(n);
-    let mut names: Vec<&'e str> = Vec::with_capacity(n);
-    // Per frame: its parent edge, its parent frame, its union-find link.
-    let mut parent: Vec<Option<usize>> = Vec::with_capacity(n);
-    let mut parent_frame: Vec<Option<usize>> = Vec::with_capacity(n);
-    let mut uf: Vec<usize> = Vec::with_capacity(n);
+    let hasher = foldhash::fast::RandomState::default();
+    let mut index: hashbrown::HashTable<u32> = hashbrown::HashTable::with_capacity(n);
+    let mut t = TreeCheck {
+        edges,
+        named_by: Vec::with_capacity(n),
+        parent: Vec::with_capacity(n),
+        parent_frame: Vec::with_capacity(n),
+        uf: Vec::with_capacity(n),
+    };
     for (ei, edge) in edges.iter().enumerate() {
         if let Some(e) = shape_error(edge) {
             return Err(e);
         }
+        let hp = hasher.hash_one(edge.parent.as_str());
+        let hc = hasher.hash_one(edge.child.as_str());
+        let find_frame = |t: &TreeCheck, name: &str, h: u64| {
+            index
+                .find(h, |&f| t.name(f as usize) == name)
+                .map(|&f| f as usize)
+        };
         let (p, c) = (
-            index.get(edge.parent.as_str()).copied(),
-            index.get(edge.child.as_str()).copied(),
+            find_frame(&t, &edge.parent, hp),
+            find_frame(&t, &edge.child, hc),
         );
         if let (Some(p), Some(c)) = (p, c) {
-            let old = parent[c]
-                .filter(|&o: &usize| edges[o].parent == edge.parent)
+            let old = some(t.parent[c])
+                .filter(|&o| edges[o].parent == edge.parent)
                 .map(|o| (o, false))
                 .or_else(|| {
-                    parent[p]
-                        .filter(|&o: &usize| edges[o].parent == edge.child)
+                    some(t.parent[p])
+                        .filter(|&o| edges[o].parent == edge.child)
                         .map(|o| (o, true))
                 });
             if let Some((o, reversed)) = old {
@@ -381,32 +398,103 @@ pub fn check_tree<'e>(edges: &'e [Edge]) -> Result<()> {
                 continue;
             }
         }
-        if let Some(o) = c.and_then(|c| parent[c]) {
+        if let Some(o) = c.and_then(|c| some(t.parent[c])) {
             return Err(two_parents(&edges[o], edge));
         }
         if let (Some(p), Some(c)) = (p, c) {
-            if find(&mut uf, p) == find(&mut uf, c) {
-                let path = cycle_path(p, c, &parent_frame, names.len());
-                let ns: Vec<&str> = path.iter().map(|&i| names[i]).collect();
+            if find32(&mut t.uf, p) == find32(&mut t.uf, c) {
+                let path = t.cycle_path(p, c);
+                let ns: Vec<&str> = path.iter().map(|&i| t.name(i)).collect();
                 return Err(cycle(edge, &ns));
             }
         }
-        let mut id = |name: &'e str| -> usize {
-            *index.entry(name).or_insert_with(|| {
-                names.push(name);
-                parent.push(None);
-                parent_frame.push(None);
-                uf.push(names.len() - 1);
-                names.len() - 1
+        // Parent and child differ (shape_error): adding one cannot make
+        // the other found.
+        let mut id = |found: Option<usize>, h: u64, named_by: usize| {
+            found.unwrap_or_else(|| {
+                let f = t.named_by.len();
+                index.insert_unique(h, to_u32(f), |&g| hasher.hash_one(t.name(g as usize)));
+                t.add(named_by)
             })
         };
-        let (p, c) = (id(edge.parent.as_str()), id(edge.child.as_str()));
-        let (rp, rc) = (find(&mut uf, p), find(&mut uf, c));
-        uf[rc] = rp;
-        parent[c] = Some(ei);
-        parent_frame[c] = Some(p);
+        let p = id(p, hp, 2 * ei);
+        let c = id(c, hc, 2 * ei + 1);
+        let (rp, rc) = (find32(&mut t.uf, p), find32(&mut t.uf, c));
+        t.uf[rc] = to_u32(rp);
+        t.parent[c] = to_u32(ei);
+        t.parent_frame[c] = to_u32(p);
     }
     Ok(())
+}
+
+/// No edge or frame (in [`TreeCheck`]'s tables).
+const NONE: u32 = u32::MAX;
+
+fn to_u32(i: usize) -> u32 {
+    u32::try_from(i).unwrap_or(NONE)
+}
+
+fn some(i: u32) -> Option<usize> {
+    (i != NONE).then_some(i as usize)
+}
+
+/// [`check_tree`]'s frames: per frame, the edge that first named it (its
+/// index times 2, plus 1 when as child), its parent edge, its parent frame
+/// and its union-find link.
+struct TreeCheck<'e> {
+    edges: &'e [Edge],
+    named_by: Vec<u32>,
+    parent: Vec<u32>,
+    parent_frame: Vec<u32>,
+    uf: Vec<u32>,
+}
+
+impl<'e> TreeCheck<'e> {
+    fn name(&self, f: usize) -> &'e str {
+        let at = self.named_by.get(f).map_or(usize::MAX, |&a| a as usize);
+        match self.edges.get(at / 2) {
+            Some(e) if at % 2 == 1 => &e.child,
+            Some(e) => &e.parent,
+            None => "",
+        }
+    }
+
+    /// A new frame, named by edge `named_by / 2`; its number.
+    fn add(&mut self, named_by: usize) -> usize {
+        let f = self.named_by.len();
+        self.named_by.push(to_u32(named_by));
+        self.parent.push(NONE);
+        self.parent_frame.push(NONE);
+        self.uf.push(to_u32(f));
+        f
+    }
+
+    /// [`cycle_path`] over these tables.
+    fn cycle_path(&self, p: usize, c: usize) -> Vec<usize> {
+        let n = self.named_by.len();
+        let mut path = vec![p];
+        let mut cur = p;
+        while let Some(up) = some(self.parent_frame[cur]) {
+            path.push(up);
+            if up == c || path.len() > n {
+                break;
+            }
+            cur = up;
+        }
+        path.reverse();
+        path.push(c);
+        path
+    }
+}
+
+/// [`find`] over `u32` links.
+fn find32(uf: &mut [u32], x: usize) -> usize {
+    let mut x = x as u32;
+    while uf[x as usize] != x {
+        uf[x as usize] = uf[uf[x as usize] as usize];
+        x = uf[x as usize];
+    }
+    x as usize
 }
 
 /// Whether two transforms agree within the duplicate-edge tolerances.
@@ -1183,6 +1271,47 @@ mod tests {
     fn edge(p: &str, c: &str, x: f64, line: usize) -> Edge {
         let t = Transform::from_translation([x, 0.0, 0.0]).expect("finite");
         Edge::new(p, c, t, Location::at("t.txt", line, None), "rig", "k")
+    }
+
+    /// `check_tree` accepts what an empty graph accepts, with the same
+    /// error: random edge lists over a few frames (duplicates agreeing and
+    /// not, reversed pairs, two parents, cycles, self-loops, empty names).
+    #[test]
+    fn check_tree_is_the_graph_s_check() {
+        let mut x: u64 = 7;
+        let mut next = |n: u64| {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (x >> 33) % n
+        };
+        let (mut accepted, mut refused) = (0, 0);
+        for _ in 0..3000 {
+            let frames = 2 + next(8);
+            let edges: Vec<Edge> = (0..1 + next(9))
+                .map(|k| {
+                    let name = |i: u64| {
+                        if i == 9 {
+                            String::new()
+                        } else {
+                            format!("f{i}")
+                        }
+                    };
+                    let (p, c) = (name(next(frames + 1)), name(next(frames)));
+                    edge(&p, &c, next(2) as f64, k as usize + 1)
+                })
+                .collect();
+            let ours = super::check_tree(&edges).map_err(|e| e.to_string());
+            let graph = FrameGraph::new()
+                .add(set(edges.clone(), &[], Vec::new()))
+                .map_err(|e| e.to_string());
+            assert_eq!(ours, graph, "{edges:?}");
+            match ours {
+                Ok(()) => accepted += 1,
+                Err(_) => refused += 1,
+            }
+        }
+        assert!(accepted > 300 && refused > 300, "{accepted} {refused}");
     }
 
     fn set(edges: Vec<Edge>, frames: &[&str], redundant: Vec<Edge>) -> EdgeSet {

@@ -10,22 +10,22 @@
 //! comes before it), the items it makes irrelevant are no longer read.
 
 use super::joints::Builder;
-use super::read::{self, Context, JointRaw, Links, PendingLink};
+use super::lines::Lines;
+use super::names::{JointNames, Links};
+use super::read::{self, Context, JointRaw, PendingLink};
 use super::stream::err_at;
+use super::stream::Attr;
 use super::stream::{El, Item, JointEl, XacroAt};
 use super::version::{self, Version};
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::formats::source::LineIndex;
 use crate::formats::spec::{LoadOptions, Parsed};
 use crate::formats::xacro::markers as xacro;
 use crate::frames::{Edge, FrameDecl};
-use foldhash::{HashMap, HashMapExt};
-use std::borrow::Cow;
 use std::collections::VecDeque;
 use std::path::Path;
 
 pub(super) struct Document<'c, 'a> {
-    idx: &'c LineIndex<'a>,
+    idx: &'c Lines<'a>,
     path: &'c Path,
     opts: &'c LoadOptions,
     root_error: Option<Error>,
@@ -33,12 +33,11 @@ pub(super) struct Document<'c, 'a> {
     robot: Option<String>,
     xacro: Option<XacroAt<'a>>,
     version: Option<Result<Version>>,
-    /// Top-level `<link>`s in file order: name and start offset.
-    decls: Vec<(Cow<'a, str>, usize)>,
+    /// Top-level `<link>`s in file order (name and start offset), by name.
     links: Links<'a>,
     link_error: Option<Error>,
     /// Joint names and their lines (duplicates, mimic masters).
-    names: HashMap<Cow<'a, str>, usize>,
+    names: JointNames<'a>,
     builder: Builder<'c>,
     warnings: Vec<Warning>,
     joints_read: usize,
@@ -52,7 +51,7 @@ pub(super) struct Document<'c, 'a> {
 impl<'c, 'a> Document<'c, 'a> {
     pub(super) fn new(
         text: &'a str,
-        idx: &'c LineIndex<'a>,
+        idx: &'c Lines<'a>,
         path: &'c Path,
         opts: &'c LoadOptions,
         format: &'static str,
@@ -68,10 +67,9 @@ impl<'c, 'a> Document<'c, 'a> {
             robot: None,
             xacro: None,
             version: None,
-            decls: Vec::with_capacity(links),
-            links: Links::with_capacity(links),
+            links: Links::with_capacity(text, links),
             link_error: None,
-            names: HashMap::with_capacity(joints),
+            names: JointNames::with_capacity(text, joints),
             builder: Builder::new(opts, joints, format),
             warnings: Vec::new(),
             joints_read: 0,
@@ -105,26 +103,26 @@ impl<'c, 'a> Document<'c, 'a> {
         }
     }
 
-    fn link(&mut self, name: Option<Cow<'a, str>>, start: usize) {
+    fn link(&mut self, name: Option<&Attr<'a>>, start: usize) {
         let at = |msg: String| {
             let (l, c) = self.idx.pos(start);
             Error::parse(msg).at_line(l, Some(c))
         };
-        let Some(name) = name else {
+        let Some(attr) = name else {
             self.link_error = Some(at("<link> without a name: expected name=\"...\"".into()));
             return;
         };
-        if let Some(prev) = self.links.get(name.as_ref()) {
-            let (pl, _) = self.idx.pos(*prev);
+        let name = attr.value.as_ref();
+        if let Some(prev) = self.links.get(name) {
+            let (pl, _) = self.idx.pos(prev);
             self.link_error = Some(at(format!(
                 "link '{name}' declared twice: expected unique link names, first at line {pl}"
             )));
             return;
         }
-        self.links.insert(name.clone(), start);
-        self.decls.push((name, start));
+        self.links.push(name, attr.raw, start);
         while let Some(p) = self.pending.front() {
-            if !self.links.contains_key(p.link.as_ref()) {
+            if !self.links.contains(p.link.as_ref()) {
                 break;
             }
             self.pending.pop_front();
@@ -134,11 +132,11 @@ impl<'c, 'a> Document<'c, 'a> {
     fn joint(&mut self, j: &JointEl<'_, 'a>) {
         let k = self.joints_read;
         self.joints_read += 1;
-        let name = j.el.attribute("name").map(|a| a.value.clone());
-        if let Some(&prev) = name.as_ref().and_then(|n| self.names.get(n.as_ref())) {
+        let name = j.el.attribute("name");
+        if let Some(prev) = name.and_then(|a| self.names.get(&a.value)) {
             let msg = format!(
                 "joint '{}' declared twice: expected unique joint names, first at line {}",
-                name.as_deref().unwrap_or(""),
+                name.map_or("", |a| a.value.as_ref()),
                 prev
             );
             self.joint_error = Some((k, err_at(self.idx, &j.el, msg)));
@@ -160,9 +158,9 @@ impl<'c, 'a> Document<'c, 'a> {
         }
     }
 
-    fn push(&mut self, name: Option<Cow<'a, str>>, raw: JointRaw) {
-        if let Some(n) = name {
-            self.names.insert(n, raw.loc.line.unwrap_or(0));
+    fn push(&mut self, name: Option<&Attr<'a>>, raw: JointRaw) {
+        if let Some(a) = name {
+            self.names.push(&a.value, a.raw, raw.loc.line.unwrap_or(0));
         }
         self.builder.push(raw);
     }
@@ -183,23 +181,26 @@ impl<'c, 'a> Document<'c, 'a> {
         let undeclared = self
             .pending
             .iter()
-            .find(|p| !self.links.contains_key(p.link.as_ref()));
+            .find(|p| !self.links.contains(p.link.as_ref()));
         match (undeclared, self.joint_error) {
             (Some(p), Some((k, _))) if p.joint <= k => return Err(p.error(idx)),
             (Some(p), None) => return Err(p.error(idx)),
             (_, Some((_, e))) => return Err(e),
             (None, None) => {}
         }
-        let (edges, edge_warnings) = self.builder.finish(&self.names)?;
-        drop((self.names, self.links, self.pending));
+        let names = &self.names;
+        let (edges, edge_warnings) = self.builder.finish(|n| names.contains(n))?;
+        drop((self.names, self.pending));
         let mut warnings = self.warnings;
         warnings.extend(edge_warnings);
+        // The links' frames first (no error can come of them), so that the
+        // links are dropped before the tree check's tables are built.
+        let (frames, roots) = link_frames(idx, &self.links, &edges, self.path);
+        drop(self.links);
+        root_links(&roots, self.path, &mut warnings);
         // The joints must form a tree: checked now, with the file's positions,
         // without a second copy of the edges.
         crate::frames::check_tree(&edges)?;
-        let (frames, roots) = link_frames(idx, &self.decls, &edges, self.path);
-        drop(self.decls);
-        root_links(&roots, self.path, &mut warnings);
         Ok(Parsed {
             edges,
             frames,
@@ -220,25 +221,29 @@ fn tags(text: &str, tag: &[u8]) -> usize {
 /// known to the graph through its edge: issue 12, memory per link), and the
 /// links without a parent joint with their lines, both in file order.
 fn link_frames(
-    idx: &LineIndex,
-    links: &[(Cow<'_, str>, usize)],
+    idx: &Lines,
+    links: &Links,
     edges: &[Edge],
     path: &Path,
 ) -> (Vec<FrameDecl>, Vec<(String, usize)>) {
     const CHILD: u8 = 1;
     const PARENT: u8 = 2;
-    let mut named: HashMap<&str, u8> = HashMap::with_capacity(edges.len() + 1);
+    // Every joint names declared links (checked before): a flag per link,
+    // found through the links' own index.
+    let mut named = vec![0u8; links.len()];
     for e in edges {
-        *named.entry(e.parent.as_str()).or_default() |= PARENT;
-        *named.entry(e.child.as_str()).or_default() |= CHILD;
+        for (name, flag) in [(&e.parent, PARENT), (&e.child, CHILD)] {
+            if let Some(i) = links.index_of(name) {
+                named[i] |= flag;
+            }
+        }
     }
     let (mut frames, mut roots) = (Vec::new(), Vec::new());
-    for (name, start) in links {
-        let flags = named.get(name.as_ref()).copied().unwrap_or(0);
+    for (&flags, (name, start)) in named.iter().zip(links.iter()) {
         if flags & CHILD != 0 {
             continue;
         }
-        let (l, c) = idx.pos(*start);
+        let (l, c) = idx.pos(start);
         roots.push((name.to_string(), l));
         if flags == 0 {
             frames.push(FrameDecl {
@@ -273,7 +278,7 @@ fn root_links(roots: &[(String, usize)], path: &Path, warnings: &mut Vec<Warning
 }
 
 /// The root element must be `<robot>`; an `<sdf>` root gets its own advice.
-fn check_root(idx: &LineIndex, root: &El) -> Result<()> {
+fn check_root(idx: &Lines, root: &El) -> Result<()> {
     let (rl, rc) = idx.pos(root.start);
     match root.name {
         "robot" if root.attr("name").is_none() => Err(Error::parse(
@@ -294,7 +299,7 @@ fn check_root(idx: &LineIndex, root: &El) -> Result<()> {
 
 /// Un-expanded xacro: namespace, elements or `${...}` / `$(...)` in
 /// attributes (the first such element, noted by [`super::stream::read`]).
-fn refuse_xacro(idx: &LineIndex, first: Option<&XacroAt>, path: &Path) -> Result<()> {
+fn refuse_xacro(idx: &Lines, first: Option<&XacroAt>, path: &Path) -> Result<()> {
     let Some(n) = first else { return Ok(()) };
     let (l, c) = idx.pos(n.start);
     Err(Error::parse(format!(

@@ -7,13 +7,12 @@
 use super::read::JointRaw;
 use crate::diagnostic::{Code, Error, Result, Warning};
 use crate::formats::spec::LoadOptions;
-use crate::frames::{Edge, JointState, JointType};
+use crate::frames::{Edge, JointState, JointType, Provenance};
 use crate::geometry::se3::{robust_norm, scaled_unit};
 use crate::geometry::Transform;
 use crate::tolerances::AXIS_MIN_NORM;
 use crate::tolerances::UNIT_AXIS_TOL;
 use nalgebra::Vector3;
-use std::collections::HashMap;
 
 /// One edge per joint, in file order, built as each joint is read (the
 /// joints are not kept: issue 12). What needs the whole file (a mimic master
@@ -78,7 +77,7 @@ impl<'o> Builder<'o> {
             true => None,
             false => opts.joints.get(&j.name).copied(),
         };
-        let origin_key = || format!("joint \"{}\" <origin>", j.name);
+        let origin_key = || key(&["joint \"", &j.name, "\" <origin>"]);
         let mut carried = None;
         let (transform, key, state) = match j.jtype {
             None => {
@@ -104,7 +103,7 @@ impl<'o> Builder<'o> {
                 let motion = motion(&j, jt, value, &mut self.warnings).map_err(Failure::Ready)?;
                 // Origin Exp(xi) motion = (origin motion) Exp(Ad(motion^-1) xi).
                 carried = Some(motion.adjoint_inverse());
-                let key = format!("joint \"{}\" <origin> + {} motion", j.name, jt);
+                let key = key(&["joint \"", &j.name, "\" <origin> + ", jt.name(), " motion"]);
                 (
                     j.origin.compose(&motion),
                     key,
@@ -112,41 +111,46 @@ impl<'o> Builder<'o> {
                 )
             }
         };
-        // The joint's strings move into the edge.
-        let mut e = Edge::new(j.parent, j.child, transform, j.loc, self.format, key)
-            .with_compact_precision(j.origin_precision)
-            .with_values(j.values);
+        let mut precision = j.origin_precision;
         if let Some(a) = carried {
-            e.precision.transform_rounding(&a);
+            precision.transform_rounding(&a);
         }
-        if let Some((joint_type, value, defaulted)) = state {
-            e.joint = Some(JointState {
-                name: j.name,
-                joint_type,
-                value,
-                defaulted,
-            });
-        }
-        self.edges.push(e);
+        let joint = state.map(|(joint_type, value, defaulted)| JointState {
+            name: j.name,
+            joint_type,
+            value,
+            defaulted,
+        });
+        // The joint's strings move into the edge, built in place (a chain of
+        // `Edge::with_*` moved its 440 bytes once per call: issue 29).
+        self.edges.push(Edge {
+            parent: j.parent,
+            child: j.child,
+            transform,
+            provenance: Provenance {
+                location: j.loc,
+                format: self.format,
+                key,
+                values: j.values,
+            },
+            joint,
+            precision,
+        });
         Ok(())
     }
 
-    /// The edges and their warnings, or the first joint's error; `names` are
-    /// all joint names of the file (for the mimic masters).
-    pub(super) fn finish<K, S>(
+    /// The edges and their warnings, or the first joint's error;
+    /// `is_joint(name)`: whether the file has a joint `name` (the mimic masters).
+    pub(super) fn finish(
         self,
-        names: &HashMap<K, usize, S>,
-    ) -> Result<(Vec<Edge>, Vec<Warning>)>
-    where
-        K: std::borrow::Borrow<str> + std::hash::Hash + Eq,
-        S: std::hash::BuildHasher,
-    {
+        is_joint: impl Fn(&str) -> bool,
+    ) -> Result<(Vec<Edge>, Vec<Warning>)> {
         let before = self.failed.as_ref().map_or(usize::MAX, |(i, _)| *i);
         // At the same joint the mimic master is checked first.
         let mimic = self
             .mimics
             .iter()
-            .find(|(i, _, master, _)| *i <= before && !names.contains_key(master.as_str()));
+            .find(|(i, _, master, _)| *i <= before && !is_joint(master.as_str()));
         if let Some((_, name, master, loc)) = mimic {
             return Err(Error::parse(format!(
                 "joint '{name}': <mimic joint=\"{master}\"> names no joint in this file"
@@ -161,6 +165,15 @@ impl<'o> Builder<'o> {
             None => Ok((self.edges, self.warnings)),
         }
     }
+}
+
+/// The edge's key, `parts` joined in a string of exactly their length
+/// (`format!` reserves twice its literal text: a 23-byte key took a 48-byte
+/// allocation, issue 29).
+fn key(parts: &[&str]) -> String {
+    let mut s = String::with_capacity(parts.iter().map(|p| p.len()).sum());
+    parts.iter().for_each(|p| s.push_str(p));
+    s
 }
 
 /// `--joint NAME=VALUE` on a fixed joint: one error, with the movable joints.

@@ -62,7 +62,8 @@
 //! `${...}`, `$(...)`) is refused with the advice of [`super::xacro`]: it is
 //! never parsed as URDF.
 //!
-//! Layout: `stream` reads the XML (`values`: attribute values); `read` turns
+//! Layout: `stream` reads the XML (`values`: attribute values; `lines`:
+//! offsets to lines and columns; `names`: the name lookups); `read` turns
 //! it into raw joints (names, types, axes, limits, mimic; `origin`: numbers
 //! and origins); `joints` applies joint values (`--joint`, mimic, defaults)
 //! and builds the edges; `document` holds the pass together, checks the
@@ -70,6 +71,8 @@
 
 mod document;
 mod joints;
+mod lines;
+mod names;
 mod origin;
 mod read;
 mod stream;
@@ -77,14 +80,14 @@ mod values;
 mod version;
 
 use crate::diagnostic::Result;
-use crate::formats::source::LineIndex;
 use crate::formats::spec::{Confidence, FormatSpec, LoadOptions, Parsed};
 use crate::formats::xml;
+use lines::Lines;
 use std::path::Path;
 
 /// Parse URDF text.
 pub fn parse(text: &str, path: &Path, opts: &LoadOptions) -> Result<Parsed> {
-    let idx = LineIndex::new(text);
+    let idx = Lines::new(text);
     let mut doc = document::Document::new(text, &idx, path, opts, SPEC.id);
     stream::read(text, path, |item| {
         doc.add(item);

@@ -4,10 +4,10 @@
 //! or a warning is raised: a message names its attribute through [`What`],
 //! formatted only then.
 
+use super::lines::Lines;
 use super::stream::{err_at, El};
 use super::version::Version;
 use crate::diagnostic::{Code, Location, Result, Warning};
-use crate::formats::source::LineIndex;
 use crate::formats::spec::{locate_warnings, UrdfVersion};
 use crate::geometry::uncertainty::{half_units, rounding_covariance, rounding_std};
 use crate::geometry::{EdgePrecision, Precision, QuatOrder, Transform};
@@ -114,7 +114,7 @@ const ZEROS: ([f64; 3], [&str; 3]) = ([0.0; 3], ["0"; 3]);
 /// an error in every version): the pose and the rounding of its numbers.
 /// `loc` locates the warnings (made only when one is raised).
 pub(super) fn origin(
-    idx: &LineIndex,
+    idx: &Lines,
     o: &El,
     name: &str,
     version: Version,

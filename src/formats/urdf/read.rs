@@ -4,11 +4,11 @@
 //! one joint at a time; the numbers and `<origin>` are read by
 //! [`super::origin`].
 
+use super::lines::Lines;
 use super::origin::{self, numbers_attr, What};
 use super::stream::{err_at, fail_at, El, JointEl};
 use super::version::Version;
 use crate::diagnostic::{Code, Error, Location, Result, Warning};
-use crate::formats::source::LineIndex;
 use crate::formats::spec::UrdfVersion;
 use crate::frames::{JointType, ValuesAt};
 use crate::geometry::{EdgePrecision, Precision, Transform};
@@ -16,10 +16,7 @@ use std::borrow::Cow;
 use std::collections::VecDeque;
 use std::path::Path;
 
-/// Links by name (start offsets), for the joints' parent and child checks.
-/// foldhash: names are short and a map lookup is made per link and per
-/// joint end, where SipHash was a tenth of the reading (issue 29).
-pub(super) type Links<'a> = foldhash::HashMap<Cow<'a, str>, usize>;
+pub(super) use super::names::Links;
 
 /// The `type` names URDF accepts, in the order error messages list them.
 const JOINT_TYPES: &[&str] = &[
@@ -68,7 +65,7 @@ pub(super) struct JointRaw {
 
 /// What a joint is read against: the links declared so far and the version.
 pub(super) struct Context<'c, 'a> {
-    pub idx: &'c LineIndex<'a>,
+    pub idx: &'c Lines<'a>,
     pub path: &'c Path,
     pub version: Version,
     pub links: &'c Links<'a>,
@@ -89,7 +86,7 @@ pub(super) struct PendingLink<'a> {
 
 impl PendingLink<'_> {
     /// The error when no `<link>` declares it.
-    pub fn error(&self, idx: &LineIndex) -> Error {
+    pub fn error(&self, idx: &Lines) -> Error {
         let (name, tag, l) = (&self.name, self.tag, &self.link);
         fail_at(
             idx,
@@ -144,7 +141,7 @@ pub(super) fn joint<'a>(
                 format!("joint '{name}': <{tag}> without link=\"...\""),
             )
         })?;
-        if !cx.links.contains_key(l.value.as_ref()) {
+        if !cx.links.contains(l.value.as_ref()) {
             pending.push_back(PendingLink {
                 joint: index,
                 name: name_attr.value.clone(),
@@ -161,6 +158,8 @@ pub(super) fn joint<'a>(
         let (l, c) = idx.pos(n.start);
         Location::at(cx.path, l, Some(c))
     };
+    // Positions asked in file order: `idx` moves forwards (super::lines).
+    let loc = loc_of(j);
     let (origin, origin_precision) = match jel.child("origin") {
         None => (Transform::identity(), EdgePrecision::exact().into()),
         Some(o) => origin::origin(idx, &o, name, cx.version, &|| loc_of(&o), warnings)?,
@@ -169,7 +168,7 @@ pub(super) fn joint<'a>(
         let at = |names: &[&str]| {
             let attr = names.iter().find_map(|n| o.attribute(n));
             attr.and_then(|a| idx.pos_of(a.raw))
-                .or(Some(idx.pos(o.start)))
+                .or_else(|| Some(idx.pos(o.start)))
         };
         ValuesAt {
             translation: at(&["xyz"]),
@@ -181,7 +180,6 @@ pub(super) fn joint<'a>(
         None => None,
         Some(m) => Some(mimic(idx, &m, name)?),
     };
-    let loc = loc_of(j);
     let limit = limit(
         idx,
         jel.child("limit").as_ref(),
@@ -210,7 +208,7 @@ pub(super) fn joint<'a>(
 /// `<axis xyz>`, as urdfdom reads it: no `<axis>` is 1 0 0, an `<axis>`
 /// without xyz is 0 0 0 (refused on a movable joint: KDL would divide by its
 /// norm).
-fn axis(idx: &LineIndex, a: Option<El>, name: &str, jtype: &str) -> Result<[f64; 3]> {
+fn axis(idx: &Lines, a: Option<El>, name: &str, jtype: &str) -> Result<[f64; 3]> {
     let what = What {
         joint: name,
         tag: "axis",
@@ -235,7 +233,7 @@ fn axis(idx: &LineIndex, a: Option<El>, name: &str, jtype: &str) -> Result<[f64;
 /// doubt (no `<limit>`; before URDF 1.2 no `effort` or `velocity`, from 1.2 no
 /// `lower` or `upper`) is a `refused-by-ros` warning.
 fn limit(
-    idx: &LineIndex,
+    idx: &Lines,
     l: Option<&El>,
     jtype: &str,
     name: &str,
@@ -392,7 +390,7 @@ fn number_spacing(
     }
 }
 
-fn mimic(idx: &LineIndex, m: &El, name: &str) -> Result<Mimic> {
+fn mimic(idx: &Lines, m: &El, name: &str) -> Result<Mimic> {
     let master = m.attr("joint").ok_or_else(|| {
         err_at(
             idx,

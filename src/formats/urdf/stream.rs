@@ -6,7 +6,7 @@
 //! against their namespaces here ([`Scopes`]: the attributes are split once,
 //! where quick-xml's `NsReader` splits them a second time to find the
 //! declarations). Every element's start is a byte offset into the text (its
-//! `<`), turned into line and column by [`LineIndex`] only when a message
+//! `<`), turned into line and column by [`Lines`] only when a message
 //! needs one. Attribute values are decoded as XML reads them
 //! ([`super::values`]): literal tabs and line breaks become spaces, then the
 //! five predefined entities and character references are replaced; `raw`
@@ -26,6 +26,7 @@
 //! once. When roxmltree accepts the text, reading goes on (or, if quick-xml
 //! cannot go on, its own error is reported at its position).
 
+use super::lines::Lines;
 use super::values::{decode, has_expr, scan};
 use crate::diagnostic::{Error, Result};
 use crate::formats::source::LineIndex;
@@ -160,8 +161,8 @@ pub(super) enum Item<'e, 'a> {
     Root(El<'e, 'a>),
     /// The first xacro element, before that element's own item.
     Xacro(XacroAt<'a>),
-    /// A top-level `<link>`: its name (if any) and start offset.
-    Link(Option<Cow<'a, str>>, usize),
+    /// A top-level `<link>`: its `name` attribute (if any) and start offset.
+    Link(Option<&'e Attr<'a>>, usize),
     /// A top-level `<joint>` with its child elements.
     Joint(JointEl<'e, 'a>),
 }
@@ -194,8 +195,7 @@ pub(super) fn read<'a>(
         match (depth, el.name) {
             (1, _) => each(Item::Root(el))?,
             (2, "link") => {
-                let name = el.attribute("name").map(|a| a.value.clone());
-                each(Item::Link(name, el.start))?;
+                each(Item::Link(el.attribute("name"), el.start))?;
             }
             (2, "joint") => {
                 joint.clear();
@@ -620,12 +620,12 @@ fn decl_ok(raw: &str) -> bool {
 }
 
 /// A parse error at element `n`'s line and column.
-pub(super) fn err_at(idx: &LineIndex, n: &El, msg: String) -> Error {
+pub(super) fn err_at(idx: &Lines, n: &El, msg: String) -> Error {
     fail_at(idx, n.start, msg)
 }
 
 /// A parse error at byte `start`'s line and column.
-pub(super) fn fail_at(idx: &LineIndex, start: usize, msg: String) -> Error {
+pub(super) fn fail_at(idx: &Lines, start: usize, msg: String) -> Error {
     let (l, c) = idx.pos(start);
     Error::parse(msg).at_line(l, Some(c))
 }
@@ -709,7 +709,7 @@ mod tests {
                 Item::Link(name, start) => {
                     let l = links[read_links];
                     read_links += 1;
-                    assert_eq!(name.as_deref(), l.attribute("name"));
+                    assert_eq!(name.map(|a| a.value.as_ref()), l.attribute("name"));
                     assert_eq!(start, l.range().start);
                 }
                 Item::Joint(je) => {

@@ -2,9 +2,9 @@
 //! it, or `--urdf-version`. A leaf below the readers of joints and origins,
 //! which both ask it.
 
+use super::lines::Lines;
 use super::stream::{err_at, El};
 use crate::diagnostic::Result;
-use crate::formats::source::LineIndex;
 use crate::formats::spec::{LoadOptions, UrdfVersion};
 
 /// The version a file is read as: declared (`None` when absent) and used.
@@ -25,7 +25,7 @@ impl Version {
 
 /// `<robot version>` read as urdfdom reads it (refused at the `<robot>` line
 /// when malformed or unsupported), then `--urdf-version` if given.
-pub(super) fn version(idx: &LineIndex, root: &El, opts: &LoadOptions) -> Result<Version> {
+pub(super) fn version(idx: &Lines, root: &El, opts: &LoadOptions) -> Result<Version> {
     let declared = match root.attr("version") {
         None => None,
         Some(s) => Some(UrdfVersion::parse(s).map_err(|m| {
