@@ -21,6 +21,8 @@ BX="$(dirname "$B")/examples/read_xyz"
 cargo build --quiet --release --bin audit --example write_cloud --example read_xyz
 AX=target/release/examples/read_xyz
 td=$(python3 tools/testdata.py root)
+# hyperfine's -i (below) would time a missing file's error: refuse first.
+[ -d "$td/Gepetto__example-robot-data" ] || { echo "test data not found at $td: set EXTRINSIC_AUDIT_TEST_DATA (docs/test-data.md)" >&2; exit 2; }
 [ -f "$w/chain.urdf" ] || python3 bench/gen_urdf_chain.py 100000 "$w/chain.urdf"
 [ -d "$w/rigs" ] || python3 bench/gen_rigs.py "$w/rigs" 10000 > /dev/null
 [ -f "$w/big.mcap" ] || "$PY" bench/make_big_bag.py "$w/big.mcap" 1024
