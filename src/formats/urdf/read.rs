@@ -126,8 +126,10 @@ pub(super) fn joint<'a>(
             ),
         ));
     }
-    let mut link_of = |tag: &'static str| -> Result<String> {
-        let el = jel.child(tag).ok_or_else(|| {
+    let kids = jel.first_children(KIDS);
+    let [parent_el, child_el, origin_el, axis_el, mimic_el, limit_el] = kids;
+    let mut link_of = |tag: &'static str, el: Option<El<'_, 'a>>| -> Result<String> {
+        let el = el.ok_or_else(|| {
             err_at(
                 idx,
                 j,
@@ -152,19 +154,19 @@ pub(super) fn joint<'a>(
         }
         Ok(l.value.to_string())
     };
-    let parent = link_of("parent")?;
-    let child = link_of("child")?;
+    let parent = link_of("parent", parent_el)?;
+    let child = link_of("child", child_el)?;
     let loc_of = |n: &El| {
         let (l, c) = idx.pos(n.start);
         Location::at(cx.path, l, Some(c))
     };
     // Positions asked in file order: `idx` moves forwards (super::lines).
     let loc = loc_of(j);
-    let (origin, origin_precision) = match jel.child("origin") {
+    let (origin, origin_precision) = match origin_el {
         None => (Transform::identity(), EdgePrecision::exact().into()),
         Some(o) => origin::origin(idx, &o, name, cx.version, &|| loc_of(&o), warnings)?,
     };
-    let values = jel.child("origin").map_or_else(ValuesAt::default, |o| {
+    let values = origin_el.map_or_else(ValuesAt::default, |o| {
         let at = |names: &[&str]| {
             let attr = names.iter().find_map(|n| o.attribute(n));
             attr.and_then(|a| idx.pos_of(a.raw))
@@ -175,21 +177,21 @@ pub(super) fn joint<'a>(
             rotation: at(&["rpy", "quat_xyzw"]),
         }
     });
-    let axis = axis(idx, jel.child("axis"), name, jtype)?;
-    let mimic = match jel.child("mimic") {
+    let axis = axis(idx, axis_el, name, jtype)?;
+    let mimic = match mimic_el {
         None => None,
         Some(m) => Some(mimic(idx, &m, name)?),
     };
     let limit = limit(
         idx,
-        jel.child("limit").as_ref(),
+        limit_el.as_ref(),
         jtype,
         name,
         cx.version,
         &loc,
         warnings,
     )?;
-    number_spacing(jel, name, jtype, &loc, warnings);
+    number_spacing(&kids, name, jtype, &loc, warnings);
     Ok(JointRaw {
         name: name.to_string(),
         jtype: JointType::from_name(jtype),
@@ -309,19 +311,23 @@ fn limit(
     }))
 }
 
-/// The numeric attributes urdfdom reads: (element, attribute, vector of
-/// numbers split at spaces, or one number).
-const NUMERIC_ATTRS: &[(&str, &str, bool)] = &[
-    ("origin", "xyz", true),
-    ("origin", "rpy", true),
-    ("origin", "quat_xyzw", true),
-    ("axis", "xyz", true),
-    ("limit", "lower", false),
-    ("limit", "upper", false),
-    ("limit", "effort", false),
-    ("limit", "velocity", false),
-    ("mimic", "multiplier", false),
-    ("mimic", "offset", false),
+/// The child elements of a `<joint>` that are read (the first of each
+/// name), in the order [`joint`] takes them.
+const KIDS: [&str; 6] = ["parent", "child", "origin", "axis", "mimic", "limit"];
+
+/// The numeric attributes urdfdom reads: (element, its place in [`KIDS`],
+/// attribute, vector of numbers split at spaces, or one number).
+const NUMERIC_ATTRS: &[(&str, usize, &str, bool)] = &[
+    ("origin", 2, "xyz", true),
+    ("origin", 2, "rpy", true),
+    ("origin", 2, "quat_xyzw", true),
+    ("axis", 3, "xyz", true),
+    ("limit", 5, "lower", false),
+    ("limit", 5, "upper", false),
+    ("limit", 5, "effort", false),
+    ("limit", 5, "velocity", false),
+    ("mimic", 4, "multiplier", false),
+    ("mimic", 4, "offset", false),
 ];
 
 /// Whether urdfdom refuses a number's spacing: it splits vectors at spaces
@@ -343,20 +349,20 @@ fn ros_refuses_spacing(raw: &str, vector: bool) -> bool {
 /// A `refused-by-ros` warning for numbers urdfdom cannot split (see
 /// [`ros_refuses_spacing`]); the tool reads them.
 fn number_spacing(
-    j: &JointEl,
+    kids: &[Option<El>; KIDS.len()],
     name: &str,
     jtype: &str,
     loc: &Location,
     warnings: &mut Vec<Warning>,
 ) {
     let mut found = Vec::new();
-    for (tag, attr, vector) in NUMERIC_ATTRS {
+    for (tag, kid, attr, vector) in NUMERIC_ATTRS {
         // urdfdom reads no axis on fixed and floating joints.
         if *tag == "axis" && matches!(jtype, "fixed" | "floating") {
             continue;
         }
-        let Some(a) = j
-            .child(tag)
+        let Some(a) = kids[*kid]
+            .as_ref()
             .and_then(|e| e.attrs.iter().find(|a| a.name == *attr))
         else {
             continue;
@@ -418,4 +424,15 @@ fn mimic(idx: &Lines, m: &El, name: &str) -> Result<Mimic> {
         multiplier: num("multiplier", 1.0)?,
         offset: num("offset", 0.0)?,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{KIDS, NUMERIC_ATTRS};
+
+    /// Each numeric attribute's element is found at its place in `KIDS`.
+    #[test]
+    fn numeric_attrs_name_their_kids() {
+        assert!(NUMERIC_ATTRS.iter().all(|(tag, k, _, _)| KIDS[*k] == *tag));
+    }
 }

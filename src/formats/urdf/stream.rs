@@ -129,9 +129,18 @@ impl<'e, 'a> JointEl<'e, 'a> {
         (1..self.buf.heads.len()).map(|i| self.buf.view(i))
     }
 
-    /// The first child element named `tag`.
-    pub fn child(&self, tag: &str) -> Option<El<'e, 'a>> {
-        self.children().find(|c| c.name == tag)
+    /// The first child element named each of `tags`, in one pass over the
+    /// children (a search per tag compared every child's name again).
+    pub fn first_children<const N: usize>(&self, tags: [&str; N]) -> [Option<El<'e, 'a>>; N] {
+        let mut out = [None; N];
+        for c in self.children() {
+            if let Some(k) = tags.iter().position(|t| *t == c.name) {
+                if out[k].is_none() {
+                    out[k] = Some(c);
+                }
+            }
+        }
+        out
     }
 }
 
