@@ -186,14 +186,7 @@ impl Grid {
                             let j = j as usize;
                             let q = block[j];
                             let d = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
-                            let t = [
-                                d[0] * d[0],
-                                d[0] * d[1],
-                                d[0] * d[2],
-                                d[1] * d[1],
-                                d[1] * d[2],
-                                d[2] * d[2],
-                            ];
+                            let t = crate::degeneracy::sym3::outer(d);
                             let other = &mut accs[j];
                             for k in 0..3 {
                                 own[k] += d[k];
@@ -428,12 +421,9 @@ mod tests {
             for k in 0..3 {
                 sum[k] += d[k];
             }
-            sxx[0] += d[0] * d[0];
-            sxx[1] += d[0] * d[1];
-            sxx[2] += d[0] * d[2];
-            sxx[3] += d[1] * d[1];
-            sxx[4] += d[1] * d[2];
-            sxx[5] += d[2] * d[2];
+            for (s, t) in sxx.iter_mut().zip(crate::degeneracy::sym3::outer(d)) {
+                *s += t;
+            }
         });
         (n, sum, sxx)
     }

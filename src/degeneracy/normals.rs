@@ -108,12 +108,9 @@ fn moments(
         for k in 0..3 {
             sum[k] += d[k];
         }
-        sxx[0] += d[0] * d[0];
-        sxx[1] += d[0] * d[1];
-        sxx[2] += d[0] * d[2];
-        sxx[3] += d[1] * d[1];
-        sxx[4] += d[1] * d[2];
-        sxx[5] += d[2] * d[2];
+        for (s, t) in sxx.iter_mut().zip(sym3::outer(d)) {
+            *s += t;
+        }
     };
     let r2 = prm.radius * prm.radius;
     match (prm.knn.and_then(NonZero::new), index) {

@@ -542,12 +542,9 @@ pub fn estimate_normals(
                 sum[0] += d[0];
                 sum[1] += d[1];
                 sum[2] += d[2];
-                sxx[0] += d[0] * d[0];
-                sxx[1] += d[0] * d[1];
-                sxx[2] += d[0] * d[2];
-                sxx[3] += d[1] * d[1];
-                sxx[4] += d[1] * d[2];
-                sxx[5] += d[2] * d[2];
+                for (s, t) in sxx.iter_mut().zip(crate::degeneracy::sym3::outer(d)) {
+                    *s += t;
+                }
             });
         if count < min_neighbours {
             continue;

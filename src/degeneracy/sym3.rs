@@ -46,6 +46,19 @@ pub(crate) struct Sym3 {
 /// a12, a22]`.
 pub(crate) type Upper = [f64; 6];
 
+/// `d d^T` as an [`Upper`]: one offset's term of a neighbourhood's moments.
+#[inline(always)]
+pub(crate) fn outer(d: [f64; 3]) -> Upper {
+    [
+        d[0] * d[0],
+        d[0] * d[1],
+        d[0] * d[2],
+        d[1] * d[1],
+        d[1] * d[2],
+        d[2] * d[2],
+    ]
+}
+
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
@@ -268,15 +281,7 @@ mod tests {
         }
         let mut s = [0.0; 6];
         for p in pts {
-            let d = sub(*p, c);
-            let outer = [
-                d[0] * d[0],
-                d[0] * d[1],
-                d[0] * d[2],
-                d[1] * d[1],
-                d[1] * d[2],
-                d[2] * d[2],
-            ];
+            let outer = outer(sub(*p, c));
             for k in 0..6 {
                 s[k] += outer[k] / n;
             }
