@@ -301,11 +301,12 @@ fn two_parents(old: &Edge, edge: &Edge) -> Error {
     .at(&edge.provenance.location)
 }
 
-/// Frames from `c` (the root of `p`'s tree) down to `p`, then `c` again.
-fn cycle_path(p: usize, c: usize, parent_frame: &[Option<usize>], n: usize) -> Vec<usize> {
+/// Frames from `c` (the root of `p`'s tree) down to `p`, then `c` again;
+/// `parent` gives a frame's parent frame, `n` bounds the walk.
+fn cycle_path(p: usize, c: usize, n: usize, parent: impl Fn(usize) -> Option<usize>) -> Vec<usize> {
     let mut path = vec![p];
     let mut cur = p;
-    while let Some(up) = parent_frame[cur] {
+    while let Some(up) = parent(cur) {
         path.push(up);
         if up == c || path.len() > n {
             break;
@@ -471,19 +472,7 @@ impl<'e> TreeCheck<'e> {
 
     /// [`cycle_path`] over these tables.
     fn cycle_path(&self, p: usize, c: usize) -> Vec<usize> {
-        let n = self.named_by.len();
-        let mut path = vec![p];
-        let mut cur = p;
-        while let Some(up) = some(self.parent_frame[cur]) {
-            path.push(up);
-            if up == c || path.len() > n {
-                break;
-            }
-            cur = up;
-        }
-        path.reverse();
-        path.push(c);
-        path
+        cycle_path(p, c, self.named_by.len(), |f| some(self.parent_frame[f]))
     }
 }
 
@@ -813,7 +802,7 @@ impl FrameGraph {
         // the edge closes a cycle exactly when the parent is in that tree.
         if let (Some(p), Some(c)) = (self.id(&edge.parent), self.id(&edge.child)) {
             if self.find(p) == self.find(c) {
-                let path = cycle_path(p, c, &self.parent_frame, self.names.len());
+                let path = cycle_path(p, c, self.names.len(), |f| self.parent_frame[f]);
                 let names: Vec<&str> = path.iter().map(|&i| &self.names[i]).collect();
                 return Err(cycle(edge, &names));
             }
