@@ -11,6 +11,9 @@
 #
 #   PY=/path/to/venv/bin/python bench/fleet_growth.sh [OUT_DIR]
 #   SIZES="300 1000" RUNS=3 bench/fleet_growth.sh /tmp/g    (a quick check)
+#   RUNS_BIG=3: the runs at 100,000 files and more (the Python loop takes
+#   about 40 s a run there); AUDIT=path: time that binary instead of
+#   building the release one.
 #
 # Writes OUT_DIR/growth.md (the table, the machine's load before and after
 # each size) next to hyperfine's JSON. The rig files are generated under
@@ -21,13 +24,16 @@ cd "$(dirname "$0")/.."
 OUT=${1:-/tmp/fleet-growth}
 SIZES=${SIZES:-1000 10000 100000}
 RUNS=${RUNS:-10}
+RUNS_BIG=${RUNS_BIG:-$RUNS}
 PY=${PY:-python3}
 command -v hyperfine >/dev/null || { echo "hyperfine not found (apt-get install hyperfine)" >&2; exit 2; }
 "$PY" -c "import numpy" 2>/dev/null || { echo "$PY has no numpy: set PY to a venv's python with numpy" >&2; exit 2; }
 mkdir -p "$OUT"
 OUT=$(cd "$OUT" && pwd)
-cargo build --release -q --bin audit
-AUDIT=$PWD/target/release/audit
+if [ -z "${AUDIT:-}" ]; then
+  cargo build --release -q --bin audit
+  AUDIT=$PWD/target/release/audit
+fi
 : > "$OUT/rss.txt"
 : > "$OUT/load.txt"
 for n in $SIZES; do
@@ -40,9 +46,11 @@ for n in $SIZES; do
     "$PY bench/survey_python.py $dir"
     "sh -c 'find $dir -type f | xargs cat >/dev/null'"
   )
+  runs=$RUNS
+  [ "$n" -ge 100000 ] && runs=$RUNS_BIG
   echo "$n before: $(uptime)" >> "$OUT/load.txt"
   # -i: `check` exits 1 when a rig fails the gate; the time is still the run's.
-  hyperfine -N -i --warmup 1 --runs "$RUNS" --export-json "$OUT/time_$n.json" "${cmds[@]}" >/dev/null
+  hyperfine -N -i --warmup 1 --runs "$runs" --export-json "$OUT/time_$n.json" "${cmds[@]}" >/dev/null
   for i in "${!cmds[@]}"; do
     for _ in 1 2 3; do
       /usr/bin/time -f "%M" -o "$OUT/m" sh -c "${cmds[$i]} >/dev/null 2>&1" || true
