@@ -630,12 +630,47 @@ fn checked_rotation(m: &Matrix3<f64>, warnings: Option<&mut Vec<Warning>>) -> Re
             .with_severity(rounding_severity(err, ORTHONORMAL_ROUNDING_TOL)),
         );
     }
-    let svd = m.svd(true, true);
-    let (u, vt) = match (svd.u, svd.v_t) {
-        (Some(u), Some(vt)) => (u, vt),
-        _ => return Err(Error::invalid("rotation matrix: SVD did not converge")),
+    nearest_rotation(m).ok_or_else(|| Error::invalid("rotation matrix: SVD did not converge"))
+}
+
+/// The nearest rotation `U V^T` of `m` (its SVD), `None` when the SVD does
+/// not converge; remembered per thread by the exact bits of `m`. A rig
+/// file's rounding derivative projects eighteen perturbed matrices, and the
+/// files of a fleet share their rotations: the SVD was a seventh of checking
+/// a rig file (issue 29). The same bits in, the same bits out.
+fn nearest_rotation(m: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    use std::cell::RefCell;
+    use std::collections::HashMap;
+    /// Entries kept per thread (about 150 bytes each) before the table is
+    /// emptied and refilled: bounded memory whatever the input.
+    const KEPT: usize = 4096;
+    type Table = HashMap<[u64; 9], Option<[f64; 9]>, foldhash::fast::RandomState>;
+    thread_local! {
+        static SEEN: RefCell<Table> = RefCell::new(Table::default());
+    }
+    let key: [u64; 9] = std::array::from_fn(|k| m.as_slice()[k].to_bits());
+    let hit = SEEN.with_borrow(|t| t.get(&key).copied());
+    let r = match hit {
+        Some(r) => r,
+        None => {
+            let svd = m.svd(true, true);
+            let r = match (svd.u, svd.v_t) {
+                (Some(u), Some(vt)) => {
+                    let p = u * vt;
+                    Some(std::array::from_fn(|k| p.as_slice()[k]))
+                }
+                _ => None,
+            };
+            SEEN.with_borrow_mut(|t| {
+                if t.len() >= KEPT {
+                    t.clear();
+                }
+                t.insert(key, r);
+            });
+            r
+        }
     };
-    Ok(u * vt)
+    r.map(|a: [f64; 9]| Matrix3::from_column_slice(&a))
 }
 
 /// Kind of rigid motion (Chasles).
