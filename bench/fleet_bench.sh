@@ -15,6 +15,11 @@
 #
 #   PY=/path/to/venv/bin/python bench/fleet_bench.sh [OUT_DIR]
 #   SIZES="100 300" RUNS=2 bench/fleet_bench.sh /tmp/f     (a quick check)
+#   SIZES="1000 100000" bench/fleet_bench.sh                 (issue 29's sizes)
+#
+# A size of 100,000 vehicles or more is timed RUNS_BIG times (default 2, no
+# warm-up) and its peak RSS taken once: the Python peer takes about a minute
+# a run there.
 #
 # Writes OUT_DIR/fleet.md (min/median/max per command and size, peak RSS,
 # the load before and after each size) beside hyperfine's JSON. The fleets
@@ -25,6 +30,7 @@ cd "$(dirname "$0")/.."
 OUT=${1:-/tmp/fleet-bench}
 SIZES=${SIZES:-1000 10000}
 RUNS=${RUNS:-10}
+RUNS_BIG=${RUNS_BIG:-2}
 PY=${PY:-python3}
 command -v hyperfine >/dev/null || { echo "hyperfine not found (apt-get install hyperfine)" >&2; exit 2; }
 "$PY" -c "import numpy, scipy, yaml" 2>/dev/null ||
@@ -58,11 +64,15 @@ for n in $SIZES; do
     "$PY bench/fleet_python.py $dir"
     "sh -c 'find $dir -type f | xargs cat >/dev/null'"
   )
+  runs=$RUNS warmup=1 rss_runs=3
+  if [ "$n" -ge 100000 ]; then
+    runs=$RUNS_BIG warmup=0 rss_runs=1
+  fi
   echo "$n before: $(uptime)" >> "$OUT/load.txt"
   # -i: `check` exits 1 on the moved vehicles; the time is still the run's.
-  hyperfine -N -i --warmup 1 --runs "$RUNS" --export-json "$OUT/time_$n.json" "${cmds[@]}" >/dev/null
+  hyperfine -N -i --warmup "$warmup" --runs "$runs" --export-json "$OUT/time_$n.json" "${cmds[@]}" >/dev/null
   for i in "${!cmds[@]}"; do
-    for _ in 1 2 3; do
+    for _ in $(seq "$rss_runs"); do
       /usr/bin/time -f "%M" -o "$OUT/m" sh -c "${cmds[$i]} >/dev/null 2>&1" || true
       echo "$n $i $(tail -1 "$OUT/m")" >> "$OUT/rss.txt"
     done

@@ -37,7 +37,7 @@ fn sniff(i: &Input) -> Option<super::spec::Confidence> {
     if !(i.contains("roll") && i.contains("pitch") && i.contains("yaw")) {
         return None;
     }
-    let docs = yaml::parse_documents(i.text().ok()?).ok()?;
+    let docs = yaml::parse_documents_shared(i.text().ok()?).ok()?;
     let d = docs.first()?;
     let ok = !d.entries().is_empty()
         && d.entries().iter().all(|(_, v)| {

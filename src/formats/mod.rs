@@ -67,7 +67,9 @@ pub mod xml;
 pub mod yaml;
 pub mod yaml_dialects;
 pub(crate) mod yaml_keyed;
+mod yaml_node;
 pub(crate) mod yaml_shapes;
+mod yaml_subset;
 
 pub use load::{detect_file, detect_format, load_bytes, load_file, load_str};
 pub use registry::{all_formats, is_calibration_file, FORMATS};

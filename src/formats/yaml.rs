@@ -13,34 +13,10 @@ use crate::diagnostic::{Error, Result};
 use crate::tolerances::MAX_YAML_DEPTH;
 use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_saphyr::Spanned;
+use std::cell::RefCell;
+use std::rc::Rc;
 
-/// A YAML value.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Value {
-    /// A mapping: `(key, value)` pairs in file order, duplicate keys kept.
-    Map(Vec<(Node, Node)>),
-    /// A sequence, in file order.
-    Seq(Vec<Node>),
-    /// A number (integers converted to `f64`).
-    Num(f64),
-    /// A string scalar.
-    Str(String),
-    /// `true` or `false`.
-    Bool(bool),
-    /// A YAML null.
-    Null,
-}
-
-/// A YAML value with its 1-based line and column (0 when unknown).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Node {
-    /// The value, with its children.
-    pub value: Value,
-    /// 1-based line of the node's first character (0 when unknown).
-    pub line: usize,
-    /// 1-based column of the node's first character (0 when unknown).
-    pub column: usize,
-}
+pub use super::yaml_node::{Node, Value};
 
 struct Raw(Value);
 
@@ -177,16 +153,58 @@ fn split_position(s: &str) -> (Option<usize>, Option<usize>, String) {
 
 /// Parse every document of a YAML stream.
 ///
-/// Runs on a large stack ([`crate::stack::deep`]), so the nesting limits hold
-/// whatever stack the caller has.
+/// Text in the plain subset most calibration files are written in is read by
+/// [`super::yaml_subset`] (the same tree, several times faster); anything
+/// else by serde-saphyr, on a large stack ([`crate::stack::deep`]), so the
+/// nesting limits hold whatever stack the caller has.
 pub fn parse_documents(text: &str) -> Result<Vec<Node>> {
     let text = strip_opencv_directive(text);
+    if let Some(docs) = super::yaml_subset::parse(&text) {
+        return Ok(docs);
+    }
+    parse_saphyr(&text)
+}
+
+/// The serde-saphyr reader alone (the reference the subset reader is
+/// compared with).
+fn parse_saphyr(text: &str) -> Result<Vec<Node>> {
     let parse = |t: &str| -> Result<Vec<Node>> {
         let docs: Vec<Spanned<Raw>> =
             serde_saphyr::from_multiple_with_options(t, options()).map_err(yaml_error)?;
         Ok(docs.into_iter().map(node).collect())
     };
-    crate::stack::deep("yaml", || parse(&text))
+    crate::stack::deep("yaml", || parse(text))
+}
+
+/// Texts up to this size are kept with their documents by
+/// [`parse_documents_shared`] (a calibration file; a larger text is parsed
+/// again rather than held twice).
+const SHARED_MAX: usize = 1 << 20;
+
+type Shared = Option<(String, Result<Rc<Vec<Node>>>)>;
+
+thread_local! {
+    /// The last text [`parse_documents_shared`] read on this thread, and what
+    /// it read.
+    static LAST: RefCell<Shared> = const { RefCell::new(None) };
+}
+
+/// [`parse_documents`], read once per text on each thread: a file is read
+/// by the dialect sniffers and then by the dialect that claims it, on the
+/// same thread and in a row; the second read is the first's documents.
+pub fn parse_documents_shared(text: &str) -> Result<Rc<Vec<Node>>> {
+    let hit = LAST.with(|l| match &*l.borrow() {
+        Some((t, r)) if t == text => Some(r.clone()),
+        _ => None,
+    });
+    if let Some(r) = hit {
+        return r;
+    }
+    let r = parse_documents(text).map(Rc::new);
+    if text.len() <= SHARED_MAX {
+        LAST.with(|l| *l.borrow_mut() = Some((text.to_string(), r.clone())));
+    }
+    r
 }
 
 impl Node {
@@ -273,5 +291,205 @@ impl Node {
                 .at_line(self.line.max(1), Some(self.column.max(1)))),
             },
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::{Path, PathBuf};
+
+    /// Whether the subset reader took `t`; when it did, serde-saphyr must
+    /// read the same tree (values by their `Debug` form, so that `-0` and
+    /// `0` differ), positions included.
+    fn same_as_saphyr(t: &str) -> bool {
+        let t = strip_opencv_directive(t);
+        let Some(got) = super::super::yaml_subset::parse(&t) else {
+            return false;
+        };
+        match parse_saphyr(&t) {
+            Ok(want) => assert_eq!(format!("{got:?}"), format!("{want:?}"), "{t}"),
+            Err(e) => panic!("the subset reader took what serde-saphyr refuses ({e:?}):\n{t}"),
+        }
+        true
+    }
+
+    fn yaml_files(dir: &Path, out: &mut Vec<PathBuf>) {
+        let Ok(rd) = std::fs::read_dir(dir) else {
+            return;
+        };
+        for e in rd {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                yaml_files(&p, out);
+            } else if p.extension().is_some_and(|x| x == "yaml" || x == "yml") {
+                out.push(p);
+            }
+        }
+    }
+
+    /// Every YAML file shipped (calibrations/) and under tests/fixtures, and
+    /// the test data's when EXTRINSIC_AUDIT_TEST_DATA names it.
+    fn shipped_yaml() -> Vec<String> {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut paths = Vec::new();
+        yaml_files(&root.join("calibrations"), &mut paths);
+        yaml_files(&root.join("tests/fixtures"), &mut paths);
+        if let Some(d) = std::env::var_os("EXTRINSIC_AUDIT_TEST_DATA") {
+            yaml_files(Path::new(&d), &mut paths);
+        }
+        paths.sort();
+        paths
+            .iter()
+            .filter_map(|p| std::fs::read_to_string(p).ok())
+            .collect()
+    }
+
+    /// Each line's indent doubled (a deeper but consistent layout).
+    fn reindent(t: &str) -> String {
+        t.split('\n')
+            .map(|l| {
+                let n = l.len() - l.trim_start_matches(' ').len();
+                format!("{}{l}", " ".repeat(n))
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
+    fn fleet_file() -> &'static str {
+        "base_link:\n  velodyne_top:\n    x: 0.8988561\n    y: 0.0008623\n    z: 2.0011099\n    roll: -0.0000680\n    pitch: 0.0177219\n    yaw: -0.0001115\n"
+    }
+
+    #[test]
+    fn the_subset_reader_reads_the_files_as_serde_saphyr() {
+        let mut files = shipped_yaml();
+        files.push(fleet_file().to_string());
+        let (mut taken, mut tried) = (0, 0);
+        for t in &files {
+            let variants = [
+                t.clone(),
+                t.replace('\n', " # end\n"),
+                t.replace(": ", ":   "),
+                t.replace(", ", " ,  ").replace('[', "[ "),
+                reindent(t),
+                t.replace('\n', "\n\n# c\n"),
+                t.replace('\n', "\r\n"),
+                format!("# head\n{t}"),
+                t.replace(" 0.", " -0.").replace(" 1\n", " 1e0\n"),
+            ];
+            for v in &variants {
+                taken += usize::from(same_as_saphyr(v));
+                tried += 1;
+            }
+        }
+        // The fleet's file and a good part of the others are in the subset
+        // (not the OpenCV files, their tags, block lists, inline maps, CRLF).
+        assert!(same_as_saphyr(fleet_file()));
+        eprintln!("{taken} of {tried} taken");
+        assert!(taken > tried / 6, "{taken} of {tried}");
+    }
+
+    #[test]
+    fn the_subset_reader_takes_no_edit_serde_saphyr_reads_otherwise() {
+        // Single edits at pseudo-random places, with the characters YAML
+        // turns on: each either left to serde-saphyr or read exactly as it
+        // reads it.
+        const EDITS: [&str; 40] = [
+            ":", " ", "  ", "#", "-", "- ", ".", "e", "E", "0", "1", "9", "+", "[", "]", ",", "{",
+            "}", "\n", "\t", "\r", "'", "\"", "~", "y", "n", "t", "_", "&", "*", "!", "|", ">",
+            "?", "%", "@", "x: 1\n", "---\n", "null", "\u{e9}",
+        ];
+        let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = |n: usize| {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 33) as usize % n.max(1)
+        };
+        let mut files = shipped_yaml();
+        files.truncate(40);
+        files.push(fleet_file().to_string());
+        let (mut taken, mut tried) = (0, 0);
+        for t in files {
+            let rounds = if t == fleet_file() { 2000 } else { 100 };
+            for _ in 0..rounds {
+                let mut at = next(t.len());
+                while !t.is_char_boundary(at) {
+                    at -= 1;
+                }
+                let mut v = t.clone();
+                match next(3) {
+                    0 => {
+                        let end = t[at..].chars().next().map_or(at, |c| at + c.len_utf8());
+                        v.replace_range(at..end, "");
+                    }
+                    _ => v.insert_str(at, EDITS[next(EDITS.len())]),
+                }
+                taken += usize::from(same_as_saphyr(&v));
+                tried += 1;
+            }
+        }
+        // Many edits keep the file in the subset (a digit, a space): those
+        // are the ones compared.
+        eprintln!("{taken} of {tried} taken");
+        assert!(taken > tried / 10, "{taken} of {tried}");
+    }
+
+    #[test]
+    fn the_subset_reader_leaves_the_rest_to_serde_saphyr() {
+        for t in [
+            "a: 01\n",
+            "a: 1_000\n",
+            "a: .5\n",
+            "a: 1.\n",
+            "a: +1\n",
+            "a: 0x1f\n",
+            "a: ~\n",
+            "a: True\n",
+            "a: \"x\\ty\"\n",
+            "a: 'it''s'\n",
+            "a: \"\u{e9}\"\n",
+            "a: b # \u{2028} c: d\n",
+            "a: NaN\n",
+            "a:\n",
+            "a: b c\n",
+            "a: [1, [2]]\n",
+            "a: [1,]\n",
+            "a: [1,\n2]\n",
+            "a: [1,#c\n  2]\n",
+            "- 1\n",
+            "---\na: 1\n",
+            "a: 1\n  b: 2\n",
+            "  a: 1\n",
+            "a:\tb\n",
+            "a: b#c\n",
+            "a: &x 1\n",
+            "a: 12345678901234567890\n",
+            "a: 1e999\n",
+            "# only a comment\n",
+            "",
+        ] {
+            assert!(super::super::yaml_subset::parse(t).is_none(), "{t:?}");
+        }
+        // Every one of them is still read (or refused) as before.
+        assert!(parse_documents("a: 01\n").is_ok());
+        assert!(parse_documents("a: b\n  c: d\n").is_err());
+        let quoted = super::super::yaml_subset::parse("a: 'q # r'\nb: [\"s\", t]\n");
+        assert_eq!(quoted, parse_saphyr("a: 'q # r'\nb: [\"s\", t]\n").ok());
+        assert!(quoted.is_some());
+    }
+
+    #[test]
+    fn a_text_is_parsed_once_per_thread() {
+        let a = parse_documents_shared(fleet_file()).unwrap();
+        let b = parse_documents_shared(fleet_file()).unwrap();
+        assert!(Rc::ptr_eq(&a, &b));
+        let c = parse_documents_shared("a: 1\n").unwrap();
+        assert!(!Rc::ptr_eq(&a, &c));
+        assert_eq!(*a, parse_saphyr(fleet_file()).unwrap());
+        // An error is kept as well, and is serde-saphyr's.
+        let e = parse_documents_shared("a: b\n  c: d\n").unwrap_err();
+        assert_eq!(e, parse_documents_shared("a: b\n  c: d\n").unwrap_err());
+        assert_eq!(e, parse_saphyr("a: b\n  c: d\n").unwrap_err());
     }
 }

@@ -58,7 +58,7 @@ pub(crate) fn parse_with(
     path: &Path,
     opts: &LoadOptions,
 ) -> Result<Parsed> {
-    let docs = yaml::parse_documents(text).map_err(|e| explain_yaml_error(e, text))?;
+    let docs = yaml::parse_documents_shared(text).map_err(|e| explain_yaml_error(e, text))?;
     // A JSON file read by a YAML dialect keeps JSON's rule on keys.
     if super::json::is_json(text) {
         super::json::refuse_duplicate_keys(&docs)?;
