@@ -12,14 +12,17 @@
 
 use crate::tolerances::MAX_MESSAGE_CHARS;
 use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
+use std::sync::Arc;
 
 /// Where in the input something was found. All parts are optional: the core
 /// maths knows no file, a loader attaches one.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Location {
     /// The file, as the user named it (or as found in a directory walk).
-    pub file: Option<PathBuf>,
+    /// Shared: every edge of a file points at one copy of its name (issue
+    /// 29: one allocation per edge less; [`Location::in_shared`]).
+    pub file: Option<Arc<Path>>,
     /// 1-based line.
     pub line: Option<usize>,
     /// 1-based column (characters).
@@ -30,7 +33,7 @@ impl Location {
     /// A whole file.
     pub fn file(path: impl AsRef<Path>) -> Self {
         Location {
-            file: Some(path.as_ref().to_path_buf()),
+            file: Some(path.as_ref().into()),
             line: None,
             column: None,
         }
@@ -38,7 +41,16 @@ impl Location {
     /// A line (and column) in a file.
     pub fn at(path: impl AsRef<Path>, line: usize, column: Option<usize>) -> Self {
         Location {
-            file: Some(path.as_ref().to_path_buf()),
+            file: Some(path.as_ref().into()),
+            line: Some(line),
+            column,
+        }
+    }
+    /// A line (and column) in a file whose name is already shared: no copy
+    /// of the name (a reader's many locations in one file).
+    pub fn in_shared(file: &Arc<Path>, line: usize, column: Option<usize>) -> Self {
+        Location {
+            file: Some(Arc::clone(file)),
             line: Some(line),
             column,
         }
@@ -338,7 +350,7 @@ impl Diagnostic {
     /// Attach a file, keeping a line that is already known.
     pub fn in_file(mut self, path: impl AsRef<Path>) -> Self {
         if self.location.file.is_none() {
-            self.location.file = Some(path.as_ref().to_path_buf());
+            self.location.file = Some(path.as_ref().into());
         }
         self
     }

@@ -137,7 +137,7 @@ impl CheckedFile<'_> {
             .get(&(a.to_string(), b.to_string()))
             .map(pick)
             .unwrap_or_default();
-        l.file = Some(self.path.to_path_buf());
+        l.file = Some(self.path.into());
         l
     }
 }

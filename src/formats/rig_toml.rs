@@ -1177,10 +1177,7 @@ impl LiteralSpans {
             .as_ref()
             .and_then(|t| t.first().map(at))
             .or(rotation);
-        ValuesAt {
-            translation,
-            rotation,
-        }
+        ValuesAt::new(translation, rotation)
     }
 
     /// The rotation form's numbers as tuples (one per form; axis-angle two).

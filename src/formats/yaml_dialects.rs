@@ -141,12 +141,12 @@ fn scope_changes(edges: Vec<Edge>) -> Vec<Edge> {
                 first.parent
             )
         };
-        first.joint = Some(crate::frames::JointState {
+        first.joint = Some(Box::new(crate::frames::JointState {
             name: format!("{}{why}", crate::frames::MOVING_TF),
             joint_type: crate::frames::JointType::Floating,
             value: None,
             defaulted: false,
-        });
+        }));
     }
     out
 }

@@ -112,10 +112,7 @@ pub(crate) fn key_values(m: &Node, tkey: &str, rkey: &str) -> ValuesAt {
             .filter(|k| k.line > 0)
             .map(|k| (k.line, k.column.max(1)))
     };
-    ValuesAt {
-        translation: at(tkey),
-        rotation: at(rkey),
-    }
+    ValuesAt::new(at(tkey), at(rkey))
 }
 
 pub(crate) fn key_node<'a>(m: &'a Node, key: &str) -> Option<&'a Node> {

@@ -25,15 +25,30 @@ pub struct Provenance {
 /// its rotation are written: a rig TOML's `translation = [...]` inside the
 /// `[[transform]]` table, a URDF `<origin>`'s `xyz` and `rpy` attributes, a
 /// YAML file's keys. `None`: the format gives only the edge's own location.
+/// Kept as `u32` (24 bytes, not 48: every edge holds one, issue 29); a
+/// position past `u32::MAX` is not kept ([`ValuesAt::new`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ValuesAt {
     /// The translation's numbers.
-    pub translation: Option<(usize, usize)>,
+    pub translation: Option<(u32, u32)>,
     /// The rotation's numbers.
-    pub rotation: Option<(usize, usize)>,
+    pub rotation: Option<(u32, u32)>,
 }
 
 impl ValuesAt {
+    /// Where the translation's and the rotation's numbers are written (line,
+    /// column). A line or column that does not fit in `u32` (a text of over
+    /// 4 GiB) is dropped: a finding then points at the edge's own location.
+    pub fn new(translation: Option<(usize, usize)>, rotation: Option<(usize, usize)>) -> Self {
+        let small = |p: Option<(usize, usize)>| {
+            p.and_then(|(l, c)| Some((u32::try_from(l).ok()?, u32::try_from(c).ok()?)))
+        };
+        ValuesAt {
+            translation: small(translation),
+            rotation: small(rotation),
+        }
+    }
+
     /// `at` moved to the translation's numbers (`translation`) or the
     /// rotation's, where known; `at` itself otherwise.
     pub fn locate(&self, at: &Location, translation: bool) -> Location {
@@ -44,8 +59,8 @@ impl ValuesAt {
         };
         match pos {
             Some((line, column)) => Location {
-                line: Some(line),
-                column: Some(column),
+                line: Some(line as usize),
+                column: Some(column as usize),
                 ..at.clone()
             },
             None => at.clone(),
@@ -139,8 +154,9 @@ pub struct Edge {
     pub transform: Transform,
     /// Where the numbers came from.
     pub provenance: Provenance,
-    /// `Some` for non-fixed joints.
-    pub joint: Option<JointState>,
+    /// `Some` for non-fixed joints; boxed (8 bytes, not 48, in the many
+    /// fixed edges: issue 29).
+    pub joint: Option<Box<JointState>>,
     /// The rounding of the numbers as written and the user's uncertainty
     /// (conventions in `crate::geometry::uncertainty`). `Edge::new` records
     /// none; a reader that keeps the text adds it with [`Edge::with_precision`].
@@ -200,5 +216,23 @@ impl Edge {
         self.transform = self.transform.inverse();
         self.provenance.key = format!("{} (inverted by --invert)", self.provenance.key);
         self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ValuesAt;
+    use crate::diagnostic::Location;
+
+    /// Positions are kept as `u32`: one that does not fit is dropped, and
+    /// the finding falls back to the edge's own location.
+    #[test]
+    fn values_at_keeps_what_fits_in_u32() {
+        let big = u32::MAX as usize + 1;
+        let v = ValuesAt::new(Some((3, 7)), Some((big, 1)));
+        assert_eq!((v.translation, v.rotation), (Some((3, 7)), None));
+        let at = Location::at("a.urdf", 2, Some(5));
+        assert_eq!(v.locate(&at, true), Location::at("a.urdf", 3, Some(7)));
+        assert_eq!(v.locate(&at, false), at);
     }
 }

@@ -999,8 +999,8 @@ impl FrameGraph {
         let mut v: Vec<std::path::PathBuf> = Vec::new();
         for e in &self.edges {
             if let Some(f) = &e.provenance.location.file {
-                if !v.contains(f) {
-                    v.push(f.clone());
+                if !v.iter().any(|p| **p == **f) {
+                    v.push(f.to_path_buf());
                 }
             }
         }

@@ -442,8 +442,8 @@ impl Checker<'_> {
             let file = w
                 .location
                 .file
-                .clone()
-                .unwrap_or_else(|| first_path.clone());
+                .as_deref()
+                .map_or_else(|| first_path.clone(), |f| f.to_path_buf());
             self.warning(&file, &w);
         }
         let frames = graph.frames();
@@ -513,7 +513,7 @@ impl Checker<'_> {
             .map(|s| loc_of(&s.edge.provenance.location))
             .unwrap_or_default();
         let mut here = at.clone();
-        here.file = Some(file.to_path_buf());
+        here.file = Some(file.into());
         if let Some(max) = self.opts.max_lever_arm.filter(|m| rep.lever_arm_m > *m) {
             self.push(
                 Code::LeverArm,

@@ -33,7 +33,7 @@ pub(super) fn member(file: &Path, at: Option<&Location>, p: &BaselinePair) -> Op
     // The pair's line (its last edge) is kept without the file: add it.
     let mut at = at.cloned().unwrap_or_default();
     if at.file.is_none() {
-        at.file = Some(file.to_path_buf());
+        at.file = Some(file.into());
     }
     Some(Member {
         from: t.parent.clone(),

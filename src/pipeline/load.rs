@@ -113,8 +113,8 @@ impl Loaded {
         let mut v: Vec<PathBuf> = named.to_vec();
         for e in self.graph.edges() {
             if let Some(f) = &e.provenance.location.file {
-                if !v.contains(f) {
-                    v.push(f.clone());
+                if !v.iter().any(|p| **p == **f) {
+                    v.push(f.to_path_buf());
                 }
             }
         }

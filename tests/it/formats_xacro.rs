@@ -242,7 +242,7 @@ fn every_edge_points_at_its_joint_in_the_xacro_source() {
                 file.display()
             );
             assert_eq!(e.provenance.format, "xacro");
-            if file != &c.input {
+            if **file != *c.input {
                 from_included += 1;
             }
         }

@@ -348,7 +348,7 @@ impl TempDb {
     /// Open the database, then remove its name and the directory; errors name `for_file`.
     pub(super) fn open(self, for_file: &Path) -> Result<rusqlite::Connection> {
         let db = db3::open(&self.path).map_err(|mut e| {
-            e.location.file = Some(for_file.to_path_buf());
+            e.location.file = Some(for_file.into());
             e
         });
         let _ = std::fs::remove_file(&self.path);

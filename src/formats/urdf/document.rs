@@ -23,10 +23,13 @@ use crate::formats::xacro::markers as xacro;
 use crate::frames::{Edge, FrameDecl};
 use std::collections::VecDeque;
 use std::path::Path;
+use std::sync::Arc;
 
 pub(super) struct Document<'c, 'a> {
     idx: &'c Lines<'a>,
     path: &'c Path,
+    /// `path`, shared by the locations of every joint's edge.
+    file: Arc<Path>,
     opts: &'c LoadOptions,
     root_error: Option<Error>,
     /// `<robot name>`: the platform the survey names.
@@ -62,6 +65,7 @@ impl<'c, 'a> Document<'c, 'a> {
         Document {
             idx,
             path,
+            file: path.into(),
             opts,
             root_error: None,
             robot: None,
@@ -148,7 +152,7 @@ impl<'c, 'a> Document<'c, 'a> {
         };
         let cx = Context {
             idx: self.idx,
-            path: self.path,
+            file: &self.file,
             version,
             links: &self.links,
         };

@@ -115,14 +115,16 @@ impl<'o> Builder<'o> {
         if let Some(a) = carried {
             precision.transform_rounding(&a);
         }
-        let joint = state.map(|(joint_type, value, defaulted)| JointState {
-            name: j.name,
-            joint_type,
-            value,
-            defaulted,
+        let joint = state.map(|(joint_type, value, defaulted)| {
+            Box::new(JointState {
+                name: j.name,
+                joint_type,
+                value,
+                defaulted,
+            })
         });
         // The joint's strings move into the edge, built in place (a chain of
-        // `Edge::with_*` moved its 440 bytes once per call: issue 29).
+        // `Edge::with_*` moved the whole edge once per call: issue 29).
         self.edges.push(Edge {
             parent: j.parent,
             child: j.child,

@@ -15,6 +15,7 @@ use crate::geometry::{EdgePrecision, Precision, Transform};
 use std::borrow::Cow;
 use std::collections::VecDeque;
 use std::path::Path;
+use std::sync::Arc;
 
 pub(super) use super::names::Links;
 
@@ -66,7 +67,8 @@ pub(super) struct JointRaw {
 /// What a joint is read against: the links declared so far and the version.
 pub(super) struct Context<'c, 'a> {
     pub idx: &'c Lines<'a>,
-    pub path: &'c Path,
+    /// The file, shared by the locations of every edge.
+    pub file: &'c Arc<Path>,
     pub version: Version,
     pub links: &'c Links<'a>,
 }
@@ -158,7 +160,7 @@ pub(super) fn joint<'a>(
     let child = link_of("child", child_el)?;
     let loc_of = |n: &El| {
         let (l, c) = idx.pos(n.start);
-        Location::at(cx.path, l, Some(c))
+        Location::in_shared(cx.file, l, Some(c))
     };
     // Positions asked in file order: `idx` moves forwards (super::lines).
     let loc = loc_of(j);
@@ -172,10 +174,7 @@ pub(super) fn joint<'a>(
             attr.and_then(|a| idx.pos_of(a.raw))
                 .or_else(|| Some(idx.pos(o.start)))
         };
-        ValuesAt {
-            translation: at(&["xyz"]),
-            rotation: at(&["rpy", "quat_xyzw"]),
-        }
+        ValuesAt::new(at(&["xyz"]), at(&["rpy", "quat_xyzw"]))
     });
     let axis = axis(idx, axis_el, name, jtype)?;
     let mimic = match mimic_el {
