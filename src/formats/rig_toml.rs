@@ -451,7 +451,7 @@ fn subset_rows<const R: usize, const C: usize>(
     if rows.len() != R {
         return None;
     }
-    let spans = slot.insert(Vec::new());
+    let spans = slot.insert(Vec::with_capacity(R * C));
     let mut out = [[0.0; C]; R];
     for (o, row) in out.iter_mut().zip(rows) {
         *o = subset_numbers::<C>(row, spans)?;
@@ -464,7 +464,7 @@ fn subset_tuple<const N: usize>(
     v: &Value,
     slot: &mut Option<Vec<Range<usize>>>,
 ) -> Option<[f64; N]> {
-    subset_numbers::<N>(v, slot.insert(Vec::new()))
+    subset_numbers::<N>(v, slot.insert(Vec::with_capacity(N)))
 }
 
 fn subset_rig(rig: &Table, source: &Table) -> Option<RigTable> {
