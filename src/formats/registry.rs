@@ -10,7 +10,9 @@
 use super::spec::{Confidence, Format, FormatSpec, Input};
 use super::xml;
 use crate::diagnostic::{Error, Result};
+use std::borrow::Cow;
 use std::path::Path;
+use std::sync::OnceLock;
 
 /// Every format, in detection-tie order (among the YAML dialects, which all
 /// sniff at `Confidence::Keys`, the order decides which of two dialects
@@ -170,21 +172,42 @@ fn prose_kind(input: &Input) -> Option<String> {
     Some(format!("{kind}, not YAML"))
 }
 
+/// Every format's walk suffixes, each once, in the order of [`FORMATS`]
+/// (several formats share `.yaml`, `.xml` and `.json`).
+fn walk_suffixes() -> &'static [&'static str] {
+    static SUFFIXES: OnceLock<Vec<&'static str>> = OnceLock::new();
+    SUFFIXES.get_or_init(|| {
+        let mut v: Vec<&'static str> = Vec::new();
+        for ext in FORMATS.iter().flat_map(|f| f.walk.iter()) {
+            if !v.contains(ext) {
+                v.push(ext);
+            }
+        }
+        v
+    })
+}
+
 /// Whether a directory walk reads this file: a walk suffix of a format, or
 /// (for the binary formats that list walk suffixes) their magic bytes or a
 /// folder their sniffer claims; never a hidden file.
 pub fn is_calibration_file(path: &Path) -> bool {
     let name = path
         .file_name()
-        .map(|n| n.to_string_lossy().to_lowercase())
-        .unwrap_or_default();
+        .map_or(Cow::Borrowed(""), |n| n.to_string_lossy());
+    // A name already in lower case (the usual one) is matched as it is: no
+    // copy per file of a walk (issue 29).
+    let name = if name
+        .bytes()
+        .all(|b| b.is_ascii() && !b.is_ascii_uppercase())
+    {
+        name
+    } else {
+        Cow::Owned(name.to_lowercase())
+    };
     if name.starts_with('.') {
         return false;
     }
-    if FORMATS
-        .iter()
-        .any(|f| f.walk.iter().any(|ext| name.ends_with(ext)))
-    {
+    if walk_suffixes().iter().any(|ext| name.ends_with(ext)) {
         return true;
     }
     let mut walked = FORMATS

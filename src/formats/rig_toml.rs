@@ -451,7 +451,7 @@ fn subset_rows<const R: usize, const C: usize>(
     if rows.len() != R {
         return None;
     }
-    let spans = slot.insert(Vec::new());
+    let spans = slot.insert(Vec::with_capacity(R * C));
     let mut out = [[0.0; C]; R];
     for (o, row) in out.iter_mut().zip(rows) {
         *o = subset_numbers::<C>(row, spans)?;
@@ -464,7 +464,7 @@ fn subset_tuple<const N: usize>(
     v: &Value,
     slot: &mut Option<Vec<Range<usize>>>,
 ) -> Option<[f64; N]> {
-    subset_numbers::<N>(v, slot.insert(Vec::new()))
+    subset_numbers::<N>(v, slot.insert(Vec::with_capacity(N)))
 }
 
 fn subset_rig(rig: &Table, source: &Table) -> Option<RigTable> {
@@ -608,7 +608,9 @@ fn subset_include(t: &Table) -> Option<IncludeDef> {
     })
 }
 
-fn nonempty(what: &str, s: &str, loc: &Location) -> Result<()> {
+/// `what` is formatted only when the string is empty (a message built for
+/// every transform that passes cost more than the check).
+fn nonempty(what: impl std::fmt::Display, s: &str, loc: &Location) -> Result<()> {
     if s.trim().is_empty() {
         return Err(Error::parse(format!(
             "rig TOML: {what}: expected a non-empty string, found \"\""
@@ -683,10 +685,18 @@ fn build_edge(
     loc: &Location,
     warnings: &mut Vec<Warning>,
 ) -> Result<Edge> {
-    nonempty(&format!("[[transform]] #{index} parent"), &def.parent, loc)?;
-    nonempty(&format!("[[transform]] #{index} child"), &def.child, loc)?;
     nonempty(
-        &format!("[[transform]] #{index} source_key"),
+        format_args!("[[transform]] #{index} parent"),
+        &def.parent,
+        loc,
+    )?;
+    nonempty(
+        format_args!("[[transform]] #{index} child"),
+        &def.child,
+        loc,
+    )?;
+    nonempty(
+        format_args!("[[transform]] #{index} source_key"),
         &def.source_key,
         loc,
     )?;
@@ -1201,10 +1211,12 @@ impl LiteralSpans {
     }
 }
 
-/// `def` with its numbers replaced by `p`: translation first (when separate),
-/// then the rotation form's numbers in the order written.
-fn with_params(def: &Numbers, p: &[f64]) -> Numbers {
-    let mut d = *def;
+/// The numbers of `d` replaced by `p`: translation first (when separate),
+/// then the rotation form's numbers in the order written. Every number of
+/// the forms `d` holds is written, so one copy serves every step of a
+/// derivative (copying the whole record per step was a twentieth of
+/// checking a rig file, issue 29).
+fn set_params(d: &mut Numbers, p: &[f64]) {
     let mut it = p.iter().copied();
     let mut next = || it.next().unwrap_or(0.0);
     if let Some(t) = &mut d.translation {
@@ -1226,7 +1238,6 @@ fn with_params(def: &Numbers, p: &[f64]) -> Numbers {
     for xs in fields.into_iter().flatten() {
         xs.iter_mut().for_each(|x| *x = next());
     }
-    d
 }
 
 /// The rounding of one `[[transform]]`'s numbers as written, propagated
@@ -1255,8 +1266,10 @@ fn precision_of(index: usize, def: &Numbers, lits: &LiteralSpans, text: &str) ->
         halves.extend(tuple_half_units(&texts));
         params.extend(numbers);
     }
+    let scratch = std::cell::RefCell::new(*def);
     let build = |p: &[f64]| {
-        let d = with_params(def, p);
+        let mut d = scratch.borrow_mut();
+        set_params(&mut d, p);
         let t = rotation(index, &d, d.translation.unwrap_or([0.0; 3]), None)?;
         let t = match d.unit {
             Unit::M => t,

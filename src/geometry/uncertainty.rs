@@ -305,16 +305,24 @@ pub fn rounding_covariance(
 ) -> Result<Matrix6<f64>> {
     let t0 = build(params)?;
     let mut cov = Matrix6::zeros();
-    let mut p = params.to_vec();
+    // The steps' parameters on the stack (a rig's transform has at most 19).
+    let (mut stack, mut heap) = ([0.0; 24], Vec::new());
+    let p: &mut [f64] = if params.len() <= stack.len() {
+        &mut stack[..params.len()]
+    } else {
+        heap.resize(params.len(), 0.0);
+        &mut heap
+    };
+    p.copy_from_slice(params);
     for (i, (&x, &half)) in params.iter().zip(halves).enumerate() {
         if half <= 0.0 {
             continue;
         }
         let step = UNCERTAINTY_STEP * x.abs().max(1.0);
         p[i] = x + step;
-        let plus = build(&p);
+        let plus = build(p);
         p[i] = x - step;
-        let minus = build(&p);
+        let minus = build(p);
         p[i] = x;
         let (Ok(plus), Ok(minus)) = (plus, minus) else {
             continue;

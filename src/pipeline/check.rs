@@ -28,7 +28,7 @@ use crate::frames::{FrameGraph, ValuesAt};
 use crate::geometry::{PitchTol, PitchVerdict, ScrewKind};
 use crate::progress::{NoProgress, Progress};
 use crate::report::check::BaselineChanges;
-use crate::report::rig::{rig_report, Judgement};
+use crate::report::rig::{rig_verdicts, Judgement};
 use crate::report::CheckReport;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -493,9 +493,8 @@ impl Checker<'_> {
         for w in &chain.warnings {
             self.warning(file, w);
         }
-        let rep = match rig_report(
+        let rep = match rig_verdicts(
             &chain,
-            &[1.0],
             &Judgement {
                 pitch_tol: self.opts.pitch_tol,
                 user: None,
@@ -525,16 +524,14 @@ impl Checker<'_> {
             );
         }
         // The three-way verdict: `undecidable` does not pass the gate.
-        let zero_pitch = rep.screw.kind == ScrewKind::Identity
-            || rep.screw.pitch_verdict == Some(PitchVerdict::Zero);
+        let zero_pitch =
+            rep.kind == ScrewKind::Identity || rep.pitch_verdict == Some(PitchVerdict::Zero);
         if self.opts.require_zero_pitch && !zero_pitch {
-            let h = match (rep.screw.translation_along_axis_m, rep.screw.pitch_verdict) {
+            let h = match (rep.translation_along_axis_m, rep.pitch_verdict) {
                 (Some(h), Some(v)) => format!(
                     "screw translation h = {h:.6e} +- {:.1e} m ({}), verdict {}",
-                    rep.screw
-                        .translation_along_axis_uncertainty_m
-                        .unwrap_or(0.0),
-                    rep.uncertainty.source.name(),
+                    rep.translation_along_axis_uncertainty_m.unwrap_or(0.0),
+                    rep.source.name(),
                     v.name()
                 ),
                 _ => "a pure translation (infinite pitch)".into(),
@@ -551,9 +548,9 @@ impl Checker<'_> {
         let pair = BaselinePair {
             transform: BaselineTransform::new(from, to, &chain.transform),
             lever_arm_m: rep.lever_arm_m,
-            screw_kind: rep.screw.kind.name().to_string(),
-            zero_pitch: rep.screw.kind == ScrewKind::ZeroPitch,
-            adapted_metric_exists: rep.adapted_metric.exists,
+            screw_kind: rep.kind.name().to_string(),
+            zero_pitch: rep.kind == ScrewKind::ZeroPitch,
+            adapted_metric_exists: rep.adapted_metric_exists,
             declared,
         };
         // One edge: the pair's numbers are that edge's.

@@ -56,6 +56,58 @@ pub fn file_id(path: &Path) -> Option<FileId> {
     std::fs::metadata(path).ok().and_then(|m| id_of(&m, path))
 }
 
+/// The device of `dir` when its file system gives each directory entry's
+/// type and inode number exactly as `stat` would (ext4, XFS, Btrfs, tmpfs:
+/// one `statfs` and one `stat` per directory); `None` elsewhere (overlayfs,
+/// whose entries may carry another layer's inode, network and FUSE file
+/// systems), where every entry is `stat`ed. A `stat` per file was a third of
+/// the walk over 10,000 files (issue 29).
+#[cfg(target_os = "linux")]
+fn exact_entries_device(dir: &Path) -> Option<u64> {
+    use std::os::unix::ffi::OsStrExt;
+    use std::os::unix::fs::MetadataExt;
+    const EXACT: [u64; 4] = [0xEF53, 0x5846_5342, 0x9123_683E, 0x0102_1994];
+    let c = std::ffi::CString::new(dir.as_os_str().as_bytes()).ok()?;
+    let mut st = std::mem::MaybeUninit::<libc::statfs>::uninit();
+    // SAFETY: `c` is a NUL-terminated path and `st` room for one `statfs`,
+    // read only when the call filled it (returned 0).
+    let st = unsafe {
+        if libc::statfs(c.as_ptr(), st.as_mut_ptr()) != 0 {
+            return None;
+        }
+        st.assume_init()
+    };
+    // `f_type` is signed on glibc, unsigned on musl: its low 32 bits are the
+    // magic number.
+    #[allow(clippy::unnecessary_cast)]
+    let magic = (st.f_type as u64) & 0xFFFF_FFFF;
+    if !EXACT.contains(&magic) {
+        return None;
+    }
+    std::fs::metadata(dir).ok().map(|m| m.dev())
+}
+
+#[cfg(not(target_os = "linux"))]
+fn exact_entries_device(_dir: &Path) -> Option<u64> {
+    None
+}
+
+/// For an entry that is neither a directory (which may be a mount point)
+/// nor a symlink (which is followed): whether it is a regular file, and its
+/// [`FileId`] (the directory's device, the entry's inode), from the entry
+/// alone (`readdir`'s type and inode, no `stat`). `None`: `stat` it.
+#[cfg(target_os = "linux")]
+fn quick_entry(entry: &std::fs::DirEntry, dev: u64) -> Option<(bool, FileId)> {
+    use std::os::unix::fs::DirEntryExt;
+    let t = entry.file_type().ok()?;
+    (!t.is_dir() && !t.is_symlink()).then(|| (t.is_file(), (dev, entry.ino())))
+}
+
+#[cfg(not(target_os = "linux"))]
+fn quick_entry(_entry: &std::fs::DirEntry, _dev: u64) -> Option<(bool, FileId)> {
+    None
+}
+
 /// What the walk found, and what it has to say (loops, limits).
 #[derive(Debug, Clone, Default)]
 pub struct Walked {
@@ -141,29 +193,36 @@ impl Walker<'_> {
             );
             return Ok(());
         }
+        let exact = exact_entries_device(dir);
         let mut entries = Vec::new();
         for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, &e))? {
-            entries.push(entry.map_err(|e| Error::io(dir, &e))?.path());
+            let entry = entry.map_err(|e| Error::io(dir, &e))?;
+            let quick = exact.and_then(|dev| quick_entry(&entry, dev));
+            entries.push((entry.path(), quick));
         }
         // One directory's entries are its path, a separator and their names:
         // the bytes of the whole paths order them as their components do,
         // without parsing the shared components again for every pair.
-        entries.sort_by(|a, b| a.as_os_str().cmp(b.as_os_str()));
-        for path in entries {
+        entries.sort_by(|a, b| a.0.as_os_str().cmp(b.0.as_os_str()));
+        for (path, quick) in entries {
             let rel = path.strip_prefix(&self.root).unwrap_or(&path);
             if excluded(self.excludes, rel) {
                 continue;
             }
-            // Follows symlinks: a link to a directory is walked (once).
-            let meta = std::fs::metadata(&path);
-            let is_dir = meta.as_ref().is_ok_and(|m| m.is_dir());
+            let (is_dir, is_file, id) = match quick {
+                // Neither a directory nor a symlink: what a stat would say.
+                Some((is_file, id)) => (false, is_file, Some(id)),
+                None => {
+                    // Follows symlinks: a link to a directory is walked (once).
+                    let meta = std::fs::metadata(&path);
+                    let is_dir = meta.as_ref().is_ok_and(|m| m.is_dir());
+                    let is_file = meta.as_ref().is_ok_and(|m| m.is_file());
+                    (is_dir, is_file, meta.ok().and_then(|m| id_of(&m, &path)))
+                }
+            };
             if is_dir && (self.accept)(&path) && crate::formats::bag::is_bag(&path) {
                 // A rosbag2 folder (metadata.yaml + its files) is one input.
-                if meta
-                    .ok()
-                    .and_then(|m| id_of(&m, &path))
-                    .is_none_or(|id| self.seen.insert(id))
-                {
+                if id.is_none_or(|id| self.seen.insert(id)) {
                     self.out.files.push(Found {
                         path,
                         root: self.root.clone(),
@@ -173,7 +232,7 @@ impl Walker<'_> {
                 self.dir(&path, depth + 1)?;
             } else if !(self.accept)(&path) || is_default_excluded(&path) {
                 continue;
-            } else if !meta.as_ref().is_ok_and(|m| m.is_file()) {
+            } else if !is_file {
                 // A FIFO or device would block or never end, a dangling link
                 // has nothing to read: refused as if named, never opened (a
                 // gate must not pass over a calibration it cannot read).
@@ -182,11 +241,7 @@ impl Walker<'_> {
                     "not a regular file (a FIFO, device, socket or dangling symlink): refused, not opened",
                 )
                 .at(&Location::file(&path)));
-            } else if meta
-                .ok()
-                .and_then(|m| id_of(&m, &path))
-                .is_none_or(|id| self.seen.insert(id))
-            {
+            } else if id.is_none_or(|id| self.seen.insert(id)) {
                 self.out.files.push(Found {
                     path,
                     root: self.root.clone(),

@@ -340,10 +340,17 @@ fn precisions(chain: &Chain, how: &Judgement) -> Vec<EdgePrecision> {
         .collect()
 }
 
-/// Build the rig report from a composed chain: the uncertainty of the chain
-/// ([`uncertainty::propagate`]) decides the pitch verdict, whose tolerance
-/// the analysis ([`metric::analyze`]) then uses.
-pub fn rig_report(chain: &Chain, ells: &[f64], how: &Judgement) -> Result<RigReport> {
+/// What the rig report and [`rig_verdicts`] both start from: the edges'
+/// precisions, the chain's uncertainty ([`uncertainty::propagate`]), the
+/// pitch decision it gives, and the analysis at the decision's tolerance.
+struct Judged {
+    prec: Vec<EdgePrecision>,
+    unc: uncertainty::ChainUncertainty,
+    decision: Option<uncertainty::PitchDecision>,
+    an: RigAnalysis,
+}
+
+fn judge(chain: &Chain, ells: &[f64], how: &Judgement) -> Result<Judged> {
     let prec = precisions(chain, how);
     let steps: Vec<Step> = chain
         .steps
@@ -363,6 +370,66 @@ pub fn rig_report(chain: &Chain, ells: &[f64], how: &Judgement) -> Result<RigRep
     });
     let tol = decision.map_or(PITCH_FLOAT_FLOOR_M, |d| d.screw_tol);
     let an = metric::analyze(&chain.transform, ells, tol)?;
+    Ok(Judged {
+        prec,
+        unc,
+        decision,
+        an,
+    })
+}
+
+/// What `audit check` judges a frame pair by: the fields of the rig report
+/// at `ells = [1.0]` its rules and its baseline record read, the same
+/// numbers and the same errors, without the rest of the report (its
+/// sources, chain rows, texts and band uncertainties were half the cost of
+/// checking a rig file's pair, issue 29).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigVerdicts {
+    /// `lever_arm_m`.
+    pub lever_arm_m: f64,
+    /// `screw.kind`.
+    pub kind: ScrewKind,
+    /// `screw.translation_along_axis_m`.
+    pub translation_along_axis_m: Option<f64>,
+    /// `screw.translation_along_axis_uncertainty_m`.
+    pub translation_along_axis_uncertainty_m: Option<f64>,
+    /// `screw.pitch_verdict`.
+    pub pitch_verdict: Option<PitchVerdict>,
+    /// `uncertainty.source`.
+    pub source: UncertaintySource,
+    /// `adapted_metric.exists`.
+    pub adapted_metric_exists: bool,
+}
+
+/// [`rig_report`]`(chain, &[1.0], how)` cut to [`RigVerdicts`].
+pub fn rig_verdicts(chain: &Chain, how: &Judgement) -> Result<RigVerdicts> {
+    let Judged {
+        prec,
+        unc,
+        decision,
+        an,
+    } = judge(chain, &[1.0], how)?;
+    Ok(RigVerdicts {
+        lever_arm_m: an.lever_arm_m,
+        kind: an.screw.kind,
+        translation_along_axis_m: an.screw.translation_along_axis,
+        translation_along_axis_uncertainty_m: unc.h_m,
+        pitch_verdict: decision.map(|d| d.verdict),
+        source: UncertaintySource::of(&prec),
+        adapted_metric_exists: an.adapted_metric.exists,
+    })
+}
+
+/// Build the rig report from a composed chain: the uncertainty of the chain
+/// ([`uncertainty::propagate`]) decides the pitch verdict, whose tolerance
+/// the analysis ([`metric::analyze`]) then uses.
+pub fn rig_report(chain: &Chain, ells: &[f64], how: &Judgement) -> Result<RigReport> {
+    let Judged {
+        prec,
+        unc,
+        decision,
+        an,
+    } = judge(chain, ells, how)?;
     let mut rep = report_from_analysis(&an, chain);
     rep.lever_arm_uncertainty_m = unc.lever_arm_m;
     rep.rotation.angle_uncertainty_rad = unc.angle_rad;
