@@ -68,9 +68,12 @@ fn keys(name: &str, out: &mut (String, String)) {
 /// then an ASCII name's skeleton is theirs joined (NFKC leaves ASCII as it
 /// is, and the final NFD has no marks to reorder across characters). Frame
 /// names are nearly always ASCII, and a URDF may have 100,000 of them.
-fn ascii_table() -> Option<&'static [String; 128]> {
+/// With it, each character's skeleton when that is one ASCII character
+/// (`single`), and whether both the character's and its lower case's are
+/// (`plain`).
+fn ascii_table() -> Option<&'static AsciiTable> {
     use unicode_normalization::char::canonical_combining_class;
-    static TABLE: std::sync::OnceLock<Option<[String; 128]>> = std::sync::OnceLock::new();
+    static TABLE: std::sync::OnceLock<Option<AsciiTable>> = std::sync::OnceLock::new();
     TABLE
         .get_or_init(|| {
             let t: [String; 128] =
@@ -79,9 +82,29 @@ fn ascii_table() -> Option<&'static [String; 128]> {
                 .iter()
                 .flat_map(|s| s.chars())
                 .all(|c| canonical_combining_class(c) == 0);
-            starters.then_some(t)
+            // The skeleton's one ASCII byte, else 0 (for a control character, too).
+            let one = |c: u8| match t[c as usize].as_bytes() {
+                &[s] if s.is_ascii() && s != 0 && c != 0 => s,
+                _ => 0,
+            };
+            let single = std::array::from_fn(|c| one(c as u8));
+            let plain = std::array::from_fn(|c| {
+                one(c as u8) != 0 && one((c as u8).to_ascii_lowercase()) != 0
+            });
+            starters.then_some(AsciiTable {
+                skeleton: t,
+                single,
+                plain,
+            })
         })
         .as_ref()
+}
+
+/// The skeleton of each ASCII character; see [`ascii_table`].
+struct AsciiTable {
+    skeleton: [String; 128],
+    single: [u8; 128],
+    plain: [bool; 128],
 }
 
 /// The keys of an ASCII name appended to `out`; false (nothing written) for
@@ -93,6 +116,16 @@ fn ascii_keys(name: &str, out: &mut (String, String)) -> bool {
     let Some(t) = ascii_table() else {
         return false;
     };
+    if name.bytes().all(|b| t.plain[b as usize]) {
+        // A byte per character, not a string appended per character (most
+        // names: issue 29).
+        let one = |b: u8| char::from(t.single[b as usize]);
+        out.0.extend(name.bytes().map(one));
+        out.1
+            .extend(name.bytes().map(|b| one(b.to_ascii_lowercase())));
+        return true;
+    }
+    let t = &t.skeleton;
     for b in name.bytes() {
         out.0.push_str(&t[b as usize]);
         out.1.push_str(&t[b.to_ascii_lowercase() as usize]);
@@ -231,7 +264,22 @@ mod tests {
             "an ASCII character's skeleton has a mark"
         );
         let mut out = (String::from("left over"), String::new());
-        for name in ["base_link", "l100000", "Cam_0|rn`%\"", "a b\tc\u{7f}"] {
+        let plain = ascii_table().map(|t| t.plain).unwrap();
+        // Both paths: the names of plain characters, and all the others.
+        let all: String = (0u8..128)
+            .map(char::from)
+            .filter(char::is_ascii_graphic)
+            .collect();
+        let own: String = all.chars().filter(|&c| plain[c as usize]).collect();
+        assert!(!own.is_empty() && own.len() < all.len(), "{own:?}");
+        for name in [
+            "base_link",
+            "l100000",
+            "Cam_0|rn`%\"",
+            "a b\tc\u{7f}",
+            &own,
+            &all,
+        ] {
             let full: String = skeleton(name).collect();
             let lower: String = skeleton(&name.to_lowercase()).collect();
             keys(name, &mut out);
