@@ -151,16 +151,17 @@ fn log(r: &Matrix3<f64>) -> Vector3<f64> {
     }
 }
 
-/// The chordal L2 mean of the rotations and the relative eigen-gap of `K`.
-pub fn chordal_mean(transforms: &[Transform]) -> Result<(Matrix3<f64>, f64)> {
-    if transforms.is_empty() {
+/// The chordal L2 mean of the rotations of the `n` transforms `at(0)`, ...,
+/// `at(n - 1)` and the relative eigen-gap of `K`.
+fn chordal_mean(n: usize, at: &impl Fn(usize) -> Transform) -> Result<(Matrix3<f64>, f64)> {
+    if n == 0 {
         return Err(Error::usage(
             "expected at least one calibration, found none",
         ));
     }
     let mut k = Matrix4::<f64>::zeros();
-    for t in transforms {
-        let q = Vector4::from(t.quaternion_xyzw());
+    for i in 0..n {
+        let q = Vector4::from(at(i).quaternion_xyzw());
         k += q * q.transpose();
     }
     let eig = SymmetricEigen::new(k);
@@ -252,7 +253,8 @@ pub fn outlier_test(values: &[[f64; 3]], floor: f64) -> OutlierTest {
     }
 }
 
-fn deviation(mean: &Transform, t: &Transform) -> Deviation {
+/// The deviation of `t` from `mean`.
+pub fn deviation(mean: &Transform, t: &Transform) -> Deviation {
     let (rm, tm) = (mean.rotation(), mean.translation());
     let rot_to = log(&(rm.transpose() * t.rotation())).map(f64::to_degrees);
     let rot_from = log(&(t.rotation() * rm.transpose())).map(f64::to_degrees);
@@ -267,16 +269,50 @@ fn deviation(mean: &Transform, t: &Transform) -> Deviation {
     }
 }
 
+/// The chordal rotation mean and the arithmetic translation mean of
+/// `transforms` (at least one), and the eigen-gap: what `audit spread` and
+/// check's fleet findings share.
+pub fn mean(transforms: &[Transform]) -> Result<(Transform, f64)> {
+    mean_by(transforms.len(), |i| transforms[i])
+}
+
+/// [`mean`] of the `n` transforms `at(0)`, ..., `at(n - 1)` (the same sums in
+/// the same order), for a caller that keeps them in a smaller form.
+pub fn mean_by(n: usize, at: impl Fn(usize) -> Transform) -> Result<(Transform, f64)> {
+    let (r, eigen_gap) = chordal_mean(n, &at)?;
+    let t = (0..n).fold(Vector3::zeros(), |a, i| a + at(i).translation()) / n as f64;
+    Ok((Transform::from_parts_unchecked(r, t), eigen_gap))
+}
+
+/// The robust outlier rule on the from-frame deviations (`rotation_from`
+/// in deg, `translation_from` in mm, one per calibration): no test below
+/// [`OUTLIER_MIN_COUNT`]. Shared by `audit spread` and check's fleet findings.
+pub fn outliers(rotation_from: &[[f64; 3]], translation_from: &[[f64; 3]]) -> Outliers {
+    if rotation_from.len() < OUTLIER_MIN_COUNT {
+        return Outliers {
+            rotation: None,
+            translation: None,
+            flagged: Vec::new(),
+        };
+    }
+    let rotation = outlier_test(rotation_from, MAD_FLOOR_DEG);
+    let translation = outlier_test(translation_from, MAD_FLOOR_M * 1e3);
+    let flagged = (0..rotation_from.len())
+        .filter(|&i| {
+            rotation.distance[i] > rotation.limit || translation.distance[i] > translation.limit
+        })
+        .collect();
+    Outliers {
+        rotation: Some(rotation),
+        translation: Some(translation),
+        flagged,
+    }
+}
+
 /// The mean, deviations, spreads and outliers of `transforms` (one frame
 /// pair, at least one calibration).
 pub fn spread(transforms: &[Transform]) -> Result<Spread> {
-    let (r, eigen_gap) = chordal_mean(transforms)?;
-    let n = transforms.len() as f64;
-    let t = transforms
-        .iter()
-        .fold(Vector3::zeros(), |a, t| a + t.translation())
-        / n;
-    let mean = Transform::from_parts_unchecked(r, t);
+    let (mean, eigen_gap) = mean(transforms)?;
     let deviations: Vec<Deviation> = transforms.iter().map(|t| deviation(&mean, t)).collect();
     let pick = |f: fn(&Deviation) -> [f64; 3]| deviations.iter().map(f).collect::<Vec<_>>();
     let (rf, tf) = (
@@ -289,26 +325,7 @@ pub fn spread(transforms: &[Transform]) -> Result<Spread> {
         translation_from: axis_spread(&tf),
         translation_to: axis_spread(&pick(|d| d.translation_to_mm)),
     };
-    let outliers = if deviations.len() < OUTLIER_MIN_COUNT {
-        Outliers {
-            rotation: None,
-            translation: None,
-            flagged: Vec::new(),
-        }
-    } else {
-        let rotation = outlier_test(&rf, MAD_FLOOR_DEG);
-        let translation = outlier_test(&tf, MAD_FLOOR_M * 1e3);
-        let flagged = (0..deviations.len())
-            .filter(|&i| {
-                rotation.distance[i] > rotation.limit || translation.distance[i] > translation.limit
-            })
-            .collect();
-        Outliers {
-            rotation: Some(rotation),
-            translation: Some(translation),
-            flagged,
-        }
-    };
+    let outliers = outliers(&rf, &tf);
     Ok(Spread {
         mean,
         eigen_gap,

@@ -50,11 +50,11 @@ pub(super) fn parse(text: &str) -> Option<Vec<Node>> {
     // Non-ASCII text may stand in comments only (a token is ASCII), but not
     // the characters YAML 1.1 breaks lines at; no control character but LF.
     let ascii_or_comment = |b: &u8| *b == b'\n' || (0x20..0x7f).contains(b) || *b >= 0x80;
-    if !text.as_bytes().iter().all(ascii_or_comment)
-        || ['\u{85}', '\u{2028}', '\u{2029}']
-            .iter()
-            .any(|c| text.contains(*c))
-    {
+    if !text.as_bytes().iter().all(ascii_or_comment) {
+        return None;
+    }
+    let breaks = ['\u{85}', '\u{2028}', '\u{2029}'];
+    if !text.is_ascii() && breaks.iter().any(|c| text.contains(*c)) {
         return None;
     }
     let mut stack: Vec<Frame> = Vec::new();
@@ -123,7 +123,7 @@ fn open_level(stack: &mut Vec<Frame>, indent: usize, line: usize) -> Option<()> 
 }
 
 fn indent_of(line: &str) -> usize {
-    line.len() - line.trim_start_matches(' ').len()
+    line.bytes().take_while(|&b| b == b' ').count()
 }
 
 /// Nothing, or a comment, after the indent.

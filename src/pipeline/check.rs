@@ -569,6 +569,16 @@ enum Job {
     File(usize),
 }
 
+impl Job {
+    /// The walk's index of the job's one file (`None`: a robot).
+    fn walk_index(&self) -> Option<usize> {
+        match self {
+            Job::File(i) => Some(*i),
+            Job::Robot(_) => None,
+        }
+    }
+}
+
 /// Group the files into jobs: each checked directory's `audit.toml` robots
 /// (their files loaded together), then every other file on its own. The
 /// manifests themselves are not calibration files.
@@ -783,13 +793,14 @@ struct Gathered<'a> {
     /// Baseline findings by key (sorted by key at the end, as a baseline is).
     compared: Vec<(String, Diagnostic)>,
     /// With `--fleet-tolerance`: every checked pair, in the walk's order.
-    fleet: Vec<super::fleet::Member>,
+    fleet: super::fleet::Fleet,
     /// The checked files' records for `--write-baseline`.
     written: Store,
 }
 
 impl Gathered<'_> {
-    fn take(&mut self, out: Outcome) {
+    /// `walk`: the walk's index of the outcome's one file (`None`: a robot).
+    fn take(&mut self, out: Outcome, walk: Option<usize>) {
         self.findings.extend(out.findings);
         self.notes.extend(out.notes);
         for (f, now) in self.pairs_found.iter_mut().zip(out.pairs_found) {
@@ -802,8 +813,7 @@ impl Gathered<'_> {
                         .locations
                         .get(&(p.transform.parent.clone(), p.transform.child.clone()))
                         .map(|(at, values)| values.locate(at, true));
-                    self.fleet
-                        .extend(super::fleet::member(&st.found.path, at.as_ref(), p));
+                    self.fleet.add(walk, &st.found.path, at.as_ref(), p);
                 }
             }
             if let (Some((base, seen)), Some(key)) = (&mut self.base, &st.base_key) {
@@ -1030,7 +1040,7 @@ pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckR
         base: base.as_ref().map(|b| (b, vec![false; b.len()])),
         compared: Vec::new(),
         written: Store::new(),
-        fleet: Vec::new(),
+        fleet: super::fleet::Fleet::with_capacity(opts.fleet.map_or(0, |_| walked.files.len())),
     };
     let total: usize = jobs
         .iter()
@@ -1054,10 +1064,10 @@ pub fn check_with(opts: &CheckOptions, progress: &dyn Progress) -> Result<CheckR
                 check_one(opts, &r, base_keys.as_ref(), write_keys.as_ref())
             }
         },
-        |_, out| match out {
+        |k, out| match out {
             Ok(out) => {
                 progress.advance(out.files as u64);
-                all.take(out);
+                all.take(out, jobs[k].walk_index());
                 true
             }
             Err(e) => {
@@ -1103,7 +1113,8 @@ fn finish(
         all.findings.extend(found);
     }
     if let Some(tol) = &opts.fleet {
-        all.findings.extend(super::fleet::findings(&all.fleet, tol));
+        all.findings
+            .extend(super::fleet::findings(&all.fleet, tol, files));
     }
     let mut changes = None;
     if let Some(path) = &opts.write_baseline {

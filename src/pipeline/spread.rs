@@ -110,13 +110,45 @@ impl SpreadOptions {
     }
 }
 
-/// One calibration read: its file, transform and rig report (whose `from`
-/// and `to` are its pair), and whether the pair was its own `PATH:FROM:TO`.
+/// One calibration read: its file, transform, pair, and whether the pair was
+/// its own `PATH:FROM:TO`; of its rig report only what the spread report
+/// shows (the whole report is kilobytes a vehicle: issue 29's 100,000).
 struct Read {
     path: PathBuf,
     transform: Transform,
-    report: RigReport,
+    from: String,
+    to: String,
     own_pair: bool,
+    lever_arm_m: f64,
+    /// The screw's `h`, its uncertainty and the pitch verdict.
+    h_m: Option<f64>,
+    h_uncertainty_m: Option<f64>,
+    pitch_verdict: Option<PitchVerdict>,
+    /// The certificate's `(ell_m, band)` per length.
+    bands: Vec<(f64, [f64; 2])>,
+}
+
+impl Read {
+    /// The parts of `report` the spread report shows.
+    fn new(path: &Path, transform: Transform, report: RigReport, own_pair: bool) -> Read {
+        let screw = &report.screw;
+        Read {
+            path: path.to_path_buf(),
+            transform,
+            own_pair,
+            lever_arm_m: report.lever_arm_m,
+            h_m: screw.translation_along_axis_m,
+            h_uncertainty_m: screw.translation_along_axis_uncertainty_m,
+            pitch_verdict: screw.pitch_verdict,
+            bands: report
+                .certificate
+                .iter()
+                .map(|c| (c.ell_m, c.band))
+                .collect(),
+            from: report.from,
+            to: report.to,
+        }
+    }
 }
 
 /// The files to read, each with the pair its `PATH:FROM:TO` gives.
@@ -178,12 +210,7 @@ fn read_one(
     let mut report = report(&chain, &opts.rig).map_err(|e| e.in_file(path))?;
     report.from = from;
     report.to = to;
-    Ok(Read {
-        path: path.to_path_buf(),
-        transform: chain.transform,
-        report,
-        own_pair: own.is_some(),
-    })
+    Ok(Read::new(path, chain.transform, report, own.is_some()))
 }
 
 /// Names: file names without their extension when they differ, else the
@@ -243,7 +270,7 @@ fn mean_json(s: &Spread) -> MeanJson {
 fn set_pitch(s: &Spread, reads: &[Read], opts: &SpreadOptions) -> SetPitchJson {
     let mut per = [0usize; 3];
     for r in reads {
-        match r.report.screw.pitch_verdict {
+        match r.pitch_verdict {
             Some(PitchVerdict::Zero) => per[0] += 1,
             Some(PitchVerdict::Nonzero) => per[1] += 1,
             Some(PitchVerdict::Undecidable) => per[2] += 1,
@@ -269,9 +296,7 @@ fn set_pitch(s: &Spread, reads: &[Read], opts: &SpreadOptions) -> SetPitchJson {
     let spread = (hs.len() > 1)
         .then(|| (hs.iter().map(|x| (x - mean_h).powi(2)).sum::<f64>() / (n - 1.0)).sqrt());
     // One calibration: its own uncertainty (the rounding of its numbers).
-    let sigma = spread
-        .or(reads[0].report.screw.translation_along_axis_uncertainty_m)
-        .unwrap_or(0.0);
+    let sigma = spread.or(reads[0].h_uncertainty_m).unwrap_or(0.0);
     SetPitchJson {
         h_m: Some(h),
         h_spread_m: spread,
@@ -324,8 +349,8 @@ fn calibration_json(
     CalibrationJson {
         name: names[i].clone(),
         file: r.path.display().to_string(),
-        from: r.report.from.clone(),
-        to: r.report.to.clone(),
+        from: r.from.clone(),
+        to: r.to.clone(),
         translation_m: [t.x, t.y, t.z],
         quaternion_xyzw: r.transform.quaternion_xyzw(),
         deviation: *d,
@@ -334,31 +359,24 @@ fn calibration_json(
         outlier: s.outliers.flagged.contains(&i),
         exceeds: tol
             .is_some_and(|t| d.distance_mm > t.translation_mm || d.angle_deg > t.rotation_deg),
-        lever_arm_m: r.report.lever_arm_m,
-        h_m: r
-            .report
-            .screw
-            .translation_along_axis_m
-            .map(|h| h * axis_sign(&r.transform, s)),
-        h_uncertainty_m: r.report.screw.translation_along_axis_uncertainty_m,
-        pitch_verdict: r.report.screw.pitch_verdict,
-        bands: r.report.certificate.iter().map(|c| c.band).collect(),
+        lever_arm_m: r.lever_arm_m,
+        h_m: r.h_m.map(|h| h * axis_sign(&r.transform, s)),
+        h_uncertainty_m: r.h_uncertainty_m,
+        pitch_verdict: r.pitch_verdict,
+        bands: r.bands.iter().map(|&(_, b)| b).collect(),
     }
 }
 
 fn band_ranges(reads: &[Read]) -> Vec<BandRangeJson> {
-    let first = &reads[0].report.certificate;
+    let first = &reads[0].bands;
     (0..first.len())
         .map(|k| BandRangeJson {
-            ell_m: first[k].ell_m,
+            ell_m: first[k].0,
             low: reads
                 .iter()
-                .map(|r| r.report.certificate[k].band[0])
+                .map(|r| r.bands[k].1[0])
                 .fold(f64::INFINITY, f64::min),
-            high: reads
-                .iter()
-                .map(|r| r.report.certificate[k].band[1])
-                .fold(0.0, f64::max),
+            high: reads.iter().map(|r| r.bands[k].1[1]).fold(0.0, f64::max),
         })
         .collect()
 }
@@ -369,18 +387,18 @@ fn band_ranges(reads: &[Read]) -> Vec<BandRangeJson> {
 fn one_pair(reads: &[Read]) -> Result<(String, String)> {
     let mut implicit = reads.iter().filter(|r| !r.own_pair);
     if let Some(first) = implicit.next() {
-        let (f, t) = (&first.report.from, &first.report.to);
-        if let Some(r) = implicit.find(|r| (&r.report.from, &r.report.to) != (f, t)) {
+        let (f, t) = (&first.from, &first.to);
+        if let Some(r) = implicit.find(|r| (&r.from, &r.to) != (f, t)) {
             return Err(Error::usage(format!(
                 "expected one frame pair in every file ({f} -> {t}, from {}), found {} -> {}: give --from FRAME --to FRAME, or name this file's pair as PATH:FROM:TO",
                 first.path.display(),
-                r.report.from,
-                r.report.to
+                r.from,
+                r.to
             ))
             .in_file(&r.path));
         }
     }
-    Ok((reads[0].report.from.clone(), reads[0].report.to.clone()))
+    Ok((reads[0].from.clone(), reads[0].to.clone()))
 }
 
 /// Read every calibration and report their spread; the warnings the files
