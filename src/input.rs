@@ -69,6 +69,11 @@ impl ReadError {
     }
 }
 
+/// A regular file as [`open_file`] opened it (its descriptor's size) and its
+/// bytes, read whole: handed from one reader to the next so that a file is
+/// read once.
+pub(crate) type ReadWhole = (File, u64, Vec<u8>);
+
 /// Open `path` for reading without blocking (a FIFO cannot hold the open) and
 /// refuse anything but a regular file; with the size its descriptor reports.
 pub fn open_file(path: &Path) -> std::result::Result<(File, u64), ReadError> {

@@ -25,6 +25,23 @@ pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Parsed> {
     load(Input::open(path, opts.max_file_size)?, opts)
 }
 
+/// [`load_file`] on a file already opened and read whole (by a caller that
+/// looked at its bytes first): the same result without a second read, or
+/// [`load_file`] itself when the file is not one it would read at once.
+pub(crate) fn load_opened(
+    path: &Path,
+    (file, len, bytes): crate::input::ReadWhole,
+    opts: &LoadOptions,
+) -> Result<Parsed> {
+    if opts.check_confined(path).is_err() || crate::input::is_stdin(path) {
+        return load_file(path, opts);
+    }
+    match Input::from_opened(path, file, len, bytes, opts.max_file_size) {
+        Some(input) => load(input, opts),
+        None => load_file(path, opts),
+    }
+}
+
 /// Read bytes as if read from `path`: binary formats (bags, Arrow IPC
 /// `.feather`, a LAS/LAZ refused with the command that reads it) by their
 /// magic bytes or extension, anything else as UTF-8 text ([`load_str`]).

@@ -71,6 +71,7 @@ mod yaml_node;
 pub(crate) mod yaml_shapes;
 mod yaml_subset;
 
+pub(crate) use load::load_opened;
 pub use load::{detect_file, detect_format, load_bytes, load_file, load_str};
 pub use registry::{all_formats, is_calibration_file, FORMATS};
 pub use spec::{Assume, BagOptions, Format, LoadOptions, Parsed, Rename, RigMeta, UrdfVersion};

@@ -26,6 +26,7 @@ use crate::diagnostic::{Code, Diagnostic, Error, Location, Result, Severity, War
 use crate::formats::{self, LoadOptions, Rename};
 use crate::frames::{FrameGraph, ValuesAt};
 use crate::geometry::{PitchTol, PitchVerdict, ScrewKind};
+use crate::input::ReadWhole;
 use crate::progress::{NoProgress, Progress};
 use crate::report::check::BaselineChanges;
 use crate::report::rig::{rig_verdicts, Judgement};
@@ -272,9 +273,9 @@ impl Checker<'_> {
     /// thresholds and no extrinsic: its values are checked as the detector
     /// reads them (an error is a finding at its line), a note says what it
     /// is, and it is not read as a calibration. `true` when `path` is one.
-    fn detector_config(&mut self, path: &Path) -> Result<bool> {
-        match OdometryDetector::read_config(path) {
-            Ok(Some(cfg)) => {
+    fn detector_config(&mut self, path: &Path) -> Result<Option<Option<ReadWhole>>> {
+        match OdometryDetector::sniff_config(path) {
+            Ok(super::odometry_config::Sniffed::Config(cfg)) => {
                 let label = OdometryDetector::find(cfg.detector).map_or(cfg.detector, |d| d.label);
                 self.findings.push(
                     Diagnostic::new(
@@ -285,13 +286,13 @@ impl Checker<'_> {
                     )
                     .at(&Location::file(path)),
                 );
-                Ok(true)
+                Ok(None)
             }
-            Ok(None) => Ok(false),
+            Ok(super::odometry_config::Sniffed::Other(read)) => Ok(Some(read)),
             Err(e) if e.code == Code::Io => Err(e),
             Err(e) => {
                 self.error(path, &e);
-                Ok(true)
+                Ok(None)
             }
         }
     }
@@ -333,10 +334,16 @@ impl Checker<'_> {
             );
             return Ok(None);
         }
-        if self.detector_config(&f.path)? {
+        // `None`: a detector's configuration (reported); the file as read
+        // when it was read (a YAML file is then not read twice).
+        let Some(read) = self.detector_config(&f.path)? else {
             return Ok(None);
-        }
-        let mut loaded = match formats::load_file(&f.path, &self.opts.load) {
+        };
+        let loaded = match read {
+            Some(read) => formats::load_opened(&f.path, read, &self.opts.load),
+            None => formats::load_file(&f.path, &self.opts.load),
+        };
+        let mut loaded = match loaded {
             Ok(l) => l,
             Err(e) if e.code == Code::Io => return Err(e),
             Err(e) => {

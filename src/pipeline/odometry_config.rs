@@ -118,6 +118,15 @@ const XICP_HIGH: Key = Key {
     banded: false,
 };
 
+/// What [`OdometryDetector::sniff_config`] found in a file.
+pub(crate) enum Sniffed {
+    /// A detector's configuration.
+    Config(DetectorConfig),
+    /// Not one; the file (open), its reported size and its bytes when they
+    /// can stand for reading it again.
+    Other(Option<crate::input::ReadWhole>),
+}
+
 impl OdometryDetector {
     /// Read `path` as the configuration file of a detector (DCReg's
     /// `icp.yaml`, an X-ICP libpointmatcher ICP file): `None` when it is not
@@ -126,29 +135,54 @@ impl OdometryDetector {
     /// calibration formats. A value that is not a number the source reads,
     /// or one no detector can use, is an error at its line.
     pub fn read_config(path: &Path) -> Result<Option<DetectorConfig>> {
+        Ok(match Self::sniff_config(path)? {
+            Sniffed::Config(c) => Some(c),
+            Sniffed::Other(_) => None,
+        })
+    }
+
+    /// [`read_config`](Self::read_config), and when the file is not a
+    /// configuration the file as read (open, with its bytes), so that `check`
+    /// reads a YAML file once (issue 29: the second open and read were a
+    /// quarter of a fleet's system calls). Only plain text is handed on (valid
+    /// UTF-8 without a byte-order mark, a CR or a NUL byte): what else a file
+    /// holds is read again by the formats as it always was.
+    pub(crate) fn sniff_config(path: &Path) -> Result<Sniffed> {
+        const WHAT: &str = "detector configuration";
         let ext = path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
-        if !matches!(ext.as_deref(), Some("yaml" | "yml")) || path.is_dir() {
-            return Ok(None);
+        if !matches!(ext.as_deref(), Some("yaml" | "yml")) {
+            return Ok(Sniffed::Other(None));
         }
         // A configuration is a few kilobytes: a larger file is left to the
-        // formats and their own size cap (`--max-file-size`).
+        // formats and their own size cap (`--max-file-size`). One `stat` for
+        // both questions (a folder, the size).
         match std::fs::metadata(path) {
-            Ok(m) if m.len() <= DEFAULT_MAX_FILE_SIZE => {}
-            _ => return Ok(None),
+            Ok(m) if !m.is_dir() && m.len() <= DEFAULT_MAX_FILE_SIZE => {}
+            _ => return Ok(Sniffed::Other(None)),
         }
-        let text = crate::input::read_text(path, DEFAULT_MAX_FILE_SIZE, "detector configuration")?;
+        let (file, len) = crate::input::open_file(path).map_err(|e| e.into_error(path, WHAT))?;
+        let bytes = crate::input::read_open(&file, len, DEFAULT_MAX_FILE_SIZE)
+            .map_err(|e| e.into_error(path, WHAT))?;
         // Both detectors' sections start a line: skip the parse otherwise.
-        if !text
-            .lines()
-            .any(|l| l.starts_with("degeneracy:") || l.starts_with("degeneracyAwareness:"))
-        {
-            return Ok(None);
+        let has_section = |t: &str| {
+            t.lines()
+                .any(|l| l.starts_with("degeneracy:") || l.starts_with("degeneracyAwareness:"))
+        };
+        let plain = !bytes.starts_with("\u{feff}".as_bytes())
+            && memchr::memchr2(b'\r', 0, &bytes).is_none()
+            && std::str::from_utf8(&bytes).is_ok_and(|t| !has_section(t));
+        if plain {
+            return Ok(Sniffed::Other(Some((file, len, bytes))));
+        }
+        let text = crate::input::decode(bytes).map_err(|e| e.in_file(path))?;
+        if !has_section(&text) {
+            return Ok(Sniffed::Other(None));
         }
         let docs = parse_documents(&text).map_err(|e| e.in_file(path))?;
         let Some(root) = docs.first() else {
-            return Ok(None);
+            return Ok(Sniffed::Other(None));
         };
         let file = path.display().to_string();
         if let Some(section) = root.get("degeneracy").filter(|s| is_dcreg(s)) {
@@ -164,7 +198,7 @@ impl OdometryDetector {
                 })
                 .collect::<Result<Vec<_>>>()
                 .map_err(|e| e.in_file(path))?;
-            return Ok(Some(DetectorConfig {
+            return Ok(Sniffed::Config(DetectorConfig {
                 file,
                 detector: "dcreg",
                 source: DCREG_SOURCE,
@@ -173,14 +207,14 @@ impl OdometryDetector {
         }
         if let Some(section) = root.get("degeneracyAwareness") {
             let thresholds = xicp(section).map_err(|e| e.in_file(path))?;
-            return Ok(Some(DetectorConfig {
+            return Ok(Sniffed::Config(DetectorConfig {
                 file,
                 detector: "x-icp",
                 source: XICP_SOURCE,
                 thresholds,
             }));
         }
-        Ok(None)
+        Ok(Sniffed::Other(None))
     }
 }
 

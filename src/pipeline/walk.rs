@@ -50,6 +50,22 @@ fn id_of(_m: &std::fs::Metadata, path: &Path) -> Option<FileId> {
     path.canonicalize().ok()
 }
 
+/// A [`FileId`] for a directory `stat` gives none of: unix, its path's
+/// hash as an inode on no device (never a real one); elsewhere the path.
+#[cfg(unix)]
+fn walk_key(canon: &Path) -> FileId {
+    use std::hash::{BuildHasher, BuildHasherDefault};
+    (
+        u64::MAX,
+        BuildHasherDefault::<std::collections::hash_map::DefaultHasher>::default().hash_one(canon),
+    )
+}
+
+#[cfg(not(unix))]
+fn walk_key(canon: &Path) -> FileId {
+    canon.to_path_buf()
+}
+
 /// The [`FileId`] of the file `path` leads to (symlinks followed); `None`
 /// when there is none.
 pub fn file_id(path: &Path) -> Option<FileId> {
@@ -159,14 +175,16 @@ struct Walker<'a> {
     excludes: &'a [String],
     accept: fn(&Path) -> bool,
     root: PathBuf,
-    visited: HashSet<PathBuf>,
+    /// The directories walked, by identity.
+    visited: HashSet<FileId>,
     /// The files taken so far (over every given path): each file once.
     seen: &'a mut HashSet<FileId>,
     out: Walked,
 }
 
 impl Walker<'_> {
-    fn dir(&mut self, dir: &Path, depth: usize) -> Result<()> {
+    /// Walk `dir`, whose [`FileId`] is `id` when a `stat` gave it.
+    fn dir(&mut self, dir: &Path, depth: usize, id: Option<FileId>) -> Result<()> {
         if depth > MAX_WALK_DEPTH {
             self.out.findings.push(
                 Diagnostic::new(
@@ -179,8 +197,19 @@ impl Walker<'_> {
             );
             return Ok(());
         }
-        let canon = dir.canonicalize().map_err(|e| Error::io(dir, &e))?;
-        if !self.visited.insert(canon.clone()) {
+        // A directory is known by its identity (device and inode, from the
+        // `stat` that found it), not its canonical path: `realpath` was a
+        // `readlink` per component of every directory (issue 29). The path
+        // only names a directory reached again.
+        let id = match id {
+            Some(id) => id,
+            None => {
+                let canon = dir.canonicalize().map_err(|e| Error::io(dir, &e))?;
+                file_id(&canon).unwrap_or_else(|| walk_key(&canon))
+            }
+        };
+        if !self.visited.insert(id) {
+            let canon = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
             self.out.findings.push(
                 Diagnostic::new(
                     Code::Ignored,
@@ -229,7 +258,7 @@ impl Walker<'_> {
                     });
                 }
             } else if is_dir {
-                self.dir(&path, depth + 1)?;
+                self.dir(&path, depth + 1, id)?;
             } else if !(self.accept)(&path) || is_default_excluded(&path) {
                 continue;
             } else if !is_file {
@@ -292,7 +321,7 @@ pub fn walk_with(
             seen: &mut seen,
             out: Walked::default(),
         };
-        w.dir(p, 0)?;
+        w.dir(p, 0, id_of(&meta, p))?;
         out.files.extend(w.out.files);
         out.findings.extend(w.out.findings);
     }

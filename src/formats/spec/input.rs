@@ -210,6 +210,30 @@ impl Input<'static> {
         Ok(Input::new(path, Body::File(opened)))
     }
 
+    /// A regular file at `path` opened by [`crate::input::open_file`] (its
+    /// descriptor's size `len`) and read whole (`bytes`), as [`Input::open`]
+    /// with the cap `cap` makes it; `None` when `open` would not have read it
+    /// whole at once (larger than a small file or than the cap).
+    pub(crate) fn from_opened(
+        path: &Path,
+        file: File,
+        len: u64,
+        bytes: Vec<u8>,
+        cap: u64,
+    ) -> Option<Input<'static>> {
+        if len > SMALL_FILE.min(cap) || bytes.len() as u64 > cap {
+            return None;
+        }
+        let opened = Opened {
+            file,
+            len,
+            head: bytes[..bytes.len().min(HEAD_BYTES)].to_vec(),
+            cap,
+            whole: OnceCell::from(Ok(bytes)),
+        };
+        Some(Input::new(path, Body::File(opened)))
+    }
+
     /// The folder or regular file at `path` with its first bytes only (`-`
     /// is a file name here, and nothing more is read: a cap of 0 bytes);
     /// `None` when it is neither or cannot be opened.
