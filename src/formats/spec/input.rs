@@ -186,14 +186,7 @@ impl Input<'static> {
             // of `check` over 10,000 files, issue 29). A failed read is left
             // to be read (and reported) as any file is, on first use.
             if let Ok(bytes) = crate::input::read_open(&file, len, cap) {
-                let opened = Opened {
-                    file,
-                    len,
-                    head: bytes[..bytes.len().min(HEAD_BYTES)].to_vec(),
-                    cap,
-                    whole: OnceCell::from(Ok(bytes)),
-                };
-                return Ok(Input::new(path, Body::File(opened)));
+                return Ok(Input::read_whole(path, file, len, bytes, cap));
             }
             (&file)
                 .seek(SeekFrom::Start(0))
@@ -224,6 +217,11 @@ impl Input<'static> {
         if len > SMALL_FILE.min(cap) || bytes.len() as u64 > cap {
             return None;
         }
+        Some(Input::read_whole(path, file, len, bytes, cap))
+    }
+
+    /// A small file read whole at once: its head taken from the bytes.
+    fn read_whole(path: &Path, file: File, len: u64, bytes: Vec<u8>, cap: u64) -> Input<'static> {
         let opened = Opened {
             file,
             len,
@@ -231,7 +229,7 @@ impl Input<'static> {
             cap,
             whole: OnceCell::from(Ok(bytes)),
         };
-        Some(Input::new(path, Body::File(opened)))
+        Input::new(path, Body::File(opened))
     }
 
     /// The folder or regular file at `path` with its first bytes only (`-`
