@@ -50,22 +50,6 @@ fn id_of(_m: &std::fs::Metadata, path: &Path) -> Option<FileId> {
     path.canonicalize().ok()
 }
 
-/// A [`FileId`] for a directory `stat` gives none of: unix, its path's
-/// hash as an inode on no device (never a real one); elsewhere the path.
-#[cfg(unix)]
-fn walk_key(canon: &Path) -> FileId {
-    use std::hash::{BuildHasher, BuildHasherDefault};
-    (
-        u64::MAX,
-        BuildHasherDefault::<std::collections::hash_map::DefaultHasher>::default().hash_one(canon),
-    )
-}
-
-#[cfg(not(unix))]
-fn walk_key(canon: &Path) -> FileId {
-    canon.to_path_buf()
-}
-
 /// The [`FileId`] of the file `path` leads to (symlinks followed); `None`
 /// when there is none.
 pub fn file_id(path: &Path) -> Option<FileId> {
@@ -74,14 +58,14 @@ pub fn file_id(path: &Path) -> Option<FileId> {
 
 /// The device of `dir` when its file system gives each directory entry's
 /// type and inode number exactly as `stat` would (ext4, XFS, Btrfs, tmpfs:
-/// one `statfs` and one `stat` per directory); `None` elsewhere (overlayfs,
+/// one `statfs` per directory, the device from the `stat` that found it);
+/// `None` elsewhere (overlayfs,
 /// whose entries may carry another layer's inode, network and FUSE file
 /// systems), where every entry is `stat`ed. A `stat` per file was a third of
 /// the walk over 10,000 files (issue 29).
 #[cfg(target_os = "linux")]
-fn exact_entries_device(dir: &Path) -> Option<u64> {
+fn exact_entries_device(dir: &Path, id: &FileId) -> Option<u64> {
     use std::os::unix::ffi::OsStrExt;
-    use std::os::unix::fs::MetadataExt;
     const EXACT: [u64; 4] = [0xEF53, 0x5846_5342, 0x9123_683E, 0x0102_1994];
     let c = std::ffi::CString::new(dir.as_os_str().as_bytes()).ok()?;
     let mut st = std::mem::MaybeUninit::<libc::statfs>::uninit();
@@ -97,14 +81,12 @@ fn exact_entries_device(dir: &Path) -> Option<u64> {
     // magic number.
     #[allow(clippy::unnecessary_cast)]
     let magic = (st.f_type as u64) & 0xFFFF_FFFF;
-    if !EXACT.contains(&magic) {
-        return None;
-    }
-    std::fs::metadata(dir).ok().map(|m| m.dev())
+    // The device is the one the `stat` that found `dir` gave.
+    EXACT.contains(&magic).then_some(id.0)
 }
 
 #[cfg(not(target_os = "linux"))]
-fn exact_entries_device(_dir: &Path) -> Option<u64> {
+fn exact_entries_device(_dir: &Path, _id: &FileId) -> Option<u64> {
     None
 }
 
@@ -203,9 +185,11 @@ impl Walker<'_> {
         // only names a directory reached again.
         let id = match id {
             Some(id) => id,
+            // No `stat` gave it: the canonical path's error, as before.
             None => {
                 let canon = dir.canonicalize().map_err(|e| Error::io(dir, &e))?;
-                file_id(&canon).unwrap_or_else(|| walk_key(&canon))
+                file_id(&canon)
+                    .ok_or_else(|| Error::io(dir, &std::io::Error::other("no file identity")))?
             }
         };
         if !self.visited.insert(id) {
@@ -222,7 +206,7 @@ impl Walker<'_> {
             );
             return Ok(());
         }
-        let exact = exact_entries_device(dir);
+        let exact = exact_entries_device(dir, &id);
         let mut entries = Vec::new();
         for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, &e))? {
             let entry = entry.map_err(|e| Error::io(dir, &e))?;
