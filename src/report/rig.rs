@@ -995,3 +995,64 @@ impl Report for RigReport {
         doc
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formats::{load_file, LoadOptions};
+    use crate::frames::FrameGraph;
+
+    /// `rig_verdicts` is `rig_report` at `ells = [1.0]` cut to its fields:
+    /// over every shipped rig file, with and without a user's sigma and a
+    /// fixed pitch tolerance, each field equal to the report's (bit for bit).
+    #[test]
+    fn verdicts_are_the_reports_fields() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("calibrations");
+        let mut rigs = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|e| e != "toml") {
+                continue;
+            }
+            let mut loaded = load_file(&path, &LoadOptions::default()).unwrap();
+            let meta = loaded.rig.take().unwrap();
+            let mut graph = FrameGraph::new();
+            graph.add(loaded).unwrap();
+            let chain = graph.transform(&meta.from, &meta.to).unwrap();
+            let hows = [
+                Judgement::default(),
+                Judgement {
+                    pitch_tol: PitchTol::Fixed(1e-3),
+                    user: Some(UserSigma {
+                        sigma_t_m: 0.01,
+                        sigma_r_rad: 0.002,
+                    }),
+                },
+            ];
+            for how in &hows {
+                let v = rig_verdicts(&chain, how).unwrap();
+                let r = rig_report(&chain, &[1.0], how).unwrap();
+                let name = path.display();
+                assert_eq!(v.lever_arm_m.to_bits(), r.lever_arm_m.to_bits(), "{name}");
+                assert_eq!(v.kind, r.screw.kind, "{name}");
+                assert_eq!(
+                    v.translation_along_axis_m.map(f64::to_bits),
+                    r.screw.translation_along_axis_m.map(f64::to_bits),
+                    "{name}"
+                );
+                assert_eq!(
+                    v.translation_along_axis_uncertainty_m.map(f64::to_bits),
+                    r.screw
+                        .translation_along_axis_uncertainty_m
+                        .map(f64::to_bits),
+                    "{name}"
+                );
+                assert_eq!(v.pitch_verdict, r.screw.pitch_verdict, "{name}");
+                assert_eq!(v.source, r.uncertainty.source, "{name}");
+                assert_eq!(v.adapted_metric_exists, r.adapted_metric.exists, "{name}");
+            }
+            rigs += 1;
+        }
+        assert!(rigs >= 20, "expected the shipped rig files, found {rigs}");
+    }
+}
