@@ -59,6 +59,8 @@ pub mod rig_toml;
 pub mod shell;
 pub mod source;
 pub mod spec;
+#[cfg(test)]
+mod test_edits;
 mod toml_subset;
 // TODO(issue 10): urdf/mod.rs links to its private `read` and `joints`.
 pub mod urdf;

@@ -1024,28 +1024,11 @@ mod tests {
             "[rig]\n",
             "[[transform]]\n",
         ];
-        let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut next = |n: usize| {
-            seed = seed
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (seed >> 33) as usize % n.max(1)
-        };
+        let mut edits = crate::formats::test_edits::Edits::new();
         let (mut taken, mut tried) = (0, 0);
         for t in shipped_rigs() {
             for _ in 0..150 {
-                let mut at = next(t.len());
-                while !t.is_char_boundary(at) {
-                    at -= 1;
-                }
-                let mut v = t.clone();
-                match next(3) {
-                    0 => {
-                        let end = t[at..].chars().next().map_or(at, |c| at + c.len_utf8());
-                        v.replace_range(at..end, "");
-                    }
-                    _ => v.insert_str(at, EDITS[next(EDITS.len())]),
-                }
+                let v = edits.edit(&t, &EDITS);
                 taken += usize::from(same_as_toml(&v));
                 tried += 1;
             }

@@ -399,13 +399,7 @@ mod tests {
             "}", "\n", "\t", "\r", "'", "\"", "~", "y", "n", "t", "_", "&", "*", "!", "|", ">",
             "?", "%", "@", "x: 1\n", "---\n", "null", "\u{e9}",
         ];
-        let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut next = |n: usize| {
-            seed = seed
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (seed >> 33) as usize % n.max(1)
-        };
+        let mut edits = crate::formats::test_edits::Edits::new();
         let mut files = shipped_yaml();
         files.truncate(40);
         files.push(fleet_file().to_string());
@@ -413,18 +407,7 @@ mod tests {
         for t in files {
             let rounds = if t == fleet_file() { 2000 } else { 100 };
             for _ in 0..rounds {
-                let mut at = next(t.len());
-                while !t.is_char_boundary(at) {
-                    at -= 1;
-                }
-                let mut v = t.clone();
-                match next(3) {
-                    0 => {
-                        let end = t[at..].chars().next().map_or(at, |c| at + c.len_utf8());
-                        v.replace_range(at..end, "");
-                    }
-                    _ => v.insert_str(at, EDITS[next(EDITS.len())]),
-                }
+                let v = edits.edit(&t, &EDITS);
                 taken += usize::from(same_as_saphyr(&v));
                 tried += 1;
             }
